@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Global sample ids for a triangular grid laid over every slab, with the samples on slab edges
+/// and corners stored once (design notes §1.4, "global vertex id" layout). The same layout is used
+/// for displacement samples (grid n) and colour texels (grid n·m).
+
+#include <hdm/core/types.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace hdm {
+
+/// Global sample ids and their adjacency for a grid of `n` intervals per slab edge.
+///
+/// Sample ids: the first #coarse-vertices ids are the slab corners (id = coarse vertex id); then
+/// n-1 ids per undirected coarse edge, ordered from the smaller to the larger vertex id; then
+/// (n-1)(n-2)/2 interior ids per slab.
+struct SampleLayout {
+  int n = 0;         ///< intervals per slab edge
+  int per_slab = 0;  ///< grid points per slab: (n+1)(n+2)/2
+  int count = 0;     ///< number of distinct samples
+  /// #slabs·per_slab global ids, slab-major, in grid::index order.
+  std::vector<int32_t> ids;
+  /// #slabs·n² global grid triangles (3 ids each), slab-major, counter-clockwise from outside:
+  /// the triangles drawn, felt and exported.
+  std::vector<Tri> triangles;
+  /// For each sample, one slab and packed grid index that hold it (its "home"), used to evaluate
+  /// the sample's projection line with one fixed formula so shared samples agree bit for bit.
+  std::vector<int32_t> home_slab, home_index;
+  /// CSR adjacency over grid edges: neighbours of sample s are
+  /// neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]).
+  std::vector<int32_t> neighbour_offsets, neighbours;
+  /// CSR sample -> incident grid triangles (indices into `triangles`).
+  std::vector<int32_t> triangle_offsets, incident_triangles;
+};
+
+/// @brief Builds the global sample layout of a slab mesh.
+/// @param slabs                #S slabs as coarse-vertex triples (R, S, T).
+/// @param coarse_vertex_count  number of coarse vertices; every id in @p slabs is below it.
+/// @param n                    intervals per slab edge, n >= 1.
+/// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
+///         the whole one-ring (boundary edges belong to one slab).
+/// @throws InvalidInput if n < 1, an id is out of range, or an edge is used by more than two slabs.
+/// @note O(#S·n²) time and memory.
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n);
+
+}  // namespace hdm

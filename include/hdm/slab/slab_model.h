@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// The slab model: coarse slabs around a detailed surface, each holding a triangular displacement
+/// map (paper §2), plus colour texels and per-sample surface fields.
+
+#include <hdm/core/types.h>
+#include <hdm/slab/sample_layout.h>
+
+#include <string>
+#include <vector>
+
+namespace hdm {
+
+/// Precomputed constants of one slab (paper §3.1; design notes §1.7, §3.2), model units.
+///
+/// Corner V in {R, S, T} has inner point V0 and ray dV = V1 - V0. The alpha-triangle is
+/// Rα = R0 + α·dR, Eα1 = e1 + α·d1 (Sα - Rα), Eα2 = e2 + α·d2 (Tα - Rα); its plane normal is
+/// N(α) = N0 + N1·α + N2·α² (outward for a valid slab).
+struct SlabGeometry {
+  Vec3 R0, dR;                ///< inner R corner and R's ray
+  Vec3 e1, e2, d1, d2;        ///< S0-R0, T0-R0, dS-dR, dT-dR
+  Vec3 N0, N1, N2;            ///< alpha-plane normal coefficients
+  double N0dR, N1dR, N2dR;    ///< N0·dR, N1·dR, N2·dR
+  Aabb box;                   ///< box of the six corners: contains the whole slab
+};
+
+/// A baked slab model.
+///
+/// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
+/// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`
+/// and `normals` and must not run concurrently with readers of the same samples.
+struct SlabModel {
+  // ---- stored ----
+  int grid_n = 16;                ///< displacement intervals per slab edge (n)
+  int texel_density = 2;          ///< colour texels per displacement interval (m); texel grid n·m
+  std::vector<Vec3> inner;        ///< #C inner coarse vertex positions V0 [model units]
+  std::vector<Vec3> outer;        ///< #C outer coarse vertex positions V1 [model units]
+  std::vector<Tri> slabs;         ///< #S slabs as coarse-vertex triples R, S, T (CCW from outside)
+  std::vector<float> displacement;///< #samples δ in [0,1] along each projection line (0 inner, 1 outer)
+  std::vector<Vec3f> colour;      ///< #texels linear RGB in [0,1]
+  std::vector<float> friction_static;   ///< #samples static friction coefficient μs
+  std::vector<float> friction_dynamic;  ///< #samples dynamic friction coefficient μd
+  std::vector<float> stiffness_scale;   ///< #samples factor on the rendered stiffness, in [0,1]
+  std::string source;             ///< name of the input mesh the model was baked from
+  int64_t source_triangles = 0;   ///< triangles of that input
+  double source_diagonal = 0;     ///< bounding-box diagonal of that input [model units]
+
+  // ---- derived (rebuild_derived) ----
+  SampleLayout samples;           ///< displacement samples (grid n)
+  SampleLayout texels;            ///< colour texels (grid n·m)
+  std::vector<Vec3f> normals;     ///< #samples unit normals of the displaced surface
+  std::vector<SlabGeometry> geometry;               ///< #S slab constants
+  std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
+  std::vector<int32_t> vertex_slab_offsets, vertex_slabs;  ///< CSR coarse vertex -> slabs
+
+  /// Number of slabs.
+  int slab_count() const noexcept { return static_cast<int>(slabs.size()); }
+  /// Number of coarse vertices.
+  int coarse_vertex_count() const noexcept { return static_cast<int>(inner.size()); }
+};
+
+/// @brief Recomputes every derived member of @p model from its stored data: sample and texel
+/// layouts, slab constants, adjacency and normals.
+/// @throws InvalidInput when the stored data are inconsistent (sizes, ids, non-finite values,
+///         displacements outside [0,1], grid_n < 1 or texel_density < 1), naming the member.
+/// @note O(#S·n²·m²); allocates.
+void rebuild_derived(SlabModel& model);
+
+/// @brief Slab constants of the slab with corners (R0,S0,T0) and (R1,S1,T1) [model units].
+/// @see design notes §3.2 (simplified cubic constants, checked against paper eq. 1-2).
+SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, const Vec3& R1,
+                                const Vec3& S1, const Vec3& T1);
+
+/// @brief Ends of the projection line of grid point @p index of slab @p slab.
+/// @param[out] p0  inner end Σ wV·V0 [model units]
+/// @param[out] p1  outer end Σ wV·V1 [model units]
+/// @note O(1), noexcept; the sample's surface point is p0 + δ·(p1 - p0) (paper §2, §3.2).
+void projection_line(const SlabModel& model, int slab, int index, Vec3& p0, Vec3& p1) noexcept;
+
+/// @brief Surface point of global sample @p sample at its current displacement [model units].
+/// @note O(1), noexcept; evaluated in the sample's home slab, so shared samples agree exactly.
+Vec3 sample_position(const SlabModel& model, int sample) noexcept;
+
+/// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
+/// triangles of every slab, across seams) (paper §3.4; design notes §4.4).
+/// @note O(k·valence); no allocation.
+void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;
+
+/// @brief Exact per-slab validity: the Jacobian N(α)·D(w) is positive over the whole slab
+/// (design notes §3.7: three quadratics positive on [0,1]).
+/// @return the minimum over the slab of the Jacobian, normalised by |N0|·|dV| scale; > 0 iff valid.
+double slab_min_jacobian(const SlabGeometry& g, const Vec3& dS, const Vec3& dT) noexcept;
+
+/// @brief The reconstructed (displaced) surface as a triangle mesh: one vertex per sample,
+/// the grid triangles of every slab [model units].
+void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces);
+
+}  // namespace hdm

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Sets up (packages, models), builds and runs every test with ctest.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$here/scripts/setup.sh"
+bash "$here/scripts/build.sh"
+cd "$here/build" && ctest --output-on-failure -j 2
