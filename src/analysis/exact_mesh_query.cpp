@@ -1,1 +1,163 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/core/error.h>
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hdm {
+
+struct ExactMeshQuery::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  double diagonal = 0;
+};
+
+ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()), mesh_(mesh) {
+  impl_->device = rtcNewDevice(nullptr);
+  if (!impl_->device) throw NumericalError("Embree: cannot create a device");
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), mesh.vertices.size()));
+  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                            3 * sizeof(unsigned), mesh.faces.size()));
+  for (size_t v = 0; v < mesh.vertices.size(); ++v)
+    for (int a = 0; a < 3; ++a) vb[3 * v + a] = static_cast<float>(mesh.vertices[v][a]);
+  for (size_t f = 0; f < mesh.faces.size(); ++f)
+    for (int a = 0; a < 3; ++a) ib[3 * f + a] = static_cast<unsigned>(mesh.faces[f][a]);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(impl_->scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(impl_->scene);
+  impl_->diagonal = bounds(mesh).diagonal();
+}
+
+ExactMeshQuery::~ExactMeshQuery() {
+  if (impl_->scene) rtcReleaseScene(impl_->scene);
+  if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) noexcept {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+namespace {
+
+struct PointQueryState {
+  const TriangleMesh* mesh;
+  Vec3 p;
+  ClosestPoint best;
+};
+
+bool point_query_callback(RTCPointQueryFunctionArguments* args) {
+  auto* st = static_cast<PointQueryState*>(args->userPtr);
+  const Tri& f = st->mesh->faces[args->primID];
+  const Vec3 q = closest_point_on_triangle(st->p, st->mesh->vertices[f[0]], st->mesh->vertices[f[1]],
+                                           st->mesh->vertices[f[2]]);
+  const double d = (q - st->p).norm();
+  if (d < st->best.distance) {
+    st->best = {q, d, static_cast<int32_t>(args->primID)};
+    // Embree works in float: keep a small margin so the true closest triangle is not culled.
+    args->query->radius = static_cast<float>(d) * 1.0001f + 1e-30f;
+    return true;
+  }
+  return false;
+}
+
+RTCRayHit make_ray(const Vec3& o, const Vec3& d, float tnear, float tfar) {
+  RTCRayHit rh{};
+  rh.ray.org_x = static_cast<float>(o.x());
+  rh.ray.org_y = static_cast<float>(o.y());
+  rh.ray.org_z = static_cast<float>(o.z());
+  rh.ray.dir_x = static_cast<float>(d.x());
+  rh.ray.dir_y = static_cast<float>(d.y());
+  rh.ray.dir_z = static_cast<float>(d.z());
+  rh.ray.tnear = tnear;
+  rh.ray.tfar = tfar;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
+}  // namespace
+
+ClosestPoint ExactMeshQuery::closest_point(const Vec3& p) const {
+  PointQueryState st{&mesh_, p, {Vec3::Zero(), std::numeric_limits<double>::infinity(), -1}};
+  RTCPointQuery q;
+  q.x = static_cast<float>(p.x());
+  q.y = static_cast<float>(p.y());
+  q.z = static_cast<float>(p.z());
+  q.time = 0;
+  q.radius = std::numeric_limits<float>::infinity();
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  rtcPointQuery(impl_->scene, &q, &ctx, point_query_callback, &st);
+  return st.best;
+}
+
+void ExactMeshQuery::segment_hits(const Vec3& a, const Vec3& b, std::vector<SegmentHit>& hits) const {
+  hits.clear();
+  const Vec3 d = b - a;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  float tnear = 0;
+  for (int guard = 0; guard < 1024; ++guard) {
+    RTCRayHit rh = make_ray(a, d, tnear, 1.0f);
+    rtcIntersect1(impl_->scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+    const auto face = static_cast<int32_t>(rh.hit.primID);
+    if (hits.empty() || hits.back().face != face) hits.push_back({rh.ray.tfar, face});
+    // Step just past the hit; a relative epsilon in t keeps adjacent triangles from repeating.
+    tnear = std::nextafter(rh.ray.tfar, 2.0f) + 1e-7f;
+  }
+}
+
+SegmentHit ExactMeshQuery::first_hit(const Vec3& a, const Vec3& b) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh = make_ray(a, b - a, 0.0f, 1.0f);
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {1.0, -1};
+  return {rh.ray.tfar, static_cast<int32_t>(rh.hit.primID)};
+}
+
+bool ExactMeshQuery::inside(const Vec3& p) const {
+  static const Vec3 dirs[3] = {Vec3(0.5773, 0.5774, 0.5771).normalized(), Vec3(-0.3141, 0.8523, -0.4182).normalized(),
+                               Vec3(0.7071, -0.1234, -0.6963).normalized()};
+  const double far = 4.0 * std::max(impl_->diagonal, 1e-30) + (p - mesh_.vertices[0]).norm();
+  std::vector<SegmentHit> hits;
+  int votes = 0;
+  for (const Vec3& d : dirs) {
+    segment_hits(p, p + far * d, hits);
+    votes += static_cast<int>(hits.size() % 2);
+  }
+  return votes >= 2;
+}
+
+Vec3 ExactMeshQuery::face_normal(int32_t f) const {
+  const Tri& t = mesh_.faces[f];
+  return (mesh_.vertices[t[1]] - mesh_.vertices[t[0]]).cross(mesh_.vertices[t[2]] - mesh_.vertices[t[0]]).normalized();
+}
+
+}  // namespace hdm

@@ -1,1 +1,113 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+#include <hdm/analysis/fidelity.h>
+#include <hdm/query/slab_query.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <cmath>
+#include <random>
+
+namespace hdm {
+namespace {
+
+struct Sum {
+  double sq = 0, max = 0;
+  Sum operator+(const Sum& o) const { return {sq + o.sq, std::max(max, o.max)}; }
+};
+
+template <class PointAt>
+Sum distances(int64_t count, const ExactMeshQuery& target, PointAt point_at) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int64_t>(0, count, 1024), Sum{},
+      [&](const tbb::blocked_range<int64_t>& r, Sum s) {
+        for (int64_t k = r.begin(); k < r.end(); ++k) {
+          const double d = target.closest_point(point_at(k)).distance;
+          s.sq += d * d;
+          s.max = std::max(s.max, d);
+        }
+        return s;
+      },
+      [](const Sum& a, const Sum& b) { return a + b; });
+}
+
+}  // namespace
+
+Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input) {
+  TriangleMesh surface;
+  displaced_surface(model, surface.vertices, surface.faces);
+  const TriangleMesh& in = input.mesh();
+  const double diag = bounds(in).diagonal();
+  Fidelity f;
+  const int64_t ns = static_cast<int64_t>(surface.vertices.size()), nt = static_cast<int64_t>(surface.faces.size());
+  auto centroid = [](const TriangleMesh& m, int64_t t) {
+    const Tri& f = m.faces[t];
+    return Vec3((m.vertices[f[0]] + m.vertices[f[1]] + m.vertices[f[2]]) / 3.0);
+  };
+  const Sum fwd = distances(ns + nt, input, [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
+  const ExactMeshQuery recon(surface);
+  const int64_t nv = static_cast<int64_t>(in.vertices.size()), nf = static_cast<int64_t>(in.faces.size());
+  const Sum back = distances(nv + nf, recon, [&](int64_t k) { return k < nv ? in.vertices[k] : centroid(in, k - nv); });
+  f.points = ns + nt;
+  f.back_points = nv + nf;
+  f.rms_pct = 100 * std::sqrt(fwd.sq / f.points) / diag;
+  f.max_pct = 100 * fwd.max / diag;
+  f.rms_back_pct = 100 * std::sqrt(back.sq / f.back_points) / diag;
+  f.max_back_pct = 100 * back.max / diag;
+  return f;
+}
+
+ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed) {
+  const TriangleMesh& m = input.mesh();
+  const double diag = bounds(m).diagonal();
+  // Area-weighted face sampling.
+  std::vector<double> cdf(m.faces.size());
+  double total = 0;
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    const Tri& t = m.faces[f];
+    total += (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
+    cdf[f] = total;
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> points(count);
+  for (auto& p : points) {
+    const size_t f = std::min(cdf.size() - 1, size_t(std::lower_bound(cdf.begin(), cdf.end(), u(rng) * total) - cdf.begin()));
+    double a = u(rng), b = u(rng);
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    const Tri& t = m.faces[f];
+    p = m.vertices[t[0]] + a * (m.vertices[t[1]] - m.vertices[t[0]]) + b * (m.vertices[t[2]] - m.vertices[t[0]]) +
+        (u(rng) * 2 - 1) * 0.01 * diag * input.face_normal(static_cast<int32_t>(f));
+  }
+  const SlabLocator locator(model);
+  struct Acc {
+    int64_t agree = 0, depth_n = 0;
+    double sq = 0, max = 0;
+  };
+  const Acc acc = tbb::parallel_reduce(
+      tbb::blocked_range<int64_t>(0, count, 256), Acc{},
+      [&](const tbb::blocked_range<int64_t>& r, Acc a) {
+        QueryCache cache;
+        for (int64_t k = r.begin(); k < r.end(); ++k) {
+          const Contact c = query(model, locator, points[k], cache);
+          const bool exact_in = input.inside(points[k]);
+          a.agree += c.penetrating() == exact_in;
+          if (c.penetrating() && exact_in) {
+            const double e = std::abs(c.depth - input.closest_point(points[k]).distance);
+            a.sq += e * e;
+            a.max = std::max(a.max, e);
+            ++a.depth_n;
+          }
+        }
+        return a;
+      },
+      [](const Acc& a, const Acc& b) { return Acc{a.agree + b.agree, a.depth_n + b.depth_n, a.sq + b.sq, std::max(a.max, b.max)}; });
+  ContactAccuracy c;
+  c.points = count;
+  c.agreement = count ? double(acc.agree) / count : 1.0;
+  c.depth_rms_pct = acc.depth_n ? 100 * std::sqrt(acc.sq / acc.depth_n) / diag : 0;
+  c.depth_max_pct = 100 * acc.max / diag;
+  return c;
+}
+
+}  // namespace hdm

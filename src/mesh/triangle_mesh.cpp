@@ -1,1 +1,94 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/mesh/triangle_mesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+namespace hdm {
+
+Aabb bounds(const TriangleMesh& mesh) {
+  Aabb box;
+  for (const Vec3& v : mesh.vertices) box.extend(v);
+  return box;
+}
+
+namespace {
+
+struct DirectedEdge {
+  int32_t a, b;  // as traversed by a face
+};
+
+int find_root(std::vector<int32_t>& parent, int32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+}  // namespace
+
+MeshTopology analyze_topology(const TriangleMesh& mesh) {
+  MeshTopology t;
+  const double area_eps = 1e-14 * std::pow(std::max(bounds(mesh).diagonal(), 1e-300), 2);
+  std::vector<DirectedEdge> edges;
+  edges.reserve(mesh.faces.size() * 3);
+  std::vector<int32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const Tri& f : mesh.faces) {
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
+      ++t.degenerate_faces;
+      continue;
+    }
+    const Vec3 n = (mesh.vertices[f[1]] - mesh.vertices[f[0]]).cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+    if (n.norm() <= area_eps) ++t.degenerate_faces;
+    for (int k = 0; k < 3; ++k) {
+      edges.push_back({f[k], f[(k + 1) % 3]});
+      parent[find_root(parent, f[k])] = find_root(parent, f[(k + 1) % 3]);
+    }
+  }
+  // Group by undirected edge; count uses and directions.
+  std::sort(edges.begin(), edges.end(), [](const DirectedEdge& x, const DirectedEdge& y) {
+    auto kx = std::minmax(x.a, x.b), ky = std::minmax(y.a, y.b);
+    return kx < ky;
+  });
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    const auto key = std::minmax(edges[i].a, edges[i].b);
+    int forward = 0;
+    while (j < edges.size() && std::minmax(edges[j].a, edges[j].b) == key) {
+      forward += edges[j].a < edges[j].b;
+      ++j;
+    }
+    const size_t uses = j - i;
+    if (uses == 1) ++t.boundary_edges;
+    else if (uses > 2) ++t.non_manifold_edges;
+    else if (forward != 1) ++t.inconsistent_edges;
+    i = j;
+  }
+  for (size_t v = 0; v < parent.size(); ++v) t.components += find_root(parent, static_cast<int32_t>(v)) == static_cast<int32_t>(v);
+  return t;
+}
+
+void validate_for_bake(const TriangleMesh& mesh, const std::string& name) {
+  if (mesh.faces.empty() || mesh.vertices.empty())
+    throw InvalidInput(name + ": mesh is empty (no triangles)");
+  for (size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (!mesh.vertices[v].allFinite())
+      throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
+  const auto nv = static_cast<int32_t>(mesh.vertices.size());
+  for (size_t f = 0; f < mesh.faces.size(); ++f)
+    for (int32_t id : mesh.faces[f])
+      if (id < 0 || id >= nv)
+        throw InvalidInput(name + ": face " + std::to_string(f) + " uses vertex id " + std::to_string(id) +
+                           " outside [0, " + std::to_string(nv) + ")");
+  const MeshTopology t = analyze_topology(mesh);
+  if (t.non_manifold_edges > 0)
+    throw InvalidInput(name + ": " + std::to_string(t.non_manifold_edges) +
+                       " non-manifold edges (used by three or more triangles); repair the mesh first");
+  if (t.inconsistent_edges > 0)
+    throw InvalidInput(name + ": " + std::to_string(t.inconsistent_edges) +
+                       " edges where neighbouring triangles have opposite orientation; orient the mesh consistently");
+}
+
+}  // namespace hdm

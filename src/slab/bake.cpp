@@ -1,1 +1,364 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+// Bake: decimate (meshoptimizer), choose ray directions and shell offsets, validate every slab,
+// cast one ray per sample against the input (Embree, TBB). Design notes §2.2, §3.7, §9-Q1..Q3.
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/core/error.h>
+#include <hdm/slab/bake.h>
+
+#include <meshoptimizer.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+namespace hdm {
+namespace {
+
+struct Coarse {
+  std::vector<Vec3> vertices;
+  std::vector<Tri> faces;
+};
+
+void progress(const BakeOptions& o, const char* stage, double f) {
+  if (o.progress) o.progress(stage, f);
+}
+
+// Decimate to about `target` triangles with meshoptimizer's edge-collapse simplifier; the coarse
+// vertices are a subset of the input vertices, so they lie on the input surface.
+Coarse decimate(const TriangleMesh& mesh, int target) {
+  const size_t nv = mesh.vertices.size(), nf = mesh.faces.size();
+  std::vector<float> pos(3 * nv);
+  for (size_t v = 0; v < nv; ++v)
+    for (int a = 0; a < 3; ++a) pos[3 * v + a] = static_cast<float>(mesh.vertices[v][a]);
+  std::vector<unsigned> idx(3 * nf), out(3 * nf);
+  for (size_t f = 0; f < nf; ++f)
+    for (int a = 0; a < 3; ++a) idx[3 * f + a] = static_cast<unsigned>(mesh.faces[f][a]);
+  size_t count = idx.size();
+  if (static_cast<size_t>(target) < nf) {
+    float err = 0;
+    count = meshopt_simplify(out.data(), idx.data(), idx.size(), pos.data(), nv, 3 * sizeof(float),
+                             3 * static_cast<size_t>(target), 1.0f, 0, &err);
+  } else {
+    out = idx;
+  }
+  Coarse c;
+  std::vector<int32_t> remap(nv, -1);
+  for (size_t k = 0; k + 2 < count; k += 3) {
+    Tri t;
+    for (int a = 0; a < 3; ++a) {
+      int32_t& r = remap[out[k + a]];
+      if (r < 0) {
+        r = static_cast<int32_t>(c.vertices.size());
+        c.vertices.push_back(mesh.vertices[out[k + a]]);
+      }
+      t[a] = r;
+    }
+    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) c.faces.push_back(t);
+  }
+  return c;
+}
+
+struct VertexFrame {
+  std::vector<Vec3> direction;  // unit ray direction per coarse vertex
+  std::vector<double> edge;     // mean incident edge length
+  std::vector<int32_t> offsets, faces;  // CSR vertex -> faces
+  std::vector<Vec3> face_normal;
+};
+
+double min_dot(const Vec3& d, const std::vector<Vec3>& normals) {
+  double m = 2;
+  for (const Vec3& n : normals) m = std::min(m, d.dot(n));
+  return m;
+}
+
+// The unit direction that maximises the smallest dot product with the incident face normals (the
+// centre of the smallest spherical cap holding them). The optimum is fixed by one, two or three
+// active normals: try the area-weighted normal, every normal, every pair bisector and every triple
+// circumcentre (small one-rings), keep the best.
+Vec3 max_min_direction(const Vec3& start, const std::vector<Vec3>& normals) {
+  Vec3 best = start;
+  double best_val = min_dot(start, normals);
+  if (best_val > 0.5) return best;  // the area-weighted normal is good enough: keep it (smooth field)
+  auto consider = [&](Vec3 d) {
+    const double len = d.norm();
+    if (!(len > 1e-12)) return;
+    d /= len;
+    const double v = min_dot(d, normals);
+    if (v > best_val) best_val = v, best = d;
+  };
+  const size_t k = normals.size();
+  for (size_t a = 0; a < k; ++a) {
+    consider(normals[a]);
+    for (size_t b = a + 1; b < k; ++b) {
+      consider(normals[a] + normals[b]);
+      if (k > 24) continue;
+      for (size_t c = b + 1; c < k; ++c) {
+        Vec3 d = (normals[a] - normals[b]).cross(normals[a] - normals[c]);
+        if (d.dot(normals[a]) < 0) d = -d;
+        consider(d);
+      }
+    }
+  }
+  return best;
+}
+
+// Per-vertex directions with a positive dot product against every incident face normal
+// (design notes §2.2: guarantees a positive Jacobian for a thin enough shell).
+VertexFrame vertex_frames(const Coarse& c) {
+  const size_t nv = c.vertices.size();
+  VertexFrame fr;
+  fr.direction.assign(nv, Vec3::Zero());
+  fr.edge.assign(nv, 0.0);
+  std::vector<int> valence(nv, 0);
+  fr.face_normal.resize(c.faces.size());
+  fr.offsets.assign(nv + 1, 0);
+  for (size_t f = 0; f < c.faces.size(); ++f) {
+    const Tri& t = c.faces[f];
+    const Vec3 n = (c.vertices[t[1]] - c.vertices[t[0]]).cross(c.vertices[t[2]] - c.vertices[t[0]]);
+    fr.face_normal[f] = n.normalized();
+    for (int a = 0; a < 3; ++a) {
+      fr.direction[t[a]] += n;
+      fr.edge[t[a]] += (c.vertices[t[(a + 1) % 3]] - c.vertices[t[a]]).norm() +
+                       (c.vertices[t[(a + 2) % 3]] - c.vertices[t[a]]).norm();
+      valence[t[a]] += 2;
+      ++fr.offsets[t[a] + 1];
+    }
+  }
+  for (size_t v = 0; v < nv; ++v) fr.offsets[v + 1] += fr.offsets[v];
+  fr.faces.resize(fr.offsets[nv]);
+  std::vector<int32_t> fill(fr.offsets.begin(), fr.offsets.end() - 1);
+  for (size_t f = 0; f < c.faces.size(); ++f)
+    for (int32_t v : c.faces[f]) fr.faces[fill[v]++] = static_cast<int32_t>(f);
+  std::vector<Vec3> normals;
+  for (size_t v = 0; v < nv; ++v) {
+    fr.edge[v] /= std::max(valence[v], 1);
+    normals.clear();
+    for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k) normals.push_back(fr.face_normal[fr.faces[k]]);
+    fr.direction[v] = max_min_direction(fr.direction[v].normalized(), normals);
+  }
+  return fr;
+}
+
+// Smallest normalised Jacobian of the slab at one α (minimum over the three corners).
+double slab_jacobian_at(const SlabGeometry& g, const Vec3& dS, const Vec3& dT, double alpha) {
+  const Vec3 N = g.N0 + alpha * (g.N1 + alpha * g.N2);
+  double m = 1e300;
+  for (const Vec3* d : {&g.dR, &dS, &dT}) m = std::min(m, N.dot(*d) / (std::max(N.norm() * d->norm(), 1e-300)));
+  return m;
+}
+
+// Distance along ray x + t·d (t > 0) to the coarse surface, ignoring faces around vertex v.
+double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_t v, const Vec3& x,
+                     const Vec3& d, double far, std::vector<SegmentHit>& hits) {
+  coarse.segment_hits(x, x + far * d, hits);
+  for (const SegmentHit& h : hits) {
+    bool incident = false;
+    for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k) incident |= fr.faces[k] == h.face;
+    if (!incident) return h.t * far;
+  }
+  return far;
+}
+
+}  // namespace
+
+SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& o, BakeReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  if (o.grid_n < 1 || o.grid_n > 256) throw InvalidInput("--grid " + std::to_string(o.grid_n) + ": must be in [1, 256]");
+  if (o.texel_density < 1 || o.texel_density > 16)
+    throw InvalidInput("texel density " + std::to_string(o.texel_density) + ": must be in [1, 16]");
+  if (o.slabs < 0) throw InvalidInput("--slabs " + std::to_string(o.slabs) + ": must be positive");
+  validate_for_bake(mesh, name);
+  const double diag = bounds(mesh).diagonal();
+  const int n = o.grid_n;
+  const int target =
+      o.slabs > 0 ? o.slabs : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) / (n * n))));
+
+  progress(o, "decimate", 0);
+  Coarse coarse = decimate(mesh, target);
+  validate_for_bake(TriangleMesh{coarse.vertices, coarse.faces}, name + " (decimated)");
+  progress(o, "decimate", 1);
+  const VertexFrame fr = vertex_frames(coarse);
+  const size_t nv = coarse.vertices.size();
+  const ExactMeshQuery input(mesh);
+  const ExactMeshQuery coarse_query(TriangleMesh{coarse.vertices, coarse.faces});
+
+  // Thickness each side must cover the input's deviation from the coarse surface near the vertex
+  // (one-sided Hausdorff, attributed to the nearest coarse face's corners), plus edit headroom.
+  std::vector<double> need_in(nv, 0.0), need_out(nv, 0.0);
+  {
+    std::vector<int32_t> face(mesh.vertices.size());
+    std::vector<double> signed_dist(mesh.vertices.size());
+    tbb::parallel_for(size_t(0), mesh.vertices.size(), [&](size_t v) {
+      const ClosestPoint cp = coarse_query.closest_point(mesh.vertices[v]);
+      face[v] = cp.face;
+      signed_dist[v] = (mesh.vertices[v] - cp.point).dot(fr.face_normal[cp.face]);
+    });
+    for (size_t v = 0; v < mesh.vertices.size(); ++v)
+      for (int32_t c : coarse.faces[face[v]]) {
+        need_out[c] = std::max(need_out[c], signed_dist[v]);
+        need_in[c] = std::max(need_in[c], -signed_dist[v]);
+      }
+  }
+  // Dilate the needs over the one-ring: neighbouring offsets then vary slowly, which keeps the
+  // alpha-planes from tilting (large offset jumps between neighbours break the Jacobian).
+  {
+    const std::vector<double> in0 = need_in, out0 = need_out;
+    for (const Tri& t : coarse.faces)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) need_in[t[a]] = std::max(need_in[t[a]], in0[t[b]]), need_out[t[a]] = std::max(need_out[t[a]], out0[t[b]]);
+  }
+  std::vector<double> off_in(nv), off_out(nv), cap_in(nv), cap_out(nv), min_off(nv);
+  {
+    std::vector<SegmentHit> hits;
+    for (size_t v = 0; v < nv; ++v) {
+      const Vec3& x = coarse.vertices[v];
+      const Vec3& d = fr.direction[v];
+      const auto vi = static_cast<int32_t>(v);
+      cap_in[v] = 0.45 * free_distance(coarse_query, fr, vi, x, -d, diag, hits);
+      cap_out[v] = 0.45 * free_distance(coarse_query, fr, vi, x, d, diag, hits);
+      // Headroom for edits and for the cursor's penetration (design notes §9-Q1), at least
+      // options.min_thickness of the diagonal where the model is thick enough.
+      const double floor = std::max(o.headroom * fr.edge[v], o.min_thickness * diag);
+      min_off[v] = std::min({1e-3 * fr.edge[v], cap_in[v], cap_out[v]});
+      off_in[v] = std::min(cap_in[v], std::max(1.5 * need_in[v] + 1e-4 * diag, floor));
+      off_out[v] = std::min(cap_out[v], std::max(1.5 * need_out[v] + 1e-4 * diag, floor));
+    }
+  }
+
+  SlabModel model;
+  model.grid_n = n;
+  model.texel_density = o.texel_density;
+  model.slabs = coarse.faces;
+  model.source = name;
+  model.source_triangles = static_cast<int64_t>(mesh.faces.size());
+  model.source_diagonal = diag;
+  model.samples = build_sample_layout(model.slabs, static_cast<int>(nv), n);
+  const int ns = model.samples.count;
+  model.displacement.assign(ns, 0.5f);
+  std::vector<uint8_t> missed(ns, 0);
+  std::vector<uint8_t> undercut(ns, 0);
+  BakeReport rep;
+
+  auto place = [&] {
+    model.inner.resize(nv);
+    model.outer.resize(nv);
+    for (size_t v = 0; v < nv; ++v) {
+      model.inner[v] = coarse.vertices[v] - off_in[v] * fr.direction[v];
+      model.outer[v] = coarse.vertices[v] + off_out[v] * fr.direction[v];
+    }
+  };
+  // Shrink the offsets of the corners of every slab with a non-positive Jacobian until all are
+  // valid: a thin enough shell is always valid because every direction has a positive dot product
+  // with its incident face normals (the thin-to-thick argument of the shell literature).
+  auto make_valid = [&] {
+    for (int round = 0; round < 80; ++round) {
+      place();
+      int bad = 0;
+      for (const Tri& t : model.slabs) {
+        const SlabGeometry g = make_slab_geometry(model.inner[t[0]], model.inner[t[1]], model.inner[t[2]],
+                                                  model.outer[t[0]], model.outer[t[1]], model.outer[t[2]]);
+        const Vec3 dS = model.outer[t[1]] - model.inner[t[1]], dT = model.outer[t[2]] - model.inner[t[2]];
+        if (slab_min_jacobian(g, dS, dT) > 0.02) continue;
+        // Shrink the side that fails: the inner face (α near 0) folds on convex parts, the outer
+        // face (α near 1) on concave parts.
+        const double j_inner = slab_jacobian_at(g, dS, dT, 0.25), j_outer = slab_jacobian_at(g, dS, dT, 0.75);
+        const double f_in = j_inner <= j_outer ? 0.8 : 0.95, f_out = j_inner <= j_outer ? 0.95 : 0.8;
+        ++bad;
+        // Never below a floor: one hopeless vertex must not thin the whole neighbourhood to nothing.
+        for (int32_t v : t) off_in[v] = std::max(off_in[v] * f_in, min_off[v]), off_out[v] = std::max(off_out[v] * f_out, min_off[v]);
+      }
+      if (bad == 0) return;
+    }
+  };
+
+  for (int round = 0; round < 8; ++round) {
+    rep.shell_iterations = round + 1;
+    make_valid();
+    // One ray per distinct sample, from the outer end inward; keep the first (outermost) hit
+    // whose triangle faces outward (design notes §2.2).
+    const int blocks = 20;
+    for (int b = 0; b < blocks; ++b) {
+      const int lo = int(int64_t(ns) * b / blocks), hi = int(int64_t(ns) * (b + 1) / blocks);
+      tbb::parallel_for(tbb::blocked_range<int>(lo, hi, 512), [&](const tbb::blocked_range<int>& r) {
+        std::vector<SegmentHit> hits;
+        for (int s = r.begin(); s < r.end(); ++s) {
+          Vec3 p0, p1;
+          projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+          input.segment_hits(p1, p0, hits);
+          const Vec3 up = p1 - p0;
+          missed[s] = 1;
+          undercut[s] = hits.size() > 1;
+          for (const SegmentHit& h : hits)
+            if (input.face_normal(h.face).dot(up) > 0) {
+              model.displacement[s] = static_cast<float>(std::clamp(1.0 - h.t, 0.0, 1.0));
+              missed[s] = 0;
+              break;
+            }
+        }
+      });
+      progress(o, "cast rays", double(b + 1) / blocks);
+    }
+    // Grow the shell where rays missed: outward if the outer end is inside the input, else inward.
+    int64_t misses = 0;
+    std::vector<uint8_t> grow_in(nv, 0), grow_out(nv, 0);
+    for (int s = 0; s < ns; ++s) {
+      if (!missed[s]) continue;
+      ++misses;
+      Vec3 p0, p1;
+      projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+      const bool out = input.inside(p1);
+      for (int32_t v : model.slabs[model.samples.home_slab[s]]) (out ? grow_out : grow_in)[v] = 1;
+    }
+    rep.ray_misses = misses;
+    if (misses == 0 || round == 7) break;
+    bool grew = false;
+    for (size_t v = 0; v < nv; ++v) {
+      if (grow_in[v] && off_in[v] < cap_in[v]) off_in[v] = std::min(cap_in[v], off_in[v] * 1.5), grew = true;
+      if (grow_out[v] && off_out[v] < cap_out[v]) off_out[v] = std::min(cap_out[v], off_out[v] * 1.5), grew = true;
+    }
+    if (!grew) break;
+  }
+  if (rep.ray_misses > o.miss_limit * ns)
+    throw NumericalError(name + ": " + std::to_string(rep.ray_misses) + " of " + std::to_string(ns) +
+                         " sample rays miss the input (limit " + std::to_string(o.miss_limit * 100) +
+                         "%); the shell cannot enclose the surface here: try more slabs");
+  // Fill the remaining misses from their neighbours, sweeping until every sample has a value.
+  for (int sweep = 0; sweep < 64; ++sweep) {
+    bool left = false;
+    for (int s = 0; s < ns; ++s) {
+      if (!missed[s]) continue;
+      double sum = 0;
+      int cnt = 0;
+      for (int32_t k = model.samples.neighbour_offsets[s]; k < model.samples.neighbour_offsets[s + 1]; ++k)
+        if (!missed[model.samples.neighbours[k]]) sum += model.displacement[model.samples.neighbours[k]], ++cnt;
+      if (cnt > 0) model.displacement[s] = static_cast<float>(sum / cnt), missed[s] = 0;
+      else left = true;
+    }
+    if (!left) break;
+  }
+  rep.undercut_columns = std::count(undercut.begin(), undercut.end(), uint8_t(1));
+  model.colour.clear();
+  model.texels = build_sample_layout(model.slabs, static_cast<int>(nv), n * o.texel_density);
+  model.colour.assign(model.texels.count, o.colour);
+  rebuild_derived(model);
+
+  for (int s = 0; s < model.slab_count(); ++s) {
+    const Tri& t = model.slabs[s];
+    if (slab_min_jacobian(model.geometry[s], model.outer[t[1]] - model.inner[t[1]], model.outer[t[2]] - model.inner[t[2]]) <= 0)
+      ++rep.invalid_slabs;
+  }
+  rep.slabs = model.slab_count();
+  rep.grid_n = n;
+  rep.input_triangles = static_cast<int64_t>(mesh.faces.size());
+  rep.submesh_triangles = int64_t(rep.slabs) * n * n;
+  rep.samples = ns;
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (report) *report = rep;
+  return model;
+}
+
+}  // namespace hdm

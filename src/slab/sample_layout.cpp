@@ -1,1 +1,127 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/slab/sample_layout.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include <algorithm>
+#include <string>
+#include <unordered_map>
+
+namespace hdm {
+namespace {
+
+uint64_t edge_key(int32_t a, int32_t b) {
+  const auto [lo, hi] = std::minmax(a, b);
+  return (static_cast<uint64_t>(static_cast<uint32_t>(lo)) << 32) | static_cast<uint32_t>(hi);
+}
+
+// CSR from (key, value) pairs with keys in [0, count).
+void build_csr(std::vector<std::pair<int32_t, int32_t>>& pairs, int count, std::vector<int32_t>& offsets,
+               std::vector<int32_t>& values) {
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  offsets.assign(count + 1, 0);
+  for (const auto& p : pairs) ++offsets[p.first + 1];
+  for (int s = 0; s < count; ++s) offsets[s + 1] += offsets[s];
+  values.resize(pairs.size());
+  for (size_t k = 0; k < pairs.size(); ++k) values[k] = pairs[k].second;
+}
+
+}  // namespace
+
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n) {
+  if (n < 1) throw InvalidInput("grid n = " + std::to_string(n) + ": must be at least 1");
+  SampleLayout L;
+  L.n = n;
+  L.per_slab = grid::point_count(n);
+  const auto S = static_cast<int32_t>(slabs.size());
+
+  // Number the undirected coarse edges; each owns n-1 edge samples.
+  std::unordered_map<uint64_t, std::pair<int32_t, int32_t>> edges;  // key -> (index, uses)
+  edges.reserve(slabs.size() * 2);
+  for (int32_t s = 0; s < S; ++s)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = slabs[s][k], b = slabs[s][(k + 1) % 3];
+      if (a < 0 || a >= coarse_vertex_count || b < 0 || b >= coarse_vertex_count || a == b)
+        throw InvalidInput("slab " + std::to_string(s) + ": invalid coarse vertex ids");
+      auto [it, fresh] = edges.try_emplace(edge_key(a, b), static_cast<int32_t>(edges.size()), 0);
+      if (++it->second.second > 2)
+        throw InvalidInput("slab " + std::to_string(s) + ": coarse edge (" + std::to_string(a) + ", " +
+                           std::to_string(b) + ") is shared by more than two slabs (non-manifold)");
+    }
+  const int32_t edge_base = coarse_vertex_count;
+  const int32_t interior_base = edge_base + static_cast<int32_t>(edges.size()) * (n - 1);
+  const int32_t interior_per_slab = (n - 1) * (n - 2) / 2;
+  L.count = interior_base + S * interior_per_slab;
+
+  // Sample id of the k-th point (0 < k < n) on the way from coarse vertex a to b.
+  auto edge_sample = [&](int32_t a, int32_t b, int k) {
+    const int32_t e = edges.at(edge_key(a, b)).first;
+    const int t = a < b ? k : n - k;
+    return edge_base + e * (n - 1) + t - 1;
+  };
+
+  L.point_i.resize(L.per_slab);
+  L.point_j.resize(L.per_slab);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i + j <= n; ++i) {
+      L.point_i[grid::index(n, i, j)] = static_cast<int16_t>(i);
+      L.point_j[grid::index(n, i, j)] = static_cast<int16_t>(j);
+    }
+  L.ids.resize(static_cast<size_t>(S) * L.per_slab);
+  L.home_slab.assign(L.count, -1);
+  L.home_index.assign(L.count, -1);
+  for (int32_t s = 0; s < S; ++s) {
+    const int32_t R = slabs[s][0], Sv = slabs[s][1], T = slabs[s][2];
+    int32_t next_interior = interior_base + s * interior_per_slab;
+    int32_t* out = &L.ids[static_cast<size_t>(s) * L.per_slab];
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i + j <= n; ++i) {
+        int32_t id;
+        if (i == 0 && j == 0) id = R;
+        else if (i == n) id = T;
+        else if (j == n) id = Sv;
+        else if (j == 0) id = edge_sample(R, T, i);
+        else if (i == 0) id = edge_sample(R, Sv, j);
+        else if (i + j == n) id = edge_sample(Sv, T, i);
+        else id = next_interior++;
+        const int local = grid::index(n, i, j);
+        out[local] = id;
+        if (L.home_slab[id] < 0) {
+          L.home_slab[id] = s;
+          L.home_index[id] = local;
+        }
+      }
+  }
+  for (int32_t id = 0; id < L.count; ++id)
+    if (L.home_slab[id] < 0) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
+
+  // Grid triangles, counter-clockwise from outside (design notes §1.3).
+  L.triangles.reserve(static_cast<size_t>(S) * n * n);
+  for (int32_t s = 0; s < S; ++s) {
+    const int32_t* g = &L.ids[static_cast<size_t>(s) * L.per_slab];
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i + j < n; ++i) {
+        L.triangles.push_back({g[grid::index(n, i, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j)]});
+        if (i + j <= n - 2)
+          L.triangles.push_back(
+              {g[grid::index(n, i + 1, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j + 1)]});
+      }
+  }
+
+  std::vector<std::pair<int32_t, int32_t>> pairs;
+  pairs.reserve(L.triangles.size() * 6);
+  for (const Tri& t : L.triangles)
+    for (int k = 0; k < 3; ++k) {
+      pairs.emplace_back(t[k], t[(k + 1) % 3]);
+      pairs.emplace_back(t[(k + 1) % 3], t[k]);
+    }
+  build_csr(pairs, L.count, L.neighbour_offsets, L.neighbours);
+  pairs.clear();
+  for (size_t f = 0; f < L.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) pairs.emplace_back(L.triangles[f][k], static_cast<int32_t>(f));
+  build_csr(pairs, L.count, L.triangle_offsets, L.incident_triangles);
+  return L;
+}
+
+}  // namespace hdm

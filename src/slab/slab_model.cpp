@@ -1,1 +1,171 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/slab/slab_model.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+
+namespace hdm {
+
+SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, const Vec3& R1, const Vec3& S1,
+                                const Vec3& T1) {
+  SlabGeometry g;
+  g.R0 = R0;
+  g.dR = R1 - R0;
+  g.e1 = S0 - R0;
+  g.e2 = T0 - R0;
+  g.d1 = (S1 - S0) - g.dR;
+  g.d2 = (T1 - T0) - g.dR;
+  g.N0 = g.e1.cross(g.e2);
+  g.N1 = g.e1.cross(g.d2) + g.d1.cross(g.e2);
+  g.N2 = g.d1.cross(g.d2);
+  g.N0dR = g.N0.dot(g.dR);
+  g.N1dR = g.N1.dot(g.dR);
+  g.N2dR = g.N2.dot(g.dR);
+  for (const Vec3* p : {&R0, &S0, &T0, &R1, &S1, &T1}) g.box.extend(*p);
+  return g;
+}
+
+double slab_min_jacobian(const SlabGeometry& g, const Vec3& dS, const Vec3& dT) noexcept {
+  // gV(α) = N(α)·dV is quadratic; the Jacobian N(α)·D(w) is linear in w, so its minimum over the
+  // slab is the minimum of the three quadratics over α in [0,1] (design notes §3.7).
+  const double scale = std::max(g.N0.norm(), 1e-300);
+  double lowest = 1e300;
+  for (const Vec3* d : {&g.dR, &dS, &dT}) {
+    const double c = g.N0.dot(*d), b = g.N1.dot(*d), a = g.N2.dot(*d);
+    double m = std::min(c, a + b + c);
+    if (a > 0) {
+      const double t = -b / (2 * a);
+      if (t > 0 && t < 1) m = std::min(m, c - b * b / (4 * a));
+    }
+    lowest = std::min(lowest, m / (scale * std::max(d->norm(), 1e-300)));
+  }
+  return lowest;
+}
+
+void projection_line(const SlabModel& model, int slab, int index, Vec3& p0, Vec3& p1) noexcept {
+  const SampleLayout& L = model.samples;
+  const double n = L.n;
+  const double wT = L.point_i[index] / n, wS = L.point_j[index] / n, wR = 1.0 - wT - wS;
+  const Tri& t = model.slabs[slab];
+  p0 = wR * model.inner[t[0]] + wS * model.inner[t[1]] + wT * model.inner[t[2]];
+  p1 = wR * model.outer[t[0]] + wS * model.outer[t[1]] + wT * model.outer[t[2]];
+}
+
+Vec3 sample_position(const SlabModel& model, int sample) noexcept {
+  Vec3 p0, p1;
+  projection_line(model, model.samples.home_slab[sample], model.samples.home_index[sample], p0, p1);
+  return p0 + static_cast<double>(model.displacement[sample]) * (p1 - p0);
+}
+
+void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept {
+  for (size_t k = 0; k < count; ++k) model.positions[samples[k]] = sample_position(model, samples[k]).cast<float>();
+}
+
+void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept {
+  const SampleLayout& L = model.samples;
+  for (size_t k = 0; k < count; ++k) {
+    const int32_t s = samples[k];
+    Vec3f sum = Vec3f::Zero();
+    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
+      const Tri& t = L.triangles[L.incident_triangles[e]];
+      const Vec3f& a = model.positions[t[0]];
+      sum += (model.positions[t[1]] - a).cross(model.positions[t[2]] - a);  // area-weighted
+    }
+    const float len = sum.norm();
+    model.normals[s] = len > 0 ? Vec3f(sum / len) : Vec3f(0, 0, 1);
+  }
+}
+
+namespace {
+
+void check(bool ok, const std::string& what) {
+  if (!ok) throw InvalidInput("slab model: " + what);
+}
+
+template <class T>
+void fill_default(std::vector<T>& v, size_t n, T value, const char* name) {
+  if (v.empty()) v.assign(n, value);
+  check(v.size() == n, std::string(name) + " has " + std::to_string(v.size()) + " entries, expected " +
+                           std::to_string(n));
+}
+
+void build_adjacency(SlabModel& m) {
+  const int S = m.slab_count(), C = m.coarse_vertex_count();
+  m.edge_neighbour.assign(S, {-1, -1, -1});
+  std::unordered_map<uint64_t, int32_t> first;  // undirected edge -> slab*3 + edge
+  first.reserve(S * 2);
+  for (int s = 0; s < S; ++s)
+    for (int k = 0; k < 3; ++k) {
+      const auto [lo, hi] = std::minmax(m.slabs[s][k], m.slabs[s][(k + 1) % 3]);
+      const uint64_t key = (static_cast<uint64_t>(lo) << 32) | static_cast<uint32_t>(hi);
+      auto [it, fresh] = first.try_emplace(key, s * 3 + k);
+      if (!fresh) {
+        m.edge_neighbour[s][k] = it->second / 3;
+        m.edge_neighbour[it->second / 3][it->second % 3] = s;
+      }
+    }
+  m.vertex_slab_offsets.assign(C + 1, 0);
+  for (const Tri& t : m.slabs)
+    for (int32_t v : t) ++m.vertex_slab_offsets[v + 1];
+  for (int v = 0; v < C; ++v) m.vertex_slab_offsets[v + 1] += m.vertex_slab_offsets[v];
+  m.vertex_slabs.resize(m.vertex_slab_offsets[C]);
+  std::vector<int32_t> fill(m.vertex_slab_offsets.begin(), m.vertex_slab_offsets.end() - 1);
+  for (int s = 0; s < S; ++s)
+    for (int32_t v : m.slabs[s]) m.vertex_slabs[fill[v]++] = s;
+}
+
+}  // namespace
+
+void rebuild_derived(SlabModel& m) {
+  check(m.grid_n >= 1 && m.grid_n <= 1024, "grid_n = " + std::to_string(m.grid_n) + " outside [1, 1024]");
+  check(m.texel_density >= 1 && m.grid_n * m.texel_density <= 4096,
+        "texel_density = " + std::to_string(m.texel_density) + " must be >= 1 with grid_n·texel_density <= 4096");
+  check(m.inner.size() == m.outer.size(), "inner and outer vertex counts differ");
+  check(!m.slabs.empty(), "no slabs");
+  for (size_t v = 0; v < m.inner.size(); ++v)
+    check(m.inner[v].allFinite() && m.outer[v].allFinite(), "coarse vertex " + std::to_string(v) + " is not finite");
+  m.samples = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n);
+  m.texels = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n * m.texel_density);
+  const size_t ns = m.samples.count, nt = m.texels.count;
+  check(m.displacement.size() == ns, "displacement has " + std::to_string(m.displacement.size()) +
+                                         " samples, the layout has " + std::to_string(ns));
+  for (size_t s = 0; s < ns; ++s)
+    check(m.displacement[s] >= 0.0f && m.displacement[s] <= 1.0f,
+          "displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
+  fill_default(m.colour, nt, Vec3f(0.8f, 0.8f, 0.8f), "colour");
+  fill_default(m.friction_static, ns, 0.3f, "friction_static");
+  fill_default(m.friction_dynamic, ns, 0.2f, "friction_dynamic");
+  fill_default(m.stiffness_scale, ns, 1.0f, "stiffness_scale");
+  for (size_t t = 0; t < nt; ++t) check(m.colour[t].allFinite(), "colour of texel " + std::to_string(t) + " is not finite");
+  for (size_t s = 0; s < ns; ++s)
+    check(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) &&
+              std::isfinite(m.stiffness_scale[s]),
+          "surface field of sample " + std::to_string(s) + " is not finite");
+
+  m.geometry.resize(m.slabs.size());
+  for (size_t s = 0; s < m.slabs.size(); ++s) {
+    const Tri& t = m.slabs[s];
+    m.geometry[s] = make_slab_geometry(m.inner[t[0]], m.inner[t[1]], m.inner[t[2]], m.outer[t[0]], m.outer[t[1]],
+                                       m.outer[t[2]]);
+  }
+  build_adjacency(m);
+
+  m.positions.resize(ns);
+  m.normals.resize(ns);
+  std::vector<int32_t> all(ns);
+  for (size_t s = 0; s < ns; ++s) all[s] = static_cast<int32_t>(s);
+  update_positions(m, all.data(), ns);
+  update_normals(m, all.data(), ns);
+}
+
+void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces) {
+  vertices.resize(model.samples.count);
+  for (int s = 0; s < model.samples.count; ++s) vertices[s] = sample_position(model, s);
+  faces = model.samples.triangles;
+}
+
+}  // namespace hdm

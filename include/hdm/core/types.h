@@ -5,6 +5,7 @@
 /// allocate, so they are safe in the servo loop).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 

@@ -29,6 +29,8 @@ struct SampleLayout {
   /// For each sample, one slab and packed grid index that hold it (its "home"), used to evaluate
   /// the sample's projection line with one fixed formula so shared samples agree bit for bit.
   std::vector<int32_t> home_slab, home_index;
+  /// per_slab entries: grid coordinates (i, j) of each packed index (inverse of grid::index).
+  std::vector<int16_t> point_i, point_j;
   /// CSR adjacency over grid edges: neighbours of sample s are
   /// neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]).
   std::vector<int32_t> neighbour_offsets, neighbours;

@@ -49,6 +49,7 @@ struct SlabModel {
   // ---- derived (rebuild_derived) ----
   SampleLayout samples;           ///< displacement samples (grid n)
   SampleLayout texels;            ///< colour texels (grid n·m)
+  std::vector<Vec3f> positions;   ///< #samples surface points (cache of sample_position) [model units]
   std::vector<Vec3f> normals;     ///< #samples unit normals of the displaced surface
   std::vector<SlabGeometry> geometry;               ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
@@ -81,6 +82,10 @@ void projection_line(const SlabModel& model, int slab, int index, Vec3& p0, Vec3
 /// @brief Surface point of global sample @p sample at its current displacement [model units].
 /// @note O(1), noexcept; evaluated in the sample's home slab, so shared samples agree exactly.
 Vec3 sample_position(const SlabModel& model, int sample) noexcept;
+
+/// @brief Refreshes the cached `positions` of @p samples from their current displacements.
+/// @note O(count); no allocation; call before update_normals() after an edit.
+void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; design notes §4.4).

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Analyzers that measure a slab model against its input with exact queries on the input (design
+/// README, "How we measure"). Tests, `hdm bake`, `hdm check` and benchmarks all use these.
+
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/slab/slab_model.h>
+
+#include <cstdint>
+
+namespace hdm {
+
+/// Two-sided surface distance, as % of the input's bounding-box diagonal.
+struct Fidelity {
+  double rms_pct = 0;       ///< RMS distance from reconstructed surface points to the input
+  double max_pct = 0;       ///< maximum of those (one-sided Hausdorff)
+  double rms_back_pct = 0;  ///< RMS distance from input points to the reconstructed surface
+  double max_back_pct = 0;  ///< maximum of those
+  int64_t points = 0;       ///< reconstructed points measured (samples and grid-triangle centroids)
+  int64_t back_points = 0;  ///< input points measured (vertices and face centroids)
+};
+
+/// @brief Fidelity of @p model against @p input: every sample and grid-triangle centroid of the
+/// reconstructed surface to the input, and every input vertex and face centroid to the
+/// reconstructed surface (an Embree BVH over the displaced grid triangles).
+/// @note Parallel (TBB); O((#samples + #V + #F) log #F).
+Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input);
+
+/// Contact accuracy near the surface.
+struct ContactAccuracy {
+  int64_t points = 0;       ///< query points
+  double agreement = 0;     ///< fraction whose inside/outside matches the exact test on the input
+  double depth_rms_pct = 0; ///< RMS |hdm depth - exact distance| over points inside both, % of diagonal
+  double depth_max_pct = 0; ///< maximum of those
+};
+
+/// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)
+/// offset along the face normal by a uniform amount in ±1% of the diagonal; hdm's inside/outside
+/// (penetration > 0) against ExactMeshQuery::inside, hdm's depth against the exact distance.
+/// @note Parallel (TBB).
+ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed);
+
+}  // namespace hdm

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Point inversion inside one slab: the alpha-plane cubic (paper §3.1, eq. 1-2) and barycentrics in
+/// a local frame (design notes §3.4; the paper's H·M⁻¹ is singular when an alpha-plane passes
+/// through the origin).
+
+#include <hdm/slab/slab_model.h>
+
+namespace hdm {
+
+/// Root finder for the alpha-plane cubic f(α) = 0 on [0, 1].
+enum class AlphaSolver {
+  Bisection,  ///< the paper's reference: 15 bisection steps, α error about 2⁻¹⁵ (paper §3.1)
+  Newton,     ///< bracketed Newton (falls back to bisection when a step leaves the bracket), |Δα| < 1e-12
+};
+
+/// Position of a point inside a slab.
+struct SlabCoordinates {
+  double alpha = 0;              ///< alpha-plane parameter in [0,1] (0 inner face, 1 outer face)
+  Vec3 bary = Vec3::Zero();      ///< barycentrics (wR, wS, wT) on the alpha-triangle, sum 1
+};
+
+/// @brief Finds α and the barycentrics of point @p p in slab @p g.
+/// @param g       slab constants (make_slab_geometry); the slab must be valid (positive Jacobian).
+/// @param p       point [model units, model frame].
+/// @param solver  root finder for the cubic.
+/// @param[out] c  coordinates, written only when the point is inside.
+/// @return true iff @p p lies in the slab (α in [0,1] and every barycentric >= -1e-9); a NaN point
+///         is never inside.
+/// @note noexcept, no allocation, O(1): AABB test, cubic coefficients (3 dot products), 3-5
+///       Newton steps or 15 bisection steps, one cross-product solve. When the cubic has several
+///       roots in [0,1] (possible only in strongly curved slabs), each monotone interval is tried.
+/// @see Jagnow & Dorsey 2002 §3.1 eq. 1-2; design notes §3.2-3.5.
+bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, SlabCoordinates& c) noexcept;
+
+/// @brief The point of slab @p g with coordinates (@p bary, @p alpha): X(w, α) = Σ wV·(V0 + α·dV).
+/// @note noexcept, O(1); the inverse of locate_in_slab.
+Vec3 slab_point(const SlabGeometry& g, const Vec3& bary, double alpha) noexcept;
+
+}  // namespace hdm

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Finding the slab that holds a point: previous slab, its neighbours, then a BVH over slab boxes
+/// (paper §3.1 suggests a hierarchy; design notes §3.6).
+
+#include <hdm/query/alpha_plane.h>
+
+#include <vector>
+
+namespace hdm {
+
+/// Static search structure over the slabs of one model. Slab boxes never change while editing
+/// (edits move displacements only), so it is built once.
+///
+/// Threading: const methods may be called from any number of threads at once.
+class SlabLocator {
+ public:
+  /// @brief Builds the BVH and per-slab neighbourhoods of @p model (its derived data must be built).
+  /// @note O(#S log #S) time, about 80 bytes per slab.
+  explicit SlabLocator(const SlabModel& model);
+
+  /// @brief Finds a slab that contains @p p.
+  /// @param p       point [model units].
+  /// @param hint    slab to try first (the previous tick's slab) or -1.
+  /// @param solver  alpha-plane root finder.
+  /// @param[out] c  coordinates of @p p in the slab found.
+  /// @return the slab id, or -1 when no slab holds @p p (outside the shell, or NaN).
+  /// @note noexcept, no allocation. Tries the hint, its edge and corner neighbours, then the BVH.
+  int find(const Vec3& p, int hint, AlphaSolver solver, SlabCoordinates& c) const noexcept;
+
+  /// @brief Slabs sharing an edge or a corner with @p slab (edge neighbours first).
+  /// @param[out] count  number of entries.
+  const int32_t* neighbourhood(int slab, int& count) const noexcept {
+    count = ring_offsets_[slab + 1] - ring_offsets_[slab];
+    return ring_.data() + ring_offsets_[slab];
+  }
+
+ private:
+  struct Node {
+    float lo[3], hi[3];
+    int32_t first;  // leaf: first index into order_; inner: right child (left child is this + 1)
+    int32_t count;  // leaf: number of slabs; inner: 0
+  };
+  int find_bvh(const Vec3& p, AlphaSolver solver, SlabCoordinates& c) const noexcept;
+  int build(int32_t begin, int32_t end, std::vector<Vec3>& centres);
+
+  const std::vector<SlabGeometry>* geometry_;
+  std::vector<Node> nodes_;
+  std::vector<int32_t> order_;
+  std::vector<int32_t> ring_offsets_, ring_;
+};
+
+}  // namespace hdm
