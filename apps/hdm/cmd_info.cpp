@@ -1,1 +1,87 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+// hdm info MODEL.hdm [--json]: sizes, source and displacement statistics of a saved model.
+#include "commands.h"
+
+#include <hdm/io/hdm_file.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace hdm::app {
+namespace {
+
+struct InfoOptions {
+  std::string model;
+  bool json = false;
+};
+
+template <class T>
+size_t bytes_of(const std::vector<T>& v) {
+  return v.size() * sizeof(T);
+}
+
+// Bytes of the stored arrays in memory (what a .hdm file holds, without derived data).
+size_t stored_bytes(const SlabModel& m) {
+  return bytes_of(m.inner) + bytes_of(m.outer) + bytes_of(m.slabs) + bytes_of(m.displacement) + bytes_of(m.colour) +
+         bytes_of(m.friction_static) + bytes_of(m.friction_dynamic) + bytes_of(m.stiffness_scale) + m.source.size();
+}
+
+void run_info(const InfoOptions& o) {
+  const SlabModel m = load_model(o.model);
+  double lo = 0, hi = 0, sum = 0;
+  if (!m.displacement.empty()) {
+    const auto [a, b] = std::minmax_element(m.displacement.begin(), m.displacement.end());
+    lo = *a;
+    hi = *b;
+    for (float d : m.displacement) sum += d;
+  }
+  const double mean = m.displacement.empty() ? 0.0 : sum / static_cast<double>(m.displacement.size());
+  const auto file_bytes = static_cast<uintmax_t>(std::filesystem::file_size(o.model));
+  const size_t bytes = stored_bytes(m);
+
+  if (o.json) {
+    const nlohmann::json j = {{"slabs", m.slab_count()},
+                              {"coarse_vertices", m.coarse_vertex_count()},
+                              {"grid", m.grid_n},
+                              {"texel_density", m.texel_density},
+                              {"samples", m.samples.count},
+                              {"texels", m.texels.count},
+                              {"source", m.source},
+                              {"source_triangles", m.source_triangles},
+                              {"displacement", {{"min", lo}, {"mean", mean}, {"max", hi}}},
+                              {"bytes", bytes},
+                              {"file_bytes", file_bytes}};
+    std::printf("%s\n", j.dump().c_str());
+    return;
+  }
+  std::printf("model             %s\n", o.model.c_str());
+  std::printf("slabs             %d\n", m.slab_count());
+  std::printf("coarse vertices   %d\n", m.coarse_vertex_count());
+  std::printf("grid n            %d (%d samples per slab)\n", m.grid_n, m.samples.per_slab);
+  std::printf("texel density     %d (texel grid %d)\n", m.texel_density, m.texels.n);
+  std::printf("samples           %d\n", m.samples.count);
+  std::printf("texels            %d\n", m.texels.count);
+  std::printf("source            %s\n", m.source.empty() ? "(unknown)" : m.source.c_str());
+  std::printf("source triangles  %lld\n", static_cast<long long>(m.source_triangles));
+  std::printf("displacement      min %.6g  mean %.6g  max %.6g\n", lo, mean, hi);
+  std::printf("file size         %ju bytes\n", file_bytes);
+  std::printf("stored arrays     %zu bytes in memory\n", bytes);
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app) {
+  auto opts = std::make_shared<InfoOptions>();
+  CLI::App* sub = app.add_subcommand("info", "Print the sizes, source and displacement range of a .hdm model");
+  sub->add_option("model", opts->model, "model file (.hdm)")->required()->check(CLI::ExistingFile);
+  sub->add_flag("--json", opts->json, "print one JSON object instead of text");
+  sub->callback([opts] { run_info(*opts); });
+}
+
+}  // namespace hdm::app

@@ -1,1 +1,90 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+// hdm render MODEL.hdm -o VIEW.png [--size WxH] [--view AZ,EL] [--edges]: headless PNG of a model.
+#include "commands.h"
+
+#include <hdm/io/hdm_file.h>
+#include <hdm/render/render_png.h>
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <type_traits>
+
+namespace hdm::app {
+namespace {
+
+struct RenderArgs {
+  std::string model, output, size = "1280x960", view = "0,15";
+  bool edges = false;
+};
+
+// Parses "A<sep>B" into two numbers with nothing left over; false on any junk.
+template <class T>
+bool parse_pair(const std::string& text, char sep, T& a, T& b) {
+  const size_t at = text.find(sep);
+  if (at == std::string::npos) return false;
+  try {
+    size_t used_a = 0, used_b = 0;
+    const std::string first = text.substr(0, at), second = text.substr(at + 1);
+    if constexpr (std::is_same_v<T, int>) {
+      a = std::stoi(first, &used_a);
+      b = std::stoi(second, &used_b);
+    } else {
+      a = std::stod(first, &used_a);
+      b = std::stod(second, &used_b);
+    }
+    return !first.empty() && !second.empty() && used_a == first.size() && used_b == second.size();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+std::string check_size(const std::string& text) {
+  int w = 0, h = 0;
+  if (!parse_pair(text, 'x', w, h)) return "expected WIDTHxHEIGHT in pixels, for example 1280x960, got '" + text + "'";
+  if (w < 1 || h < 1 || w > 16384 || h > 16384) return "width and height must be in 1..16384, got '" + text + "'";
+  return {};
+}
+
+std::string check_view(const std::string& text) {
+  double az = 0, el = 0;
+  if (!parse_pair(text, ',', az, el))
+    return "expected AZIMUTH,ELEVATION in degrees, for example 30,15, got '" + text + "'";
+  if (!std::isfinite(az) || !std::isfinite(el) || std::abs(el) > 90)
+    return "azimuth must be finite and elevation in [-90, 90] degrees, got '" + text + "'";
+  return {};
+}
+
+void run_render(const RenderArgs& a) {
+  RenderOptions o;
+  parse_pair(a.size, 'x', o.width, o.height);  // validated by check_size
+  parse_pair(a.view, ',', o.azimuth_deg, o.elevation_deg);
+  o.show_slab_edges = a.edges;
+  const SlabModel model = load_model(a.model);
+  render_png(model, a.output, o);
+  std::printf("%s\n", a.output.c_str());
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app) {
+  auto args = std::make_shared<RenderArgs>();
+  CLI::App* sub = app.add_subcommand("render", "Render a .hdm model to a PNG image (headless OpenGL via EGL)");
+  sub->add_option("model", args->model, "model file (.hdm)")->required()->check(CLI::ExistingFile);
+  sub->add_option("-o,--output", args->output, "output image (.png)")->required();
+  sub->add_option("--size", args->size, "image size WIDTHxHEIGHT [pixels]")
+      ->capture_default_str()
+      ->check(CLI::Validator(check_size, "WxH", "size"));
+  sub->add_option("--view", args->view,
+                  "view direction AZIMUTH,ELEVATION [degrees]: azimuth about +Y (0 = from +Z), elevation above "
+                  "the XZ plane in [-90, 90]")
+      ->capture_default_str()
+      ->check(CLI::Validator(check_view, "AZ,EL", "view"));
+  sub->add_flag("--edges", args->edges, "draw the coarse slab boundaries");
+  sub->callback([args] { run_render(*args); });
+}
+
+}  // namespace hdm::app

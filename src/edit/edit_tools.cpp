@@ -1,1 +1,173 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+#include <hdm/edit/edit_tools.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdm {
+
+EditScratch::EditScratch(const SlabModel& m)
+    : sample_stamp(m.samples.count, 0),
+      texel_stamp(m.texels.count, 0),
+      queue(std::max(m.samples.count, m.texels.count)),
+      changed(m.samples.count),
+      ring(m.samples.count),
+      dirty_slabs(m.slab_count(), 0) {}
+
+namespace {
+
+uint32_t next_stamp(EditScratch& s, std::vector<uint32_t>& marks) noexcept {
+  if (++s.stamp == 0) {  // wrapped: clear every mark once every 2³² edits
+    std::fill(s.sample_stamp.begin(), s.sample_stamp.end(), 0u);
+    std::fill(s.texel_stamp.begin(), s.texel_stamp.end(), 0u);
+    s.stamp = 1;
+  }
+  return s.stamp;
+}
+
+// The three grid points of the cell under barycentrics (wR, wS, wT) of a grid with N intervals.
+void cell_points(const SampleLayout& L, int slab, const Vec3& bary, int32_t out[3]) noexcept {
+  const int N = L.n;
+  const double hx = std::clamp(N * bary[2], 0.0, double(N)), hy = std::clamp(N * bary[1], 0.0, double(N));
+  const int i = std::min(static_cast<int>(hx), N - 1), j = std::min(static_cast<int>(hy), N - 1 - i);
+  const int32_t* ids = &L.ids[static_cast<size_t>(slab) * L.per_slab];
+  out[0] = ids[grid::index(N, i, j)];
+  out[1] = ids[grid::index(N, i + 1, j)];
+  out[2] = ids[grid::index(N, i, j + 1)];
+}
+
+// Shared flood fill over the sample graph: `visit(s)` returns true to continue into s's neighbours
+// and records changes itself.
+template <class Visit>
+int32_t flood(const SampleLayout& L, std::vector<uint32_t>& marks, uint32_t stamp, std::vector<int32_t>& queue,
+              const int32_t seeds[3], Visit visit) noexcept {
+  size_t head = 0, tail = 0;
+  for (int k = 0; k < 3; ++k)
+    if (marks[seeds[k]] != stamp) marks[seeds[k]] = stamp, queue[tail++] = seeds[k];
+  while (head < tail) {
+    const int32_t s = queue[head++];
+    if (!visit(s)) continue;
+    for (int32_t e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e) {
+      const int32_t t = L.neighbours[e];
+      if (marks[t] != stamp) marks[t] = stamp, queue[tail++] = t;
+    }
+  }
+  return static_cast<int32_t>(tail);
+}
+
+// After displacements changed: positions of the changed samples, normals of them and their
+// one-ring (design notes §4.4), dirty flags of every slab that holds a changed sample.
+void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcept {
+  if (changed == 0) return;
+  update_positions(m, s.changed.data(), changed);
+  const uint32_t stamp = next_stamp(s, s.sample_stamp);
+  int32_t ring = 0;
+  const SampleLayout& L = m.samples;
+  const int per_slab_tris = L.n * L.n;
+  for (int32_t k = 0; k < changed; ++k) {
+    const int32_t c = s.changed[k];
+    for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
+      const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
+      if (s.sample_stamp[t] != stamp) s.sample_stamp[t] = stamp, s.ring[ring++] = t;
+    }
+    for (int32_t e = L.triangle_offsets[c]; e < L.triangle_offsets[c + 1]; ++e)
+      s.dirty_slabs[L.incident_triangles[e] / per_slab_tris] = 1;
+  }
+  update_normals(m, s.ring.data(), ring);
+}
+
+}  // namespace
+
+EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec3& hip, double radius,
+                 double resilience) noexcept {
+  EditResult r;
+  if (!contact.in_shell() || !(radius > 0) || !hip.allFinite()) return r;
+  const Vec3 centre = hip + contact.normal * (radius + std::max(resilience, 0.0));
+  const double r2 = radius * radius;
+  int32_t seeds[3];
+  cell_points(m.samples, contact.slab, contact.coords.bary, seeds);
+  const uint32_t stamp = next_stamp(s, s.sample_stamp);
+  r.visited = flood(m.samples, s.sample_stamp, stamp, s.queue, seeds, [&](int32_t id) {
+    Vec3 p0, p1;
+    projection_line(m, m.samples.home_slab[id], m.samples.home_index[id], p0, p1);
+    // Line P(t) = p0 + t·L against the sphere: a t² + b t + c = 0 (design notes §5.1).
+    const Vec3 L = p1 - p0, w = p0 - centre;
+    const double a = L.squaredNorm(), b = 2 * L.dot(w), c = w.squaredNorm() - r2;
+    const double disc = b * b - 4 * a * c;
+    if (disc < 0 || a <= 0) return false;
+    const double sq = std::sqrt(disc), t_in = (-b - sq) / (2 * a), t_out = (-b + sq) / (2 * a);
+    if (t_out < 0 || t_in > 1) return false;  // the line meets the sphere outside the slab
+    const double delta = m.displacement[id];
+    if (t_in < delta && delta <= t_out) {
+      const float lowered = static_cast<float>(std::max(t_in, 0.0));
+      if (lowered < m.displacement[id]) {
+        m.displacement[id] = lowered;
+        s.changed[r.changed++] = id;
+      }
+    }
+    return true;
+  });
+  finish_geometry_edit(m, s, r.changed);
+  return r;
+}
+
+EditResult add_material(SlabModel& m, EditScratch& s, const Contact& contact, double radius, double height) noexcept {
+  EditResult r;
+  if (!contact.in_shell() || !(radius > 0) || !(height > 0)) return r;
+  const Vec3 centre = contact.surface_point;
+  int32_t seeds[3];
+  cell_points(m.samples, contact.slab, contact.coords.bary, seeds);
+  const uint32_t stamp = next_stamp(s, s.sample_stamp);
+  r.visited = flood(m.samples, s.sample_stamp, stamp, s.queue, seeds, [&](int32_t id) {
+    Vec3 p0, p1;
+    projection_line(m, m.samples.home_slab[id], m.samples.home_index[id], p0, p1);
+    const double len = (p1 - p0).norm();
+    const double d = (p0 + double(m.displacement[id]) * (p1 - p0) - centre).norm();
+    if (d >= radius || len <= 0) return false;
+    const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + height * (1 - d / radius) / len));
+    if (raised > m.displacement[id]) {
+      m.displacement[id] = raised;
+      s.changed[r.changed++] = id;
+    }
+    return true;
+  });
+  finish_geometry_edit(m, s, r.changed);
+  return r;
+}
+
+EditResult paint(SlabModel& m, EditScratch& s, const Contact& contact, double radius, const Vec3f& colour,
+                 double pressure) noexcept {
+  EditResult r;
+  pressure = std::clamp(pressure, 0.0, 1.0);
+  if (!contact.in_shell() || !(radius > 0) || !(pressure > 0)) return r;
+  const Vec3 centre = contact.surface_point;
+  const SampleLayout& T = m.texels;
+  int32_t seeds[3];
+  cell_points(T, contact.slab, contact.coords.bary, seeds);
+  const uint32_t stamp = next_stamp(s, s.texel_stamp);
+  r.visited = flood(T, s.texel_stamp, stamp, s.queue, seeds, [&](int32_t id) {
+    const int local = T.home_index[id];
+    const double N = T.n;
+    SlabCoordinates c;
+    c.bary = Vec3(1 - (T.point_i[local] + T.point_j[local]) / N, T.point_j[local] / N, T.point_i[local] / N);
+    Contact at;
+    evaluate_surface(m, T.home_slab[id], c, at);  // texel on the displaced surface
+    const double d = (at.surface_point - centre).norm();
+    if (d >= radius) return false;
+    const float k = static_cast<float>(pressure * (1 - d / radius));
+    m.colour[id] = k * colour + (1 - k) * m.colour[id];
+    ++r.changed;
+    for (int32_t e = T.triangle_offsets[id]; e < T.triangle_offsets[id + 1]; ++e)
+      s.dirty_slabs[T.incident_triangles[e] / (T.n * T.n)] = 1;
+    return true;
+  });
+  return r;
+}
+
+double paint_pressure(double depth, double d0, double d1) noexcept {
+  if (!(depth > d0) || !(d1 > d0)) return 0.0;
+  return std::min(1.0, (depth - d0) / (d1 - d0));
+}
+
+}  // namespace hdm

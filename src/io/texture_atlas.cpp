@@ -1,1 +1,60 @@
-// placeholder: being written
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/io/texture_atlas.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace hdm {
+
+uint8_t linear_to_srgb8(float linear) noexcept {
+  if (!(linear > 0.0f)) return 0;  // also NaN
+  if (linear >= 1.0f) return 255;
+  const double c = linear;
+  const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return static_cast<uint8_t>(std::lround(s * 255.0));
+}
+
+TextureAtlas build_texture_atlas(const SlabModel& model) {
+  const int S = model.slab_count();
+  const int N = model.grid_n * model.texel_density;
+  const SampleLayout& L = model.texels;
+  if (S == 0) throw InvalidInput("build_texture_atlas: the model has no slabs");
+  if (L.n != N || L.ids.size() != static_cast<size_t>(S) * L.per_slab || model.colour.size() != size_t(L.count))
+    throw InvalidInput("build_texture_atlas: texel layout or colours missing (call rebuild_derived first)");
+
+  TextureAtlas a;
+  a.texel_n = N;
+  a.tile = N + 3;
+  a.columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(S))));
+  const int rows = (S + a.columns - 1) / a.columns;
+  a.width = a.columns * a.tile;
+  a.height = rows * a.tile;
+  a.rgba.assign(static_cast<size_t>(a.width) * a.height * 4, 0);
+
+  for (int s = 0; s < S; ++s) {
+    const int32_t* ids = &L.ids[static_cast<size_t>(s) * L.per_slab];
+    const Eigen::Vector2i o = a.origin(s);
+    for (int b = -1; b <= N + 1; ++b)
+      for (int c = -1; c <= N + 1; ++c) {
+        // Nearest valid texel of local pixel (c, b): clamp into the square, then project points
+        // beyond the hypotenuse onto it (i + j = N), rounding down on ties.
+        int i = std::clamp(c, 0, N), j = std::clamp(b, 0, N);
+        if (i + j > N) {
+          i = std::clamp((i - j + N) / 2, 0, N);  // i - j + N >= 0 here, so / rounds down
+          j = N - i;
+        }
+        const Vec3f& colour = model.colour[ids[grid::index(N, i, j)]];
+        uint8_t* px = &a.rgba[(static_cast<size_t>(o.y() + b) * a.width + (o.x() + c)) * 4];
+        px[0] = linear_to_srgb8(colour.x());
+        px[1] = linear_to_srgb8(colour.y());
+        px[2] = linear_to_srgb8(colour.z());
+        px[3] = 255;
+      }
+  }
+  return a;
+}
+
+}  // namespace hdm

@@ -57,8 +57,10 @@ inline constexpr double kRenderFill = 0.9;
 RenderCamera fit_camera(const std::vector<Vec3f>& points, int width, int height, double azimuth_deg,
                         double elevation_deg);
 
-/// @brief fit_camera() over the displaced surface of @p model (its cached `positions`).
+/// @brief fit_camera() over the displaced surface of @p model (sample_position of every sample).
 /// @pre rebuild_derived(model) has run.
+/// @throws InvalidInput if the model has no slabs or stale derived data.
+/// @note O(#samples); allocates one temporary array.
 RenderCamera fit_camera(const SlabModel& model, int width, int height, double azimuth_deg,
                         double elevation_deg);
 

@@ -30,6 +30,7 @@ class EglContext {
   void make_current();
 
   /// The GL_RENDERER string, for diagnostics (for example "llvmpipe (LLVM 15.0.6, 256 bits)").
+  /// @pre this context is current on the calling thread.
   const char* renderer() const;
 
  private:

@@ -42,6 +42,7 @@ class Framebuffer {
   int samples() const noexcept { return samples_; } ///< MSAA samples actually used
 
  private:
+  void release() noexcept;
   int width_, height_, samples_;
   unsigned draw_fbo_ = 0, resolve_fbo_ = 0;
   unsigned colour_rb_ = 0, depth_rb_ = 0, resolve_rb_ = 0;

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// The `.hdm` file: a slab model's stored data in a versioned little-endian binary format
+/// (design notes §9-Q18).
+///
+/// Format version 1, all integers and floats little-endian, IEEE-754:
+///
+/// | bytes | content |
+/// | --- | --- |
+/// | 4 | magic `"HDM\0"` |
+/// | 4 | uint32 format version (= 1) |
+/// | ... | 12 sections, in the order below |
+/// | 8 | uint64 FNV-1a (64-bit) hash of every byte before it |
+///
+/// Each section is a 4-byte tag, a uint64 element count `k`, then `k` elements:
+///
+/// | tag | elements | element |
+/// | --- | --- | --- |
+/// | `GRID` | 2 | int32: grid_n, texel_density |
+/// | `INNR` | #C | 3 float64: inner position [model units] |
+/// | `OUTR` | #C | 3 float64: outer position [model units] |
+/// | `SLAB` | #S | 3 int32: coarse vertex ids R, S, T |
+/// | `DISP` | #samples | float32 displacement δ |
+/// | `COLR` | #texels | 3 float32 linear RGB |
+/// | `FRST` | #samples | float32 friction_static |
+/// | `FRDY` | #samples | float32 friction_dynamic |
+/// | `STIF` | #samples | float32 stiffness_scale |
+/// | `SRCN` | bytes | uint8: source name (no terminator) |
+/// | `SRCT` | 1 | int64 source_triangles |
+/// | `SRCD` | 1 | float64 source_diagonal [model units] |
+///
+/// Derived members of SlabModel are not stored; load_model() rebuilds them.
+
+#include <hdm/slab/slab_model.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace hdm {
+
+/// Version of the `.hdm` format that save_model() writes and load_model() reads.
+inline constexpr uint32_t hdm_format_version = 1;
+
+/// @brief Writes the stored members of @p model to @p path (format in this file's header).
+/// @param model  slab model; its stored arrays have the sizes rebuild_derived() checks.
+/// @param path   output file; written as "<path>.tmp" then renamed over @p path.
+/// @pre rebuild_derived(model) has run since the last structural change (it fills the optional
+///      per-sample and per-texel arrays, so save, load and save again give identical bytes).
+/// @throws IoError "<path>: <reason>" when the file cannot be written; the previous content of
+///         @p path is then left untouched and the temporary file is removed.
+/// @note O(stored bytes); builds the file in memory first.
+void save_model(const SlabModel& model, const std::string& path);
+
+/// @brief Reads a model written by save_model() and rebuilds its derived members.
+/// @param path  `.hdm` file.
+/// @return the model; every stored member equals the saved one bit for bit.
+/// @throws IoError "<path>: <reason>" when the file is missing or unreadable, is not an `.hdm`
+///         file, has another format version ("<path>: format version 7, this hdm reads
+///         version 1"), is truncated ("<path>: truncated ..."), has a count larger than the
+///         remaining bytes allow (checked before anything is allocated), or fails the checksum
+///         ("<path>: checksum mismatch (file corrupt)").
+/// @throws InvalidInput "<path>: ..." when the content is inconsistent (from rebuild_derived()).
+/// @note O(file size + rebuild_derived()); reads the whole file into memory.
+SlabModel load_model(const std::string& path);
+
+/// @brief Writes @p size bytes to @p path so that a failure never loses the previous file:
+/// writes "<path>.tmp", flushes it to disk (fsync), then renames it over @p path.
+/// @throws IoError "<path>: <reason>" on any failure; the temporary file is removed.
+/// @note Used by every hdm writer (model files and exports).
+void write_file_atomic(const std::string& path, const void* data, size_t size);
+
+}  // namespace hdm

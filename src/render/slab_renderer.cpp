@@ -1,0 +1,254 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/io/texture_atlas.h>
+#include <hdm/render/camera.h>
+#include <hdm/render/slab_renderer.h>
+#include <hdm/slab/slab_model.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include "atlas_tile.h"
+#include "gl.h"
+#include "model_check.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace hdm {
+namespace {
+
+// One vertex per (slab, grid point). 40 bytes.
+struct Vertex {
+  float position[3];  // world [model units]
+  float normal[3];    // world, unit
+  float uv[2];        // atlas coordinates
+  float bary[2];      // (wT, wS) within the slab, for the slab-edge overlay
+};
+
+// Shading happens in linear RGB; the atlas is an sRGB texture, so sampling decodes it, and the
+// output is encoded once at the end (the framebuffer is plain RGBA8).
+const char* const kVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;
+layout(location = 3) in vec2 a_bary;
+layout(location = 0) uniform mat4 u_view;
+layout(location = 1) uniform mat4 u_projection;
+out vec3 v_normal;
+out vec2 v_uv;
+out vec2 v_bary;
+void main() {
+  v_normal = mat3(u_view) * a_normal;  // the view matrix is rigid
+  v_uv = a_uv;
+  v_bary = a_bary;
+  gl_Position = u_projection * (u_view * vec4(a_position, 1.0));
+}
+)";
+
+const char* const kFragmentShader = R"(#version 450 core
+in vec3 v_normal;
+in vec2 v_uv;
+in vec2 v_bary;
+layout(location = 2) uniform int u_edges;
+layout(binding = 0) uniform sampler2D u_atlas;
+out vec4 o_colour;
+// View space: +Z points at the viewer.
+const vec3 kKey = normalize(vec3(-0.4, 0.6, 1.0));
+const vec3 kFill = normalize(vec3(0.7, -0.3, 0.6));
+vec3 encode_srgb(vec3 c) {
+  c = clamp(c, 0.0, 1.0);
+  return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+void main() {
+  vec3 n = normalize(v_normal);
+  if (!gl_FrontFacing) n = -n;  // open models show their inside
+  // At most about 0.88, so white albedo never saturates into a white background.
+  float light = 0.2 + 0.6 * max(dot(n, kKey), 0.0) + 0.25 * max(dot(n, kFill), 0.0);
+  vec3 colour = texture(u_atlas, v_uv).rgb * light;
+  if (u_edges != 0) {
+    vec3 w = vec3(v_bary, 1.0 - v_bary.x - v_bary.y);
+    vec3 pixels = w / max(fwidth(w), vec3(1e-7));  // distance to each slab edge [pixels]
+    float d = min(pixels.x, min(pixels.y, pixels.z));
+    colour = mix(vec3(0.02), colour, clamp(d - 1.0, 0.0, 1.0));
+  }
+  o_colour = vec4(encode_srgb(colour), 1.0);
+}
+)";
+
+}  // namespace
+
+struct SlabRenderer::State {
+  GLuint program = 0, vao = 0, vbo = 0, ebo = 0, atlas = 0;
+  int slabs = 0, n = 0, texel_density = 0, per_slab = 0;
+  GLsizei index_count = 0;
+  TextureAtlas layout;          // sizes and tile placement; rgba is dropped after upload
+  std::vector<Vertex> vertices; // staging for upload_slab
+  std::vector<uint8_t> tile;    // staging for upload_slab
+
+  void delete_buffers() {
+    const GLuint buffers[] = {vbo, ebo};
+    glDeleteBuffers(2, buffers);
+    glDeleteTextures(1, &atlas);
+    vbo = ebo = atlas = 0;
+  }
+
+  // Vertices of slab s into out[0 .. per_slab).
+  void fill_vertices(const SlabModel& m, int s, Vertex* out) const {
+    const SampleLayout& L = m.samples;
+    const int32_t* ids = &L.ids[static_cast<size_t>(s) * per_slab];
+    for (int k = 0; k < per_slab; ++k) {
+      const double wT = static_cast<double>(L.point_i[k]) / n, wS = static_cast<double>(L.point_j[k]) / n;
+      const Vec3f p = sample_position(m, ids[k]).cast<float>();
+      const Vec3f& nrm = m.normals[ids[k]];
+      const Eigen::Vector2f uv = layout.uv(s, wT, wS);
+      out[k] = Vertex{{p.x(), p.y(), p.z()},
+                      {nrm.x(), nrm.y(), nrm.z()},
+                      {uv.x(), uv.y()},
+                      {static_cast<float>(wT), static_cast<float>(wS)}};
+    }
+  }
+};
+
+SlabRenderer::SlabRenderer() : state_(std::make_unique<State>()) {
+  state_->program = render_detail::link_program(kVertexShader, kFragmentShader);
+  glCreateVertexArrays(1, &state_->vao);
+  const GLuint vao = state_->vao;
+  const struct {
+    GLuint location;
+    GLint size;
+    size_t offset;
+  } attributes[] = {{0, 3, offsetof(Vertex, position)},
+                    {1, 3, offsetof(Vertex, normal)},
+                    {2, 2, offsetof(Vertex, uv)},
+                    {3, 2, offsetof(Vertex, bary)}};
+  for (const auto& a : attributes) {
+    glEnableVertexArrayAttrib(vao, a.location);
+    glVertexArrayAttribFormat(vao, a.location, a.size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(a.offset));
+    glVertexArrayAttribBinding(vao, a.location, 0);
+  }
+  render_detail::check_gl("creating the slab renderer");
+}
+
+SlabRenderer::~SlabRenderer() {
+  state_->delete_buffers();
+  glDeleteVertexArrays(1, &state_->vao);
+  glDeleteProgram(state_->program);
+}
+
+void SlabRenderer::upload_all(const SlabModel& model) {
+  render_detail::check_renderable(model);
+  State& st = *state_;
+  TextureAtlas atlas = build_texture_atlas(model);
+  GLint max_texture = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+  if (atlas.width > max_texture || atlas.height > max_texture)
+    throw RenderError("render: the colour atlas (" + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) +
+                      " pixels) exceeds GL_MAX_TEXTURE_SIZE " + std::to_string(max_texture) +
+                      "; lower texel_density");
+  const int S = model.slab_count(), n = model.grid_n, P = model.samples.per_slab;
+  const long long indices = 3LL * S * grid::triangle_count(n);
+  if (static_cast<long long>(S) * P > std::numeric_limits<uint32_t>::max() ||
+      indices > std::numeric_limits<GLsizei>::max())
+    throw InvalidInput("render: the model is too large to draw (" + std::to_string(S) + " slabs, grid " +
+                       std::to_string(n) + ")");
+
+  st.delete_buffers();
+  st.slabs = S;
+  st.n = n;
+  st.texel_density = model.texel_density;
+  st.per_slab = P;
+  st.index_count = static_cast<GLsizei>(indices);
+  st.layout = std::move(atlas);
+
+  // Atlas texture: immutable sRGB storage, no mipmaps (they would mix neighbouring tiles).
+  glCreateTextures(GL_TEXTURE_2D, 1, &st.atlas);
+  glTextureStorage2D(st.atlas, 1, GL_SRGB8_ALPHA8, st.layout.width, st.layout.height);
+  glTextureParameteri(st.atlas, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(st.atlas, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(st.atlas, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(st.atlas, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(st.atlas, 0, 0, 0, st.layout.width, st.layout.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                      st.layout.rgba.data());
+  std::vector<uint8_t>().swap(st.layout.rgba);  // only the layout is needed from now on
+
+  // Vertices: slab s owns [s·P, (s+1)·P).
+  std::vector<Vertex> vertices(static_cast<size_t>(S) * P);
+  for (int s = 0; s < S; ++s) st.fill_vertices(model, s, &vertices[static_cast<size_t>(s) * P]);
+  glCreateBuffers(1, &st.vbo);
+  glNamedBufferStorage(st.vbo, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(),
+                       GL_DYNAMIC_STORAGE_BIT);
+
+  // Indices: the grid split of triangle_grid.h, in the order build_sample_layout() emits it.
+  std::vector<uint32_t> local;
+  local.reserve(3 * static_cast<size_t>(grid::triangle_count(n)));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i + j < n; ++i) {
+      local.insert(local.end(), {static_cast<uint32_t>(grid::index(n, i, j)), static_cast<uint32_t>(grid::index(n, i, j + 1)),
+                                 static_cast<uint32_t>(grid::index(n, i + 1, j))});
+      if (i + j <= n - 2)
+        local.insert(local.end(), {static_cast<uint32_t>(grid::index(n, i + 1, j)),
+                                   static_cast<uint32_t>(grid::index(n, i, j + 1)),
+                                   static_cast<uint32_t>(grid::index(n, i + 1, j + 1))});
+    }
+  std::vector<uint32_t> all(static_cast<size_t>(indices));
+  for (int s = 0; s < S; ++s)
+    for (size_t k = 0; k < local.size(); ++k) all[s * local.size() + k] = static_cast<uint32_t>(s) * P + local[k];
+  glCreateBuffers(1, &st.ebo);
+  glNamedBufferStorage(st.ebo, static_cast<GLsizeiptr>(all.size() * sizeof(uint32_t)), all.data(), 0);
+
+  glVertexArrayVertexBuffer(st.vao, 0, st.vbo, 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(st.vao, st.ebo);
+  render_detail::check_gl("uploading the slab model");
+}
+
+void SlabRenderer::upload_slab(const SlabModel& model, int slab) {
+  State& st = *state_;
+  if (slab < 0 || slab >= st.slabs)
+    throw InvalidInput("upload_slab: slab " + std::to_string(slab) + " is outside [0, " + std::to_string(st.slabs) +
+                       ") (call upload_all first)");
+  if (model.slab_count() != st.slabs || model.grid_n != st.n || model.texel_density != st.texel_density ||
+      model.samples.per_slab != st.per_slab)
+    throw InvalidInput("upload_slab: the model's slabs or grid changed since upload_all");
+  render_detail::check_renderable(model);
+
+  st.vertices.resize(st.per_slab);
+  st.fill_vertices(model, slab, st.vertices.data());
+  glNamedBufferSubData(st.vbo, static_cast<GLintptr>(static_cast<size_t>(slab) * st.per_slab * sizeof(Vertex)),
+                       static_cast<GLsizeiptr>(st.per_slab * sizeof(Vertex)), st.vertices.data());
+
+  render_detail::fill_atlas_tile(model, st.layout, slab, st.tile);
+  const Eigen::Vector2i origin = st.layout.origin(slab);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(st.atlas, 0, origin.x() - 1, origin.y() - 1, st.layout.tile, st.layout.tile, GL_RGBA,
+                      GL_UNSIGNED_BYTE, st.tile.data());
+  render_detail::check_gl("re-uploading a slab");
+}
+
+void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges) const {
+  const State& st = *state_;
+  if (st.slabs == 0) return;
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);  // slab models may be open; back faces are shaded from their side
+  glUseProgram(st.program);
+  glProgramUniformMatrix4fv(st.program, 0, 1, GL_FALSE, camera.view.data());  // Eigen is column-major too
+  glProgramUniformMatrix4fv(st.program, 1, 1, GL_FALSE, camera.projection.data());
+  glProgramUniform1i(st.program, 2, show_slab_edges ? 1 : 0);
+  glBindTextureUnit(0, st.atlas);
+  glBindVertexArray(st.vao);
+  glDrawElements(GL_TRIANGLES, st.index_count, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  render_detail::check_gl("drawing the slab model");
+}
+
+int SlabRenderer::slab_count() const noexcept { return state_->slabs; }
+
+long long SlabRenderer::triangle_count() const noexcept {
+  return static_cast<long long>(state_->slabs) * grid::triangle_count(state_->n);
+}
+
+}  // namespace hdm
