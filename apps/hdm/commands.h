@@ -12,4 +12,7 @@ void add_sculpt_command(CLI::App& app);
 void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 void add_render_command(CLI::App& app);
+void add_check_command(CLI::App& app);
+void add_feel_command(CLI::App& app);
+void add_bench_command(CLI::App& app);
 }  // namespace hdm::app

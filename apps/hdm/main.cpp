@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
   hdm::app::add_info_command(app);
   hdm::app::add_export_command(app);
   hdm::app::add_render_command(app);
+  hdm::app::add_check_command(app);
+  hdm::app::add_feel_command(app);
+  hdm::app::add_bench_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,6 @@
+// SPDX-License-Identifier: MIT
+// Being written: registers nothing yet.
+#include "commands.h"
+namespace hdm::app {
+void add_bench_command(CLI::App&) {}
+}  // namespace hdm::app
