@@ -57,7 +57,8 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input) {
   return f;
 }
 
-ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed) {
+ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
+                                double offset_pct) {
   const TriangleMesh& m = input.mesh();
   const double diag = bounds(m).diagonal();
   // Area-weighted face sampling.
@@ -77,7 +78,7 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
     if (a + b > 1) a = 1 - a, b = 1 - b;
     const Tri& t = m.faces[f];
     p = m.vertices[t[0]] + a * (m.vertices[t[1]] - m.vertices[t[0]]) + b * (m.vertices[t[2]] - m.vertices[t[0]]) +
-        (u(rng) * 2 - 1) * 0.01 * diag * input.face_normal(static_cast<int32_t>(f));
+        (u(rng) * 2 - 1) * offset_pct / 100 * diag * input.face_normal(static_cast<int32_t>(f));
   }
   const SlabLocator locator(model);
   struct Acc {

@@ -59,6 +59,31 @@ Coarse decimate(const TriangleMesh& mesh, int target) {
     }
     if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) c.faces.push_back(t);
   }
+  // Two triangles on the same three vertices (a collapsed "pillow") make their edges non-manifold;
+  // they enclose no volume, so drop both.
+  std::vector<std::pair<Tri, int32_t>> keyed;
+  for (size_t f = 0; f < c.faces.size(); ++f) {
+    Tri k = c.faces[f];
+    std::sort(k.begin(), k.end());
+    keyed.emplace_back(k, static_cast<int32_t>(f));
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<uint8_t> drop(c.faces.size(), 0);
+  for (size_t k = 1; k < keyed.size(); ++k)
+    if (keyed[k].first == keyed[k - 1].first) drop[keyed[k].second] = drop[keyed[k - 1].second] = 1;
+  size_t w = 0;
+  for (size_t f = 0; f < c.faces.size(); ++f)
+    if (!drop[f]) c.faces[w++] = c.faces[f];
+  c.faces.resize(w);
+  // Keep only the vertices the remaining faces use.
+  std::vector<int32_t> used(c.vertices.size(), -1);
+  std::vector<Vec3> kept;
+  for (Tri& t : c.faces)
+    for (int32_t& id : t) {
+      if (used[id] < 0) used[id] = static_cast<int32_t>(kept.size()), kept.push_back(c.vertices[id]);
+      id = used[id];
+    }
+  c.vertices = std::move(kept);
   return c;
 }
 
@@ -143,14 +168,6 @@ VertexFrame vertex_frames(const Coarse& c) {
   return fr;
 }
 
-// Smallest normalised Jacobian of the slab at one α (minimum over the three corners).
-double slab_jacobian_at(const SlabGeometry& g, const Vec3& dS, const Vec3& dT, double alpha) {
-  const Vec3 N = g.N0 + alpha * (g.N1 + alpha * g.N2);
-  double m = 1e300;
-  for (const Vec3* d : {&g.dR, &dS, &dT}) m = std::min(m, N.dot(*d) / (std::max(N.norm() * d->norm(), 1e-300)));
-  return m;
-}
-
 // Distance along ray x + t·d (t > 0) to the coarse surface, ignoring faces around vertex v.
 double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_t v, const Vec3& x,
                      const Vec3& d, double far, std::vector<SegmentHit>& hits) {
@@ -178,8 +195,16 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
       o.slabs > 0 ? o.slabs : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) / (n * n))));
 
   progress(o, "decimate", 0);
-  Coarse coarse = decimate(mesh, target);
-  validate_for_bake(TriangleMesh{coarse.vertices, coarse.faces}, name + " (decimated)");
+  // meshoptimizer's simplifier can, rarely, fold two triangles onto one edge; the collapse sequence
+  // depends on the target, so retry with nearby targets before giving up.
+  Coarse coarse;
+  for (int attempt = 0;; ++attempt) {
+    const int t = target + (attempt % 2 ? 1 : -1) * ((attempt + 1) / 2) * std::max(1, target / 100);
+    coarse = decimate(mesh, std::max(4, t));
+    const MeshTopology topo = analyze_topology(TriangleMesh{coarse.vertices, coarse.faces});
+    if (topo.non_manifold_edges == 0 && topo.inconsistent_edges == 0) break;
+    if (attempt == 12) validate_for_bake(TriangleMesh{coarse.vertices, coarse.faces}, name + " (decimated)");
+  }
   progress(o, "decimate", 1);
   const VertexFrame fr = vertex_frames(coarse);
   const size_t nv = coarse.vertices.size();
@@ -211,7 +236,7 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) need_in[t[a]] = std::max(need_in[t[a]], in0[t[b]]), need_out[t[a]] = std::max(need_out[t[a]], out0[t[b]]);
   }
-  std::vector<double> off_in(nv), off_out(nv), cap_in(nv), cap_out(nv), min_off(nv);
+  std::vector<double> off_in(nv), off_out(nv), cap_in(nv), cap_out(nv), min_off(nv), tgt_in(nv), tgt_out(nv);
   {
     std::vector<SegmentHit> hits;
     for (size_t v = 0; v < nv; ++v) {
@@ -224,8 +249,9 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
       // options.min_thickness of the diagonal where the model is thick enough.
       const double floor = std::max(o.headroom * fr.edge[v], o.min_thickness * diag);
       min_off[v] = std::min({1e-3 * fr.edge[v], cap_in[v], cap_out[v]});
-      off_in[v] = std::min(cap_in[v], std::max(1.5 * need_in[v] + 1e-4 * diag, floor));
-      off_out[v] = std::min(cap_out[v], std::max(1.5 * need_out[v] + 1e-4 * diag, floor));
+      tgt_in[v] = std::min(cap_in[v], std::max(1.5 * need_in[v] + 1e-4 * diag, floor));
+      tgt_out[v] = std::min(cap_out[v], std::max(1.5 * need_out[v] + 1e-4 * diag, floor));
+      off_in[v] = off_out[v] = min_off[v];
     }
   }
 
@@ -243,41 +269,60 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   std::vector<uint8_t> undercut(ns, 0);
   BakeReport rep;
 
-  auto place = [&] {
-    model.inner.resize(nv);
-    model.outer.resize(nv);
-    for (size_t v = 0; v < nv; ++v) {
-      model.inner[v] = coarse.vertices[v] - off_in[v] * fr.direction[v];
-      model.outer[v] = coarse.vertices[v] + off_out[v] * fr.direction[v];
-    }
+  model.inner.resize(nv);
+  model.outer.resize(nv);
+  auto place = [&](size_t v) {
+    model.inner[v] = coarse.vertices[v] - off_in[v] * fr.direction[v];
+    model.outer[v] = coarse.vertices[v] + off_out[v] * fr.direction[v];
   };
-  // Shrink the offsets of the corners of every slab with a non-positive Jacobian until all are
-  // valid: a thin enough shell is always valid because every direction has a positive dot product
-  // with its incident face normals (the thin-to-thick argument of the shell literature).
-  auto make_valid = [&] {
-    for (int round = 0; round < 80; ++round) {
-      place();
-      int bad = 0;
-      for (const Tri& t : model.slabs) {
-        const SlabGeometry g = make_slab_geometry(model.inner[t[0]], model.inner[t[1]], model.inner[t[2]],
-                                                  model.outer[t[0]], model.outer[t[1]], model.outer[t[2]]);
-        const Vec3 dS = model.outer[t[1]] - model.inner[t[1]], dT = model.outer[t[2]] - model.inner[t[2]];
-        if (slab_min_jacobian(g, dS, dT) > 0.02) continue;
-        // Shrink the side that fails: the inner face (α near 0) folds on convex parts, the outer
-        // face (α near 1) on concave parts.
-        const double j_inner = slab_jacobian_at(g, dS, dT, 0.25), j_outer = slab_jacobian_at(g, dS, dT, 0.75);
-        const double f_in = j_inner <= j_outer ? 0.8 : 0.95, f_out = j_inner <= j_outer ? 0.95 : 0.8;
-        ++bad;
-        // Never below a floor: one hopeless vertex must not thin the whole neighbourhood to nothing.
-        for (int32_t v : t) off_in[v] = std::max(off_in[v] * f_in, min_off[v]), off_out[v] = std::max(off_out[v] * f_out, min_off[v]);
-      }
-      if (bad == 0) return;
+  auto slab_ok = [&](int32_t f) {
+    const Tri& t = model.slabs[f];
+    const SlabGeometry g = make_slab_geometry(model.inner[t[0]], model.inner[t[1]], model.inner[t[2]],
+                                              model.outer[t[0]], model.outer[t[1]], model.outer[t[2]]);
+    return slab_min_jacobian(g, model.outer[t[1]] - model.inner[t[1]], model.outer[t[2]] - model.inner[t[2]]) > 0.02;
+  };
+  for (size_t v = 0; v < nv; ++v) place(v);
+  // Slabs that are invalid even in the thinnest shell (a direction that cannot see all its faces)
+  // are left out of the growth test and reported.
+  std::vector<uint8_t> hopeless(model.slabs.size());
+  for (size_t f = 0; f < model.slabs.size(); ++f) hopeless[f] = !slab_ok(static_cast<int32_t>(f));
+  auto ring_ok = [&](size_t v) {
+    for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+      if (!hopeless[fr.faces[k]] && !slab_ok(fr.faces[k])) return false;
+    return true;
+  };
+  // Grow while valid (thin-to-thick, as in the shell literature, design notes §10): from a thin
+  // valid shell, raise each vertex's offset towards its target, keeping the largest value (found by
+  // bisection) for which every slab around the vertex stays valid. Gauss-Seidel sweeps.
+  auto grow = [&] {
+    for (int sweep = 0; sweep < 12; ++sweep) {
+      bool changed = false;
+      for (size_t v = 0; v < nv; ++v)
+        for (int side = 0; side < 2; ++side) {
+          double& off = side ? off_out[v] : off_in[v];
+          const double target = side ? tgt_out[v] : tgt_in[v];
+          if (off >= target * 0.999) continue;
+          double lo = off, hi = target;
+          off = hi;
+          place(v);
+          if (!ring_ok(v)) {
+            for (int it = 0; it < 8; ++it) {
+              off = 0.5 * (lo + hi);
+              place(v);
+              (ring_ok(v) ? lo : hi) = off;
+            }
+            off = lo;
+            place(v);
+          }
+          changed |= off > lo * 1.001 || off == target;
+        }
+      if (!changed) break;
     }
   };
 
   for (int round = 0; round < 8; ++round) {
     rep.shell_iterations = round + 1;
-    make_valid();
+    grow();
     // One ray per distinct sample, from the outer end inward; keep the first (outermost) hit
     // whose triangle faces outward (design notes §2.2).
     const int blocks = 20;
@@ -317,8 +362,8 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     if (misses == 0 || round == 7) break;
     bool grew = false;
     for (size_t v = 0; v < nv; ++v) {
-      if (grow_in[v] && off_in[v] < cap_in[v]) off_in[v] = std::min(cap_in[v], off_in[v] * 1.5), grew = true;
-      if (grow_out[v] && off_out[v] < cap_out[v]) off_out[v] = std::min(cap_out[v], off_out[v] * 1.5), grew = true;
+      if (grow_in[v] && tgt_in[v] < cap_in[v]) tgt_in[v] = std::min(cap_in[v], std::max(tgt_in[v], off_in[v]) * 1.5), grew = true;
+      if (grow_out[v] && tgt_out[v] < cap_out[v]) tgt_out[v] = std::min(cap_out[v], std::max(tgt_out[v], off_out[v]) * 1.5), grew = true;
     }
     if (!grew) break;
   }

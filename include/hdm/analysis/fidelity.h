@@ -36,9 +36,11 @@ struct ContactAccuracy {
 };
 
 /// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)
-/// offset along the face normal by a uniform amount in ±1% of the diagonal; hdm's inside/outside
+/// offset along the face normal by a uniform amount in ±@p offset_pct % of the diagonal (1% in the
+/// design README's definition); hdm's inside/outside
 /// (penetration > 0) against ExactMeshQuery::inside, hdm's depth against the exact distance.
 /// @note Parallel (TBB).
-ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed);
+ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
+                                double offset_pct = 1.0);
 
 }  // namespace hdm
