@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: MIT
+// Edits: carve never raises, add never lowers, seams stay closed, normals stay consistent, paint
+// follows the paper's blend, and the edited model round-trips through save and load.
+#include "support/test_models.h"
+
+#include <hdm/edit/edit_tools.h>
+#include <hdm/io/hdm_file.h>
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+using namespace hdm;
+
+namespace {
+
+struct Fixture {
+  SlabModel model = test::baked_bunny(0, 16);  // a private copy to edit
+  SlabLocator locator{model};
+  EditScratch scratch{model};
+  double diag = model.source_diagonal;
+
+  // A contact a little below the surface point of a random sample.
+  bool contact_at(int sample, double depth_frac, Contact& c, Vec3& hip) {
+    const Vec3 p = sample_position(model, sample) - depth_frac * diag * model.normals[sample].cast<double>();
+    QueryCache cache;
+    c = query(model, locator, p, cache);
+    hip = p;
+    return c.penetrating();
+  }
+};
+
+void expect_seams_closed(const SlabModel& m) {
+  // The surface evaluated on a shared edge from either slab is the same point.
+  for (int s = 0; s < m.slab_count(); ++s)
+    for (int e = 0; e < 3; ++e) {
+      const int nb = m.edge_neighbour[s][e];
+      if (nb < 0) continue;
+      const int a = m.slabs[s][e], b = m.slabs[s][(e + 1) % 3];
+      for (double t : {0.13, 0.5, 0.77}) {
+        Vec3 wa = Vec3::Zero(), wb = Vec3::Zero();
+        wa[e] = 1 - t, wa[(e + 1) % 3] = t;
+        for (int k = 0; k < 3; ++k) {
+          if (m.slabs[nb][k] == a) wb[k] = 1 - t;
+          if (m.slabs[nb][k] == b) wb[k] = t;
+        }
+        Contact ca, cb;
+        evaluate_surface(m, s, SlabCoordinates{0.5, wa}, ca);
+        evaluate_surface(m, nb, SlabCoordinates{0.5, wb}, cb);
+        ASSERT_LT((ca.surface_point - cb.surface_point).norm(), 1e-9 * m.source_diagonal) << s << " / " << nb;
+      }
+    }
+}
+
+}  // namespace
+
+TEST(EditToolsTest, carve_never_raises_and_add_never_lowers) {
+  Fixture f;
+  std::mt19937 rng(9);
+  int carved = 0, added = 0;
+  for (int k = 0; k < 60; ++k) {
+    Contact c;
+    Vec3 hip;
+    if (!f.contact_at(int(rng() % f.model.samples.count), 0.004, c, hip)) continue;
+    const std::vector<float> before = f.model.displacement;
+    if (k % 2 == 0) {
+      carved += carve(f.model, f.scratch, c, hip, 0.01 * f.diag, 0.0005 * f.diag).changed;
+      for (size_t s = 0; s < before.size(); ++s) ASSERT_LE(f.model.displacement[s], before[s]);
+    } else {
+      added += add_material(f.model, f.scratch, c, 0.01 * f.diag, 0.002 * f.diag).changed;
+      for (size_t s = 0; s < before.size(); ++s) ASSERT_GE(f.model.displacement[s], before[s]);
+    }
+    for (float d : f.model.displacement) ASSERT_TRUE(d >= 0 && d <= 1);
+  }
+  EXPECT_GT(carved, 100);
+  EXPECT_GT(added, 100);
+  expect_seams_closed(f.model);
+}
+
+TEST(EditToolsTest, carve_cuts_to_the_sphere) {
+  Fixture f;
+  Contact c;
+  Vec3 hip;
+  ASSERT_TRUE(f.contact_at(1234, 0.006, c, hip));
+  const double r = 0.01 * f.diag, k = 0.001 * f.diag;
+  carve(f.model, f.scratch, c, hip, r, k);
+  const Vec3 centre = hip + c.normal * (r + k);
+  // No changed sample lies inside the tool sphere any more (up to float rounding), and the
+  // samples it moved now lie on its boundary or on the inner face.
+  for (int s = 0; s < f.model.samples.count; ++s) {
+    const double d = (sample_position(f.model, s) - centre).norm();
+    if (f.model.displacement[s] > 0) EXPECT_GT(d, r * (1 - 1e-5)) << "sample " << s;
+  }
+}
+
+TEST(EditToolsTest, incremental_normals_match_a_full_recompute) {
+  Fixture f;
+  std::mt19937 rng(4);
+  for (int k = 0; k < 20; ++k) {
+    Contact c;
+    Vec3 hip;
+    if (f.contact_at(int(rng() % f.model.samples.count), 0.004, c, hip))
+      carve(f.model, f.scratch, c, hip, 0.012 * f.diag, 0.0);
+  }
+  SlabModel fresh = f.model;
+  rebuild_derived(fresh);
+  for (int s = 0; s < f.model.samples.count; ++s) {
+    ASSERT_LT((fresh.normals[s] - f.model.normals[s]).norm(), 1e-5) << "sample " << s;
+    ASSERT_LT((fresh.positions[s] - f.model.positions[s]).norm(), 1e-6 * f.diag);
+  }
+}
+
+TEST(EditToolsTest, paint_blends_with_the_papers_intensity) {
+  Fixture f;
+  Contact c;
+  Vec3 hip;
+  ASSERT_TRUE(f.contact_at(2000, 0.003, c, hip));
+  const std::vector<Vec3f> before = f.model.colour;
+  const double r = 0.02 * f.diag, pressure = 0.7;
+  const Vec3f brush(1, 0, 0);
+  const EditResult res = paint(f.model, f.scratch, c, r, brush, pressure);
+  EXPECT_GT(res.changed, 10);
+  // Texels on displacement samples (every m-th texel) sit at the sample's surface point, an
+  // independent position: check c_new = k·brush + (1-k)·c_old with k = p·(1 - d/r).
+  const SampleLayout& T = f.model.texels;
+  const SampleLayout& S = f.model.samples;
+  const int m = f.model.texel_density;
+  int checked = 0;
+  for (int slab = 0; slab < f.model.slab_count(); ++slab)
+    for (int j = 0; j <= S.n; ++j)
+      for (int i = 0; i + j <= S.n; ++i) {
+        const int sample = S.ids[slab * S.per_slab + (j * (S.n + 1) - j * (j - 1) / 2 + i)];
+        const int N = T.n, ti = i * m, tj = j * m;
+        const int texel = T.ids[slab * T.per_slab + (tj * (N + 1) - tj * (tj - 1) / 2 + ti)];
+        const double d = (sample_position(f.model, sample) - c.surface_point).norm();
+        const float k = d < r ? float(pressure * (1 - d / r)) : 0.0f;
+        const Vec3f expected = k * brush + (1 - k) * before[texel];
+        ASSERT_LT((f.model.colour[texel] - expected).norm(), 2e-5) << "texel " << texel;
+        checked += k > 0;
+      }
+  EXPECT_GT(checked, 5);
+  EXPECT_DOUBLE_EQ(paint_pressure(0.5, 1.0, 2.0), 0.0);  // dead zone
+  EXPECT_DOUBLE_EQ(paint_pressure(1.5, 1.0, 2.0), 0.5);
+  EXPECT_DOUBLE_EQ(paint_pressure(9.0, 1.0, 2.0), 1.0);
+}
+
+TEST(EditToolsTest, edited_model_round_trips_bit_for_bit) {
+  Fixture f;
+  Contact c;
+  Vec3 hip;
+  ASSERT_TRUE(f.contact_at(3000, 0.005, c, hip));
+  carve(f.model, f.scratch, c, hip, 0.01 * f.diag, 0.0);
+  paint(f.model, f.scratch, c, 0.02 * f.diag, Vec3f(0, 0, 1), 1.0);
+  const std::string path = (std::filesystem::temp_directory_path() / "hdm_edit_roundtrip.hdm").string();
+  save_model(f.model, path);
+  const SlabModel back = load_model(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(back.displacement.size(), f.model.displacement.size());
+  EXPECT_EQ(0, std::memcmp(back.displacement.data(), f.model.displacement.data(), back.displacement.size() * 4));
+  EXPECT_EQ(0, std::memcmp(back.colour.data(), f.model.colour.data(), back.colour.size() * sizeof(Vec3f)));
+  EXPECT_EQ(back.inner, f.model.inner);
+  EXPECT_EQ(back.outer, f.model.outer);
+  EXPECT_EQ(back.slabs, f.model.slabs);
+}

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+// α and barycentric recovery: points built from the slab corners map back to their coordinates.
+#include "support/test_models.h"
+
+#include <hdm/query/alpha_plane.h>
+#include <hdm/query/slab_locator.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace hdm;
+
+namespace {
+
+// X(w, α) = Σ wV (V0 + α (V1 - V0)), from the stored corners (not from SlabGeometry).
+Vec3 point_from_corners(const SlabModel& m, int slab, const Vec3& w, double alpha) {
+  Vec3 p = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int v = m.slabs[slab][k];
+    p += w[k] * (m.inner[v] + alpha * (m.outer[v] - m.inner[v]));
+  }
+  return p;
+}
+
+Vec3 random_barycentric(std::mt19937& rng) {
+  std::exponential_distribution<double> e(1.0);
+  Vec3 w(e(rng), e(rng), e(rng));
+  return w / w.sum();
+}
+
+void check_recovery(AlphaSolver solver, double alpha_tol, double bary_tol) {
+  const SlabModel& m = test::baked_bunny(0, 16);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  int tested = 0;
+  for (int s = 0; s < m.slab_count(); ++s)
+    for (int k = 0; k < 30; ++k, ++tested) {
+      const Vec3 w = random_barycentric(rng);
+      const double alpha = u(rng);
+      SlabCoordinates c;
+      ASSERT_TRUE(locate_in_slab(m.geometry[s], point_from_corners(m, s, w, alpha), solver, c)) << "slab " << s;
+      EXPECT_NEAR(c.alpha, alpha, alpha_tol);
+      EXPECT_LT((c.bary - w).cwiseAbs().maxCoeff(), bary_tol);
+    }
+  EXPECT_GT(tested, 1000);
+}
+
+}  // namespace
+
+TEST(AlphaPlaneTest, newton_recovers_alpha_and_barycentrics) { check_recovery(AlphaSolver::Newton, 1e-9, 1e-8); }
+
+TEST(AlphaPlaneTest, paper_bisection_recovers_within_its_resolution) {
+  // 15 halvings of [0,1]: |Δα| <= 2^-16 at the bracket midpoint.
+  check_recovery(AlphaSolver::Bisection, std::ldexp(1.0, -15), 1e-3);
+}
+
+TEST(AlphaPlaneTest, points_outside_the_slab_are_outside) {
+  const SlabModel& m = test::baked_bunny(0, 16);
+  std::mt19937 rng(3);
+  for (int s = 0; s < m.slab_count(); ++s) {
+    const Vec3 w = random_barycentric(rng);
+    SlabCoordinates c;
+    for (AlphaSolver solver : {AlphaSolver::Newton, AlphaSolver::Bisection}) {
+      EXPECT_FALSE(locate_in_slab(m.geometry[s], point_from_corners(m, s, w, -0.05), solver, c));
+      EXPECT_FALSE(locate_in_slab(m.geometry[s], point_from_corners(m, s, w, 1.05), solver, c));
+      // Outside across an edge: one barycentric negative.
+      const Vec3 out(-0.05, 0.5, 0.55);
+      EXPECT_FALSE(locate_in_slab(m.geometry[s], point_from_corners(m, s, out, 0.5), solver, c));
+    }
+    EXPECT_FALSE(locate_in_slab(m.geometry[s], Vec3::Constant(std::nan("")), AlphaSolver::Newton, c));
+  }
+}
+
+TEST(AlphaPlaneTest, locator_finds_the_slab_that_holds_a_point) {
+  const SlabModel& m = test::baked_bunny(0, 16);
+  const SlabLocator loc(m);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.02, 0.98);
+  for (int k = 0; k < 2000; ++k) {
+    const int s = int(rng() % m.slab_count());
+    const Vec3 w = random_barycentric(rng);
+    if (w.minCoeff() < 1e-3) continue;
+    const double alpha = u(rng);
+    SlabCoordinates c;
+    const int hint = k % 3 == 0 ? -1 : int(rng() % m.slab_count());  // cold, or a wrong hint
+    ASSERT_EQ(loc.find(point_from_corners(m, s, w, alpha), hint, AlphaSolver::Newton, c), s);
+    EXPECT_NEAR(c.alpha, alpha, 1e-9);
+  }
+}

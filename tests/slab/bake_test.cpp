@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+// Bake: validity checked numerically, an analytic sphere, the real models, bad input.
+#include "support/test_models.h"
+
+#include <hdm/core/error.h>
+#include <hdm/io/read_mesh.h>
+#include <hdm/query/alpha_plane.h>
+#include <hdm/slab/bake.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace hdm;
+
+namespace {
+
+// Finite-difference Jacobian determinant of X(wS, wT, α) at a point, from the stored corners only.
+double numeric_jacobian(const SlabModel& m, int slab, double wS, double wT, double a) {
+  const Tri& t = m.slabs[slab];
+  auto X = [&](double s, double u, double al) {
+    const double r = 1 - s - u;
+    Vec3 p = Vec3::Zero();
+    const double w[3] = {r, s, u};
+    for (int k = 0; k < 3; ++k) p += w[k] * (m.inner[t[k]] + al * (m.outer[t[k]] - m.inner[t[k]]));
+    return p;
+  };
+  const double h = 1e-6;
+  const Vec3 ds = (X(wS + h, wT, a) - X(wS - h, wT, a)) / (2 * h);
+  const Vec3 dt = (X(wS, wT + h, a) - X(wS, wT - h, a)) / (2 * h);
+  const Vec3 da = (X(wS, wT, a + h) - X(wS, wT, a - h)) / (2 * h);
+  return ds.cross(dt).dot(da);
+}
+
+void expect_all_slabs_valid(const SlabModel& m) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int s = 0; s < m.slab_count(); ++s)
+    for (int k = 0; k < 20; ++k) {
+      double a = u(rng), b = u(rng);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      ASSERT_GT(numeric_jacobian(m, s, a, b, u(rng)), 0.0) << "slab " << s;
+    }
+}
+
+}  // namespace
+
+TEST(BakeTest, sphere_reconstruction_matches_the_analytic_surface) {
+  // A finely tessellated sphere: every reconstructed point lies on the input polyhedron, whose
+  // distance to the true sphere is below the chord error 1 - cos(edge/2).
+  const TriangleMesh sphere = test::icosphere(4, 1.0);
+  BakeOptions o;
+  o.slabs = 80;
+  o.grid_n = 8;
+  BakeReport r;
+  const SlabModel m = bake_slabs(sphere, "sphere", o, &r);
+  EXPECT_EQ(r.invalid_slabs, 0);
+  EXPECT_EQ(r.ray_misses, 0);
+  expect_all_slabs_valid(m);
+  for (int s = 0; s < m.samples.count; ++s) EXPECT_NEAR(sample_position(m, s).norm(), 1.0, 3e-3);
+}
+
+TEST(BakeTest, bunny_slabs_are_valid_and_report_is_consistent) {
+  BakeOptions o;  // defaults: n = 16, slabs = triangles / n²
+  BakeReport r;
+  const SlabModel m = bake_slabs(test::bunny(), "bunny00.off", o, &r);
+  EXPECT_EQ(r.slabs, m.slab_count());
+  EXPECT_NEAR(double(r.submesh_triangles) / double(r.input_triangles), 1.0, 0.1);
+  EXPECT_EQ(r.invalid_slabs, 0);
+  expect_all_slabs_valid(m);
+  for (float d : m.displacement) ASSERT_TRUE(d >= 0 && d <= 1);
+}
+
+TEST(BakeTest, real_models_bake) {
+  for (const char* name : {"armadillo.off", "refined_elephant.off", "lion-head.off"}) {
+    const TriangleMesh mesh = read_mesh(test::data_path(name));
+    BakeReport r;
+    const SlabModel m = bake_slabs(mesh, name, BakeOptions{}, &r);
+    EXPECT_GT(m.slab_count(), 0) << name;
+    EXPECT_LE(r.ray_misses, 0.05 * r.samples) << name;
+  }
+}
+
+TEST(BakeTest, bad_meshes_give_errors_naming_the_input) {
+  auto expect_error = [](const TriangleMesh& m, const std::string& what) {
+    try {
+      bake_slabs(m, "bad.obj", BakeOptions{});
+      ADD_FAILURE() << "no error for " << what;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.obj"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_error(TriangleMesh{}, "empty");
+  TriangleMesh nan = test::icosphere(1, 1.0);
+  nan.vertices[3].y() = std::nan("");
+  expect_error(nan, "non-finite");
+  TriangleMesh fin = test::icosphere(1, 1.0);
+  fin.vertices.push_back(Vec3(3, 3, 3));
+  fin.faces.push_back({fin.faces[0][0], fin.faces[0][1], int32_t(fin.vertices.size() - 1)});
+  expect_error(fin, "non-manifold");
+  TriangleMesh flipped = test::icosphere(1, 1.0);
+  std::swap(flipped.faces[0][1], flipped.faces[0][2]);
+  expect_error(flipped, "orientation");
+  EXPECT_THROW(bake_slabs(test::icosphere(1, 1.0), "x", BakeOptions{.grid_n = 0}), InvalidInput);
+}

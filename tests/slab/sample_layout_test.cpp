@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+// Global sample ids: counts by Euler's formula, shared edge and corner samples, orientation.
+#include "support/test_models.h"
+
+#include <hdm/core/error.h>
+#include <hdm/slab/sample_layout.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+using namespace hdm;
+
+namespace {
+
+SlabModel sphere_shell(int n, int texel_density) {
+  const TriangleMesh m = test::icosphere(1, 1.0);
+  SlabModel s;
+  s.grid_n = n;
+  s.texel_density = texel_density;
+  for (const Vec3& v : m.vertices) s.inner.push_back(0.8 * v), s.outer.push_back(1.2 * v);
+  s.slabs = m.faces;
+  s.displacement.assign(build_sample_layout(s.slabs, int(s.inner.size()), n).count, 0.5f);
+  rebuild_derived(s);
+  return s;
+}
+
+}  // namespace
+
+TEST(SampleLayoutTest, counts_follow_euler_formula) {
+  const TriangleMesh m = test::icosphere(1, 1.0);
+  const int C = int(m.vertices.size()), S = int(m.faces.size()), E = 3 * S / 2;  // closed mesh
+  for (int n : {1, 2, 5, 16}) {
+    const SampleLayout L = build_sample_layout(m.faces, C, n);
+    EXPECT_EQ(L.count, C + (n - 1) * E + (n - 1) * (n - 2) / 2 * S) << "n = " << n;
+    EXPECT_EQ(int(L.triangles.size()), S * n * n);
+    std::set<int32_t> seen(L.ids.begin(), L.ids.end());
+    EXPECT_EQ(int(seen.size()), L.count);  // every id used
+  }
+}
+
+TEST(SampleLayoutTest, shared_samples_have_identical_projection_lines) {
+  const SlabModel s = sphere_shell(6, 1);
+  const SampleLayout& L = s.samples;
+  // Every (slab, grid point) that maps to the same id must give the same projection line.
+  for (int slab = 0; slab < s.slab_count(); ++slab)
+    for (int k = 0; k < L.per_slab; ++k) {
+      const int id = L.ids[slab * L.per_slab + k];
+      Vec3 a0, a1, b0, b1;
+      projection_line(s, slab, k, a0, a1);
+      projection_line(s, L.home_slab[id], L.home_index[id], b0, b1);
+      EXPECT_LT((a0 - b0).norm() + (a1 - b1).norm(), 1e-12);
+    }
+}
+
+TEST(SampleLayoutTest, grid_triangles_face_outward) {
+  const SlabModel s = sphere_shell(4, 1);
+  for (const Tri& t : s.samples.triangles) {
+    const Vec3 a = sample_position(s, t[0]), b = sample_position(s, t[1]), c = sample_position(s, t[2]);
+    EXPECT_GT((b - a).cross(c - a).dot(a + b + c), 0.0);
+  }
+  // Normals point away from the centre, within the facet angle of the 80-face polyhedron (< 12°).
+  for (int id = 0; id < s.samples.count; ++id)
+    EXPECT_GT(s.normals[id].cast<double>().dot(sample_position(s, id).normalized()), std::cos(12 * M_PI / 180));
+}
+
+TEST(SampleLayoutTest, rejects_non_manifold_and_bad_ids) {
+  std::vector<Tri> fan = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};  // edge (0,1) in three slabs
+  EXPECT_THROW(build_sample_layout(fan, 5, 4), InvalidInput);
+  EXPECT_THROW(build_sample_layout({{0, 1, 7}}, 3, 4), InvalidInput);
+  EXPECT_THROW(build_sample_layout({{0, 1, 2}}, 3, 0), InvalidInput);
+}

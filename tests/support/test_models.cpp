@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#include "support/test_models.h"
+
+#include <hdm/io/read_mesh.h>
+#include <hdm/slab/bake.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+
+namespace hdm::test {
+
+std::string data_path(const std::string& name) {
+  const std::string p = std::string(HDM_DATA_DIR) + "/" + name;
+  if (!std::filesystem::exists(p)) ADD_FAILURE() << p << " missing: run scripts/setup.sh";
+  return p;
+}
+
+const TriangleMesh& bunny() {
+  static const TriangleMesh mesh = read_mesh(data_path("bunny00.off"));
+  return mesh;
+}
+
+const SlabModel& baked_bunny(int slabs, int grid) {
+  static std::map<std::pair<int, int>, std::unique_ptr<SlabModel>> cache;
+  auto& slot = cache[{slabs, grid}];
+  if (!slot) {
+    BakeOptions o;
+    o.slabs = slabs;
+    o.grid_n = grid;
+    slot = std::make_unique<SlabModel>(bake_slabs(bunny(), "bunny00.off", o));
+  }
+  return *slot;
+}
+
+TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  TriangleMesh m;
+  m.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  m.faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+             {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+             {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (Vec3& v : m.vertices) v.normalize();
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized());
+      return mid[key] = static_cast<int>(m.vertices.size()) - 1;
+    };
+    std::vector<Tri> faces;
+    for (const Tri& f : m.faces) {
+      const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
+      faces.push_back({f[0], a, c});
+      faces.push_back({f[1], b, a});
+      faces.push_back({f[2], c, b});
+      faces.push_back({a, b, c});
+    }
+    m.faces = std::move(faces);
+  }
+  for (Vec3& v : m.vertices) v = centre + radius * v;
+  return m;
+}
+
+}  // namespace hdm::test

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Shared fixtures: the real models extracted at set-up (data/meshes), baked once per test process,
+// and analytic shapes.
+
+#include <hdm/mesh/triangle_mesh.h>
+#include <hdm/slab/slab_model.h>
+
+#include <string>
+
+namespace hdm::test {
+
+/// Path of a model extracted by scripts/setup.sh (fails the test if missing).
+std::string data_path(const std::string& name);
+
+/// bunny00.off from Debian's libcgal-demo, read once.
+const TriangleMesh& bunny();
+
+/// The bunny baked once per process with @p slabs and @p grid (cached per pair).
+const SlabModel& baked_bunny(int slabs, int grid);
+
+/// Icosphere of radius @p radius centred at @p centre with @p subdivisions 1-to-4 splits,
+/// counter-clockwise from outside.
+TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre = Vec3::Zero());
+
+}  // namespace hdm::test
