@@ -50,6 +50,7 @@ void run_bake(const BakeArgs& a) {
                       {"invalid_slabs", r.invalid_slabs},
                       {"ray_misses", r.ray_misses},
                       {"undercut_columns", r.undercut_columns},
+                      {"separated", r.separated},
                       {"fidelity",
                        {{"rms_pct", f.rms_pct},
                         {"max_pct", f.max_pct},
@@ -67,6 +68,7 @@ void run_bake(const BakeArgs& a) {
   std::printf("  invalid slabs       %d\n", r.invalid_slabs);
   std::printf("  ray misses          %lld (filled from neighbours)\n", (long long)r.ray_misses);
   std::printf("  undercut columns    %lld\n", (long long)r.undercut_columns);
+  std::printf("  slab separation     %s\n", r.separated ? "on (overlapping slabs thinned apart)" : "off (see hdm check for overlaps)");
   std::printf("  fidelity (%% of bounding-box diagonal)\n");
   std::printf("    model -> input    RMS %.4f%%  max %.4f%%\n", f.rms_pct, f.max_pct);
   std::printf("    input -> model    RMS %.4f%%  max %.4f%%\n", f.rms_back_pct, f.max_back_pct);

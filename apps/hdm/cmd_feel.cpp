@@ -1,6 +1,138 @@
 // SPDX-License-Identifier: MIT
-// Being written: registers nothing yet.
+// hdm feel MODEL.hdm --scenario NAME: a simulated hand drives the proxy (or the paper's penalty
+// force) through a scripted scenario; the run is scored against the exact input mesh.
 #include "commands.h"
+
+#include <hdm/core/error.h>
+#include <hdm/haptics/scenarios.h>
+#include <hdm/io/hdm_file.h>
+#include <hdm/io/read_mesh.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
 namespace hdm::app {
-void add_feel_command(CLI::App&) {}
+namespace {
+
+struct FeelArgs {
+  std::string model, scenario = "slide", mode = "proxy", input, trace;
+  double rate = 1000, stiffness = 1000, damping = 1, max_force = 3.3, speed = 0.1, press = 1.0;
+  bool friction = false, json = false;
+};
+
+// The input named in model.source: as written, else next to the model file.
+std::string find_input(const SlabModel& m, const FeelArgs& a) {
+  if (!a.input.empty()) return a.input;
+  namespace fs = std::filesystem;
+  const fs::path src(m.source);
+  if (fs::exists(src)) return src.string();
+  const fs::path next = fs::path(a.model).parent_path() / src.filename();
+  if (fs::exists(next)) return next.string();
+  throw InvalidInput(a.model + ": input mesh '" + m.source + "' not found; pass it with --input");
+}
+
+void write_trace(const std::string& path, const ScenarioReport& r) {
+  std::ofstream out(path);
+  if (!out) throw IoError(path + ": cannot write");
+  out << "time_s,device_x_m,device_y_m,device_z_m,force_x_n,force_y_n,force_z_n,force_n,depth_mm,status,slab\n";
+  char line[256];
+  for (const ScenarioTraceRow& t : r.trace) {
+    std::snprintf(line, sizeof line, "%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.5f,%.4f,%d,%d\n", t.t, t.device.x(),
+                  t.device.y(), t.device.z(), t.force.x(), t.force.y(), t.force.z(), t.force.norm(), t.depth_mm,
+                  t.status, t.slab);
+    out << line;
+  }
+  if (!out) throw IoError(path + ": write failed");
+}
+
+void run_feel(const FeelArgs& a) {
+  const SlabModel model = load_model(a.model);
+  const SlabLocator locator(model);
+  const std::string input = find_input(model, a);
+  const ExactMeshQuery reference(read_mesh(input));
+  ScenarioOptions o;
+  o.scenario = parse_scenario(a.scenario);
+  o.mode = parse_render_mode(a.mode);
+  o.rate_hz = a.rate;
+  o.proxy.force.stiffness = a.stiffness;
+  o.proxy.force.damping = a.damping;
+  o.proxy.force.max_force = a.max_force;
+  o.friction = a.friction;
+  o.speed_m_s = a.speed;
+  o.press_force_n = a.press;
+  o.keep_trace = !a.trace.empty();
+  const ScenarioReport r = run_scenario(model, locator, reference, o);
+  if (!a.trace.empty()) write_trace(a.trace, r);
+  const nlohmann::json j = {{"model", a.model},
+                            {"input", input},
+                            {"scenario", r.scenario},
+                            {"rate_hz", r.rate_hz},
+                            {"mode", r.mode},
+                            {"friction", a.friction},
+                            {"ticks", r.ticks},
+                            {"contact_ticks", r.contact_ticks},
+                            {"pop_throughs", r.pop_throughs},
+                            {"max_force_step_pct", r.max_force_step_pct},
+                            {"normal_error_p95_deg", r.normal_error_p95_deg},
+                            {"normal_error_smooth_p95_deg", r.normal_error_smooth_p95_deg},
+                            {"energy_ratio", r.energy_ratio},
+                            {"stable_stiffness_n_per_m", r.stable_stiffness_n_per_m},
+                            {"max_force_n", r.max_force_n},
+                            {"mean_contact_force_n", r.mean_contact_force_n},
+                            {"force_cv", r.force_cv},
+                            {"max_penetration_mm", r.max_penetration_mm},
+                            {"proxy_surface_error_max", r.proxy_surface_error_max},
+                            {"slab_crossings", r.slab_crossings},
+                            {"bad_input_ticks", r.bad_input_ticks},
+                            {"tick_ns", {{"median", r.tick_ns_median}, {"p99", r.tick_ns_p99}, {"max", r.tick_ns_max}}},
+                            {"note", r.note},
+                            {"trace", a.trace}};
+  if (a.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("feel %s: %s, %s, %.0f Hz (%s)\n", a.model.c_str(), r.scenario.c_str(), r.mode.c_str(), r.rate_hz,
+              r.note.c_str());
+  std::printf("  ticks               %lld (%lld in contact)\n", (long long)r.ticks, (long long)r.contact_ticks);
+  std::printf("  pop-throughs        %d\n", r.pop_throughs);
+  std::printf("  max force step      %.2f %% of max force (handle still)\n", r.max_force_step_pct);
+  std::printf("  normal error p95    %.2f deg (face), %.2f deg (smooth input normal)\n", r.normal_error_p95_deg,
+              r.normal_error_smooth_p95_deg);
+  std::printf("  energy ratio        %.3f (returned / absorbed)\n", r.energy_ratio);
+  std::printf("  force               max %.3f N, mean in contact %.3f N, cv %.3f\n", r.max_force_n,
+              r.mean_contact_force_n, r.force_cv);
+  std::printf("  max penetration     %.3f mm\n", r.max_penetration_mm);
+  std::printf("  slab crossings      %lld\n", (long long)r.slab_crossings);
+  std::printf("  stiffness           %.0f N/m%s\n", r.stable_stiffness_n_per_m,
+              r.scenario == "stiff" ? " (highest stable)" : "");
+  std::printf("  tick compute        median %.0f ns, p99 %.0f ns, max %.0f ns\n", r.tick_ns_median, r.tick_ns_p99,
+              r.tick_ns_max);
+}
+
+}  // namespace
+
+void add_feel_command(CLI::App& app) {
+  auto a = std::make_shared<FeelArgs>();
+  CLI::App* cmd = app.add_subcommand("feel", "Score haptic rendering on a scripted scenario with a simulated hand");
+  cmd->add_option("model", a->model, "slab model (.hdm)")->required();
+  cmd->add_option("--scenario", a->scenario, "slide, press, thin, edges or stiff")->required();
+  cmd->add_option("--rate", a->rate, "servo rate [Hz]")->check(CLI::Range(100.0, 1e6));
+  cmd->add_option("--mode", a->mode, "proxy (god-object, default) or penalty (the paper's SCP)");
+  cmd->add_option("--input", a->input, "input mesh for the exact reference (default: model.source)");
+  cmd->add_option("--stiffness", a->stiffness, "rendered stiffness [N/m] (default 1000)");
+  cmd->add_option("--damping", a->damping, "normal damping [N·s/m] (default 1)");
+  cmd->add_option("--max-force", a->max_force, "device force limit [N] (default 3.3)");
+  cmd->add_option("--speed", a->speed, "slide/edges hand speed [m/s] (default 0.1)");
+  cmd->add_option("--press", a->press, "slide/edges hand force [N] (default 1)");
+  cmd->add_flag("--friction", a->friction, "use the model's friction fields (default: frictionless)");
+  cmd->add_option("--trace", a->trace, "write one CSV row per tick here");
+  cmd->add_flag("--json", a->json, "print the report as one JSON object");
+  cmd->callback([a] { run_feel(*a); });
+}
+
 }  // namespace hdm::app

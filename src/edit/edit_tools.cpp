@@ -2,6 +2,8 @@
 #include <hdm/edit/edit_tools.h>
 #include <hdm/slab/triangle_grid.h>
 
+#include "../query/surface_eval.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -37,6 +39,35 @@ void cell_points(const SampleLayout& L, int slab, const Vec3& bary, int32_t out[
   out[2] = ids[grid::index(N, i, j + 1)];
 }
 
+// projection_line() inlined (same arithmetic, so the same bits): the flood fill calls it once per
+// visited sample, and an out-of-line call with its loads was a third of the edit's time.
+inline void line_of(const SlabModel& m, int32_t id, Vec3& p0, Vec3& p1) noexcept {
+  const SampleLayout& L = m.samples;
+  const int index = L.home_index[id];
+  const double n = L.n;
+  const double wT = L.point_i[index] / n, wS = L.point_j[index] / n, wR = 1.0 - wT - wS;
+  const Tri& t = m.slabs[L.home_slab[id]];
+  p0 = wR * m.inner[t[0]] + wS * m.inner[t[1]] + wT * m.inner[t[2]];
+  p1 = wR * m.outer[t[0]] + wS * m.outer[t[1]] + wT * m.outer[t[2]];
+}
+
+// Marks the slabs of the grid triangles incident to a sample (or texel). Consecutive incident
+// triangles mostly share a slab, so the slab range is remembered instead of dividing each time.
+struct DirtyMarker {
+  std::vector<uint8_t>& dirty;
+  int32_t per_slab;
+  int32_t lo = 0, hi = 0;  // triangle range [lo, hi) of the last slab marked
+  void mark(const SampleLayout& L, int32_t s) noexcept {
+    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
+      const int32_t tri = L.incident_triangles[e];
+      if (tri >= lo && tri < hi) continue;
+      const int32_t slab = tri / per_slab;
+      dirty[slab] = 1;
+      lo = slab * per_slab, hi = lo + per_slab;
+    }
+  }
+};
+
 // Shared flood fill over the sample graph: `visit(s)` returns true to continue into s's neighbours
 // and records changes itself.
 template <class Visit>
@@ -56,23 +87,22 @@ int32_t flood(const SampleLayout& L, std::vector<uint32_t>& marks, uint32_t stam
   return static_cast<int32_t>(tail);
 }
 
-// After displacements changed: positions of the changed samples, normals of them and their
-// one-ring (design notes §4.4), dirty flags of every slab that holds a changed sample.
+// After displacements changed (positions already refreshed by the visit): normals of the changed
+// samples and their one-ring (design notes §4.4), dirty flags of every slab that holds a changed
+// sample.
 void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcept {
   if (changed == 0) return;
-  update_positions(m, s.changed.data(), changed);
   const uint32_t stamp = next_stamp(s, s.sample_stamp);
   int32_t ring = 0;
   const SampleLayout& L = m.samples;
-  const int per_slab_tris = L.n * L.n;
+  DirtyMarker dirty{s.dirty_slabs, L.n * L.n};
   for (int32_t k = 0; k < changed; ++k) {
     const int32_t c = s.changed[k];
     for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
       const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
       if (s.sample_stamp[t] != stamp) s.sample_stamp[t] = stamp, s.ring[ring++] = t;
     }
-    for (int32_t e = L.triangle_offsets[c]; e < L.triangle_offsets[c + 1]; ++e)
-      s.dirty_slabs[L.incident_triangles[e] / per_slab_tris] = 1;
+    dirty.mark(L, c);
   }
   update_normals(m, s.ring.data(), ring);
 }
@@ -90,7 +120,7 @@ EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec
   const uint32_t stamp = next_stamp(s, s.sample_stamp);
   r.visited = flood(m.samples, s.sample_stamp, stamp, s.queue, seeds, [&](int32_t id) {
     Vec3 p0, p1;
-    projection_line(m, m.samples.home_slab[id], m.samples.home_index[id], p0, p1);
+    line_of(m, id, p0, p1);
     // Line P(t) = p0 + t·L against the sphere: a t² + b t + c = 0 (design notes §5.1).
     const Vec3 L = p1 - p0, w = p0 - centre;
     const double a = L.squaredNorm(), b = 2 * L.dot(w), c = w.squaredNorm() - r2;
@@ -103,6 +133,7 @@ EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec
       const float lowered = static_cast<float>(std::max(t_in, 0.0));
       if (lowered < m.displacement[id]) {
         m.displacement[id] = lowered;
+        m.positions[id] = (p0 + static_cast<double>(lowered) * L).cast<float>();  // = sample_position()
         s.changed[r.changed++] = id;
       }
     }
@@ -121,13 +152,14 @@ EditResult add_material(SlabModel& m, EditScratch& s, const Contact& contact, do
   const uint32_t stamp = next_stamp(s, s.sample_stamp);
   r.visited = flood(m.samples, s.sample_stamp, stamp, s.queue, seeds, [&](int32_t id) {
     Vec3 p0, p1;
-    projection_line(m, m.samples.home_slab[id], m.samples.home_index[id], p0, p1);
+    line_of(m, id, p0, p1);
     const double len = (p1 - p0).norm();
     const double d = (p0 + double(m.displacement[id]) * (p1 - p0) - centre).norm();
     if (d >= radius || len <= 0) return false;
     const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + height * (1 - d / radius) / len));
     if (raised > m.displacement[id]) {
       m.displacement[id] = raised;
+      m.positions[id] = (p0 + static_cast<double>(raised) * (p1 - p0)).cast<float>();  // = sample_position()
       s.changed[r.changed++] = id;
     }
     return true;
@@ -146,20 +178,21 @@ EditResult paint(SlabModel& m, EditScratch& s, const Contact& contact, double ra
   int32_t seeds[3];
   cell_points(T, contact.slab, contact.coords.bary, seeds);
   const uint32_t stamp = next_stamp(s, s.texel_stamp);
+  DirtyMarker dirty{s.dirty_slabs, T.n * T.n};
+  const double N = T.n;
   r.visited = flood(T, s.texel_stamp, stamp, s.queue, seeds, [&](int32_t id) {
-    const int local = T.home_index[id];
-    const double N = T.n;
-    SlabCoordinates c;
-    c.bary = Vec3(1 - (T.point_i[local] + T.point_j[local]) / N, T.point_j[local] / N, T.point_i[local] / N);
-    Contact at;
-    evaluate_surface(m, T.home_slab[id], c, at);  // texel on the displaced surface
-    const double d = (at.surface_point - centre).norm();
+    const int local = T.home_index[id], slab = T.home_slab[id];
+    // The texel on the displaced surface: evaluate_surface()'s point, without its normal.
+    const Vec3 bary(1 - (T.point_i[local] + T.point_j[local]) / N, T.point_j[local] / N, T.point_i[local] / N);
+    const detail::GridCell cell = detail::grid_cell(m, slab, bary[1], bary[2]);
+    double delta;
+    Vec3 ray;
+    const double d = (detail::surface_point(m, slab, bary[1], bary[2], cell, delta, ray) - centre).norm();
     if (d >= radius) return false;
     const float k = static_cast<float>(pressure * (1 - d / radius));
     m.colour[id] = k * colour + (1 - k) * m.colour[id];
     ++r.changed;
-    for (int32_t e = T.triangle_offsets[id]; e < T.triangle_offsets[id + 1]; ++e)
-      s.dirty_slabs[T.incident_triangles[e] / (T.n * T.n)] = 1;
+    dirty.mark(T, id);
     return true;
   });
   return r;

@@ -9,8 +9,14 @@
 
 #include <bit>
 #include <cmath>
+#include <cctype>
+#include <cstdint>
+#include <cstdlib>
+#include <string_view>
 #include <exception>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -34,6 +40,131 @@ struct PositionKeyHash {
 PositionKey key_of(const Vec3& p) {
   return {std::bit_cast<uint64_t>(p.x() + 0.0), std::bit_cast<uint64_t>(p.y() + 0.0),
           std::bit_cast<uint64_t>(p.z() + 0.0)};
+}
+
+// ---- PLY pre-check: assimp 5.2 loops forever on a PLY header without end_header and reads past
+// the end of a truncated binary body, so the sizes are checked here first ----
+
+struct PlyProperty {
+  int size = 0;       // bytes of a scalar property or of a list's items
+  int count_size = 0; // bytes of a list's count, 0 for a scalar
+  bool count_signed = false;
+};
+struct PlyElement {
+  std::string name;
+  uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+int ply_type_size(const std::string& t, bool* is_signed = nullptr) {
+  if (is_signed) *is_signed = t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+uint64_t read_ply_count(const unsigned char* p, const PlyProperty& prop, bool big_endian) {
+  uint64_t bits = 0;
+  for (int k = 0; k < prop.count_size; ++k)
+    bits |= static_cast<uint64_t>(p[big_endian ? prop.count_size - 1 - k : k]) << (8 * k);
+  if (prop.count_signed && (bits >> (8 * prop.count_size - 1)) != 0) return UINT64_MAX;  // negative
+  return bits;
+}
+
+void check_ply(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (data.size() < 4 || data.compare(0, 3, "ply") != 0 || (data[3] != '\n' && data[3] != '\r')) return;
+  const size_t end = data.find("end_header");
+  const size_t body = end == std::string::npos ? end : data.find('\n', end);
+  if (body == std::string::npos) throw IoError(path + ": truncated (the PLY header has no end_header line)");
+
+  std::istringstream header(data.substr(0, end));
+  std::string line, format;
+  std::vector<PlyElement> elements;
+  auto malformed = [&] { return IoError(path + ": malformed PLY header line \"" + line + "\""); };
+  while (std::getline(header, line)) {
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "format") {
+      words >> format;
+    } else if (key == "element") {
+      PlyElement e;
+      if (!(words >> e.name >> e.count)) throw malformed();
+      elements.push_back(e);
+    } else if (key == "property") {
+      std::string type, count_type, item_type;
+      if (!(words >> type) || elements.empty()) throw malformed();
+      PlyProperty prop;
+      if (type == "list") {
+        if (!(words >> count_type >> item_type)) throw malformed();
+        prop.count_size = ply_type_size(count_type, &prop.count_signed);
+        prop.size = ply_type_size(item_type);
+        if (prop.count_size == 0) throw malformed();
+      } else {
+        prop.size = ply_type_size(type);
+      }
+      if (prop.size == 0) throw malformed();
+      elements.back().properties.push_back(prop);
+    }
+  }
+
+  const std::string what = path + ": truncated (PLY data ends inside element ";
+  if (format == "ascii") {
+    size_t pos = body + 1;
+    auto next_token = [&](const PlyElement& e, uint64_t k) {
+      while (pos < data.size() && std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
+      if (pos >= data.size()) throw IoError(what + e.name + " " + std::to_string(k) + ")");
+      const size_t start = pos;
+      while (pos < data.size() && !std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
+      return std::string_view(data).substr(start, pos - start);
+    };
+    for (const PlyElement& e : elements) {
+      if (e.properties.empty()) continue;
+      for (uint64_t k = 0; k < e.count; ++k)  // every instance consumes a token: bounded by the file
+        for (const PlyProperty& prop : e.properties) {
+          const std::string_view t = next_token(e, k);
+          if (prop.count_size == 0) continue;
+          const long long n = std::strtoll(std::string(t).c_str(), nullptr, 10);
+          for (long long j = 0; j < n; ++j) next_token(e, k);
+        }
+    }
+  } else if (format == "binary_little_endian" || format == "binary_big_endian") {
+    const bool big = format == "binary_big_endian";
+    const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+    uint64_t pos = body + 1;
+    const uint64_t size = data.size();
+    for (const PlyElement& e : elements) {
+      bool has_list = false;
+      uint64_t stride = 0;
+      for (const PlyProperty& prop : e.properties) {
+        has_list = has_list || prop.count_size > 0;
+        stride += prop.size;
+      }
+      if (!has_list) {
+        if (stride > 0 && e.count > (size - pos) / stride)
+          throw IoError(what + e.name + ": " + std::to_string(e.count) + " declared)");
+        pos += e.count * stride;
+        continue;
+      }
+      for (uint64_t k = 0; k < e.count; ++k)  // every instance consumes bytes: bounded by the file
+        for (const PlyProperty& prop : e.properties) {
+          uint64_t need = prop.count_size ? prop.count_size : prop.size;
+          if (need > size - pos) throw IoError(what + e.name + " " + std::to_string(k) + ")");
+          if (prop.count_size) {
+            const uint64_t n = read_ply_count(bytes + pos, prop, big);
+            if (n > (size - pos - need) / prop.size) throw IoError(what + e.name + " " + std::to_string(k) + ")");
+            need += n * prop.size;
+          }
+          pos += need;
+        }
+    }
+  } else {
+    throw IoError(path + ": unknown PLY format \"" + format + "\"");
+  }
 }
 
 // Checks the raw scene before post-processing: assimp's steps assert (abort) on faces without
@@ -92,6 +223,7 @@ TriangleMesh read_mesh(const std::string& path) {
   if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
   if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": not a regular file");
 
+  check_ply(path);
   Assimp::Importer importer;
   const aiScene& scene = *import_scene(importer, path);
 

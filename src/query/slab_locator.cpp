@@ -9,13 +9,22 @@ namespace hdm {
 SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
   const int S = model.slab_count();
   order_.resize(S);
+  boxes_.resize(S);
   std::vector<Vec3> centres(S);
   for (int s = 0; s < S; ++s) {
     order_[s] = s;
-    centres[s] = 0.5 * (model.geometry[s].box.min + model.geometry[s].box.max);
+    const Aabb& b = model.geometry[s].box;
+    centres[s] = 0.5 * (b.min + b.max);
+    for (int a = 0; a < 3; ++a) {  // round outward so the float box contains the double box
+      boxes_[s].lo[a] = std::nextafter(static_cast<float>(b.min[a]), -INFINITY);
+      boxes_[s].hi[a] = std::nextafter(static_cast<float>(b.max[a]), INFINITY);
+    }
   }
   nodes_.reserve(2 * S / 2 + 2);
   build(0, S, centres);
+  leaf_boxes_.resize(S);
+  for (int k = 0; k < S; ++k) leaf_boxes_[k] = boxes_[order_[k]];
+  edge_ = model.edge_neighbour;
 
   // Neighbourhood: edge neighbours first (most likely next slab), then the rest of the corner rings.
   ring_offsets_.assign(S + 1, 0);
@@ -32,6 +41,12 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
     ring_.insert(ring_.end(), tmp.begin(), tmp.end());
     ring_offsets_[s + 1] = static_cast<int32_t>(ring_.size());
   }
+}
+
+size_t SlabLocator::memory_bytes() const noexcept {
+  return nodes_.capacity() * sizeof(Node) + order_.capacity() * sizeof(int32_t) +
+         (boxes_.capacity() + leaf_boxes_.capacity()) * sizeof(Box) + edge_.capacity() * sizeof(edge_[0]) +
+         ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t);
 }
 
 int SlabLocator::build(int32_t begin, int32_t end, std::vector<Vec3>& centres) {
@@ -66,18 +81,21 @@ int SlabLocator::build(int32_t begin, int32_t end, std::vector<Vec3>& centres) {
   return index;
 }
 
-int SlabLocator::find_bvh(const Vec3& p, AlphaSolver solver, SlabCoordinates& c) const noexcept {
+int SlabLocator::find_bvh(const Vec3& p, AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
   const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
+  const auto& g = *geometry_;
   int32_t stack[128];
   int top = 0;
   stack[top++] = 0;
+  int edge;
   while (top > 0) {
     const Node& n = nodes_[stack[--top]];
     if (!(x >= n.lo[0] && x <= n.hi[0] && y >= n.lo[1] && y <= n.hi[1] && z >= n.lo[2] && z <= n.hi[2]))
       continue;
     if (n.count > 0) {
       for (int32_t k = n.first; k < n.first + n.count; ++k)
-        if (locate_in_slab((*geometry_)[order_[k]], p, solver, c)) return order_[k];
+        if (leaf_boxes_[k].contains(x, y, z) && locate_in_slab(g[order_[k]], p, solver, guess, c, edge))
+          return order_[k];
     } else if (top < 126) {
       stack[top++] = n.first;
       stack[top++] = static_cast<int32_t>(&n - nodes_.data()) + 1;
@@ -86,17 +104,25 @@ int SlabLocator::find_bvh(const Vec3& p, AlphaSolver solver, SlabCoordinates& c)
   return -1;
 }
 
-int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, SlabCoordinates& c) const noexcept {
+int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
   if (!p.allFinite() || nodes_.empty()) return -1;
   const auto& g = *geometry_;
   if (hint >= 0 && hint < static_cast<int>(g.size())) {
-    if (locate_in_slab(g[hint], p, solver, c)) return hint;
+    const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
+    int edge = -1;
+    if (locate_in_slab(g[hint], p, solver, guess, c, edge)) return hint;
+    // The point left through `edge`: the slab across it is the likely one (design notes §3.6).
+    const int32_t across = edge >= 0 ? edge_[hint][edge] : -1;
+    if (across >= 0 && boxes_[across].contains(x, y, z) && locate_in_slab(g[across], p, solver, guess, c, edge))
+      return across;
     int count;
     const int32_t* ring = neighbourhood(hint, count);
-    for (int k = 0; k < count; ++k)
-      if (locate_in_slab(g[ring[k]], p, solver, c)) return ring[k];
+    for (int k = 0; k < count; ++k) {
+      const int32_t s = ring[k];
+      if (s != across && boxes_[s].contains(x, y, z) && locate_in_slab(g[s], p, solver, guess, c, edge)) return s;
+    }
   }
-  return find_bvh(p, solver, c);
+  return find_bvh(p, solver, guess, c);
 }
 
 }  // namespace hdm

@@ -2,6 +2,7 @@
 // Bake: decimate (meshoptimizer), choose ray directions and shell offsets, validate every slab,
 // cast one ray per sample against the input (Embree, TBB). Design notes §2.2, §3.7, §9-Q1..Q3.
 #include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/analysis/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/slab/bake.h>
 
@@ -320,9 +321,45 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     }
   };
 
+  // Thin the shell where slabs of different parts overlap (an exact boundary intersection test),
+  // then re-thin any slab the uneven shrinking made invalid; targets follow so growth stops there.
+  auto shrink = [&](size_t v, double f) {
+    off_in[v] = std::max(min_off[v], off_in[v] * f), off_out[v] = std::max(min_off[v], off_out[v] * f);
+    tgt_in[v] = std::min(tgt_in[v], off_in[v]), tgt_out[v] = std::min(tgt_out[v], off_out[v]);
+    place(v);
+  };
+  auto separate = [&] {
+    for (int it = 0; it < 12; ++it) {
+      const auto pairs = overlapping_pairs(model);
+      if (pairs.empty()) break;
+      for (const auto& [a, b] : pairs)
+        for (int32_t f : {a, b})
+          for (int32_t v : model.slabs[f]) shrink(v, 0.9);
+      for (int fix = 0; fix < 40; ++fix) {
+        bool bad = false;
+        for (size_t f = 0; f < model.slabs.size(); ++f)
+          if (!hopeless[f] && !slab_ok(static_cast<int32_t>(f))) {
+            bad = true;
+            for (int32_t v : model.slabs[f]) shrink(v, 0.8);
+          }
+        if (!bad) break;
+      }
+    }
+  };
+
+  // Two passes: with slab separation, and, if thinning the shell where slabs overlap leaves too
+  // many rays without a surface, without it (overlaps are then reported by `hdm check`).
+  const std::vector<double> tgt_in0 = tgt_in, tgt_out0 = tgt_out;
+  for (int pass = 0; pass < 2; ++pass) {
+  const bool separating = pass == 0 && o.separate_slabs;
+  if (pass == 1 && !o.separate_slabs) break;
+  tgt_in = tgt_in0, tgt_out = tgt_out0;
+  for (size_t v = 0; v < nv; ++v) off_in[v] = off_out[v] = min_off[v], place(v);
+  rep.separated = separating;
   for (int round = 0; round < 8; ++round) {
     rep.shell_iterations = round + 1;
     grow();
+    if (separating) separate();
     // One ray per distinct sample, from the outer end inward; keep the first (outermost) hit
     // whose triangle faces outward (design notes §2.2).
     const int blocks = 20;
@@ -366,6 +403,8 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
       if (grow_out[v] && tgt_out[v] < cap_out[v]) tgt_out[v] = std::min(cap_out[v], std::max(tgt_out[v], off_out[v]) * 1.5), grew = true;
     }
     if (!grew) break;
+  }
+  if (rep.ray_misses <= o.miss_limit * ns) break;
   }
   if (rep.ray_misses > o.miss_limit * ns)
     throw NumericalError(name + ": " + std::to_string(rep.ray_misses) + " of " + std::to_string(ns) +

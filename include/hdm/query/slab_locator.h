@@ -17,7 +17,7 @@ namespace hdm {
 class SlabLocator {
  public:
   /// @brief Builds the BVH and per-slab neighbourhoods of @p model (its derived data must be built).
-  /// @note O(#S log #S) time, about 80 bytes per slab.
+  /// @note O(#S log #S) time, about 150 bytes per slab.
   explicit SlabLocator(const SlabModel& model);
 
   /// @brief Finds a slab that contains @p p.
@@ -27,7 +27,15 @@ class SlabLocator {
   /// @param[out] c  coordinates of @p p in the slab found.
   /// @return the slab id, or -1 when no slab holds @p p (outside the shell, or NaN).
   /// @note noexcept, no allocation. Tries the hint, its edge and corner neighbours, then the BVH.
-  int find(const Vec3& p, int hint, AlphaSolver solver, SlabCoordinates& c) const noexcept;
+  int find(const Vec3& p, int hint, AlphaSolver solver, SlabCoordinates& c) const noexcept {
+    return find(p, hint, solver, -1.0, c);
+  }
+
+  /// @brief find() with a starting guess for α (the previous tick's α; -1 for none).
+  /// @note Same result as find() up to rounding of α. When the hint fails, the edge neighbour
+  ///       beyond the edge the point crossed is tried first, then the rest of the neighbourhood
+  ///       (each behind a float box test), then the BVH.
+  int find(const Vec3& p, int hint, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
 
   /// @brief Slabs sharing an edge or a corner with @p slab (edge neighbours first).
   /// @param[out] count  number of entries.
@@ -36,18 +44,32 @@ class SlabLocator {
     return ring_.data() + ring_offsets_[slab];
   }
 
+  /// Heap bytes held by this locator (BVH, neighbourhoods, per-slab query data).
+  size_t memory_bytes() const noexcept;
+
  private:
   struct Node {
     float lo[3], hi[3];
     int32_t first;  // leaf: first index into order_; inner: right child (left child is this + 1)
     int32_t count;  // leaf: number of slabs; inner: 0
   };
-  int find_bvh(const Vec3& p, AlphaSolver solver, SlabCoordinates& c) const noexcept;
+  // Slab box rounded outward to float: a 24-byte test that rejects most candidates without
+  // touching the 360-byte SlabGeometry (it contains the double box, so results are unchanged).
+  struct Box {
+    float lo[3], hi[3];
+    bool contains(float x, float y, float z) const noexcept {
+      return x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1] && z >= lo[2] && z <= hi[2];
+    }
+  };
+  int find_bvh(const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
   int build(int32_t begin, int32_t end, std::vector<Vec3>& centres);
 
   const std::vector<SlabGeometry>* geometry_;
   std::vector<Node> nodes_;
   std::vector<int32_t> order_;
+  std::vector<Box> boxes_;       // #S, by slab id
+  std::vector<Box> leaf_boxes_;  // #S, in order_ order (contiguous within a leaf)
+  std::vector<std::array<int32_t, 3>> edge_;  // #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> ring_offsets_, ring_;
 };
 

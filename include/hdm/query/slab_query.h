@@ -25,6 +25,7 @@ struct Contact {
 /// between threads.
 struct QueryCache {
   int32_t last_slab = -1;  ///< slab of the previous query, the first one tried next time
+  double last_alpha = -1;  ///< α of the previous query: the α solver's starting guess (-1: none)
 };
 
 /// @brief Evaluates the displaced surface at slab coordinates @p c of slab @p slab.

@@ -20,6 +20,7 @@ struct BakeOptions {
   int texel_density = 2;   ///< colour texels per displacement interval
   double headroom = 0.25;  ///< carve/add headroom each side, as a fraction of the mean coarse edge length at the vertex
   double min_thickness = 0.01;  ///< wanted shell thickness each side, fraction of the diagonal (cursor penetration F_max/k_s plus carve headroom), capped in thin parts
+  bool separate_slabs = true;  ///< thin the shell where slabs of different parts overlap (falls back to no separation when that leaves more than miss_limit rays without a surface)
   double miss_limit = 0.05;  ///< fail when more than this fraction of sample rays miss the input
   Vec3f colour{0.82f, 0.80f, 0.76f};  ///< initial surface colour, linear RGB
   /// Progress callback: stage name and fraction in [0,1] of that stage. Called from the calling thread.
@@ -36,7 +37,8 @@ struct BakeReport {
   int invalid_slabs = 0;            ///< slabs whose Jacobian is not positive everywhere (design notes §3.7)
   int64_t ray_misses = 0;           ///< sample rays that found no outward-facing input surface (filled from neighbours)
   int64_t undercut_columns = 0;     ///< sample rays that cross the input more than once
-  int shell_iterations = 0;         ///< rounds of shrinking/growing the shell
+  int shell_iterations = 0;
+  bool separated = false;           ///< overlapping slabs were thinned apart (see BakeOptions::separate_slabs)         ///< rounds of shrinking/growing the shell
   double seconds = 0;               ///< wall time of the bake [s]
 };
 

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Haptic devices: an abstract interface, a simulated device (a handle held by a model hand) and a
+/// replay device that plays a recorded trajectory.
+///
+/// Plugging in a vendor device: derive from HapticDevice and forward the calls, all from the servo
+/// thread (the vendor's scheduler callback or hdm::run_servo_loop):
+/// - OpenHaptics HD: `begin_frame()` calls `hdBeginFrame(hHD)`, then
+///   `hdGetDoublev(HD_CURRENT_POSITION, p)` (millimetres: multiply by 1e-3),
+///   `hdGetDoublev(HD_CURRENT_VELOCITY, v)` and `hdGetIntegerv(HD_CURRENT_BUTTONS, &b)`;
+///   `end_frame(f)` calls `hdSetDoublev(HD_CURRENT_FORCE, f)` (newtons) and `hdEndFrame(hHD)`.
+///   `spec()` comes from `HD_NOMINAL_MAX_FORCE`, `HD_NOMINAL_MAX_STIFFNESS` (N/mm: ×1e3) and
+///   `HD_USABLE_WORKSPACE_DIMENSIONS`. Run hdm's tick inside an `hdScheduleAsynchronous` callback
+///   (HD_MAX_SCHEDULER_PRIORITY) or set the scheduler rate with `hdSetSchedulerRate`.
+/// - Force Dimension DHD: `begin_frame()` calls `dhdGetPosition(&x, &y, &z)` (metres),
+///   `dhdGetLinearVelocity(&vx, &vy, &vz)` and `dhdGetButtonMask()`; `end_frame(f)` calls
+///   `dhdSetForce(fx, fy, fz)` (or `dhdSetForceAndTorqueAndGripperForce`). Enable forces with
+///   `dhdEnableForce(DHD_ON)` before the loop; the loop rate is hdm's (run_servo_loop).
+/// Device axes: map the vendor's frame to hdm's device frame (right-handed, metres, the workspace
+/// centre at the origin) inside the adapter; hdm::Workspace then maps device to model.
+
+#include <hdm/core/types.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hdm {
+
+/// Capabilities of a device, SI.
+struct DeviceSpec {
+  double workspace_m = 0.16;            ///< usable workspace diagonal [m]
+  double max_force_n = 3.3;             ///< continuous force limit [N]
+  double max_stiffness_n_per_m = 2000;  ///< stiffness the vendor rates as stable [N/m]
+  double nominal_rate_hz = 1000;        ///< servo rate the device is designed for [Hz]
+};
+
+/// One reading of the device, device frame.
+struct DeviceState {
+  Vec3 position = Vec3::Zero();  ///< handle position [m], workspace centre at the origin
+  Vec3 velocity = Vec3::Zero();  ///< handle velocity [m/s] (backward difference, as encoders give)
+  uint32_t buttons = 0;          ///< button bit mask
+  double time_s = 0;             ///< device time of the reading [s]
+};
+
+/// Abstract haptic device. One servo tick is begin_frame() → compute → end_frame(force).
+///
+/// Threading: used by the servo thread only. Real-time rule: begin_frame and end_frame must not
+/// allocate, lock or do I/O in implementations used in the servo loop.
+class HapticDevice {
+ public:
+  virtual ~HapticDevice() = default;
+  /// @brief Reads the handle state at the start of a tick.
+  /// @return false when the device has nothing more to give (end of a replay) or failed.
+  /// @note noexcept, real-time safe.
+  virtual bool begin_frame(DeviceState& state) noexcept = 0;
+  /// @brief Commands @p force_n [N, device frame] until the next tick and ends the tick.
+  /// @note noexcept, real-time safe. Implementations clamp to spec().max_force_n.
+  virtual void end_frame(const Vec3& force_n) noexcept = 0;
+  /// Capabilities.
+  virtual DeviceSpec spec() const noexcept = 0;
+};
+
+/// Settings of SimulatedDevice. Defaults: a light handle in a compliant grip.
+struct SimulatedDeviceOptions {
+  double mass_kg = 0.05;           ///< handle plus linkage mass [kg]
+  double hand_stiffness = 200.0;   ///< hand spring pulling the handle to the target [N/m]
+  double hand_damping = 2.0;       ///< hand damper on the handle's velocity relative to the target [N·s/m]
+  double rate_hz = 1000.0;         ///< servo rate: the rendered force is held for 1/rate_hz [Hz]
+  int substeps = 10;               ///< semi-implicit Euler steps per servo period (force held: zero-order hold)
+  DeviceSpec spec;                 ///< reported capabilities (max force clamp)
+};
+
+/// A simulated device: a handle of mass m pulled by a hand spring-damper toward a scripted target
+/// path, and pushed by the rendered force, which is held constant over each servo period (zero-order
+/// hold, as a real amplifier does). Integrated by semi-implicit Euler with `substeps` steps per period.
+///
+/// The closed loop (render → hold → handle motion → next reading) is what limits stable stiffness
+/// (Colgate & Schenkel 1997: passivity needs b > K·T/2); the substeps keep the integrator itself
+/// out of that limit.
+class SimulatedDevice final : public HapticDevice {
+ public:
+  /// @brief Creates the device; @p targets holds one hand target [m] per tick (the last one is held
+  /// after the end). The span must outlive the device.
+  /// @param start  initial handle position [m] (at rest).
+  SimulatedDevice(const SimulatedDeviceOptions& options, std::span<const Vec3> targets, const Vec3& start);
+  bool begin_frame(DeviceState& state) noexcept override;
+  void end_frame(const Vec3& force_n) noexcept override;
+  DeviceSpec spec() const noexcept override { return options_.spec; }
+  /// Hand force on the handle during the last period [N] (what the user pushes with).
+  const Vec3& hand_force() const noexcept { return hand_force_; }
+  /// Tick counter.
+  int64_t tick() const noexcept { return tick_; }
+
+ private:
+  SimulatedDeviceOptions options_;
+  std::span<const Vec3> targets_;
+  Vec3 x_, v_, x_prev_, hand_force_ = Vec3::Zero();
+  int64_t tick_ = 0;
+};
+
+/// Plays back a CSV trajectory written by `hdm sculpt --forces` (header
+/// `time_s,device_x_m,device_y_m,device_z_m,...`): one row per tick; forces are ignored.
+class ReplayDevice final : public HapticDevice {
+ public:
+  /// @brief Loads @p csv_path (all rows read here, so frames never do I/O).
+  /// @throws IoError when the file cannot be read; InvalidInput when the header lacks the
+  /// position columns or a row is malformed (naming the line).
+  explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {});
+  bool begin_frame(DeviceState& state) noexcept override;
+  void end_frame(const Vec3& force_n) noexcept override;
+  DeviceSpec spec() const noexcept override { return spec_; }
+  /// Number of recorded ticks.
+  size_t size() const noexcept { return position_.size(); }
+  /// Last commanded force [N].
+  const Vec3& last_force() const noexcept { return last_force_; }
+
+ private:
+  DeviceSpec spec_;
+  std::vector<double> time_;
+  std::vector<Vec3> position_;
+  size_t next_ = 0;
+  Vec3 last_force_ = Vec3::Zero();
+};
+
+}  // namespace hdm

@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// The proxy (god-object) held on the reconstructed displacement surface: no pop-through, force
+/// shading and static/dynamic friction, with the paper's memoryless penalty force kept as a mode
+/// (Zilles & Salisbury 1995; Ruspini, Kolarov & Khatib 1997; design notes §4.5, §9-Q10).
+///
+/// Frames: the device reports the haptic interaction point (HIP) in metres (device frame); the
+/// proxy lives in the model frame [model units]; hdm::Workspace maps between them. Forces are
+/// returned in newtons in the device frame.
+
+#include <hdm/haptics/force.h>
+
+namespace hdm {
+
+/// Force model of a HapticRenderer.
+enum class RenderMode : uint8_t {
+  Proxy,    ///< god-object on the displaced surface (default)
+  Penalty,  ///< the paper's memoryless SCP = HIP + n·depth (paper §3.4), for comparison
+};
+
+/// Parameters of the proxy, SI at the device unless stated. Defaults suit a desktop device
+/// (Phantom Omni / Touch class) at 1 kHz.
+struct ProxyParams {
+  ForceParams force;                 ///< stiffness k [N/m], damping b [N·s/m] along the normal, max force [N]
+  double friction_scale = 1.0;       ///< factor on the per-sample μs, μd of SlabModel (0: frictionless)
+  int iterations = 3;                ///< tangent-plane projection + re-projection rounds per tick (>= 1)
+  int max_halvings = 6;              ///< step halvings when a candidate leaves the shell
+  double position_limit_m = 1.0;     ///< HIP farther than this from the workspace centre [m]: BadInput, zero force
+  double tunnel_step = 0.0;          ///< free-space sub-step [model units] to catch a HIP that jumps across a
+                                     ///< thin part in one tick; 0: 0.002 × the model's source diagonal
+  int max_tunnel_steps = 16;         ///< cap on free-space sub-steps per tick
+};
+
+/// Status of one proxy tick.
+enum class ProxyStatus : uint8_t {
+  Free,      ///< no contact: proxy = HIP, zero force
+  Stuck,     ///< in contact, proxy held by static friction
+  Sliding,   ///< in contact, proxy moved (frictionless or dynamic friction)
+  Clamped,   ///< in contact, force clamped to max_force
+  BadInput,  ///< non-finite or out-of-range HIP / velocity: zero force, proxy state kept
+};
+
+/// Proxy state carried from tick to tick. Plain data, no allocation: copyable into a servo
+/// thread's storage.
+struct ProxyState {
+  bool contact = false;              ///< proxy is on the surface
+  bool stuck = false;                ///< static friction holds the proxy (only meaningful in contact)
+  int32_t slab = -1;                 ///< proxy's slab (contact only)
+  SlabCoordinates coords;            ///< proxy's (α = δ, barycentrics) in that slab (contact only)
+  Vec3 position = Vec3::Zero();      ///< proxy [model units]: on the displaced surface in contact, else the HIP
+  Vec3 normal = Vec3::UnitZ();       ///< interpolated unit normal at the proxy (contact only)
+  Vec3 last_hip = Vec3::Zero();      ///< previous finite HIP [model units]
+  bool has_last_hip = false;         ///< last_hip is valid
+  QueryCache hip_cache;              ///< coherence cache of the HIP queries (free motion)
+  QueryCache proxy_cache;            ///< coherence cache of the proxy re-projections
+};
+
+/// Output of one tick.
+struct ProxyOutput {
+  Vec3 force = Vec3::Zero();        ///< force on the handle [N], device frame; never NaN
+  ProxyStatus status = ProxyStatus::Free;
+  Contact contact;                  ///< contact at the proxy (slab, coords, surface point, normal) with
+                                    ///< depth = (proxy - HIP)·n [model units] > 0; slab -1 when free
+  double normal_force = 0;          ///< k·depth [N] before damping and clamping
+  double friction_force = 0;        ///< tangential spring force |F_t| [N]
+  double mu_static = 0, mu_dynamic = 0;  ///< friction coefficients interpolated at the proxy
+};
+
+/// @brief Interpolates a per-sample field at slab coordinates (the grid triangle and weights of
+/// evaluate_surface, design notes §4.1).
+/// @param field  #samples values (e.g. SlabModel::friction_static); empty: returns @p fallback.
+/// @note noexcept, O(1), real-time safe.
+double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
+                         double fallback) noexcept;
+
+/// @brief One proxy tick: update the god-object from the HIP and compute the force.
+///
+/// Free: the HIP is queried; while it does not penetrate the proxy follows it. On the first
+/// penetration (also found on free-space sub-steps when the HIP jumps) the proxy is set on the
+/// surface point of the HIP's projection line. In contact the proxy is moved towards the HIP in
+/// its interpolated tangent plane and re-projected onto the displaced surface through
+/// SlabLocator::find + evaluate_surface (params.iterations rounds, crossing slab edges and
+/// corners); static friction holds it while |F_t| <= μs·F_n, otherwise it slides so that
+/// |F_t| = μd·F_n. Contact lasts while (HIP - proxy)·n_proxy < 0, whatever the HIP's own query
+/// says, so it holds past the inner face and through thin parts. Force
+/// F = k·s·(proxy - HIP)/scale - b·(v·n)·n, normal part never pulling, clamped to max_force.
+///
+/// @param model     slab model (derived data built).
+/// @param locator   its search structure.
+/// @param ws        device [m] ↔ model transform.
+/// @param hip_device  HIP [m], device frame.
+/// @param velocity    HIP velocity [m/s], device frame.
+/// @param params    see ProxyParams.
+/// @param state     carried state, updated.
+/// @return force and status; BadInput (zero force, state unchanged) when the HIP or velocity is
+///         not finite or farther than params.position_limit_m from the workspace centre.
+/// @note noexcept, no allocation, no locks, no I/O. Cost: params.iterations locator finds
+///       (one slab test each when coherent) and evaluate_surface calls.
+/// @see Zilles & Salisbury 1995; Ruspini et al. 1997 (proxy, force shading, friction);
+///      Melder & Harwin 2005 (friction cone); design notes §4.5.
+ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const Vec3& hip_device,
+                       const Vec3& velocity, const ProxyParams& params, ProxyState& state) noexcept;
+
+/// @brief The same interface for the paper's penalty force (RenderMode::Penalty): query the HIP,
+/// SCP = HIP + n·depth, F = k·depth·n - b·(v·n)·n (hdm::penalty_force).
+/// @note noexcept, real-time safe; state keeps only the query cache and last HIP. The proxy
+///       fields of the output hold the SCP.
+ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws,
+                         const Vec3& hip_device, const Vec3& velocity, const ProxyParams& params,
+                         ProxyState& state) noexcept;
+
+/// @brief Dispatches to proxy_step() or penalty_step().
+/// @note noexcept, real-time safe.
+inline ProxyOutput render_step(RenderMode mode, const SlabModel& model, const SlabLocator& locator,
+                               const Workspace& ws, const Vec3& hip_device, const Vec3& velocity,
+                               const ProxyParams& params, ProxyState& state) noexcept {
+  return mode == RenderMode::Proxy ? proxy_step(model, locator, ws, hip_device, velocity, params, state)
+                                   : penalty_step(model, locator, ws, hip_device, velocity, params, state);
+}
+
+/// @brief Parses "proxy" or "penalty".
+/// @throws InvalidInput for any other name.
+RenderMode parse_render_mode(const std::string& name);
+
+}  // namespace hdm

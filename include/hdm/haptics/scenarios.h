@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Scripted haptic scenarios ("does it feel right?"): a simulated device and hand drive the proxy
+/// or penalty renderer on a slab model, and the run is scored against an independent reference,
+/// the exact input mesh (design README, "How we measure").
+
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/haptics/device.h>
+#include <hdm/haptics/proxy.h>
+
+#include <string>
+#include <vector>
+
+namespace hdm {
+
+/// The scenarios of `hdm feel`.
+enum class Scenario : uint8_t {
+  Slide,  ///< stroke across the top of the model at `speed_m_s`, the hand pressing with `press_force_n`
+  Press,  ///< push straight into a thick part until the hand pushes with 1.2 × max force, hold, release
+  Thin,   ///< push through the thinnest high part (the bunny's ear: the top of the model along +Y) with max force
+  Edges,  ///< circle on the side (+Z) of the model, crossing many slab edges and corners at constant force
+  Stiff,  ///< the highest stiffness [N/m] whose press-and-hold stays stable at the rate
+};
+
+/// @brief Parses slide, press, thin, edges or stiff. @throws InvalidInput otherwise.
+Scenario parse_scenario(const std::string& name);
+/// Name of @p s.
+const char* scenario_name(Scenario s) noexcept;
+
+/// Settings of a scenario run. Geometry is in the model frame with +Y up.
+struct ScenarioOptions {
+  Scenario scenario = Scenario::Slide;
+  RenderMode mode = RenderMode::Proxy;
+  double rate_hz = 1000;            ///< servo rate [Hz]
+  ProxyParams proxy;                ///< force parameters (stiffness, damping, max force, friction)
+  bool friction = false;            ///< use the model's μs/μd fields (off: frictionless, so force
+                                    ///< direction = surface normal and normal_error is meaningful)
+  double workspace_m = 0.16;        ///< device workspace the model's diagonal maps to [m]
+  double speed_m_s = 0.1;           ///< slide / edges speed of the hand target [m/s]
+  double press_force_n = 1.0;       ///< slide / edges: hand force pressing into the surface [N]
+  SimulatedDeviceOptions device;    ///< handle mass, hand spring/damper (rate and max force are set from above)
+  bool keep_trace = false;          ///< fill ScenarioReport::trace
+};
+
+/// One traced tick (for plots).
+struct ScenarioTraceRow {
+  double t;          ///< time [s]
+  Vec3 device;       ///< handle [m]
+  Vec3 force;        ///< rendered force [N]
+  double depth_mm;   ///< (proxy - HIP)·n [mm at the device], 0 when free
+  int status;        ///< ProxyStatus
+  int slab;          ///< proxy / contact slab, -1 free
+};
+
+/// Scores of one run. Angles in degrees, forces in N, lengths in mm at the device.
+struct ScenarioReport {
+  std::string scenario, mode;
+  double rate_hz = 0;
+  int64_t ticks = 0, contact_ticks = 0, bad_input_ticks = 0;
+  int pop_throughs = 0;             ///< force reversed, or vanished with the HIP inside / passing through the input
+  double max_force_step_pct = 0;    ///< largest tick-to-tick |ΔF| as % of max force over ticks where the handle moved < 0.1 mm
+  double normal_error_p95_deg = 0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
+  double normal_error_smooth_p95_deg = 0;  ///< same against the input's interpolated (area-weighted vertex) normal
+  double energy_ratio = 0;          ///< work the rendered force returned to the handle / work it absorbed
+  double stable_stiffness_n_per_m = 0;  ///< stiff: highest stable stiffness at the rate; others: the stiffness used
+  double max_force_n = 0, mean_contact_force_n = 0;
+  double force_cv = 0;              ///< std/mean of |F| over the steady part (slide, edges)
+  double max_penetration_mm = 0;    ///< largest (proxy - HIP)·n [mm]
+  double proxy_surface_error_max = 0;  ///< max |proxy - evaluate_surface(proxy coords)| / diagonal (proxy mode)
+  int64_t slab_crossings = 0;       ///< ticks on which the contact slab changed
+  double tick_ns_median = 0, tick_ns_p99 = 0, tick_ns_max = 0;  ///< render_step compute time [ns]
+  std::string note;                 ///< scenario details (e.g. where the ear is)
+  std::vector<ScenarioTraceRow> trace;  ///< per tick, when keep_trace
+};
+
+/// @brief Runs one scenario on @p model, scored against @p reference (the input mesh the model was
+/// baked from).
+/// @throws InvalidInput when the scenario's geometry cannot be found on the model (e.g. no ray hits).
+/// @note Runs in simulated time, ticks back to back on the calling thread; allocates only before the
+///       tick loop (and in the Stiff search, between runs). Each tick is hdm::render_step, timed.
+ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
+                            const ScenarioOptions& options);
+
+}  // namespace hdm

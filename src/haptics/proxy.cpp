@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/haptics/proxy.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdm {
+namespace {
+
+// A re-projected candidate is accepted only if its surface faces the same way as the proxy's:
+// this keeps the proxy on its own side of a thin part even when the locator's BVH fallback finds
+// a slab of the opposite side (design notes §4.5, gap 1).
+constexpr double kMinNormalAgreement = 0.0;
+
+double model_diagonal(const SlabModel& m) noexcept {
+  return m.source_diagonal > 0 ? m.source_diagonal : 1.0;
+}
+
+// Surface sample under slab coordinates: (slab, bary) -> surface point at δ on the projection line.
+bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Contact& out) noexcept {
+  evaluate_surface(model, slab, c, out);
+  return out.surface_point.allFinite() && out.normal.allFinite();
+}
+
+// Re-projects point @p x onto the displaced surface: locate it, then take the surface point on its
+// projection line. Returns false when x is in no slab, or in a slab that faces away.
+bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x, const Vec3& n_ref,
+               QueryCache& cache, Contact& out) noexcept {
+  SlabCoordinates c;
+  const int slab = locator.find(x, cache.last_slab, AlphaSolver::Newton, c);
+  if (slab < 0) return false;
+  if (!surface_at(model, slab, c, out)) return false;
+  if (out.normal.dot(n_ref) < kMinNormalAgreement) return false;
+  cache.last_slab = slab;
+  out.coords.alpha = out.delta;  // the proxy sits at δ on its line: depth 0 there
+  out.depth = 0;
+  return true;
+}
+
+// Moves the proxy towards target T: project T onto the proxy's tangent plane, re-project onto the
+// surface, repeat. Converges to the point whose interpolated normal points at T (force shading).
+void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec3& target, const ProxyParams& p,
+                   ProxyState& s, Contact& at) noexcept {
+  const double tiny = 1e-12 * model_diagonal(model);
+  for (int it = 0; it < std::max(1, p.iterations); ++it) {
+    Vec3 step = target - s.position;
+    step -= step.dot(s.normal) * s.normal;
+    if (step.norm() <= tiny) break;
+    bool moved = false;
+    for (int h = 0; h <= p.max_halvings; ++h, step *= 0.5) {
+      Contact c;
+      if (reproject(model, locator, s.position + step, s.normal, s.proxy_cache, c)) {
+        s.slab = c.slab;
+        s.coords = c.coords;
+        s.position = c.surface_point;
+        s.normal = c.normal;
+        at = c;
+        moved = true;
+        break;
+      }
+    }
+    if (!moved) break;
+  }
+}
+
+void release(ProxyState& s, const Vec3& hip) noexcept {
+  s.contact = false;
+  s.stuck = false;
+  s.slab = -1;
+  s.position = hip;
+}
+
+bool bad_input(const Workspace& ws, const Vec3& hip_device, const Vec3& velocity, const ProxyParams& p) noexcept {
+  if (!hip_device.allFinite() || !velocity.allFinite()) return true;
+  if (!(hip_device.norm() <= p.position_limit_m)) return true;
+  return !std::isfinite(ws.scale) || !(ws.scale > 0) || !ws.origin.allFinite();
+}
+
+// Normal damping, "never pull" on the normal part, then the max-force clamp.
+void finish_force(Vec3 f, const Vec3& n, const Vec3& velocity, const ForceParams& fp, ProxyOutput& out) noexcept {
+  f -= fp.damping * velocity.dot(n) * n;
+  const double fn = f.dot(n);
+  if (fn < 0) f -= fn * n;
+  const double mag = f.norm();
+  if (mag > fp.max_force) {
+    f *= fp.max_force / mag;
+    out.status = ProxyStatus::Clamped;
+  }
+  out.force = f.allFinite() ? f : Vec3::Zero();
+}
+
+}  // namespace
+
+double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
+                         double fallback) noexcept {
+  if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
+  // Same grid triangle and weights as evaluate_surface (design notes §4.1).
+  const int n = model.grid_n;
+  double hx = std::max(0.0, n * c.bary[2]), hy = std::max(0.0, n * c.bary[1]);
+  if (hx + hy > n) {
+    const double sc = n / (hx + hy);
+    hx *= sc, hy *= sc;
+  }
+  const int i = std::min(static_cast<int>(hx), n - 1);
+  const int j = std::min(static_cast<int>(hy), n - 1 - i);
+  double fx = hx - i, fy = hy - j;
+  const int32_t* ids = &model.samples.ids[static_cast<size_t>(slab) * model.samples.per_slab];
+  double v;
+  if (fx + fy > 1 && i + j <= n - 2) {
+    v = (fx + fy - 1) * field[ids[grid::index(n, i + 1, j + 1)]] + (1 - fy) * field[ids[grid::index(n, i + 1, j)]] +
+        (1 - fx) * field[ids[grid::index(n, i, j + 1)]];
+  } else {
+    if (fx + fy > 1) {
+      const double sc = 1 / (fx + fy);
+      fx *= sc, fy *= sc;
+    }
+    v = (1 - fx - fy) * field[ids[grid::index(n, i, j)]] + fx * field[ids[grid::index(n, i + 1, j)]] +
+        fy * field[ids[grid::index(n, i, j + 1)]];
+  }
+  return std::isfinite(v) ? v : fallback;
+}
+
+ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const Vec3& hip_device,
+                       const Vec3& velocity, const ProxyParams& p, ProxyState& s) noexcept {
+  ProxyOutput out;
+  if (bad_input(ws, hip_device, velocity, p)) {
+    out.status = ProxyStatus::BadInput;
+    return out;
+  }
+  const Vec3 hip = ws.to_model(hip_device);
+
+  if (!s.contact) {
+    // Free: follow the HIP; look for the first penetration, sub-stepping a long free move so that a
+    // jump across a thin part in one tick is still caught on the entry side.
+    Contact c = query(model, locator, hip, s.hip_cache);
+    if (!c.penetrating() && s.has_last_hip) {
+      const double step = p.tunnel_step > 0 ? p.tunnel_step : 0.002 * model_diagonal(model);
+      const double len = (hip - s.last_hip).norm();
+      const int subs = std::min(p.max_tunnel_steps, static_cast<int>(std::ceil(len / step)));
+      QueryCache sub_cache = s.hip_cache;
+      for (int k = 1; k < subs; ++k) {
+        const Contact ck = query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache);
+        if (ck.penetrating()) {
+          c = ck;
+          break;
+        }
+      }
+    }
+    s.last_hip = hip;
+    s.has_last_hip = true;
+    if (!c.penetrating()) {
+      release(s, hip);
+      return out;
+    }
+    // Entry: the surface point on the penetrating point's projection line (same barycentrics, α = δ).
+    s.contact = true;
+    s.stuck = false;
+    s.slab = c.slab;
+    s.coords = c.coords;
+    s.coords.alpha = c.delta;
+    s.position = c.surface_point;
+    s.normal = c.normal;
+    s.proxy_cache.last_slab = c.slab;
+  }
+  s.last_hip = hip;
+  s.has_last_hip = true;
+
+  // Follow edits under the proxy: re-evaluate the surface at its coordinates.
+  Contact at;
+  if (surface_at(model, s.slab, s.coords, at)) {
+    s.position = at.surface_point;
+    s.normal = at.normal;
+    s.coords.alpha = at.delta;
+  }
+
+  const double k = p.force.stiffness * interpolate_field(model, model.stiffness_scale, s.slab, s.coords, 1.0);
+  const double mu_s = p.friction_scale * interpolate_field(model, model.friction_static, s.slab, s.coords, 0.0);
+  const double mu_d = std::min(mu_s, p.friction_scale * interpolate_field(model, model.friction_dynamic, s.slab,
+                                                                          s.coords, 0.0));
+  out.mu_static = mu_s;
+  out.mu_dynamic = mu_d;
+
+  // Friction cone on the proxy (Ruspini et al. 1997; Melder & Harwin 2005): depths in model units,
+  // so the cone test k·|t| <= μ·k·d needs no unit conversion.
+  const Vec3 d = hip - s.position;
+  const double depth = -d.dot(s.normal);
+  if (depth <= 0) {  // HIP above the tangent plane: contact ends
+    release(s, hip);
+    return out;
+  }
+  const Vec3 t = d + depth * s.normal;  // tangential offset of the HIP from the proxy
+  const double tl = t.norm();
+  if (s.stuck && tl <= mu_s * depth) {
+    // stuck: proxy stays
+  } else if (tl <= mu_d * depth) {
+    s.stuck = true;  // the proxy caught up with the HIP: stick again
+  } else {
+    s.stuck = false;
+    const Vec3 target = hip - (tl > 0 ? Vec3(t * (mu_d * depth / tl)) : Vec3::Zero());
+    slide_towards(model, locator, target, p, s, at);
+  }
+
+  const Vec3 d2 = hip - s.position;
+  const double depth2 = -d2.dot(s.normal);
+  if (depth2 <= 0) {
+    release(s, hip);
+    return out;
+  }
+  out.status = s.stuck ? ProxyStatus::Stuck : ProxyStatus::Sliding;
+  const Vec3 spring_model = s.position - hip;  // [model units]
+  const Vec3 f = (k / ws.scale) * spring_model;
+  out.normal_force = f.dot(s.normal);
+  out.friction_force = (f - out.normal_force * s.normal).norm();
+  finish_force(f, s.normal, velocity, p.force, out);
+
+  out.contact = at;
+  out.contact.slab = s.slab;
+  out.contact.coords = s.coords;
+  out.contact.surface_point = s.position;
+  out.contact.normal = s.normal;
+  out.contact.depth = depth2;
+  return out;
+}
+
+ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws,
+                         const Vec3& hip_device, const Vec3& velocity, const ProxyParams& p, ProxyState& s) noexcept {
+  ProxyOutput out;
+  if (bad_input(ws, hip_device, velocity, p)) {
+    out.status = ProxyStatus::BadInput;
+    return out;
+  }
+  const Vec3 hip = ws.to_model(hip_device);
+  s.last_hip = hip;
+  s.has_last_hip = true;
+  const Contact c = query(model, locator, hip, s.hip_cache);
+  const ForceSample f = penalty_force(c, velocity, p.force, ws);
+  s.contact = c.penetrating();
+  s.stuck = false;
+  s.slab = c.slab;
+  s.coords = c.coords;
+  s.normal = c.normal;
+  s.position = s.contact ? Vec3(hip + c.normal * c.depth) : hip;  // the paper's SCP
+  out.force = f.force;
+  out.status = f.status == ForceStatus::BadInput ? ProxyStatus::BadInput
+               : f.status == ForceStatus::Clamped ? ProxyStatus::Clamped
+               : s.contact                        ? ProxyStatus::Sliding
+                                                  : ProxyStatus::Free;
+  if (s.contact) {
+    out.contact = c;  // the HIP's own query: surface point on its projection line, as edits expect
+    out.normal_force = p.force.stiffness * c.depth / ws.scale;
+  }
+  return out;
+}
+
+RenderMode parse_render_mode(const std::string& name) {
+  if (name == "proxy") return RenderMode::Proxy;
+  if (name == "penalty") return RenderMode::Penalty;
+  throw InvalidInput("render mode '" + name + "': expected proxy or penalty");
+}
+
+}  // namespace hdm

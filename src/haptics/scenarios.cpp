@@ -1,0 +1,440 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/haptics/scenarios.h>
+#include <hdm/haptics/servo_loop.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace hdm {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const Vec3 kUp = Vec3::UnitY();
+
+// ---- hand-target paths, device frame [m] -------------------------------------------------------
+
+void line_to(std::vector<Vec3>& out, const Vec3& b, double speed, double rate) {
+  const Vec3 a = out.back();
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / speed * rate)));
+  for (int i = 1; i <= n; ++i) out.push_back(a + (b - a) * (double(i) / n));
+}
+
+void hold(std::vector<Vec3>& out, double seconds, double rate) {
+  const Vec3 a = out.back();
+  for (int i = 0, n = static_cast<int>(seconds * rate); i < n; ++i) out.push_back(a);
+}
+
+// Constant-speed resampling of a polyline that starts at out.back().
+void polyline(std::vector<Vec3>& out, const std::vector<Vec3>& pts, double speed, double rate) {
+  for (const Vec3& p : pts) line_to(out, p, speed, rate);
+}
+
+bool cast(const ExactMeshQuery& ref, const Vec3& from, const Vec3& to, Vec3& hit) {
+  const SegmentHit h = ref.first_hit(from, to);
+  if (h.face < 0) return false;
+  hit = from + h.t * (to - from);
+  return true;
+}
+
+struct Setup {
+  Aabb box;
+  Vec3 size;
+  double diag = 1;
+  Workspace ws;
+  std::vector<Vec3> targets;  // hand target per tick [m]
+  int64_t steady_begin = 0, steady_end = 0;  // ticks of the steady part (force_cv, stiff hold)
+  std::string note;
+};
+
+struct RefNormals {
+  std::vector<Vec3> vertex;  // area-weighted vertex normals of the input
+};
+
+RefNormals vertex_normals(const TriangleMesh& m) {
+  RefNormals r;
+  r.vertex.assign(m.vertices.size(), Vec3::Zero());
+  for (const Tri& f : m.faces) {
+    const Vec3 n = (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
+    for (int k = 0; k < 3; ++k) r.vertex[f[k]] += n;
+  }
+  for (Vec3& n : r.vertex) n.normalize();
+  return r;
+}
+
+// The input's interpolated vertex normal at its closest point to p (model frame).
+Vec3 smooth_normal(const ExactMeshQuery& ref, const RefNormals& normals, const Vec3& p) {
+  const ClosestPoint cp = ref.closest_point(p);
+  const Tri& tri = ref.mesh().faces[cp.face];
+  const Vec3 &a = ref.mesh().vertices[tri[0]], &b = ref.mesh().vertices[tri[1]], &c = ref.mesh().vertices[tri[2]];
+  const Vec3 nn = (b - a).cross(c - a);
+  const double area = nn.squaredNorm();
+  if (!(area > 0)) return ref.face_normal(cp.face);
+  const double wb = (cp.point - a).cross(c - a).dot(nn) / area, wc = (b - a).cross(cp.point - a).dot(nn) / area;
+  return ((1 - wb - wc) * normals.vertex[tri[0]] + wb * normals.vertex[tri[1]] + wc * normals.vertex[tri[2]])
+      .normalized();
+}
+
+// Surface points under a curve: for each parameter, cast along -dir from outside the box.
+// Each point is pushed in along the input's smooth normal by @p depth [m] (the hand's offset).
+std::vector<Vec3> surface_curve(const ExactMeshQuery& ref, const RefNormals& normals, const Setup& s,
+                                const std::vector<Vec3>& starts, const Vec3& dir, double depth) {
+  std::vector<Vec3> pts;
+  for (const Vec3& a : starts) {
+    Vec3 hit;
+    if (cast(ref, a, a + dir * (3 * s.diag), hit))
+      pts.push_back(s.ws.to_device(hit) - depth * smooth_normal(ref, normals, hit));
+  }
+  return pts;
+}
+
+// ---- scoring ----------------------------------------------------------------------------------
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  const double c = a.normalized().dot(b.normalized());
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / kPi;
+}
+
+double p95(std::vector<double>& v) {
+  if (v.empty()) return 0;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+struct RunFlags {
+  bool score_normals = true;
+};
+
+ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                        const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags) {
+  ScenarioReport r;
+  r.scenario = scenario_name(o.scenario);
+  r.mode = o.mode == RenderMode::Proxy ? "proxy" : "penalty";
+  r.rate_hz = o.rate_hz;
+  r.stable_stiffness_n_per_m = o.proxy.force.stiffness;
+  r.note = s.note;
+  ProxyParams pp = o.proxy;
+  if (!o.friction) pp.friction_scale = 0;
+  SimulatedDeviceOptions dopt = o.device;
+  dopt.rate_hz = o.rate_hz;
+  dopt.spec.max_force_n = pp.force.max_force;
+  SimulatedDevice dev(dopt, s.targets, s.targets.front());
+  ProxyState st;
+
+  const int64_t n = static_cast<int64_t>(s.targets.size());
+  std::vector<double> tick_ns(n), nerr, nerr_smooth, steady_force;
+  nerr.reserve(n);
+  nerr_smooth.reserve(n);
+  steady_force.reserve(n);
+  if (o.keep_trace) r.trace.reserve(n);
+  Vec3 f_prev = Vec3::Zero(), x_prev = s.targets.front(), hip_prev = s.ws.to_model(x_prev);
+  double returned = 0, absorbed = 0, force_sum = 0;
+  int prev_slab = -1;
+  const double max_f = pp.force.max_force;
+  using clock = std::chrono::steady_clock;
+
+  for (int64_t k = 0; k < n; ++k) {
+    DeviceState ds;
+    dev.begin_frame(ds);
+    const auto t0 = clock::now();
+    const ProxyOutput out = render_step(o.mode, model, locator, s.ws, ds.position, ds.velocity, pp, st);
+    const auto t1 = clock::now();
+    dev.end_frame(out.force);
+    tick_ns[k] = std::chrono::duration<double, std::nano>(t1 - t0).count();
+
+    const Vec3& x = ds.position;
+    const Vec3& f = out.force;
+    const Vec3 hip = s.ws.to_model(x);
+    if (out.status == ProxyStatus::BadInput) ++r.bad_input_ticks;
+    // Work of the force held over the last period on the handle's motion in that period.
+    const double w = f_prev.dot(x - x_prev);
+    (w > 0 ? returned : absorbed) += std::abs(w);
+    if (k > 0 && (x - x_prev).norm() < 1e-4)
+      r.max_force_step_pct = std::max(r.max_force_step_pct, 100 * (f - f_prev).norm() / max_f);
+    const double fm = f.norm();
+    if (fm > 0) {
+      ++r.contact_ticks;
+      force_sum += fm;
+      r.max_force_n = std::max(r.max_force_n, fm);
+      r.max_penetration_mm = std::max(r.max_penetration_mm, 1e3 * out.contact.depth / s.ws.scale);
+    }
+    if (k >= s.steady_begin && k < s.steady_end) steady_force.push_back(fm);
+    if (flags.score_normals && fm > 0.05) {
+      const ClosestPoint cp = ref.closest_point(st.position);  // proxy, or the paper's SCP
+      if (cp.face >= 0) {
+        nerr.push_back(angle_deg(f, ref.face_normal(cp.face)));
+        if (normals) {
+          const Tri& tri = ref.mesh().faces[cp.face];
+          const Vec3 &a = ref.mesh().vertices[tri[0]], &b = ref.mesh().vertices[tri[1]], &c = ref.mesh().vertices[tri[2]];
+          const Vec3 nn = (b - a).cross(c - a);
+          const double area = nn.squaredNorm();
+          if (area > 0) {
+            const double wb = (cp.point - a).cross(c - a).dot(nn) / area, wc = (b - a).cross(cp.point - a).dot(nn) / area;
+            const Vec3 ns = (1 - wb - wc) * normals->vertex[tri[0]] + wb * normals->vertex[tri[1]] +
+                            wc * normals->vertex[tri[2]];
+            nerr_smooth.push_back(angle_deg(f, ns));
+          }
+        }
+      }
+    }
+    if (o.mode == RenderMode::Proxy && st.contact) {
+      Contact e;
+      evaluate_surface(model, st.slab, st.coords, e);
+      r.proxy_surface_error_max = std::max(r.proxy_surface_error_max, (e.surface_point - st.position).norm() / s.diag);
+    }
+    // Pop-through: a real surface never pulls the handle in, and never lets go of a handle that
+    // is inside it or has just passed through it.
+    const double fp = f_prev.norm();
+    if (fp > 0.2 && f.dot(f_prev) <= 0) {
+      const bool reversed = f.dot(f_prev) < -0.1 * fp * fp;
+      bool through = reversed || ref.inside(hip);
+      if (!through && (hip - hip_prev).dot(f_prev) < 0) {
+        std::vector<SegmentHit> hits;
+        ref.segment_hits(hip_prev, hip, hits);
+        through = !hits.empty();
+      }
+      if (through) ++r.pop_throughs;
+    }
+    const int slab = fm > 0 ? out.contact.slab : -1;
+    if (slab >= 0 && prev_slab >= 0 && slab != prev_slab) ++r.slab_crossings;
+    prev_slab = slab;
+    if (o.keep_trace)
+      r.trace.push_back({k / o.rate_hz, x, f, fm > 0 ? 1e3 * out.contact.depth / s.ws.scale : 0.0,
+                         static_cast<int>(out.status), slab});
+    f_prev = f;
+    x_prev = x;
+    hip_prev = hip;
+  }
+  r.ticks = n;
+  r.energy_ratio = absorbed > 0 ? returned / absorbed : 0;
+  r.mean_contact_force_n = r.contact_ticks > 0 ? force_sum / r.contact_ticks : 0;
+  r.normal_error_p95_deg = p95(nerr);
+  r.normal_error_smooth_p95_deg = p95(nerr_smooth);
+  if (!steady_force.empty()) {
+    double m = 0, v = 0;
+    for (double x : steady_force) m += x;
+    m /= steady_force.size();
+    for (double x : steady_force) v += (x - m) * (x - m);
+    r.force_cv = m > 0 ? std::sqrt(v / steady_force.size()) / m : 0;
+  }
+  const LatencyStats ls = latency_stats(std::move(tick_ns));
+  r.tick_ns_median = ls.median;
+  r.tick_ns_p99 = ls.p99;
+  r.tick_ns_max = ls.max;
+  return r;
+}
+
+// ---- scenario geometry ----------------------------------------------------------------------
+
+Setup base_setup(const ExactMeshQuery& ref, const ScenarioOptions& o) {
+  Setup s;
+  s.box = bounds(ref.mesh());
+  s.size = s.box.max - s.box.min;
+  s.diag = s.box.diagonal();
+  s.ws = fit_workspace(s.box, o.workspace_m);
+  return s;
+}
+
+// Hand offset below the surface that makes the hand push with force F through the rendered spring.
+double press_offset(const ScenarioOptions& o, double force) {
+  return force / o.device.hand_stiffness + force / o.proxy.force.stiffness;
+}
+
+// Approach the first point along its normal, follow the points at @p speed, lift off along the
+// last normal. The steady part is the stroke minus its first 0.1 s.
+void stroke(const ScenarioOptions& o, Setup& s, const std::vector<Vec3>& pts, const std::vector<Vec3>& lifted,
+            double speed) {
+  s.targets.push_back(lifted.front());
+  line_to(s.targets, pts.front(), 0.05, o.rate_hz);
+  hold(s.targets, 0.1, o.rate_hz);
+  s.steady_begin = static_cast<int64_t>(s.targets.size() + 0.1 * o.rate_hz);
+  polyline(s.targets, pts, speed, o.rate_hz);
+  s.steady_end = static_cast<int64_t>(s.targets.size());
+  line_to(s.targets, lifted.back(), 0.05, o.rate_hz);
+  hold(s.targets, 0.05, o.rate_hz);
+}
+
+double length(const std::vector<Vec3>& pts) {
+  double len = 0;
+  for (size_t i = 1; i < pts.size(); ++i) len += (pts[i] - pts[i - 1]).norm();
+  return len;
+}
+
+// Stroke over the back (the smooth top between the rump and the neck), toward the head at -X.
+void slide_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s) {
+  std::vector<Vec3> starts;
+  const double z = 0.5 * (s.box.min.z() + s.box.max.z());
+  for (int i = 0; i <= 200; ++i) {
+    const double x = s.box.min.x() + (0.85 - 0.37 * i / 200.0) * s.size.x();
+    starts.emplace_back(x, s.box.max.y() + 0.05 * s.diag, z);
+  }
+  std::vector<Vec3> pts = surface_curve(ref, nr, s, starts, -kUp, press_offset(o, o.press_force_n));
+  std::vector<Vec3> lifted = surface_curve(ref, nr, s, starts, -kUp, -0.01);
+  if (pts.size() < 10) throw InvalidInput("slide: the stroke does not reach the model's top surface");
+  pts.insert(pts.end(), pts.rbegin(), pts.rend());  // there and back
+  std::reverse(lifted.begin(), lifted.end());
+  stroke(o, s, pts, lifted, o.speed_m_s);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "stroke over the back toward -X and back, %.1f cm at %.0f mm/s, hand pressing %.2f N along -n",
+                100 * length(pts), 1e3 * o.speed_m_s, o.press_force_n);
+  s.note = buf;
+}
+
+void press_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s,
+                double hand_force, double hold_s) {
+  const Vec3 a(s.box.min.x() + 0.6 * s.size.x(), s.box.max.y() + 0.05 * s.diag, 0.5 * (s.box.min.z() + s.box.max.z()));
+  const std::vector<Vec3> in = surface_curve(ref, nr, s, {a}, -kUp, press_offset(o, hand_force));
+  const std::vector<Vec3> out = surface_curve(ref, nr, s, {a}, -kUp, -0.01);
+  if (in.empty()) throw InvalidInput("press: no surface under the press point");
+  s.targets.push_back(out.front());
+  line_to(s.targets, in.front(), 0.02, o.rate_hz);
+  s.steady_begin = static_cast<int64_t>(s.targets.size() + 0.5 * hold_s * o.rate_hz);
+  hold(s.targets, hold_s, o.rate_hz);
+  s.steady_end = static_cast<int64_t>(s.targets.size());
+  line_to(s.targets, out.front(), 0.02, o.rate_hz);
+  hold(s.targets, 0.05, o.rate_hz);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "press on the back along -n, hand up to %.2f N, hold %.2f s", hand_force, hold_s);
+  s.note = buf;
+}
+
+void edges_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s) {
+  const Vec3 dir = -Vec3::UnitZ();
+  const double cx = s.box.min.x() + 0.55 * s.size.x(), cy = s.box.min.y() + 0.4 * s.size.y();
+  const double rad = 0.15 * std::min(s.size.x(), s.size.y());
+  std::vector<Vec3> starts;
+  for (int i = 0; i <= 256; ++i) {
+    const double a = 2 * kPi * i / 256;
+    starts.emplace_back(cx + rad * std::cos(a), cy + rad * std::sin(a), s.box.max.z() + 0.05 * s.diag);
+  }
+  const std::vector<Vec3> pts = surface_curve(ref, nr, s, starts, dir, press_offset(o, o.press_force_n));
+  const std::vector<Vec3> lifted = surface_curve(ref, nr, s, starts, dir, -0.01);
+  if (pts.size() < 32) throw InvalidInput("edges: the circle does not reach the model's side");
+  stroke(o, s, pts, lifted, o.speed_m_s);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "circle on the +Z side, %.1f cm at %.0f mm/s, hand pressing %.2f N along -n",
+                100 * length(pts), 1e3 * o.speed_m_s, o.press_force_n);
+  s.note = buf;
+}
+
+// The ear: the highest region of the model along +Y; its thickness direction is the smallest
+// principal axis of the vertices near the top; push through it along that axis.
+void thin_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s) {
+  const auto& V = ref.mesh().vertices;
+  int top = 0;
+  for (int i = 0; i < static_cast<int>(V.size()); ++i)
+    if (V[i].y() > V[top].y()) top = i;
+  // A horizontal slice of the ear at 60 % of the way up from the slice top - 0.2·height to the tip,
+  // near the top vertex: its centroid is inside the ear, and its minor axis in the XZ plane is
+  // the ear's thickness direction.
+  const double r = 0.1 * s.diag, y_mid = V[top].y() - 0.08 * s.size.y(), band = 0.01 * s.size.y();
+  Eigen::Vector2d c2 = Eigen::Vector2d::Zero();
+  int cnt = 0;
+  auto in_slice = [&](const Vec3& v) {
+    return std::abs(v.y() - y_mid) < band && Eigen::Vector2d(v.x() - V[top].x(), v.z() - V[top].z()).norm() < r;
+  };
+  for (const Vec3& v : V)
+    if (in_slice(v)) c2 += Eigen::Vector2d(v.x(), v.z()), ++cnt;
+  if (cnt < 10) throw InvalidInput("thin: too few vertices in a slice below the top of the model");
+  c2 /= cnt;
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const Vec3& v : V)
+    if (in_slice(v)) {
+      const Eigen::Vector2d d(v.x() - c2.x(), v.z() - c2.y());
+      cov += d * d.transpose();
+    }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  const Eigen::Vector2d minor = es.eigenvectors().col(0);
+  const Vec3 c(c2.x(), y_mid, c2.y()), axis = Vec3(minor.x(), 0, minor.y()).normalized();
+  std::vector<SegmentHit> hits;
+  ref.segment_hits(c + axis * s.diag, c - axis * s.diag, hits);
+  if (hits.size() < 2) throw InvalidInput("thin: the line across the ear does not cross it");
+  // Push along the input's normal at the entry point, so a frictionless surface does not deflect
+  // the hand sideways; the exit is where that line leaves the ear.
+  const Vec3 in = c + axis * s.diag + hits[0].t * (-2 * axis * s.diag);
+  const Vec3 n_in = smooth_normal(ref, nr, in);
+  ref.segment_hits(in + n_in * 0.01 * s.diag, in - n_in * 0.2 * s.diag, hits);
+  if (hits.size() < 2) throw InvalidInput("thin: the push line does not cross the ear");
+  const Vec3 a = in + n_in * 0.01 * s.diag, b = in - n_in * 0.2 * s.diag;
+  const Vec3 out = a + hits[1].t * (b - a);
+  const Vec3 in_d = s.ws.to_device(a + hits[0].t * (b - a)), out_d = s.ws.to_device(out), u = -n_in;
+  s.targets.push_back(in_d - u * 0.01);
+  // Push until the hand alone would apply max force with the handle at the far side.
+  line_to(s.targets, out_d + u * (o.proxy.force.max_force / o.device.hand_stiffness), 0.02, o.rate_hz);
+  s.steady_begin = static_cast<int64_t>(s.targets.size());
+  hold(s.targets, 0.3, o.rate_hz);
+  s.steady_end = static_cast<int64_t>(s.targets.size());
+  line_to(s.targets, in_d - u * 0.01, 0.02, o.rate_hz);
+  hold(s.targets, 0.05, o.rate_hz);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "ear at (%.4g, %.4g, %.4g), %.2f mm thick at the device, pushed along (%.2f, %.2f, %.2f)",
+                in.x(), in.y(), in.z(), 1e3 * (out_d - in_d).norm(), u.x(), u.y(), u.z());
+  s.note = buf;
+}
+
+}  // namespace
+
+Scenario parse_scenario(const std::string& name) {
+  for (Scenario s : {Scenario::Slide, Scenario::Press, Scenario::Thin, Scenario::Edges, Scenario::Stiff})
+    if (name == scenario_name(s)) return s;
+  throw InvalidInput("scenario '" + name + "': expected slide, press, thin, edges or stiff");
+}
+
+const char* scenario_name(Scenario s) noexcept {
+  switch (s) {
+    case Scenario::Slide: return "slide";
+    case Scenario::Press: return "press";
+    case Scenario::Thin: return "thin";
+    case Scenario::Edges: return "edges";
+    case Scenario::Stiff: return "stiff";
+  }
+  return "?";
+}
+
+ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                            const ScenarioOptions& o) {
+  if (!(o.rate_hz > 0)) throw InvalidInput("scenario: rate_hz must be > 0");
+  Setup s = base_setup(ref, o);
+  RunFlags flags;
+  const RefNormals normals = vertex_normals(ref.mesh());
+  switch (o.scenario) {
+    case Scenario::Slide: slide_path(ref, normals, o, s); break;
+    case Scenario::Press: press_path(ref, normals, o, s, 1.2 * o.proxy.force.max_force, 0.3); break;
+    case Scenario::Thin: thin_path(ref, normals, o, s); break;
+    case Scenario::Edges: edges_path(ref, normals, o, s); break;
+    case Scenario::Stiff: {
+      // Sweep stiffness in 1 dB-like steps (×10^0.1); stable = the held force settles (std/mean < 5 %)
+      // and the contact returns no more energy than it absorbed (Colgate & Schenkel's passivity).
+      flags.score_normals = false;
+      double best = 0;
+      ScenarioReport best_report;
+      for (int i = 0; i < 60; ++i) {
+        ScenarioOptions oi = o;
+        oi.proxy.force.stiffness = 200 * std::pow(10.0, 0.1 * i);
+        Setup si = base_setup(ref, oi);
+        press_path(ref, normals, oi, si, 1.5, 0.3);
+        const ScenarioReport ri = simulate(model, locator, ref, nullptr, oi, si, flags);
+        const bool stable = ri.force_cv < 0.05 && ri.energy_ratio <= 1.0 && ri.pop_throughs == 0;
+        if (stable) {
+          best = oi.proxy.force.stiffness;
+          best_report = ri;
+        } else if (best > 0) {
+          break;  // the first failure above a stable stiffness ends the sweep
+        }
+      }
+      best_report.scenario = "stiff";
+      best_report.stable_stiffness_n_per_m = best;
+      best_report.note = "press-and-hold at 1.5 N, stiffness swept ×10^0.1 from 200 N/m; stable: held-force "
+                         "std/mean < 5 % and returned/absorbed work <= 1";
+      return best_report;
+    }
+  }
+  return simulate(model, locator, ref, &normals, o, s, flags);
+}
+
+}  // namespace hdm
