@@ -134,7 +134,7 @@ Vec3 max_min_direction(const Vec3& start, const std::vector<Vec3>& normals) {
 
 // Per-vertex directions with a positive dot product against every incident face normal
 // (design notes §2.2: guarantees a positive Jacobian for a thin enough shell).
-VertexFrame vertex_frames(const Coarse& c) {
+VertexFrame vertex_frames(const Coarse& c, int smoothing) {
   const size_t nv = c.vertices.size();
   VertexFrame fr;
   fr.direction.assign(nv, Vec3::Zero());
@@ -165,6 +165,24 @@ VertexFrame vertex_frames(const Coarse& c) {
     normals.clear();
     for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k) normals.push_back(fr.face_normal[fr.faces[k]]);
     fr.direction[v] = max_min_direction(fr.direction[v].normalized(), normals);
+  }
+  // Smooth the direction field: near-parallel rays on neighbouring vertices keep slabs prism-like,
+  // so concave regions can take a thicker shell before an alpha-triangle folds. A smoothed
+  // direction is kept only while it still sees every incident face (min dot >= 0.25, or no worse
+  // than the max-min direction).
+  for (int it = 0; it < smoothing; ++it) {
+    std::vector<Vec3> next = fr.direction;
+    for (size_t v = 0; v < nv; ++v) {
+      Vec3 sum = fr.direction[v];
+      for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+        for (int32_t u : c.faces[fr.faces[k]]) sum += fr.direction[u];
+      const Vec3 cand = sum.normalized();
+      double mc = 2, mo = 2;
+      for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+        mc = std::min(mc, cand.dot(fr.face_normal[fr.faces[k]])), mo = std::min(mo, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
+      if (mc >= std::min(0.25, mo)) next[v] = cand;
+    }
+    fr.direction = std::move(next);
   }
   return fr;
 }
@@ -207,7 +225,7 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     if (attempt == 12) validate_for_bake(TriangleMesh{coarse.vertices, coarse.faces}, name + " (decimated)");
   }
   progress(o, "decimate", 1);
-  const VertexFrame fr = vertex_frames(coarse);
+  const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   const size_t nv = coarse.vertices.size();
   const ExactMeshQuery input(mesh);
   const ExactMeshQuery coarse_query(TriangleMesh{coarse.vertices, coarse.faces});
@@ -410,20 +428,25 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     throw NumericalError(name + ": " + std::to_string(rep.ray_misses) + " of " + std::to_string(ns) +
                          " sample rays miss the input (limit " + std::to_string(o.miss_limit * 100) +
                          "%); the shell cannot enclose the surface here: try more slabs");
-  // Fill the remaining misses from their neighbours, sweeping until every sample has a value.
-  for (int sweep = 0; sweep < 64; ++sweep) {
-    bool left = false;
-    for (int s = 0; s < ns; ++s) {
-      if (!missed[s]) continue;
-      double sum = 0;
-      int cnt = 0;
-      for (int32_t k = model.samples.neighbour_offsets[s]; k < model.samples.neighbour_offsets[s + 1]; ++k)
-        if (!missed[model.samples.neighbours[k]]) sum += model.displacement[model.samples.neighbours[k]], ++cnt;
-      if (cnt > 0) model.displacement[s] = static_cast<float>(sum / cnt), missed[s] = 0;
-      else left = true;
+  // A column that misses the input still has a best point: the one on its line nearest the input
+  // (sampled, then refined by golden-section search). This keeps the filled surface on the input
+  // where the shell passes beside it, instead of averaging neighbours.
+  tbb::parallel_for(0, ns, [&](int s) {
+    if (!missed[s]) return;
+    Vec3 p0, p1;
+    projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+    auto dist = [&](double t) { return input.closest_point(p0 + t * (p1 - p0)).distance; };
+    double best_t = 0, best = dist(0);
+    for (int k = 1; k <= 16; ++k)
+      if (const double d = dist(k / 16.0); d < best) best = d, best_t = k / 16.0;
+    double lo = std::max(0.0, best_t - 1 / 16.0), hi = std::min(1.0, best_t + 1 / 16.0);
+    const double g = (std::sqrt(5.0) - 1) / 2;
+    for (int it = 0; it < 20; ++it) {
+      const double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+      (dist(x1) < dist(x2) ? hi : lo) = dist(x1) < dist(x2) ? x2 : x1;
     }
-    if (!left) break;
-  }
+    model.displacement[s] = static_cast<float>(std::clamp(0.5 * (lo + hi), 0.0, 1.0));
+  });
   rep.undercut_columns = std::count(undercut.begin(), undercut.end(), uint8_t(1));
   model.colour.clear();
   model.texels = build_sample_layout(model.slabs, static_cast<int>(nv), n * o.texel_density);

@@ -102,5 +102,7 @@ TEST(BakeTest, bad_meshes_give_errors_naming_the_input) {
   TriangleMesh flipped = test::icosphere(1, 1.0);
   std::swap(flipped.faces[0][1], flipped.faces[0][2]);
   expect_error(flipped, "orientation");
-  EXPECT_THROW(bake_slabs(test::icosphere(1, 1.0), "x", BakeOptions{.grid_n = 0}), InvalidInput);
+  BakeOptions zero_grid;
+  zero_grid.grid_n = 0;
+  EXPECT_THROW(bake_slabs(test::icosphere(1, 1.0), "x", zero_grid), InvalidInput);
 }
