@@ -66,7 +66,7 @@ void run_bake(const BakeArgs& a) {
   std::printf("  submesh triangles   %lld\n", (long long)r.submesh_triangles);
   std::printf("  bake time           %.2f s\n", r.seconds);
   std::printf("  invalid slabs       %d\n", r.invalid_slabs);
-  std::printf("  ray misses          %lld (filled from neighbours)\n", (long long)r.ray_misses);
+  std::printf("  ray misses          %lld (filled at the point of the line nearest the input)\n", (long long)r.ray_misses);
   std::printf("  undercut columns    %lld\n", (long long)r.undercut_columns);
   std::printf("  slab separation     %s\n", r.separated ? "on (overlapping slabs thinned apart)" : "off (see hdm check for overlaps)");
   std::printf("  fidelity (%% of bounding-box diagonal)\n");

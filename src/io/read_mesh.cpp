@@ -75,8 +75,9 @@ uint64_t read_ply_count(const unsigned char* p, const PlyProperty& prop, bool bi
 
 void check_ply(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (data.size() < 4 || data.compare(0, 3, "ply") != 0 || (data[3] != '\n' && data[3] != '\r')) return;
+  std::string data(4, '\0');
+  if (!in.read(data.data(), 4) || data.compare(0, 3, "ply") != 0 || (data[3] != '\n' && data[3] != '\r')) return;
+  data.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());  // only PLY files are read twice
   const size_t end = data.find("end_header");
   const size_t body = end == std::string::npos ? end : data.find('\n', end);
   if (body == std::string::npos) throw IoError(path + ": truncated (the PLY header has no end_header line)");

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace hdm {
@@ -15,6 +16,31 @@ uint8_t linear_to_srgb8(float linear) noexcept {
   const double c = linear;
   const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
   return static_cast<uint8_t>(std::lround(s * 255.0));
+}
+
+void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, uint8_t* out, int stride) noexcept {
+  const int N = a.texel_n;
+  const int32_t* ids = &model.texels.ids[static_cast<size_t>(slab) * model.texels.per_slab];
+  for (int b = -1; b <= N + 1; ++b)
+    for (int c = -1; c <= N + 1; ++c) {
+      // Nearest valid texel of local pixel (c, b) (Euclidean): for each row j the best column is
+      // c clamped to [0, N-j]; scan the rows only for pixels outside the triangle.
+      int i = c, j = b;
+      if (c < 0 || b < 0 || c + b > N) {
+        long best = std::numeric_limits<long>::max();
+        for (int r = 0; r <= N; ++r) {
+          const int q = std::clamp(c, 0, N - r);
+          const long d = long(q - c) * (q - c) + long(r - b) * (r - b);
+          if (d < best) best = d, i = q, j = r;
+        }
+      }
+      const Vec3f& colour = model.colour[ids[grid::index(N, i, j)]];
+      uint8_t* px = out + (static_cast<size_t>(b + 1) * stride + (c + 1)) * 4;
+      px[0] = linear_to_srgb8(colour.x());
+      px[1] = linear_to_srgb8(colour.y());
+      px[2] = linear_to_srgb8(colour.z());
+      px[3] = 255;
+    }
 }
 
 TextureAtlas build_texture_atlas(const SlabModel& model) {
@@ -35,24 +61,8 @@ TextureAtlas build_texture_atlas(const SlabModel& model) {
   a.rgba.assign(static_cast<size_t>(a.width) * a.height * 4, 0);
 
   for (int s = 0; s < S; ++s) {
-    const int32_t* ids = &L.ids[static_cast<size_t>(s) * L.per_slab];
     const Eigen::Vector2i o = a.origin(s);
-    for (int b = -1; b <= N + 1; ++b)
-      for (int c = -1; c <= N + 1; ++c) {
-        // Nearest valid texel of local pixel (c, b): clamp into the square, then project points
-        // beyond the hypotenuse onto it (i + j = N), rounding down on ties.
-        int i = std::clamp(c, 0, N), j = std::clamp(b, 0, N);
-        if (i + j > N) {
-          i = std::clamp((i - j + N) / 2, 0, N);  // i - j + N >= 0 here, so / rounds down
-          j = N - i;
-        }
-        const Vec3f& colour = model.colour[ids[grid::index(N, i, j)]];
-        uint8_t* px = &a.rgba[(static_cast<size_t>(o.y() + b) * a.width + (o.x() + c)) * 4];
-        px[0] = linear_to_srgb8(colour.x());
-        px[1] = linear_to_srgb8(colour.y());
-        px[2] = linear_to_srgb8(colour.z());
-        px[3] = 255;
-      }
+    fill_atlas_tile(model, a, s, &a.rgba[(static_cast<size_t>(o.y() - 1) * a.width + (o.x() - 1)) * 4], a.width);
   }
   return a;
 }

@@ -6,7 +6,6 @@
 #include <hdm/slab/slab_model.h>
 #include <hdm/slab/triangle_grid.h>
 
-#include "atlas_tile.h"
 #include "gl.h"
 #include "model_check.h"
 
@@ -219,7 +218,8 @@ void SlabRenderer::upload_slab(const SlabModel& model, int slab) {
   glNamedBufferSubData(st.vbo, static_cast<GLintptr>(static_cast<size_t>(slab) * st.per_slab * sizeof(Vertex)),
                        static_cast<GLsizeiptr>(st.per_slab * sizeof(Vertex)), st.vertices.data());
 
-  render_detail::fill_atlas_tile(model, st.layout, slab, st.tile);
+  st.tile.resize(static_cast<size_t>(st.layout.tile) * st.layout.tile * 4);
+  fill_atlas_tile(model, st.layout, slab, st.tile.data(), st.layout.tile);
   const Eigen::Vector2i origin = st.layout.origin(slab);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(st.atlas, 0, origin.x() - 1, origin.y() - 1, st.layout.tile, st.layout.tile, GL_RGBA,

@@ -187,6 +187,32 @@ VertexFrame vertex_frames(const Coarse& c, int smoothing) {
   return fr;
 }
 
+// A vertex whose incident face normals do not fit in an open hemisphere (a star folded by the
+// decimation) admits no ray direction that sees every face, so no thickness makes its slabs valid.
+// Move such vertices towards the centroid of their one-ring until every star is visible from one
+// direction; the displacement map records the input surface wherever the vertex goes.
+void untangle(Coarse& c) {
+  for (int it = 0; it < 20; ++it) {
+    const VertexFrame fr = vertex_frames(c, 0);
+    bool moved = false;
+    for (size_t v = 0; v < c.vertices.size(); ++v) {
+      double worst = 2;
+      for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+        worst = std::min(worst, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
+      if (worst > 0.03) continue;
+      Vec3 centroid = Vec3::Zero();
+      int count = 0;
+      for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+        for (int32_t u : c.faces[fr.faces[k]])
+          if (u != static_cast<int32_t>(v)) centroid += c.vertices[u], ++count;
+      if (count == 0) continue;
+      c.vertices[v] = 0.5 * (c.vertices[v] + centroid / count);
+      moved = true;
+    }
+    if (!moved) return;
+  }
+}
+
 // Distance along ray x + t·d (t > 0) to the coarse surface, ignoring faces around vertex v.
 double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_t v, const Vec3& x,
                      const Vec3& d, double far, std::vector<SegmentHit>& hits) {
@@ -225,6 +251,7 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     if (attempt == 12) validate_for_bake(TriangleMesh{coarse.vertices, coarse.faces}, name + " (decimated)");
   }
   progress(o, "decimate", 1);
+  untangle(coarse);
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   const size_t nv = coarse.vertices.size();
   const ExactMeshQuery input(mesh);

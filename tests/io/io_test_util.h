@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -87,8 +88,10 @@ struct TempDir {
   std::filesystem::path path;
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path = std::filesystem::temp_directory_path() /
-           ("hdm_io_" + std::to_string(::getpid()) + "_" + (info ? std::string(info->name()) : std::string("x")));
+    std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : std::string("x");
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';  // parameterised names contain '/'
+    path = std::filesystem::temp_directory_path() / ("hdm_io_" + std::to_string(::getpid()) + "_" + name);
     std::filesystem::remove_all(path);
     std::filesystem::create_directories(path);
   }

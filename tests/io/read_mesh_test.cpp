@@ -252,7 +252,7 @@ TEST(ReadMesh, TriangulatesPolygons) {
     area[z > 0.5] += 0.5 * n.norm();
   }
   EXPECT_DOUBLE_EQ(area[0], 1.0);
-  EXPECT_DOUBLE_EQ(area[1], 4.5);  // shoelace area of the pentagon
+  EXPECT_DOUBLE_EQ(area[1], 5.0);  // shoelace area of the pentagon: (0+2+5+3+0)/2
 }
 
 // ---- errors: type and path in the message ----

@@ -18,10 +18,12 @@ namespace hdm {
 /// shared corners apart; vertices are then also welded across the scene's meshes). No other
 /// processing changes the geometry: node transforms are not applied, and each coordinate is
 /// assimp's float widened exactly to double. Vertices that no face uses are dropped and the rest
-/// are renumbered in their order of first appearance in the file's vertex list.
+/// are renumbered compactly (in assimp's order); faces keep the file's order and winding.
+/// Before assimp parses a PLY file, its header and body sizes are checked here, because assimp
+/// 5.2 hangs on a PLY header without end_header and reads past the end of a truncated body.
 ///
 /// @param path  file name; its extension selects the reader.
-/// @return the mesh [file units]; faces keep the file's winding.
+/// @return the mesh [file units].
 /// @throws IoError "<path>: <reason>" when the file is missing, unreadable, truncated or cannot be
 ///         parsed (assimp's own error string is the reason).
 /// @throws InvalidInput "<path>: <reason>" when the file holds no triangles, a non-finite

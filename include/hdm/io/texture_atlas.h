@@ -63,4 +63,11 @@ TextureAtlas build_texture_atlas(const SlabModel& model);
 /// values outside [0,1] are clamped, NaN gives 0.
 uint8_t linear_to_srgb8(float linear) noexcept;
 
+/// @brief Writes the tile×tile RGBA8 pixels of slab @p slab's tile (padding included, row 0
+/// first) of @p layout into @p out, whose rows are @p stride pixels apart. build_texture_atlas()
+/// uses it for every slab; a renderer uses it to re-upload one edited slab's colours.
+/// @param layout  an atlas of @p model (only its layout fields are read).
+/// @note O(tile²) plus O(N) per padding pixel; no allocation.
+void fill_atlas_tile(const SlabModel& model, const TextureAtlas& layout, int slab, uint8_t* out, int stride) noexcept;
+
 }  // namespace hdm

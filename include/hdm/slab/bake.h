@@ -22,7 +22,7 @@ struct BakeOptions {
   double min_thickness = 0.01;  ///< wanted shell thickness each side, fraction of the diagonal (cursor penetration F_max/k_s plus carve headroom), capped in thin parts
   int direction_smoothing = 10;  ///< Laplacian smoothing passes over the ray directions (each kept only while it sees all incident faces)
   bool separate_slabs = true;  ///< thin the shell where slabs of different parts overlap (falls back to no separation when that leaves more than miss_limit rays without a surface)
-  double miss_limit = 0.05;  ///< fail when more than this fraction of sample rays miss the input
+  double miss_limit = 0.10;  ///< fail when more than this fraction of sample rays miss the input
   Vec3f colour{0.82f, 0.80f, 0.76f};  ///< initial surface colour, linear RGB
   /// Progress callback: stage name and fraction in [0,1] of that stage. Called from the calling thread.
   std::function<void(const char* stage, double fraction)> progress;
