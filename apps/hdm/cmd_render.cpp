@@ -3,10 +3,12 @@
 #include "commands.h"
 
 #include <hdm/io/hdm_file.h>
+#include <hdm/query/slab_query.h>
 #include <hdm/render/render_png.h>
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -18,8 +20,37 @@ namespace {
 
 struct RenderArgs {
   std::string model, output, size = "1280x960", view = "0,15";
+  std::string surface = "displaced", colour_by = "paint";
   bool edges = false;
 };
+
+// Colour map for displacement magnitude: blue (δ = 0, inner face) through white to red (δ = 1,
+// outer face), as the paper's Fig. 2 marks the largest displacement in red.
+Vec3f displacement_colour(double d) {
+  d = std::clamp(d, 0.0, 1.0);
+  const Vec3f blue(0.05f, 0.2f, 0.9f), white(0.9f, 0.9f, 0.9f), red(0.9f, 0.05f, 0.05f);
+  return d < 0.5 ? Vec3f(blue + float(2 * d) * (white - blue)) : Vec3f(white + float(2 * d - 1) * (red - white));
+}
+
+// Shows the shell instead of the surface, or colours texels by the displacement under them.
+void restyle(SlabModel& m, const RenderArgs& a) {
+  if (a.colour_by == "displacement") {
+    const SampleLayout& T = m.texels;
+    for (int t = 0; t < T.count; ++t) {
+      const int local = T.home_index[t];
+      SlabCoordinates c;
+      c.bary = Vec3(1 - double(T.point_i[local] + T.point_j[local]) / T.n, double(T.point_j[local]) / T.n,
+                    double(T.point_i[local]) / T.n);
+      Contact at;
+      evaluate_surface(m, T.home_slab[t], c, at);
+      m.colour[t] = displacement_colour(at.delta);
+    }
+  }
+  if (a.surface != "displaced") {
+    std::fill(m.displacement.begin(), m.displacement.end(), a.surface == "outer" ? 1.0f : 0.0f);
+    rebuild_derived(m);
+  }
+}
 
 // Parses "A<sep>B" into two numbers with nothing left over; false on any junk.
 template <class T>
@@ -63,7 +94,8 @@ void run_render(const RenderArgs& a) {
   parse_pair(a.size, 'x', o.width, o.height);  // validated by check_size
   parse_pair(a.view, ',', o.azimuth_deg, o.elevation_deg);
   o.show_slab_edges = a.edges;
-  const SlabModel model = load_model(a.model);
+  SlabModel model = load_model(a.model);
+  restyle(model, a);
   render_png(model, a.output, o);
   std::printf("%s\n", a.output.c_str());
 }
@@ -84,6 +116,12 @@ void add_render_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Validator(check_view, "AZ,EL", "view"));
   sub->add_flag("--edges", args->edges, "draw the coarse slab boundaries");
+  sub->add_option("--surface", args->surface, "what to draw: the displaced surface, or the inner or outer shell")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"displaced", "inner", "outer"}));
+  sub->add_option("--colour-by", args->colour_by, "paint: the model's colours; displacement: δ from blue (0) to red (1)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"paint", "displacement"}));
   sub->callback([args] { run_render(*args); });
 }
 

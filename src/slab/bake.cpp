@@ -291,6 +291,9 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
       const auto vi = static_cast<int32_t>(v);
       cap_in[v] = 0.45 * free_distance(coarse_query, fr, vi, x, -d, diag, hits);
       cap_out[v] = 0.45 * free_distance(coarse_query, fr, vi, x, d, diag, hits);
+      // No thicker than the local slab size: longer rays add no fidelity, only spread the samples.
+      cap_in[v] = std::min(cap_in[v], o.max_thickness * fr.edge[v]);
+      cap_out[v] = std::min(cap_out[v], o.max_thickness * fr.edge[v]);
       // Headroom for edits and for the cursor's penetration (design notes §9-Q1), at least
       // options.min_thickness of the diagonal where the model is thick enough.
       const double floor = std::max(o.headroom * fr.edge[v], o.min_thickness * diag);

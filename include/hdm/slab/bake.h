@@ -19,6 +19,7 @@ struct BakeOptions {
   int grid_n = 16;         ///< displacement intervals per slab edge (paper: 15, i.e. 16 samples per edge)
   int texel_density = 2;   ///< colour texels per displacement interval
   double headroom = 0.25;  ///< carve/add headroom each side, as a fraction of the mean coarse edge length at the vertex
+  double max_thickness = 1.0;  ///< largest shell thickness each side, as a fraction of the mean coarse edge length at the vertex
   double min_thickness = 0.01;  ///< wanted shell thickness each side, fraction of the diagonal (cursor penetration F_max/k_s plus carve headroom), capped in thin parts
   int direction_smoothing = 10;  ///< Laplacian smoothing passes over the ray directions (each kept only while it sees all incident faces)
   bool separate_slabs = true;  ///< thin the shell where slabs of different parts overlap (falls back to no separation when that leaves more than miss_limit rays without a surface)
