@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#include "haptics/haptics_fixtures.h"
+
+#include "support/test_models.h"
+
+#include <hdm/slab/bake.h>
+
+namespace hdm::test {
+
+const SphereFixture& sphere() {
+  static const SphereFixture f = [] {
+    SphereFixture s;
+    BakeOptions o;
+    o.slabs = 120;
+    o.grid_n = 8;
+    s.model = bake_slabs(icosphere(4, 1.0), "icosphere", o);
+    s.locator = std::make_unique<SlabLocator>(s.model);
+    s.ws.origin = Vec3::Zero();
+    s.ws.scale = 10.0;
+    s.diag = s.model.source_diagonal;
+    return s;
+  }();
+  return f;
+}
+
+ProxyParams sphere_params(bool friction) {
+  ProxyParams p;
+  p.force.stiffness = 1000;
+  p.force.damping = 0;
+  p.force.max_force = 3.3;
+  p.friction_scale = friction ? 1.0 : 0.0;
+  return p;
+}
+
+}  // namespace hdm::test

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Shared haptics fixtures: a baked analytic sphere with its locator and a workspace.
+
+#include <hdm/haptics/proxy.h>
+
+#include <memory>
+
+namespace hdm::test {
+
+/// Unit sphere (icosphere, 4 subdivisions, radius 1 at the origin) baked into slabs (grid 8),
+/// with a workspace of 10 model units per metre (the sphere is 0.1 m in radius at the device).
+struct SphereFixture {
+  SlabModel model;
+  std::unique_ptr<SlabLocator> locator;
+  Workspace ws;
+  double diag = 0;
+};
+
+/// Built once per process.
+const SphereFixture& sphere();
+
+/// Params for the sphere: k = 1000 N/m, b = 0, max 3.3 N, frictionless unless @p friction.
+ProxyParams sphere_params(bool friction = false);
+
+}  // namespace hdm::test

@@ -1,0 +1,200 @@
+// SPDX-License-Identifier: MIT
+// Proxy tests on an analytic sphere: the reference is the sphere itself (radius 1, normal = the
+// radial direction), never the slab code's own output.
+#include "haptics/haptics_fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace hdm {
+namespace {
+
+using test::sphere;
+using test::sphere_params;
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+// Device point [m] for a model point on the unit sphere's frame (workspace scale 10/m).
+Vec3 dev(const Vec3& model) { return sphere().ws.to_device(model); }
+
+// The proxy stays on the displaced surface (exactly, through evaluate_surface at its own
+// coordinates) and on the analytic sphere (within the bake's fidelity), and the frictionless force
+// is radial, while the HIP slides 1 mm deep along a quarter great circle crossing many slab edges.
+TEST(Proxy, StaysOnSurfaceAndForceIsRadialWhileSliding) {
+  const auto& S = sphere();
+  const ProxyParams p = sphere_params();
+  ProxyState st;
+  const int n = 4000;
+  std::vector<double> angles;
+  int crossings = 0, prev_slab = -1, contact = 0;
+  for (int k = 0; k < n; ++k) {
+    const double a = 0.5 * std::numbers::pi * k / n;
+    const double r = k < 100 ? 1.02 - 0.03 * k / 100.0 : 0.99;  // approach, then 1 mm device deep
+    const Vec3 hip(r * std::sin(a), 0.3 * r * std::sin(2 * a), r * std::cos(a));
+    const Vec3 hip_m = hip.normalized() * r;
+    const ProxyOutput out = proxy_step(S.model, *S.locator, S.ws, dev(hip_m), Vec3::Zero(), p, st);
+    if (!st.contact) continue;
+    ++contact;
+    Contact e;
+    evaluate_surface(S.model, st.slab, st.coords, e);
+    ASSERT_LT((e.surface_point - st.position).norm(), 1e-6 * S.diag) << "tick " << k;
+    // Analytic sphere: the bake reproduces radius 1 to well within 1 % of the diagonal.
+    EXPECT_LT(std::abs(st.position.norm() - 1.0), 0.01 * S.diag) << "tick " << k;
+    if (out.force.norm() > 0.1) angles.push_back(angle_deg(out.force, st.position));
+    if (st.slab != prev_slab && prev_slab >= 0) ++crossings;
+    prev_slab = st.slab;
+  }
+  EXPECT_GT(contact, n - 200);
+  EXPECT_GE(crossings, 5) << "the path should cross several slab edges";
+  ASSERT_FALSE(angles.empty());
+  std::sort(angles.begin(), angles.end());
+  EXPECT_LT(angles[angles.size() * 95 / 100], 3.0) << "p95 force direction vs the analytic normal [deg]";
+  EXPECT_LT(angles.back(), 6.0);
+}
+
+// Pushing far past the shell's inner face keeps the contact (the HIP's own query finds no slab
+// there); the penalty force of the paper drops to zero at the same point.
+TEST(Proxy, HoldsPastTheInnerFaceWherePenaltyPopsThrough) {
+  const auto& S = sphere();
+  const ProxyParams p = sphere_params();
+  const Vec3 d = Vec3(0.3, -0.5, 0.8).normalized();
+  ProxyState st, pen;
+  ProxyOutput out, out_pen;
+  for (int k = 0; k <= 2000; ++k) {
+    const double r = 1.05 - 0.55 * k / 2000.0;  // from outside down to radius 0.5
+    out = proxy_step(S.model, *S.locator, S.ws, dev(d * r), Vec3::Zero(), p, st);
+    out_pen = penalty_step(S.model, *S.locator, S.ws, dev(d * r), Vec3::Zero(), p, pen);
+    if (r < 0.995) {
+      ASSERT_TRUE(st.contact) << "r " << r;
+      EXPECT_GT(out.force.dot(d), 0) << "r " << r;
+    }
+  }
+  SlabCoordinates c;
+  EXPECT_LT(S.locator->find(d * 0.5, -1, AlphaSolver::Newton, c), 0) << "radius 0.5 should be below the shell";
+  EXPECT_NEAR(out.force.norm(), p.force.max_force, 1e-9) << "clamped at max force";
+  EXPECT_LT(angle_deg(out.force, d), 3.0);
+  EXPECT_EQ(out_pen.force.norm(), 0.0) << "the paper's penalty force has no memory";
+}
+
+// Through the whole sphere and out of the far side: the force keeps pointing out of the entry
+// side (a thin part seen from one side), it never flips. Past the centre the far side is the closer
+// surface, so a frictionless god-object would slide round to it; with μs = 0.5 it holds, as a
+// finger pressed into a real surface does.
+TEST(Proxy, NeverFlipsSideWhenPushedThrough) {
+  const auto& S = sphere();
+  SlabModel model = S.model;
+  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
+  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  const SlabLocator locator(model);
+  const ProxyParams p = sphere_params(true);
+  const Vec3 d = Vec3(-0.6, 0.2, 0.4).normalized();
+  ProxyState st;
+  for (int k = 0; k <= 4000; ++k) {
+    const double r = 1.05 - 2.3 * k / 4000.0;  // to radius -1.25: out of the far side
+    const ProxyOutput out = proxy_step(model, locator, S.ws, dev(d * r), Vec3::Zero(), p, st);
+    if (r < 0.99) {
+      ASSERT_TRUE(st.contact) << "r " << r;
+      ASSERT_GT(out.force.dot(d), 0.99 * out.force.norm()) << "r " << r;
+    }
+  }
+}
+
+// Friction cone with μs = 0.5, μd = 0.3: the proxy sticks while |Ft| <= μs·Fn, then slides with
+// |Ft| = μd·Fn. Forces are decomposed with the analytic normal.
+TEST(Proxy, FrictionSticksBelowMuStaticAndSlidesAtMuDynamic) {
+  const auto& S = sphere();
+  SlabModel model = S.model;  // own copy with friction fields
+  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
+  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  const SlabLocator locator(model);
+  const ProxyParams p = sphere_params(true);
+  ProxyState st;
+  const Vec3 pole = Vec3(0.2, 0.3, 1).normalized(), t = pole.cross(Vec3::UnitX()).normalized();
+  const double depth = 0.01;  // 1 mm at the device: 1 N
+  auto ratio = [&](const ProxyOutput& o) {
+    const Vec3 n = st.position.normalized();
+    const double fn = o.force.dot(n);
+    return (o.force - fn * n).norm() / fn;
+  };
+  for (int k = 0; k <= 100; ++k)  // press straight in
+    proxy_step(model, locator, S.ws, dev(pole * (1.01 - (0.01 + depth) * k / 100.0)), Vec3::Zero(), p, st);
+  ASSERT_TRUE(st.contact);
+  const Vec3 anchor = st.position;
+  // Pull tangentially in small steps: the proxy holds still until |Ft|/Fn reaches μs = 0.5, then
+  // breaks away and slides with |Ft|/Fn = μd = 0.3 (forces split with the analytic normal).
+  ProxyOutput o;
+  double last_stuck_ratio = 0;
+  int sliding = 0;
+  for (int k = 1; k <= 1200; ++k) {
+    o = proxy_step(model, locator, S.ws, dev(pole * (1 - depth) + t * (0.002 * depth * k)), Vec3::Zero(), p, st);
+    if (o.status == ProxyStatus::Stuck) {
+      ASSERT_EQ(sliding, 0) << "no sticking again while the hand keeps moving, tick " << k;
+      EXPECT_LT((st.position - anchor).norm(), 1e-12);
+      last_stuck_ratio = ratio(o);
+      EXPECT_LE(last_stuck_ratio, 0.5 + 0.01) << k;
+    } else {
+      ASSERT_EQ(o.status, ProxyStatus::Sliding) << k;
+      if (sliding++ > 0) {  // the breakaway tick itself jumps from μs to μd
+        EXPECT_NEAR(ratio(o), 0.3, 0.02) << k;
+      }
+    }
+  }
+  EXPECT_NEAR(last_stuck_ratio, 0.5, 0.01) << "breakaway at μs";
+  EXPECT_GT(sliding, 500);
+  EXPECT_GT((st.position - anchor).norm(), depth);
+  // Hand stops: the proxy sticks again.
+  const Vec3 held = st.position;
+  for (int k = 0; k < 20; ++k) o = proxy_step(model, locator, S.ws, st.last_hip / S.ws.scale, Vec3::Zero(), p, st);
+  EXPECT_EQ(o.status, ProxyStatus::Stuck);
+  EXPECT_LT((st.position - held).norm(), 1e-9);
+}
+
+// NaN, infinite and huge device positions or velocities: zero force, BadInput, state kept.
+TEST(Proxy, BadInputGivesZeroForceAndKeepsState) {
+  const auto& S = sphere();
+  const ProxyParams p = sphere_params();
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (RenderMode mode : {RenderMode::Proxy, RenderMode::Penalty}) {
+    ProxyState st;
+    const Vec3 d = Vec3::UnitZ();
+    for (int k = 0; k <= 50; ++k) render_step(mode, S.model, *S.locator, S.ws, dev(d * (1.01 - 0.02 * k / 50)), Vec3::Zero(), p, st);
+    ASSERT_TRUE(st.contact);
+    const ProxyState before = st;
+    for (const Vec3& bad : {Vec3(nan, 0, 0), Vec3(0, inf, 0), Vec3(1e9, 0, 0), Vec3(0, 0, -1e300), Vec3(2, 0, 0)}) {
+      const ProxyOutput o = render_step(mode, S.model, *S.locator, S.ws, bad, Vec3::Zero(), p, st);
+      EXPECT_EQ(o.status, ProxyStatus::BadInput);
+      EXPECT_EQ(o.force, Vec3::Zero());
+    }
+    const ProxyOutput ov = render_step(mode, S.model, *S.locator, S.ws, dev(d * 0.99), Vec3(nan, 0, 0), p, st);
+    EXPECT_EQ(ov.status, ProxyStatus::BadInput);
+    EXPECT_EQ(ov.force, Vec3::Zero());
+    EXPECT_EQ(st.contact, before.contact);
+    EXPECT_EQ(st.position, before.position);
+    const ProxyOutput ok = render_step(mode, S.model, *S.locator, S.ws, dev(d * 0.99), Vec3::Zero(), p, st);
+    EXPECT_GT(ok.force.dot(d), 0.5) << "contact resumes after bad samples";
+  }
+}
+
+// A HIP that jumps across a thin part in one tick (here: into the sphere in a single 5 cm step)
+// is still caught at the entry side by the free-space sub-steps.
+TEST(Proxy, CatchesAFastEntry) {
+  const auto& S = sphere();
+  const ProxyParams p = sphere_params();
+  ProxyState st;
+  const Vec3 d = Vec3(0.1, 0.9, -0.2).normalized();
+  proxy_step(S.model, *S.locator, S.ws, dev(d * 1.2), Vec3::Zero(), p, st);
+  const ProxyOutput o = proxy_step(S.model, *S.locator, S.ws, dev(d * 0.7), Vec3::Zero(), p, st);
+  ASSERT_TRUE(st.contact);
+  EXPECT_LT(angle_deg(o.force, d), 3.0);
+  EXPECT_NEAR(st.position.norm(), 1.0, 0.01 * S.diag);
+}
+
+}  // namespace
+}  // namespace hdm

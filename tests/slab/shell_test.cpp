@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: MIT
+// Hard cases for automatic shells: thin parts, holes, boundaries, higher genus. Every baked slab
+// must be valid (exact Jacobian test) and no two slabs may overlap (exact boundary intersection).
+#include "support/test_models.h"
+
+#include <hdm/analysis/fidelity.h>
+#include <hdm/analysis/shell_check.h>
+#include <hdm/slab/bake.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+using namespace hdm;
+
+namespace {
+
+// A closed (u periodic, v periodic) or open grid surface from a parametrisation.
+TriangleMesh grid_surface(int nu, int nv, bool wrap_u, bool wrap_v, const std::function<Vec3(double, double)>& f) {
+  TriangleMesh m;
+  const int cu = wrap_u ? nu : nu + 1, cv = wrap_v ? nv : nv + 1;
+  for (int j = 0; j < cv; ++j)
+    for (int i = 0; i < cu; ++i) m.vertices.push_back(f(double(i) / nu, double(j) / nv));
+  auto id = [&](int i, int j) { return (j % cv) * cu + (i % cu); };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+TriangleMesh torus() {
+  return grid_surface(96, 32, true, true, [](double u, double v) {
+    const double a = 2 * M_PI * u, b = 2 * M_PI * v;
+    return Vec3((1 + 0.3 * std::cos(b)) * std::cos(a), (1 + 0.3 * std::cos(b)) * std::sin(a), 0.3 * std::sin(b));
+  });
+}
+
+// A flattened ellipsoid: a plate 2 × 2 × 0.06, thin relative to its size.
+TriangleMesh thin_plate() {
+  TriangleMesh m = test::icosphere(5, 1.0);
+  for (Vec3& v : m.vertices) v.z() *= 0.03;
+  return m;
+}
+
+// A long thin capsule-like cylinder: radius 0.04, length 2.
+TriangleMesh thin_cylinder() {
+  TriangleMesh m = test::icosphere(5, 1.0);
+  for (Vec3& v : m.vertices) v = Vec3(v.x(), 0.04 * v.y(), 0.04 * v.z());
+  return m;
+}
+
+// Flat annulus (an open disk with a hole), outward normal +z.
+TriangleMesh annulus() {
+  return grid_surface(96, 8, true, false, [](double u, double v) {
+    const double a = -2 * M_PI * u, r = 0.3 + 0.7 * v;
+    return Vec3(r * std::cos(a), r * std::sin(a), 0.02 * std::sin(6 * a) * v);
+  });
+}
+
+// A deep crease: a sphere pinched along a great circle into a narrow groove.
+TriangleMesh crease() {
+  TriangleMesh m = test::icosphere(5, 1.0);
+  for (Vec3& v : m.vertices) v *= 1.0 - 0.35 * std::exp(-std::pow(v.z() / 0.08, 2));
+  return m;
+}
+
+void expect_valid_disjoint(const TriangleMesh& mesh, const char* name, int slabs) {
+  BakeOptions o;
+  o.slabs = slabs;
+  o.grid_n = 8;
+  const SlabModel m = bake_slabs(mesh, name, o);
+  EXPECT_EQ(count_invalid_slabs(m), 0) << name;
+  EXPECT_EQ(count_overlapping_pairs(m), 0) << name;
+  const Fidelity f = measure_fidelity(m, ExactMeshQuery(mesh));
+  EXPECT_LT(f.rms_pct, 0.5) << name;
+  EXPECT_LT(f.rms_back_pct, 0.5) << name;
+}
+
+}  // namespace
+
+TEST(ShellTest, torus) { expect_valid_disjoint(torus(), "torus", 400); }
+TEST(ShellTest, thin_plate) { expect_valid_disjoint(thin_plate(), "thin plate", 400); }
+TEST(ShellTest, thin_cylinder) { expect_valid_disjoint(thin_cylinder(), "thin cylinder", 400); }
+TEST(ShellTest, open_disk_with_hole) { expect_valid_disjoint(annulus(), "annulus", 300); }
+TEST(ShellTest, deep_crease) { expect_valid_disjoint(crease(), "crease", 600); }
+
+TEST(ShellTest, overlap_check_finds_interpenetrating_slabs) {
+  // Two separate spheres baked into one model, then moved into each other: the check must see it.
+  TriangleMesh two = test::icosphere(3, 1.0, Vec3(-1.5, 0, 0));
+  const TriangleMesh b = test::icosphere(3, 1.0, Vec3(1.5, 0, 0));
+  const int offset = int(two.vertices.size());
+  two.vertices.insert(two.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (Tri t : b.faces) two.faces.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  BakeOptions o;
+  o.slabs = 200;
+  o.grid_n = 4;
+  SlabModel m = bake_slabs(two, "two spheres", o);
+  EXPECT_EQ(count_overlapping_pairs(m), 0);
+  for (size_t v = 0; v < m.inner.size(); ++v)
+    if (m.inner[v].x() > 0) m.inner[v].x() -= 1.2, m.outer[v].x() -= 1.2;
+  EXPECT_GT(count_overlapping_pairs(m), 0);
+}
