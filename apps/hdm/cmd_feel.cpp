@@ -39,12 +39,22 @@ std::string find_input(const SlabModel& m, const FeelArgs& a) {
 void write_trace(const std::string& path, const ScenarioReport& r) {
   std::ofstream out(path);
   if (!out) throw IoError(path + ": cannot write");
-  out << "time_s,device_x_m,device_y_m,device_z_m,force_x_n,force_y_n,force_z_n,force_n,depth_mm,status,slab\n";
+  // force_first_n: the force along the direction of the run's first contact force, so that a force
+  // that flips (pop-through) shows as negative.
+  out << "time_s,device_x_m,device_y_m,device_z_m,force_x_n,force_y_n,force_z_n,force_n,force_first_n,depth_mm,"
+         "status,slab,proxy_x_m,proxy_y_m,proxy_z_m,normal_x,normal_y,normal_z\n";
+  Vec3 first = Vec3::Zero();
+  for (const ScenarioTraceRow& t : r.trace)
+    if (t.force.norm() > 0.05) {
+      first = t.force.normalized();
+      break;
+    }
   char line[256];
   for (const ScenarioTraceRow& t : r.trace) {
-    std::snprintf(line, sizeof line, "%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.5f,%.4f,%d,%d\n", t.t, t.device.x(),
-                  t.device.y(), t.device.z(), t.force.x(), t.force.y(), t.force.z(), t.force.norm(), t.depth_mm,
-                  t.status, t.slab);
+    std::snprintf(line, sizeof line, "%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%d,%d,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f\n", t.t, t.device.x(),
+                  t.device.y(), t.device.z(), t.force.x(), t.force.y(), t.force.z(), t.force.norm(),
+                  t.force.dot(first), t.depth_mm, t.status, t.slab, t.proxy.x(), t.proxy.y(), t.proxy.z(),
+                  t.normal.x(), t.normal.y(), t.normal.z());
     out << line;
   }
   if (!out) throw IoError(path + ": write failed");
@@ -82,6 +92,7 @@ void run_feel(const FeelArgs& a) {
                             {"normal_error_smooth_p95_deg", r.normal_error_smooth_p95_deg},
                             {"energy_ratio", r.energy_ratio},
                             {"stable_stiffness_n_per_m", r.stable_stiffness_n_per_m},
+                            {"passive_stiffness_n_per_m", r.passive_stiffness_n_per_m},
                             {"max_force_n", r.max_force_n},
                             {"mean_contact_force_n", r.mean_contact_force_n},
                             {"force_cv", r.force_cv},
@@ -108,8 +119,11 @@ void run_feel(const FeelArgs& a) {
               r.mean_contact_force_n, r.force_cv);
   std::printf("  max penetration     %.3f mm\n", r.max_penetration_mm);
   std::printf("  slab crossings      %lld\n", (long long)r.slab_crossings);
-  std::printf("  stiffness           %.0f N/m%s\n", r.stable_stiffness_n_per_m,
-              r.scenario == "stiff" ? " (highest stable)" : "");
+  if (r.scenario == "stiff")
+    std::printf("  stiffness           %.0f N/m highest stable, %.0f N/m highest passive\n",
+                r.stable_stiffness_n_per_m, r.passive_stiffness_n_per_m);
+  else
+    std::printf("  stiffness           %.0f N/m\n", r.stable_stiffness_n_per_m);
   std::printf("  tick compute        median %.0f ns, p99 %.0f ns, max %.0f ns\n", r.tick_ns_median, r.tick_ns_p99,
               r.tick_ns_max);
 }

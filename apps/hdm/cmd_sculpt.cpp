@@ -7,6 +7,7 @@
 #include <hdm/core/error.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/haptics/force.h>
+#include <hdm/haptics/proxy.h>
 #include <hdm/haptics/servo_loop.h>
 #include <hdm/io/hdm_file.h>
 
@@ -24,7 +25,7 @@ namespace hdm::app {
 namespace {
 
 struct SculptArgs {
-  std::string model, script, output, forces;
+  std::string model, script, output, forces, mode = "proxy";
   double rate = 1000, edit_rate = 10;
   bool fast = false, every_tick = false, json = false;
 };
@@ -49,21 +50,35 @@ struct TickState {
   int64_t edit_every;
   EditScratch* scratch;
   QueryCache cache;
+  RenderMode mode = RenderMode::Proxy;
+  ProxyParams proxy;
+  ProxyState proxy_state;
   std::vector<TickRecord> records;
   std::vector<double> query_ns;
   int64_t contact_ticks = 0, edits = 0, samples_changed = 0, texels_painted = 0;
 };
 
-void tick(void* user, int64_t k, double t) noexcept {
+void tick(void* user, const ServoTick& servo) noexcept {
   auto& s = *static_cast<TickState*>(user);
+  const int64_t k = servo.tick;
+  const double t = servo.time_s;
   const Vec3 dev = s.path->position[k];
   const Vec3 vel = k > 0 ? Vec3((dev - s.path->position[k - 1]) / s.dt) : Vec3::Zero();
   const auto q0 = std::chrono::steady_clock::now();
-  const Contact c = query(*s.model, *s.locator, s.ws.to_model(dev), s.cache);
+  Contact c;
+  Vec3 force;
+  if (s.mode == RenderMode::Proxy) {  // god-object: the proxy's contact drives the edits
+    const ProxyOutput out = proxy_step(*s.model, *s.locator, s.ws, dev, vel, s.proxy, s.proxy_state);
+    c = out.contact;
+    force = out.force;
+  } else {  // the paper's penalty force on the HIP's own query
+    c = query(*s.model, *s.locator, s.ws.to_model(dev), s.cache);
+    force = penalty_force(c, vel, s.script->force, s.ws).force;
+  }
+  force *= servo.force_gain;  // ramp-in/out and the watchdog of the servo loop
   s.query_ns[k] = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - q0).count();
-  const ForceSample f = penalty_force(c, vel, s.script->force, s.ws);
   s.records[k] = {static_cast<float>(t), dev.cast<float>(), static_cast<int8_t>(c.penetrating()),
-                  static_cast<float>(c.penetrating() ? c.depth / s.ws.scale : 0.0), f.force.cast<float>()};
+                  static_cast<float>(c.penetrating() ? c.depth / s.ws.scale : 0.0), force.cast<float>()};
   if (!c.penetrating()) return;
   ++s.contact_ticks;
   const int16_t stroke = s.path->stroke[k];
@@ -124,6 +139,8 @@ void run_sculpt(const SculptArgs& a) {
   s.script = &script;
   s.path = &path;
   s.dt = 1.0 / a.rate;
+  s.mode = parse_render_mode(a.mode);
+  s.proxy.force = script.force;
   s.edit_every = a.every_tick ? 1 : std::max<int64_t>(1, std::llround(a.rate / a.edit_rate));
   s.scratch = &scratch;
   s.records.resize(path.position.size());
@@ -146,6 +163,7 @@ void run_sculpt(const SculptArgs& a) {
                       {"rate_hz", st.rate_hz},
                       {"target_rate_hz", a.rate},
                       {"realtime", !a.fast},
+                      {"mode", a.mode},
                       {"query_ns", {{"median", q.median}, {"p99", q.p99}, {"max", q.max}}},
                       {"tick_ns", {{"median", st.compute_ns.median}, {"p99", st.compute_ns.p99}, {"max", st.compute_ns.max}}},
                       {"period_ns", {{"median", st.period_ns.median}, {"p99", st.period_ns.p99}, {"max", st.period_ns.max}}},
@@ -188,6 +206,8 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_flag("--fast", a->fast, "run ticks back to back instead of in real time")->excludes(rate);
   cmd->add_option("--edit-rate", a->edit_rate, "edit rate [Hz] (paper: 10)")->check(CLI::Range(0.1, 1e6));
   cmd->add_flag("--edit-every-tick", a->every_tick, "apply edits on every tick");
+  cmd->add_option("--mode", a->mode, "force model: proxy (god-object, default) or penalty (the paper's)")
+      ->check(CLI::IsMember({"proxy", "penalty"}));
   cmd->add_option("--forces", a->forces, "write one CSV row per tick here");
   cmd->add_flag("--json", a->json, "print the summary as one JSON object");
   cmd->callback([a] { run_sculpt(*a); });

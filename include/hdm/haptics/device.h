@@ -85,9 +85,14 @@ class SimulatedDevice final : public HapticDevice {
   /// @brief Creates the device; @p targets holds one hand target [m] per tick (the last one is held
   /// after the end). The span must outlive the device.
   /// @param start  initial handle position [m] (at rest).
+  /// @throws InvalidInput when mass_kg or rate_hz is not positive or substeps < 1.
   SimulatedDevice(const SimulatedDeviceOptions& options, std::span<const Vec3> targets, const Vec3& start);
+  /// Handle position [m] and backward-difference velocity [m/s]; always true. noexcept, O(1).
   bool begin_frame(DeviceState& state) noexcept override;
+  /// Holds @p force_n [N] (clamped to spec().max_force_n, NaN → 0) over one period and integrates
+  /// the handle. noexcept, O(substeps), no allocation.
   void end_frame(const Vec3& force_n) noexcept override;
+  /// The options' spec.
   DeviceSpec spec() const noexcept override { return options_.spec; }
   /// Hand force on the handle during the last period [N] (what the user pushes with).
   const Vec3& hand_force() const noexcept { return hand_force_; }
@@ -109,8 +114,11 @@ class ReplayDevice final : public HapticDevice {
   /// @throws IoError when the file cannot be read; InvalidInput when the header lacks the
   /// position columns or a row is malformed (naming the line).
   explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {});
+  /// Next recorded row (velocity by backward difference); false after the last one. noexcept, O(1).
   bool begin_frame(DeviceState& state) noexcept override;
+  /// Records @p force_n [N] (see last_force()) and advances to the next row. noexcept, O(1).
   void end_frame(const Vec3& force_n) noexcept override;
+  /// The spec given at construction.
   DeviceSpec spec() const noexcept override { return spec_; }
   /// Number of recorded ticks.
   size_t size() const noexcept { return position_.size(); }

@@ -25,7 +25,8 @@ struct ProxyParams {
   ForceParams force;                 ///< stiffness k [N/m], damping b [N·s/m] along the normal, max force [N]
   double friction_scale = 1.0;       ///< factor on the per-sample μs, μd of SlabModel (0: frictionless)
   int iterations = 3;                ///< tangent-plane projection + re-projection rounds per tick (>= 1)
-  int max_halvings = 6;              ///< step halvings when a candidate leaves the shell
+  int max_halvings = 6;              ///< step halvings when a candidate leaves the shell or turns too far
+  double max_turn_deg = 30.0;        ///< largest change of the proxy's normal accepted per step [deg]
   double position_limit_m = 1.0;     ///< HIP farther than this from the workspace centre [m]: BadInput, zero force
   double tunnel_step = 0.0;          ///< free-space sub-step [model units] to catch a HIP that jumps across a
                                      ///< thin part in one tick; 0: 0.002 × the model's source diagonal
@@ -81,7 +82,8 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
 /// surface point of the HIP's projection line. In contact the proxy is moved towards the HIP in
 /// its interpolated tangent plane and re-projected onto the displaced surface through
 /// SlabLocator::find + evaluate_surface (params.iterations rounds, crossing slab edges and
-/// corners); static friction holds it while |F_t| <= μs·F_n, otherwise it slides so that
+/// corners; a step is halved when it leaves the shell, lands on a surface facing away, turns the
+/// normal by more than max_turn_deg, or does not reduce the tangential residual); static friction holds it while |F_t| <= μs·F_n, otherwise it slides so that
 /// |F_t| = μd·F_n. Contact lasts while (HIP - proxy)·n_proxy < 0, whatever the HIP's own query
 /// says, so it holds past the inner face and through thin parts. Force
 /// F = k·s·(proxy - HIP)/scale - b·(v·n)·n, normal part never pulling, clamped to max_force.

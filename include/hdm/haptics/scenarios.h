@@ -51,6 +51,8 @@ struct ScenarioTraceRow {
   double depth_mm;   ///< (proxy - HIP)·n [mm at the device], 0 when free
   int status;        ///< ProxyStatus
   int slab;          ///< proxy / contact slab, -1 free
+  Vec3 proxy;        ///< proxy (SCP in penalty mode) [m, device frame]
+  Vec3 normal;       ///< contact normal (model frame = device axes)
 };
 
 /// Scores of one run. Angles in degrees, forces in N, lengths in mm at the device.
@@ -63,7 +65,9 @@ struct ScenarioReport {
   double normal_error_p95_deg = 0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
   double normal_error_smooth_p95_deg = 0;  ///< same against the input's interpolated (area-weighted vertex) normal
   double energy_ratio = 0;          ///< work the rendered force returned to the handle / work it absorbed
-  double stable_stiffness_n_per_m = 0;  ///< stiff: highest stable stiffness at the rate; others: the stiffness used
+  double stable_stiffness_n_per_m = 0;  ///< stiff: highest stiffness whose press-and-hold settles (hand coupled); others: the stiffness used
+  double passive_stiffness_n_per_m = 0; ///< stiff: highest stiffness at which the rendered contact is also passive
+                                        ///< (returned/absorbed work <= 1; theory: K < 2b/T, Colgate & Brown 1994)
   double max_force_n = 0, mean_contact_force_n = 0;
   double force_cv = 0;              ///< std/mean of |F| over the steady part (slide, edges)
   double max_penetration_mm = 0;    ///< largest (proxy - HIP)·n [mm]
