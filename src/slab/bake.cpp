@@ -257,6 +257,7 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   const ExactMeshQuery input(mesh);
   const ExactMeshQuery coarse_query(TriangleMesh{coarse.vertices, coarse.faces});
 
+  progress(o, "measure", 0);
   // Thickness each side must cover the input's deviation from the coarse surface near the vertex
   // (one-sided Hausdorff, attributed to the nearest coarse face's corners), plus edit headroom.
   std::vector<double> need_in(nv, 0.0), need_out(nv, 0.0);
@@ -404,10 +405,19 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   tgt_in = tgt_in0, tgt_out = tgt_out0;
   for (size_t v = 0; v < nv; ++v) off_in[v] = off_out[v] = min_off[v], place(v);
   rep.separated = separating;
+  // Corners at the last cast: later rounds recast only the columns whose slab moved.
+  std::vector<Vec3> cast_inner(nv, Vec3::Constant(NAN)), cast_outer(nv, Vec3::Constant(NAN));
+  std::vector<uint8_t> stale(nv);
   for (int round = 0; round < 8; ++round) {
     rep.shell_iterations = round + 1;
+    progress(o, "grow shell", 0);
     grow();
+    progress(o, "separate", 0);
     if (separating) separate();
+    for (size_t v = 0; v < nv; ++v)
+      stale[v] = !(model.inner[v] == cast_inner[v]) || !(model.outer[v] == cast_outer[v]);
+    cast_inner = model.inner;
+    cast_outer = model.outer;
     // One ray per distinct sample, from the outer end inward; keep the first (outermost) hit
     // whose triangle faces outward (design notes §2.2).
     const int blocks = 20;
@@ -416,6 +426,8 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
       tbb::parallel_for(tbb::blocked_range<int>(lo, hi, 512), [&](const tbb::blocked_range<int>& r) {
         std::vector<SegmentHit> hits;
         for (int s = r.begin(); s < r.end(); ++s) {
+          const Tri& home = model.slabs[model.samples.home_slab[s]];
+          if (!stale[home[0]] && !stale[home[1]] && !stale[home[2]]) continue;
           Vec3 p0, p1;
           projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
           input.segment_hits(p1, p0, hits);
@@ -461,6 +473,7 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   // A column that misses the input still has a best point: the one on its line nearest the input
   // (sampled, then refined by golden-section search). This keeps the filled surface on the input
   // where the shell passes beside it, instead of averaging neighbours.
+  progress(o, "fill misses", 0);
   tbb::parallel_for(0, ns, [&](int s) {
     if (!missed[s]) return;
     Vec3 p0, p1;

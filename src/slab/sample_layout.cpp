@@ -15,16 +15,25 @@ uint64_t edge_key(int32_t a, int32_t b) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(lo)) << 32) | static_cast<uint32_t>(hi);
 }
 
-// CSR from (key, value) pairs with keys in [0, count).
+// CSR from (key, value) pairs with keys in [0, count): counting sort, then each (short) row sorted
+// and deduplicated in place; linear in the number of pairs, unlike one global sort.
 void build_csr(std::vector<std::pair<int32_t, int32_t>>& pairs, int count, std::vector<int32_t>& offsets,
                std::vector<int32_t>& values) {
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  std::vector<int32_t> start(count + 1, 0);
+  for (const auto& p : pairs) ++start[p.first + 1];
+  for (int s = 0; s < count; ++s) start[s + 1] += start[s];
+  std::vector<int32_t> raw(pairs.size()), fill(start.begin(), start.end() - 1);
+  for (const auto& p : pairs) raw[fill[p.first]++] = p.second;
   offsets.assign(count + 1, 0);
-  for (const auto& p : pairs) ++offsets[p.first + 1];
-  for (int s = 0; s < count; ++s) offsets[s + 1] += offsets[s];
-  values.resize(pairs.size());
-  for (size_t k = 0; k < pairs.size(); ++k) values[k] = pairs[k].second;
+  values.clear();
+  values.reserve(pairs.size());
+  for (int s = 0; s < count; ++s) {
+    auto first = raw.begin() + start[s], last = raw.begin() + start[s + 1];
+    std::sort(first, last);
+    values.insert(values.end(), first, std::unique(first, last));
+    offsets[s + 1] = static_cast<int32_t>(values.size());
+  }
+  values.shrink_to_fit();
 }
 
 }  // namespace
