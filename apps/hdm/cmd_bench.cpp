@@ -15,6 +15,10 @@
 #include <hdm/core/error.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/haptics/force.h>
+#if __has_include(<hdm/haptics/proxy.h>)
+#include <hdm/haptics/proxy.h>
+#define HDM_BENCH_PROXY 1
+#endif
 #include <hdm/io/read_mesh.h>
 #include <hdm/slab/bake.h>
 
@@ -40,8 +44,8 @@ using Clock = std::chrono::steady_clock;
 
 struct BenchArgs {
   std::string model;
-  int slabs = 0, grid = 16, repeat = 5, ticks = 20000, points = 20000;
-  bool json = false;
+  int slabs = 0, grid = 16, texels = 2, repeat = 5, ticks = 20000, points = 20000;
+  bool json = false, no_separate = false;
   uint64_t seed = 1;
 };
 
@@ -132,15 +136,18 @@ Stats time_batches(size_t n, Body&& body) {
 }
 
 // A 1 kHz device path over the surface: a greedy walk over the sample graph towards random target
-// samples, sampled every `step` model units of arc length, offset along the interpolated normal by
-// up to `depth` (a sine of period one second), so the point slides along and into the surface.
+// samples, offset along the interpolated normal by up to `depth` (a sine of period one second), so
+// the point slides along and into the surface. The curve is traced finely and a point is kept
+// whenever the next would be more than `step` from the last one kept, so no tick moves further.
 std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, double depth, std::mt19937_64& rng) {
   const SampleLayout& L = m.samples;
   std::uniform_int_distribution<int32_t> pick(0, L.count - 1);
   std::vector<Vec3> path;
   path.reserve(ticks);
   int32_t at = pick(rng), target = pick(rng);
+  const double fine = step / 8;
   double carry = 0;  // arc length already walked into the current segment
+  Vec3 prev = Vec3::Constant(NAN);
   while (static_cast<int>(path.size()) < ticks) {
     // Next sample: the neighbour closest to the target, if it gets closer.
     const Vec3f goal = m.positions[target];
@@ -158,11 +165,17 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
     const Vec3 a = m.positions[at].cast<double>(), b = m.positions[next].cast<double>();
     const Vec3 na = m.normals[at].cast<double>(), nb = m.normals[next].cast<double>();
     const double len = (b - a).norm();
-    for (; carry < len && static_cast<int>(path.size()) < ticks; carry += step) {
+    for (; carry < len && static_cast<int>(path.size()) < ticks; carry += fine) {
       const double u = carry / len;
       const Vec3 nrm = ((1 - u) * na + u * nb).normalized();
       const double phase = 2 * M_PI * static_cast<double>(path.size()) / 1000.0;
-      path.push_back((1 - u) * a + u * b + depth * std::sin(phase) * nrm);
+      const Vec3 q = (1 - u) * a + u * b + depth * std::sin(phase) * nrm;
+      if (path.empty()) path.push_back(q);
+      if ((q - path.back()).norm() > step && prev.allFinite() && (prev - path.back()).norm() > 0)
+        path.push_back(prev);
+      while ((q - path.back()).norm() > step && static_cast<int>(path.size()) < ticks)  // sharp turn of the normal
+        path.push_back(path.back() + (q - path.back()).normalized() * step);
+      prev = q;
     }
     carry -= len;
     at = next;
@@ -227,6 +240,8 @@ void run_bench(const BenchArgs& a) {
   BakeOptions bo;
   bo.slabs = a.slabs;
   bo.grid_n = a.grid;
+  bo.texel_density = a.texels;
+  bo.separate_slabs = !a.no_separate;
   BakeReport br;
   const auto b0 = Clock::now();
   SlabModel model = bake_slabs(mesh, path, bo, &br);
@@ -241,7 +256,7 @@ void run_bench(const BenchArgs& a) {
   Aabb box;
   for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
   const Workspace ws = fit_workspace(box, 0.16);
-  const double step = 0.95 * 1e-4 * ws.scale;  // < 0.1 mm of device motion per 1 ms tick
+  const double step = 1e-4 * ws.scale;  // <= 0.1 mm of device motion per 1 ms tick (0.1 m/s)
   const std::vector<Vec3> path_pts = coherent_path(model, a.ticks, step, 0.005 * diag, rng);
   const std::vector<Vec3> global_pts = global_points(model, a.points, 0.01 * diag, rng);
   double max_step = 0;
@@ -250,7 +265,7 @@ void run_bench(const BenchArgs& a) {
   for (size_t k = 1; k < path_pts.size(); ++k) velocity[k] = (path_pts[k] - path_pts[k - 1]) / ws.scale * 1000.0;
 
   // ---- (a)-(c) latency, hdm and Embree interleaved in each repeat ----
-  std::vector<Stats> coh, glo, tick, emb_coh, emb_glo;
+  std::vector<Stats> coh, glo, tick, proxy_tick, emb_coh, emb_glo;
   int64_t in_shell_coh = 0, in_shell_glo = 0, contacts = 0;
   const ForceParams fp;
   for (int r = 0; r < a.repeat; ++r) {
@@ -287,15 +302,26 @@ void run_bench(const BenchArgs& a) {
       in_contact += f.status != ForceStatus::Free;
     }));
     contacts = in_contact;
+#ifdef HDM_BENCH_PROXY
+    // The full servo tick with the god-object proxy (friction, re-projection) on the same path.
+    ProxyState ps;
+    const ProxyParams pp;
+    proxy_tick.push_back(time_batches(path_pts.size(), [&](size_t k) {
+      const ProxyOutput o = proxy_step(model, locator, ws, ws.to_device(path_pts[k]), velocity[k], pp, ps);
+      sink += o.force.x();
+    }));
+#endif
     g_sink = sink;
   }
   const Summary s_coh = summarise(coh), s_glo = summarise(glo), s_tick = summarise(tick),
                 s_ecoh = summarise(emb_coh), s_eglo = summarise(emb_glo);
+  const bool have_proxy = !proxy_tick.empty();
+  const Summary s_proxy = have_proxy ? summarise(proxy_tick) : Summary{};
 
-  // ---- (d) edits vs touched samples, on a copy of the model ----
+  // ---- (d) edits vs touched samples: last, on the model itself (a copy would double peak memory) ----
   std::vector<EditRow> edits;
   {
-    SlabModel work = model;
+    SlabModel& work = model;
     EditScratch scratch(work);
     std::uniform_int_distribution<int32_t> pick(0, work.samples.count - 1);
     const int ops = 40;
@@ -380,7 +406,8 @@ void run_bench(const BenchArgs& a) {
       {"in_shell_fraction", {{"coherent", double(in_shell_coh) / path_pts.size()},
                              {"global", double(in_shell_glo) / global_pts.size()}}},
       {"contact_fraction", double(contacts) / path_pts.size()},
-      {"hdm", {{"coherent_ns", to_json(s_coh)}, {"global_ns", to_json(s_glo)}, {"tick_ns", to_json(s_tick)}}},
+      {"hdm", {{"coherent_ns", to_json(s_coh)}, {"global_ns", to_json(s_glo)}, {"tick_ns", to_json(s_tick)},
+               {"proxy_tick_ns", have_proxy ? to_json(s_proxy) : nlohmann::json()}}},
       {"baseline", {{"embree_ns", to_json(s_ecoh)}, {"embree_global_ns", to_json(s_eglo)}}},
       {"ratio_coherent", ratio_coh},
       {"ratio_global", ratio_glo},
@@ -389,6 +416,7 @@ void run_bench(const BenchArgs& a) {
       {"edit_ns_per_changed", {{"carve", per_changed('c')}, {"add", per_changed('a')}, {"paint_per_texel", per_changed('p')}}},
       {"edits", edit_rows},
       {"bake_s", bake_s},
+      {"bake_separate_slabs", !a.no_separate},
       {"bake_report_s", br.seconds},
       {"locator_build_s", locator_s},
       {"bytes_per_sample", bytes_per_sample},
@@ -412,6 +440,7 @@ void run_bench(const BenchArgs& a) {
   row("hdm coherent (1 kHz path)", s_coh);
   row("hdm global (random near-surface)", s_glo);
   row("hdm servo tick (query + force)", s_tick);
+  if (have_proxy) row("hdm servo tick (proxy_step)", s_proxy);
   row("Embree closest+inside, path pts", s_ecoh);
   row("Embree closest+inside, global pts", s_eglo);
   std::printf("  speed-up vs Embree (median)       coherent %.1fx, global %.1fx\n", ratio_coh, ratio_glo);
@@ -438,10 +467,14 @@ void add_bench_command(CLI::App& app) {
                                        "subdivided 1-to-4 until it has more triangles")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--grid", a->grid, "displacement intervals per slab edge n")->check(CLI::Range(1, 256));
+  cmd->add_option("--texels", a->texels, "colour texels per displacement interval (1 saves memory at 10^5 slabs)")
+      ->check(CLI::Range(1, 16));
   cmd->add_option("--repeat", a->repeat, "repeats of every latency measurement")->check(CLI::Range(1, 1000));
   cmd->add_option("--ticks", a->ticks, "ticks of the coherent 1 kHz path")->check(CLI::Range(kBatch, 10000000));
   cmd->add_option("--points", a->points, "global query points")->check(CLI::Range(kBatch, 10000000));
   cmd->add_option("--seed", a->seed, "random seed of the points");
+  cmd->add_flag("--no-separate-slabs", a->no_separate,
+                "bake without thinning overlapping slabs apart (much faster at 10^4+ slabs)");
   cmd->add_flag("--json", a->json, "print one JSON object");
   cmd->callback([a] { run_bench(*a); });
 }

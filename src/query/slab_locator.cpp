@@ -20,6 +20,39 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
       boxes_[s].hi[a] = std::nextafter(static_cast<float>(b.max[a]), INFINITY);
     }
   }
+  sides_.resize(S);
+  for (int s = 0; s < S; ++s) {
+    const Tri& t = model.slabs[s];
+    Vec3 corner[6];
+    double M = 0;
+    for (int k = 0; k < 3; ++k) {
+      corner[k] = model.inner[t[k]], corner[k + 3] = model.outer[t[k]];
+      M = std::max({M, corner[k].cwiseAbs().maxCoeff(), corner[k + 3].cwiseAbs().maxCoeff()});
+    }
+    Vec3 centroid = Vec3::Zero();
+    for (const Vec3& c : corner) centroid += c / 6;
+    M += (model.geometry[s].box.max - model.geometry[s].box.min).norm();
+    for (int e = 0; e < 3; ++e) {  // edge RS, ST, TR: the plane through the edge and the mean ray
+      const int v = e, w = (e + 1) % 3;
+      const Vec3 along = 0.5 * (corner[w] - corner[v] + corner[w + 3] - corner[v + 3]);
+      const Vec3 up = 0.5 * (corner[v + 3] - corner[v] + corner[w + 3] - corner[w]);
+      Vec3 n = along.cross(up);
+      const double len = n.norm();
+      Sides& sd = sides_[s];
+      if (!(len > 0)) {  // degenerate: a plane that rejects nothing
+        sd.n[e][0] = sd.n[e][1] = sd.n[e][2] = 0, sd.d[e] = INFINITY;
+        continue;
+      }
+      n /= len;
+      if (n.dot(centroid - 0.5 * (corner[v] + corner[w])) > 0) n = -n;  // outward
+      const Vec3f nf = n.cast<float>();
+      double d = -INFINITY;
+      for (const Vec3& c : corner) d = std::max(d, nf.cast<double>().dot(c));
+      // Margin: float rounding of n·x (|x| <= M) and the inside test's 1e-9 barycentric tolerance.
+      for (int a = 0; a < 3; ++a) sd.n[e][a] = nf[a];
+      sd.d[e] = std::nextafter(static_cast<float>(d + 1e-5 * M), INFINITY);
+    }
+  }
   nodes_.reserve(2 * S / 2 + 2);
   build(0, S, centres);
   leaf_boxes_.resize(S);
@@ -45,7 +78,8 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
 
 size_t SlabLocator::memory_bytes() const noexcept {
   return nodes_.capacity() * sizeof(Node) + order_.capacity() * sizeof(int32_t) +
-         (boxes_.capacity() + leaf_boxes_.capacity()) * sizeof(Box) + edge_.capacity() * sizeof(edge_[0]) +
+         (boxes_.capacity() + leaf_boxes_.capacity()) * sizeof(Box) + sides_.capacity() * sizeof(Sides) +
+         edge_.capacity() * sizeof(edge_[0]) +
          ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t);
 }
 
@@ -94,7 +128,8 @@ int SlabLocator::find_bvh(const Vec3& p, AlphaSolver solver, double guess, SlabC
       continue;
     if (n.count > 0) {
       for (int32_t k = n.first; k < n.first + n.count; ++k)
-        if (leaf_boxes_[k].contains(x, y, z) && locate_in_slab(g[order_[k]], p, solver, guess, c, edge))
+        if (leaf_boxes_[k].contains(x, y, z) && sides_[order_[k]].may_contain(x, y, z) &&
+            locate_in_slab(g[order_[k]], p, solver, guess, c, edge))
           return order_[k];
     } else if (top < 126) {
       stack[top++] = n.first;
@@ -113,13 +148,13 @@ int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess,
     if (locate_in_slab(g[hint], p, solver, guess, c, edge)) return hint;
     // The point left through `edge`: the slab across it is the likely one (design notes §3.6).
     const int32_t across = edge >= 0 ? edge_[hint][edge] : -1;
-    if (across >= 0 && boxes_[across].contains(x, y, z) && locate_in_slab(g[across], p, solver, guess, c, edge))
+    if (across >= 0 && candidate(across, x, y, z) && locate_in_slab(g[across], p, solver, guess, c, edge))
       return across;
     int count;
     const int32_t* ring = neighbourhood(hint, count);
     for (int k = 0; k < count; ++k) {
       const int32_t s = ring[k];
-      if (s != across && boxes_[s].contains(x, y, z) && locate_in_slab(g[s], p, solver, guess, c, edge)) return s;
+      if (s != across && candidate(s, x, y, z) && locate_in_slab(g[s], p, solver, guess, c, edge)) return s;
     }
   }
   return find_bvh(p, solver, guess, c);

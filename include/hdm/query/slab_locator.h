@@ -17,7 +17,7 @@ namespace hdm {
 class SlabLocator {
  public:
   /// @brief Builds the BVH and per-slab neighbourhoods of @p model (its derived data must be built).
-  /// @note O(#S log #S) time, about 150 bytes per slab.
+  /// @note O(#S log #S) time, about 200 bytes per slab.
   explicit SlabLocator(const SlabModel& model);
 
   /// @brief Finds a slab that contains @p p.
@@ -61,6 +61,20 @@ class SlabLocator {
       return x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1] && z >= lo[2] && z <= hi[2];
     }
   };
+  // Three side planes n·x <= d of the slab: a slab point is a convex combination of its six corners,
+  // so a plane with every corner behind it bounds the slab; d carries a margin far above float
+  // rounding and the inside test's tolerance. Rejects the neighbours whose boxes overlap (slabs are
+  // thick and narrow at 10^4+ slabs) before the cubic is solved.
+  struct Sides {
+    float n[3][3], d[3];
+    bool may_contain(float x, float y, float z) const noexcept {
+      return n[0][0] * x + n[0][1] * y + n[0][2] * z <= d[0] && n[1][0] * x + n[1][1] * y + n[1][2] * z <= d[1] &&
+             n[2][0] * x + n[2][1] * y + n[2][2] * z <= d[2];
+    }
+  };
+  bool candidate(int32_t slab, float x, float y, float z) const noexcept {
+    return boxes_[slab].contains(x, y, z) && sides_[slab].may_contain(x, y, z);
+  }
   int find_bvh(const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
   int build(int32_t begin, int32_t end, std::vector<Vec3>& centres);
 
@@ -69,6 +83,7 @@ class SlabLocator {
   std::vector<int32_t> order_;
   std::vector<Box> boxes_;       // #S, by slab id
   std::vector<Box> leaf_boxes_;  // #S, in order_ order (contiguous within a leaf)
+  std::vector<Sides> sides_;     // #S, by slab id
   std::vector<std::array<int32_t, 3>> edge_;  // #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> ring_offsets_, ring_;
 };
