@@ -107,6 +107,15 @@ void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcep
   update_normals(m, s.ring.data(), ring);
 }
 
+// Flood fill over the displacement samples, seeded with the grid cell under the contact.
+template <class Visit>
+int32_t flood_samples(SlabModel& m, EditScratch& s, const Contact& contact, Visit visit) noexcept {
+  int32_t seeds[3];
+  cell_points(m.samples, contact.slab, contact.coords.bary, seeds);
+  const uint32_t stamp = next_stamp(s, s.sample_stamp);
+  return flood(m.samples, s.sample_stamp, stamp, s.queue, seeds, visit);
+}
+
 }  // namespace
 
 EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec3& hip, double radius,
@@ -115,10 +124,7 @@ EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec
   if (!contact.in_shell() || !(radius > 0) || !hip.allFinite()) return r;
   const Vec3 centre = hip + contact.normal * (radius + std::max(resilience, 0.0));
   const double r2 = radius * radius;
-  int32_t seeds[3];
-  cell_points(m.samples, contact.slab, contact.coords.bary, seeds);
-  const uint32_t stamp = next_stamp(s, s.sample_stamp);
-  r.visited = flood(m.samples, s.sample_stamp, stamp, s.queue, seeds, [&](int32_t id) {
+  r.visited = flood_samples(m, s, contact, [&](int32_t id) {
     Vec3 p0, p1;
     line_of(m, id, p0, p1);
     // Line P(t) = p0 + t·L against the sphere: a t² + b t + c = 0 (design notes §5.1).
@@ -147,10 +153,7 @@ EditResult add_material(SlabModel& m, EditScratch& s, const Contact& contact, do
   EditResult r;
   if (!contact.in_shell() || !(radius > 0) || !(height > 0)) return r;
   const Vec3 centre = contact.surface_point;
-  int32_t seeds[3];
-  cell_points(m.samples, contact.slab, contact.coords.bary, seeds);
-  const uint32_t stamp = next_stamp(s, s.sample_stamp);
-  r.visited = flood(m.samples, s.sample_stamp, stamp, s.queue, seeds, [&](int32_t id) {
+  r.visited = flood_samples(m, s, contact, [&](int32_t id) {
     Vec3 p0, p1;
     line_of(m, id, p0, p1);
     const double len = (p1 - p0).norm();
