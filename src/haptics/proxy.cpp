@@ -3,6 +3,8 @@
 #include <hdm/haptics/proxy.h>
 #include <hdm/slab/triangle_grid.h>
 
+#include "../query/surface_eval.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -114,28 +116,8 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
                          double fallback) noexcept {
   if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
   // Same grid triangle and weights as evaluate_surface (design notes §4.1).
-  const int n = model.grid_n;
-  double hx = std::max(0.0, n * c.bary[2]), hy = std::max(0.0, n * c.bary[1]);
-  if (hx + hy > n) {
-    const double sc = n / (hx + hy);
-    hx *= sc, hy *= sc;
-  }
-  const int i = std::min(static_cast<int>(hx), n - 1);
-  const int j = std::min(static_cast<int>(hy), n - 1 - i);
-  double fx = hx - i, fy = hy - j;
-  const int32_t* ids = &model.samples.ids[static_cast<size_t>(slab) * model.samples.per_slab];
-  double v;
-  if (fx + fy > 1 && i + j <= n - 2) {
-    v = (fx + fy - 1) * field[ids[grid::index(n, i + 1, j + 1)]] + (1 - fy) * field[ids[grid::index(n, i + 1, j)]] +
-        (1 - fx) * field[ids[grid::index(n, i, j + 1)]];
-  } else {
-    if (fx + fy > 1) {
-      const double sc = 1 / (fx + fy);
-      fx *= sc, fy *= sc;
-    }
-    v = (1 - fx - fy) * field[ids[grid::index(n, i, j)]] + fx * field[ids[grid::index(n, i + 1, j)]] +
-        fy * field[ids[grid::index(n, i, j + 1)]];
-  }
+  const detail::GridCell cell = detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
+  const double v = cell.wa * field[cell.a] + cell.wb * field[cell.b] + cell.wd * field[cell.d];
   return std::isfinite(v) ? v : fallback;
 }
 
