@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
 #include <hdm/haptics/proxy.h>
-#include <hdm/slab/triangle_grid.h>
 
 #include "../query/surface_eval.h"
 
