@@ -91,7 +91,9 @@ TEST(EditToolsTest, carve_cuts_to_the_sphere) {
   // samples it moved now lie on its boundary or on the inner face.
   for (int s = 0; s < f.model.samples.count; ++s) {
     const double d = (sample_position(f.model, s) - centre).norm();
-    if (f.model.displacement[s] > 0) EXPECT_GT(d, r * (1 - 1e-5)) << "sample " << s;
+    if (f.model.displacement[s] > 0) {
+      EXPECT_GT(d, r * (1 - 1e-5)) << "sample " << s;
+    }
   }
 }
 

@@ -13,15 +13,7 @@ using namespace hdm;
 
 namespace {
 
-// X(w, α) = Σ wV (V0 + α (V1 - V0)), from the stored corners (not from SlabGeometry).
-Vec3 point_from_corners(const SlabModel& m, int slab, const Vec3& w, double alpha) {
-  Vec3 p = Vec3::Zero();
-  for (int k = 0; k < 3; ++k) {
-    const int v = m.slabs[slab][k];
-    p += w[k] * (m.inner[v] + alpha * (m.outer[v] - m.inner[v]));
-  }
-  return p;
-}
+using test::point_from_corners;
 
 Vec3 random_barycentric(std::mt19937& rng) {
   std::exponential_distribution<double> e(1.0);

@@ -52,15 +52,6 @@ SweepResult sweep(const SlabModel& m, const SlabLocator& loc, const Vec3& a, con
   return r;
 }
 
-Vec3 corner_point(const SlabModel& m, int slab, const Vec3& w, double alpha) {
-  Vec3 p = Vec3::Zero();
-  for (int k = 0; k < 3; ++k) {
-    const int v = m.slabs[slab][k];
-    p += w[k] * (m.inner[v] + alpha * (m.outer[v] - m.inner[v]));
-  }
-  return p;
-}
-
 void expect_continuous(const SweepResult& r, double step_m_force_bound) {
   // A Lipschitz bound far above the surface's slopes but far below a jump (a jump of even 0.1% of
   // the diagonal over a step of 1e-5 of the diagonal is a ratio of 100).
@@ -93,8 +84,8 @@ TEST(ContinuityTest, across_slab_edges) {
       evaluate_surface(m, s, c, at);
       const double alpha = 0.6 * at.delta;
       if (alpha < 0.05) continue;
-      const Vec3 on_edge = corner_point(m, s, w_edge, alpha);
-      const Vec3 inside = corner_point(m, s, w_edge + 0.08 * (centroid - w_edge), alpha);
+      const Vec3 on_edge = test::point_from_corners(m, s, w_edge, alpha);
+      const Vec3 inside = test::point_from_corners(m, s, w_edge + 0.08 * (centroid - w_edge), alpha);
       const SweepResult r = sweep(m, loc, inside, 2 * on_edge - inside, 2000);
       if (!r.stayed_in_shell) continue;
       ++swept;
@@ -119,8 +110,8 @@ TEST(ContinuityTest, across_slab_corners) {
       evaluate_surface(m, s, c, at);
       const double alpha = 0.6 * at.delta;
       if (alpha < 0.05) continue;
-      const Vec3 corner = corner_point(m, s, w_corner, alpha);
-      const Vec3 inside = corner_point(m, s, 0.9 * w_corner + Vec3::Constant(0.1 / 3), alpha);
+      const Vec3 corner = test::point_from_corners(m, s, w_corner, alpha);
+      const Vec3 inside = test::point_from_corners(m, s, 0.9 * w_corner + Vec3::Constant(0.1 / 3), alpha);
       const SweepResult r = sweep(m, loc, inside, 2 * corner - inside, 2000);
       if (!r.stayed_in_shell) continue;
       ++swept;

@@ -18,14 +18,7 @@ namespace {
 
 // Finite-difference Jacobian determinant of X(wS, wT, α) at a point, from the stored corners only.
 double numeric_jacobian(const SlabModel& m, int slab, double wS, double wT, double a) {
-  const Tri& t = m.slabs[slab];
-  auto X = [&](double s, double u, double al) {
-    const double r = 1 - s - u;
-    Vec3 p = Vec3::Zero();
-    const double w[3] = {r, s, u};
-    for (int k = 0; k < 3; ++k) p += w[k] * (m.inner[t[k]] + al * (m.outer[t[k]] - m.inner[t[k]]));
-    return p;
-  };
+  auto X = [&](double s, double u, double al) { return test::point_from_corners(m, slab, Vec3(1 - s - u, s, u), al); };
   const double h = 1e-6;
   const Vec3 ds = (X(wS + h, wT, a) - X(wS - h, wT, a)) / (2 * h);
   const Vec3 dt = (X(wS, wT + h, a) - X(wS, wT - h, a)) / (2 * h);

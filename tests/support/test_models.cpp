@@ -67,4 +67,13 @@ TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre) {
   return m;
 }
 
+Vec3 point_from_corners(const SlabModel& m, int slab, const Vec3& w, double alpha) {
+  Vec3 p = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int v = m.slabs[slab][k];
+    p += w[k] * (m.inner[v] + alpha * (m.outer[v] - m.inner[v]));
+  }
+  return p;
+}
+
 }  // namespace hdm::test

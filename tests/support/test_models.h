@@ -23,4 +23,8 @@ const SlabModel& baked_bunny(int slabs, int grid);
 /// counter-clockwise from outside.
 TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre = Vec3::Zero());
 
+/// X(w, α) = Σ wV·(V0 + α·(V1 − V0)) from the stored corners of slab @p slab (an independent
+/// evaluation of the slab map, not through SlabGeometry). @p w = (wR, wS, wT).
+Vec3 point_from_corners(const SlabModel& m, int slab, const Vec3& w, double alpha);
+
 }  // namespace hdm::test
