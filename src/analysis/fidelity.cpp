@@ -82,7 +82,7 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
   }
   const SlabLocator locator(model);
   struct Acc {
-    int64_t agree = 0, depth_n = 0;
+    int64_t agree = 0, depth_n = 0, below = 0, above = 0, false_in = 0;
     double sq = 0, max = 0;
   };
   const Acc acc = tbb::parallel_reduce(
@@ -93,6 +93,10 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
           const Contact c = query(model, locator, points[k], cache);
           const bool exact_in = input.inside(points[k]);
           a.agree += c.penetrating() == exact_in;
+          a.below += exact_in && !c.in_shell();
+          if (getenv("HDM_DBG") && exact_in && !c.in_shell()) fprintf(stderr, "B %g %g %g %g\n", points[k].x(), points[k].y(), points[k].z(), input.closest_point(points[k]).distance / diag);
+          a.above += exact_in && c.in_shell() && !c.penetrating();
+          a.false_in += !exact_in && c.penetrating();
           if (c.penetrating() && exact_in) {
             const double e = std::abs(c.depth - input.closest_point(points[k]).distance);
             a.sq += e * e;
@@ -102,12 +106,18 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         }
         return a;
       },
-      [](const Acc& a, const Acc& b) { return Acc{a.agree + b.agree, a.depth_n + b.depth_n, a.sq + b.sq, std::max(a.max, b.max)}; });
+      [](const Acc& a, const Acc& b) {
+        return Acc{a.agree + b.agree, a.depth_n + b.depth_n, a.below + b.below, a.above + b.above,
+                   a.false_in + b.false_in, a.sq + b.sq, std::max(a.max, b.max)};
+      });
   ContactAccuracy c;
   c.points = count;
   c.agreement = count ? double(acc.agree) / count : 1.0;
   c.depth_rms_pct = acc.depth_n ? 100 * std::sqrt(acc.sq / acc.depth_n) / diag : 0;
   c.depth_max_pct = 100 * acc.max / diag;
+  c.missed_below_shell = acc.below;
+  c.missed_in_shell = acc.above;
+  c.false_inside = acc.false_in;
   return c;
 }
 

@@ -3,6 +3,7 @@
 
 #include "surface_eval.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hdm {
@@ -20,9 +21,12 @@ void evaluate_surface(const SlabModel& model, int slab, const SlabCoordinates& c
   out.coords = c;
   out.delta = delta;
   out.ray = ray;
-  out.depth = (delta - c.alpha) * ray.norm();  // paper §3.3: along the ray
   const double len = nf.norm();  // one division for the three components (the tail of the query)
   out.normal = len > 0 ? Vec3(nf.cast<double>() * (1.0 / len)) : Vec3(ray.normalized());
+  // The paper (§3.3) measures depth along the ray; projecting on the normal gives the distance to
+  // the surface's tangent plane, a first-order exact distance also where rays slant. The floor on
+  // the projection keeps the sign of δ - α where the interpolated normal turns away from the ray.
+  out.depth = (delta - c.alpha) * std::max(ray.dot(out.normal), 0.1 * ray.norm());
 }
 
 Contact query(const SlabModel& model, const SlabLocator& locator, const Vec3& p, QueryCache& cache,

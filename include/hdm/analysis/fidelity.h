@@ -33,6 +33,9 @@ struct ContactAccuracy {
   double agreement = 0;     ///< fraction whose inside/outside matches the exact test on the input
   double depth_rms_pct = 0; ///< RMS |hdm depth - exact distance| over points inside both, % of diagonal
   double depth_max_pct = 0; ///< maximum of those
+  int64_t missed_below_shell = 0;  ///< disagreements: exactly inside, but in no slab (deeper than the inner shell)
+  int64_t missed_in_shell = 0;     ///< disagreements: exactly inside, in a slab, but above the displaced surface
+  int64_t false_inside = 0;        ///< disagreements: exactly outside, but below the displaced surface
 };
 
 /// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)
