@@ -20,6 +20,7 @@ namespace {
 struct BakeArgs {
   std::string input, output;
   int slabs = 0, grid = 16, texels = 2;
+  double density = 4.0;
   bool json = false;
 };
 
@@ -28,6 +29,7 @@ void run_bake(const BakeArgs& a) {
   BakeOptions o;
   o.slabs = a.slabs;
   o.grid_n = a.grid;
+  o.density = a.density;
   o.texel_density = a.texels;
   ProgressBar bar;
   o.progress = [&](const char* stage, double f) { bar(stage, f); };
@@ -81,7 +83,9 @@ void add_bake_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("bake", "Bake a triangle mesh (OBJ, PLY, OFF, STL) into a slab model (.hdm)");
   cmd->add_option("input", a->input, "input mesh")->required();
   cmd->add_option("-o,--output", a->output, "output slab model (.hdm)")->required();
-  cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles / n^2)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles * density / n^2)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--density", a->density, "with no --slabs: submesh triangles per input triangle (default 4)")
+      ->check(CLI::Range(1e-3, 1024.0));
   cmd->add_option("--grid", a->grid, "displacement intervals per slab edge n (paper: 15)")->check(CLI::Range(1, 256));
   cmd->add_option("--texels", a->texels, "colour texels per displacement interval")->check(CLI::Range(1, 16));
   cmd->add_flag("--json", a->json, "print the report as one JSON object");

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/analysis/fidelity.h>
+#include <hdm/query/inner_shell.h>
 #include <hdm/query/slab_query.h>
 
 #include <tbb/blocked_range.h>
@@ -81,6 +82,7 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         (u(rng) * 2 - 1) * offset_pct / 100 * diag * input.face_normal(static_cast<int32_t>(f));
   }
   const SlabLocator locator(model);
+  const InnerShell core_test(model);
   struct Acc {
     int64_t agree = 0, depth_n = 0, below = 0, above = 0, false_in = 0;
     double sq = 0, max = 0;
@@ -92,11 +94,11 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         for (int64_t k = r.begin(); k < r.end(); ++k) {
           const Contact c = query(model, locator, points[k], cache);
           const bool exact_in = input.inside(points[k]);
-          a.agree += c.penetrating() == exact_in;
-          a.below += exact_in && !c.in_shell();
-          if (getenv("HDM_DBG") && exact_in && !c.in_shell()) fprintf(stderr, "B %g %g %g %g\n", points[k].x(), points[k].y(), points[k].z(), input.closest_point(points[k]).distance / diag);
+          const bool core = !c.in_shell() && core_test.encloses(points[k]);
+          a.agree += (c.penetrating() || core) == exact_in;
+          a.below += exact_in && !c.in_shell() && !core;
           a.above += exact_in && c.in_shell() && !c.penetrating();
-          a.false_in += !exact_in && c.penetrating();
+          a.false_in += !exact_in && (c.penetrating() || core);
           if (c.penetrating() && exact_in) {
             const double e = std::abs(c.depth - input.closest_point(points[k]).distance);
             a.sq += e * e;

@@ -233,11 +233,13 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   if (o.texel_density < 1 || o.texel_density > 16)
     throw InvalidInput("texel density " + std::to_string(o.texel_density) + ": must be in [1, 16]");
   if (o.slabs < 0) throw InvalidInput("--slabs " + std::to_string(o.slabs) + ": must be positive");
+  if (!(o.density > 0 && o.density <= 1024))
+    throw InvalidInput("--density " + std::to_string(o.density) + ": must be in (0, 1024]");
   validate_for_bake(mesh, name);
   const double diag = bounds(mesh).diagonal();
   const int n = o.grid_n;
   const int target =
-      o.slabs > 0 ? o.slabs : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) / (n * n))));
+      o.slabs > 0 ? o.slabs : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) * o.density / (n * n))));
 
   progress(o, "decimate", 0);
   // meshoptimizer's simplifier can, rarely, fold two triangles onto one edge; the collapse sequence

@@ -2,6 +2,7 @@
 // Contact against the exact input: inside/outside and penetration depth versus Embree on the mesh.
 #include "support/test_models.h"
 
+#include <algorithm>
 #include <hdm/analysis/fidelity.h>
 #include <hdm/query/slab_query.h>
 
@@ -43,7 +44,11 @@ TEST(ContactTest, surface_point_lies_on_the_projection_line_and_is_not_penetrati
     if (d < 0.05) continue;
     const Contact c = query(m, loc, p0 + (d - 0.02) * (p1 - p0), cache);
     ASSERT_TRUE(c.penetrating());
-    EXPECT_NEAR(c.depth, 0.02 * (p1 - p0).norm(), 1e-6 * m.source_diagonal);
+    // Depth is the distance to the surface's tangent plane at the surface point: 0.02·|D| along
+    // the line, projected on the normal (floored at 0.1 of the line, see Contact::depth).
+    const Vec3 ray = p1 - p0;
+    EXPECT_NEAR(c.depth, 0.02 * std::max(ray.dot(c.normal), 0.1 * ray.norm()), 1e-6 * m.source_diagonal);
+    EXPECT_LE(c.depth, 0.02 * ray.norm() * (1 + 1e-9));
     const Contact on = query(m, loc, c.surface_point, cache);
     EXPECT_NEAR(on.depth, 0.0, 1e-9 * m.source_diagonal);
     ++hits;

@@ -33,15 +33,15 @@ struct ContactAccuracy {
   double agreement = 0;     ///< fraction whose inside/outside matches the exact test on the input
   double depth_rms_pct = 0; ///< RMS |hdm depth - exact distance| over points inside both, % of diagonal
   double depth_max_pct = 0; ///< maximum of those
-  int64_t missed_below_shell = 0;  ///< disagreements: exactly inside, but in no slab (deeper than the inner shell)
+  int64_t missed_below_shell = 0;  ///< disagreements: exactly inside, but in no slab and not enclosed by the inner shell
   int64_t missed_in_shell = 0;     ///< disagreements: exactly inside, in a slab, but above the displaced surface
-  int64_t false_inside = 0;        ///< disagreements: exactly outside, but below the displaced surface
+  int64_t false_inside = 0;        ///< disagreements: exactly outside, but below the displaced surface or enclosed by the inner shell
 };
 
 /// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)
 /// offset along the face normal by a uniform amount in ±@p offset_pct % of the diagonal (1% in the
-/// design README's definition); hdm's inside/outside
-/// (penetration > 0) against ExactMeshQuery::inside, hdm's depth against the exact distance.
+/// design README's definition); hdm's inside/outside (penetration > 0 in a slab, or, in no slab,
+/// InnerShell::encloses) against ExactMeshQuery::inside, hdm's depth against the exact distance.
 /// @note Parallel (TBB).
 ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
                                 double offset_pct = 1.0);

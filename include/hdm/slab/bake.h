@@ -15,7 +15,11 @@ namespace hdm {
 
 /// Options of bake_slabs(). Tolerances are relative to the input's bounding-box diagonal.
 struct BakeOptions {
-  int slabs = 0;           ///< target slab count; 0: input triangles / n², so the submesh has about as many triangles as the input
+  int slabs = 0;           ///< target slab count; 0: input triangles · density / n²
+  double density = 4.0;    ///< with slabs = 0: submesh triangles (slabs·n²) per input triangle. At 1 the reconstruction
+                           ///< has the input's resolution, and its interpolation error between samples (about 0.003% of
+                           ///< the diagonal on bunny00) bounds the inside/outside agreement within ±1% to about 99.7%;
+                           ///< at 4 it passes 99.9%
   int grid_n = 16;         ///< displacement intervals per slab edge (paper: 15, i.e. 16 samples per edge)
   int texel_density = 2;   ///< colour texels per displacement interval
   double headroom = 0.25;  ///< carve/add headroom each side, as a fraction of the mean coarse edge length at the vertex
