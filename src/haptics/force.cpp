@@ -20,7 +20,7 @@ ForceSample penalty_force(const Contact& c, const Vec3& velocity, const ForcePar
     return out;
   }
   if (!c.penetrating()) return out;
-  const double depth_m = c.depth / ws.scale;
+  const double depth_m = c.ray_depth() / ws.scale;  // the paper's force: depth along the ray (§3.3)
   const double vn = velocity.dot(c.normal);
   Vec3 f = (p.stiffness * depth_m - p.damping * vn) * c.normal;
   if (f.dot(c.normal) < 0) f.setZero();  // a surface never pulls the handle in

@@ -239,7 +239,7 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
   s.slab = c.slab;
   s.coords = c.coords;
   s.normal = c.normal;
-  s.position = s.contact ? Vec3(hip + c.normal * c.depth) : hip;  // the paper's SCP
+  s.position = s.contact ? Vec3(hip + c.normal * c.ray_depth()) : hip;  // the paper's SCP (§3.3)
   out.force = f.force;
   out.status = f.status == ForceStatus::BadInput ? ProxyStatus::BadInput
                : f.status == ForceStatus::Clamped ? ProxyStatus::Clamped
@@ -247,7 +247,7 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
                                                   : ProxyStatus::Free;
   if (s.contact) {
     out.contact = c;  // the HIP's own query: surface point on its projection line, as edits expect
-    out.normal_force = p.force.stiffness * c.depth / ws.scale;
+    out.normal_force = p.force.stiffness * c.ray_depth() / ws.scale;
   }
   return out;
 }

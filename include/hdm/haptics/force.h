@@ -42,7 +42,8 @@ struct ForceSample {
   ForceStatus status = ForceStatus::Free;
 };
 
-/// @brief Penalty force F = k_s·depth·n - b·(v·n)·n, clamped to max_force (paper §3.4; design
+/// @brief Penalty force F = k_s·depth·n - b·(v·n)·n with the paper's depth along the ray
+/// (Contact::ray_depth), clamped to max_force (paper §3.3-3.4; design
 /// notes §4.5). depth is converted to metres through @p ws.
 /// @param contact   query answer at the HIP.
 /// @param velocity  device velocity [m/s].

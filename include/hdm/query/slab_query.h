@@ -19,6 +19,8 @@ struct Contact {
   Vec3 ray = Vec3::Zero();         ///< projection-line direction D(w) = P1(w) - P0(w) [model units]
   bool in_shell() const noexcept { return slab >= 0; }
   bool penetrating() const noexcept { return slab >= 0 && depth > 0; }
+  /// The paper's depth (§3.3): (δ - α)·|D(w)|, measured along the projection line [model units].
+  double ray_depth() const noexcept { return (delta - coords.alpha) * ray.norm(); }
 };
 
 /// Per-thread coherence cache (after OpenVDB's ValueAccessor): the last slab found. Not shared
