@@ -9,7 +9,7 @@ packages=(cmake ninja-build g++ pkg-config
   libassimp-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri
-  libcgal-demo gnuplot-nox)
+  libcgal-dev libcgal-demo gnuplot-nox)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -6,10 +6,13 @@
 #include <hdm/analysis/fidelity.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
+#include <hdm/mesh/repair_mesh.h>
 #include <hdm/slab/bake.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+
+#include <sys/resource.h>
 
 #include <cstdio>
 #include <memory>
@@ -21,11 +24,27 @@ struct BakeArgs {
   std::string input, output;
   int slabs = 0, grid = 16, texels = 2;
   double density = 4.0;
-  bool json = false;
+  int max_hole_edges = 64;
+  double max_hole_size = 0.05;
+  bool json = false, no_repair = false;
 };
 
+// Peak resident set size of this process [MiB] (Linux reports ru_maxrss in KiB).
+double peak_rss_mib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;
+}
+
 void run_bake(const BakeArgs& a) {
-  const TriangleMesh mesh = read_mesh(a.input);
+  TriangleMesh mesh = read_mesh(a.input);
+  RepairReport fixed;
+  if (!a.no_repair && needs_repair(mesh)) {
+    RepairOptions ro;
+    ro.max_hole_edges = a.max_hole_edges;
+    ro.max_hole_size = a.max_hole_size;
+    mesh = repair_mesh(mesh, a.input, ro, &fixed);
+  }
   BakeOptions o;
   o.slabs = a.slabs;
   o.grid_n = a.grid;
@@ -53,6 +72,15 @@ void run_bake(const BakeArgs& a) {
                       {"ray_misses", r.ray_misses},
                       {"undercut_columns", r.undercut_columns},
                       {"separated", r.separated},
+                      {"peak_rss_mib", peak_rss_mib()},
+                      {"repair",
+                       {{"merged_vertices", fixed.merged_vertices},
+                        {"removed_faces", fixed.removed_faces},
+                        {"split_vertices", fixed.split_vertices},
+                        {"flipped_faces", fixed.flipped_faces},
+                        {"filled_holes", fixed.filled_holes},
+                        {"added_faces", fixed.added_faces},
+                        {"open_boundaries", fixed.open_boundaries}}},
                       {"fidelity",
                        {{"rms_pct", f.rms_pct},
                         {"max_pct", f.max_pct},
@@ -66,7 +94,12 @@ void run_bake(const BakeArgs& a) {
   std::printf("  slabs               %d (grid n = %d, %lld samples)\n", r.slabs, r.grid_n, (long long)r.samples);
   std::printf("  input triangles     %lld\n", (long long)r.input_triangles);
   std::printf("  submesh triangles   %lld\n", (long long)r.submesh_triangles);
-  std::printf("  bake time           %.2f s\n", r.seconds);
+  std::printf("  bake time           %.2f s (peak memory %.0f MiB)\n", r.seconds, peak_rss_mib());
+  if (fixed.changed())
+    std::printf("  repaired input      %lld vertices welded, %lld faces removed, %lld vertices split, %lld faces flipped, "
+                "%d holes filled (%lld faces), %d open boundaries kept\n",
+                (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
+                (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
   std::printf("  invalid slabs       %d\n", r.invalid_slabs);
   std::printf("  ray misses          %lld (filled at the point of the line nearest the input)\n", (long long)r.ray_misses);
   std::printf("  undercut columns    %lld\n", (long long)r.undercut_columns);
@@ -88,6 +121,13 @@ void add_bake_command(CLI::App& app) {
       ->check(CLI::Range(1e-3, 1024.0));
   cmd->add_option("--grid", a->grid, "displacement intervals per slab edge n (paper: 15)")->check(CLI::Range(1, 256));
   cmd->add_option("--texels", a->texels, "colour texels per displacement interval")->check(CLI::Range(1, 16));
+  cmd->add_flag("--no-repair", a->no_repair,
+                "refuse a dirty mesh (non-manifold or inconsistent edges) instead of repairing it");
+  cmd->add_option("--max-hole", a->max_hole_edges, "fill boundary cycles of at most this many edges (default 64)")
+      ->check(CLI::Range(0, 1 << 20));
+  cmd->add_option("--max-hole-size", a->max_hole_size,
+                  "... and whose extent is at most this fraction of the diagonal (default 0.05)")
+      ->check(CLI::Range(0.0, 10.0));
   cmd->add_flag("--json", a->json, "print the report as one JSON object");
   cmd->callback([a] { run_bake(*a); });
 }
