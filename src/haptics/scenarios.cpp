@@ -75,8 +75,11 @@ struct RunFlags {
   bool score_normals = true;
 };
 
-ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
-                        const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags) {
+// Runs @p n ticks of @p dev against the renderer and scores them. The device is closed-loop
+// (simulated hand) or open-loop (replay); either way the force is scored on the motion it gets.
+ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                         const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags,
+                         HapticDevice& dev, int64_t n) {
   ScenarioReport r;
   r.scenario = scenario_name(o.scenario);
   r.mode = o.mode == RenderMode::Proxy ? "proxy" : "penalty";
@@ -85,27 +88,24 @@ ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, cons
   r.note = s.note;
   ProxyParams pp = o.proxy;
   if (!o.friction) pp.friction_scale = 0;
-  SimulatedDeviceOptions dopt = o.device;
-  dopt.rate_hz = o.rate_hz;
-  dopt.spec.max_force_n = pp.force.max_force;
-  SimulatedDevice dev(dopt, s.targets, s.targets.front());
   ProxyState st;
 
-  const int64_t n = static_cast<int64_t>(s.targets.size());
   std::vector<double> tick_ns(n), nerr, nerr_smooth, steady_force;
   nerr.reserve(n);
   nerr_smooth.reserve(n);
   steady_force.reserve(n);
   if (o.keep_trace) r.trace.reserve(n);
-  Vec3 f_prev = Vec3::Zero(), x_prev = s.targets.front(), hip_prev = s.ws.to_model(x_prev);
+  Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero();
   double returned = 0, absorbed = 0, force_sum = 0;
   int prev_slab = -1;
   const double max_f = pp.force.max_force;
   using clock = std::chrono::steady_clock;
 
-  for (int64_t k = 0; k < n; ++k) {
+  int64_t k = 0;
+  for (; k < n; ++k) {
     DeviceState ds;
-    dev.begin_frame(ds);
+    if (!dev.begin_frame(ds)) break;
+    if (k == 0) x_prev = ds.position, hip_prev = s.ws.to_model(ds.position);
     const auto t0 = clock::now();
     const ProxyOutput out = render_step(o.mode, model, locator, s.ws, ds.position, ds.velocity, pp, st);
     const auto t1 = clock::now();
@@ -175,7 +175,8 @@ ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, cons
     x_prev = x;
     hip_prev = hip;
   }
-  r.ticks = n;
+  r.ticks = k;
+  tick_ns.resize(k);
   r.energy_ratio = absorbed > 0 ? returned / absorbed : 0;
   r.mean_contact_force_n = r.contact_ticks > 0 ? force_sum / r.contact_ticks : 0;
   r.normal_error_p95_deg = p95(nerr);
@@ -192,6 +193,16 @@ ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, cons
   r.tick_ns_p99 = ls.p99;
   r.tick_ns_max = ls.max;
   return r;
+}
+
+// The closed loop: a simulated hand follows the setup's targets.
+ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                        const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags) {
+  SimulatedDeviceOptions dopt = o.device;
+  dopt.rate_hz = o.rate_hz;
+  dopt.spec.max_force_n = o.proxy.force.max_force;
+  SimulatedDevice dev(dopt, s.targets, s.targets.front());
+  return score_run(model, locator, ref, normals, o, s, flags, dev, static_cast<int64_t>(s.targets.size()));
 }
 
 // ---- scenario geometry ----------------------------------------------------------------------
@@ -349,6 +360,7 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
         Setup si = base_setup(ref, oi);
         press_path(spot, oi, si, 1.5, 0.3);
         const ScenarioReport ri = simulate(model, locator, ref, nullptr, oi, si, flags);
+
         const bool stable = ri.force_cv < 0.05 && ri.pop_throughs == 0 && ri.energy_ratio < 2;
         if (stable && ri.energy_ratio <= 1.0 && best == passive) passive = oi.proxy.force.stiffness;
         if (stable) {
@@ -367,6 +379,21 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
     }
   }
   return simulate(model, locator, ref, &normals, o, s, flags);
+}
+
+ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                          ReplayDevice& device, const ScenarioOptions& options) {
+  ScenarioOptions o = options;
+  o.rate_hz = device.rate_hz();
+  if (!(o.rate_hz > 0)) throw InvalidInput("replay: the trajectory needs at least two rows with increasing time");
+  Setup s = base_setup(ref, o);
+  s.steady_begin = 0;
+  s.steady_end = static_cast<int64_t>(device.size());
+  s.note = "replay of a recorded trajectory (open loop: the handle does not respond to the force)";
+  const RefNormals normals = vertex_normals(ref.mesh());
+  ScenarioReport r = score_run(model, locator, ref, &normals, o, s, RunFlags{}, device, static_cast<int64_t>(device.size()));
+  r.scenario = "replay";
+  return r;
 }
 
 }  // namespace hdm
