@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// hdm feel MODEL.hdm --scenario NAME: a simulated hand drives the proxy (or the paper's penalty
-// force) through a scripted scenario; the run is scored against the exact input mesh.
+// hdm feel MODEL.hdm --scenario NAME | --replay CSV: a simulated hand (or a recorded trajectory)
+// drives the proxy (or the paper's penalty force); the run is scored against the exact input mesh.
 #include "commands.h"
 
 #include <hdm/core/error.h>
@@ -20,7 +20,7 @@ namespace hdm::app {
 namespace {
 
 struct FeelArgs {
-  std::string model, scenario = "slide", mode = "proxy", input, trace;
+  std::string model, scenario, mode = "proxy", input, trace, replay, solver = "newton";
   double rate = 1000, stiffness = 1000, damping = 1, max_force = 3.3, speed = 0.1, press = 1.0;
   bool friction = false, json = false;
 };
@@ -65,9 +65,12 @@ void run_feel(const FeelArgs& a) {
   const SlabLocator locator(model);
   const std::string input = find_input(model, a);
   const ExactMeshQuery reference(read_mesh(input));
+  if (a.scenario.empty() == a.replay.empty())
+    throw InvalidInput("hdm feel: give either --scenario NAME or --replay CSV (exactly one)");
   ScenarioOptions o;
-  o.scenario = parse_scenario(a.scenario);
+  if (!a.scenario.empty()) o.scenario = parse_scenario(a.scenario);
   o.mode = parse_render_mode(a.mode);
+  o.proxy.solver = parse_alpha_solver(a.solver);
   o.rate_hz = a.rate;
   o.proxy.force.stiffness = a.stiffness;
   o.proxy.force.damping = a.damping;
@@ -76,13 +79,21 @@ void run_feel(const FeelArgs& a) {
   o.speed_m_s = a.speed;
   o.press_force_n = a.press;
   o.keep_trace = !a.trace.empty();
-  const ScenarioReport r = run_scenario(model, locator, reference, o);
+  ScenarioReport r;
+  if (!a.replay.empty()) {
+    ReplayDevice device(a.replay);  // throws naming the file and line on bad rows
+    r = run_replay(model, locator, reference, device, o);
+  } else {
+    r = run_scenario(model, locator, reference, o);
+  }
   if (!a.trace.empty()) write_trace(a.trace, r);
   const nlohmann::json j = {{"model", a.model},
                             {"input", input},
                             {"scenario", r.scenario},
                             {"rate_hz", r.rate_hz},
                             {"mode", r.mode},
+                            {"solver", a.solver},
+                            {"replay", a.replay},
                             {"friction", a.friction},
                             {"ticks", r.ticks},
                             {"contact_ticks", r.contact_ticks},
@@ -134,7 +145,11 @@ void add_feel_command(CLI::App& app) {
   auto a = std::make_shared<FeelArgs>();
   CLI::App* cmd = app.add_subcommand("feel", "Score haptic rendering on a scripted scenario with a simulated hand");
   cmd->add_option("model", a->model, "slab model (.hdm)")->required();
-  cmd->add_option("--scenario", a->scenario, "slide, press, thin, edges or stiff")->required();
+  cmd->add_option("--scenario", a->scenario, "slide, press, thin, edges or stiff");
+  cmd->add_option("--replay", a->replay,
+                  "play this recorded trajectory (CSV with time_s,device_x_m,device_y_m,device_z_m, e.g. from --trace) "
+                  "instead of a scenario");
+  cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)");
   cmd->add_option("--rate", a->rate, "servo rate [Hz]")->check(CLI::Range(100.0, 1e6));
   cmd->add_option("--mode", a->mode, "proxy (god-object, default) or penalty (the paper's SCP)");
   cmd->add_option("--input", a->input, "input mesh for the exact reference (default: model.source)");

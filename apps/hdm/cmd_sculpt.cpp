@@ -25,7 +25,7 @@ namespace hdm::app {
 namespace {
 
 struct SculptArgs {
-  std::string model, script, output, forces, mode = "proxy";
+  std::string model, script, output, forces, mode = "proxy", solver = "newton";
   double rate = 1000, edit_rate = 10;
   bool fast = false, every_tick = false, json = false;
 };
@@ -72,7 +72,7 @@ void tick(void* user, const ServoTick& servo) noexcept {
     c = out.contact;
     force = out.force;
   } else {  // the paper's penalty force on the HIP's own query
-    c = query(*s.model, *s.locator, s.ws.to_model(dev), s.cache);
+    c = query(*s.model, *s.locator, s.ws.to_model(dev), s.cache, s.proxy.solver);
     force = penalty_force(c, vel, s.script->force, s.ws).force;
   }
   force *= servo.force_gain;  // ramp-in/out and the watchdog of the servo loop
@@ -141,6 +141,7 @@ void run_sculpt(const SculptArgs& a) {
   s.dt = 1.0 / a.rate;
   s.mode = parse_render_mode(a.mode);
   s.proxy.force = script.force;
+  s.proxy.solver = parse_alpha_solver(a.solver);
   s.edit_every = a.every_tick ? 1 : std::max<int64_t>(1, std::llround(a.rate / a.edit_rate));
   s.scratch = &scratch;
   s.records.resize(path.position.size());
@@ -164,6 +165,7 @@ void run_sculpt(const SculptArgs& a) {
                       {"target_rate_hz", a.rate},
                       {"realtime", !a.fast},
                       {"mode", a.mode},
+                      {"solver", a.solver},
                       {"query_ns", {{"median", q.median}, {"p99", q.p99}, {"max", q.max}}},
                       {"tick_ns", {{"median", st.compute_ns.median}, {"p99", st.compute_ns.p99}, {"max", st.compute_ns.max}}},
                       {"period_ns", {{"median", st.period_ns.median}, {"p99", st.period_ns.p99}, {"max", st.period_ns.max}}},
@@ -210,6 +212,8 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_flag("--edit-every-tick", a->every_tick, "apply edits on every tick");
   cmd->add_option("--mode", a->mode, "force model: proxy (god-object, default) or penalty (the paper's)")
       ->check(CLI::IsMember({"proxy", "penalty"}));
+  cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)")
+      ->check(CLI::IsMember({"newton", "bisection"}));
   cmd->add_option("--forces", a->forces, "write one CSV row per tick here");
   cmd->add_flag("--json", a->json, "print the summary as one JSON object");
   cmd->callback([a] { run_sculpt(*a); });

@@ -77,10 +77,19 @@ ReplayDevice::ReplayDevice(const std::string& path, DeviceSpec spec) : spec_(spe
       if (*p == ',') ++p;
     }
     if (v.size() < cols.size()) throw InvalidInput(path + ":" + std::to_string(no) + ": too few columns");
+    const std::string where = path + ":" + std::to_string(no) + ": ";
+    if (!std::isfinite(v[ct]) || !std::isfinite(v[cx]) || !std::isfinite(v[cy]) || !std::isfinite(v[cz]))
+      throw InvalidInput(where + "time or position is not a finite number");
+    if (!time_.empty() && v[ct] < time_.back()) throw InvalidInput(where + "time goes backwards");
     time_.push_back(v[ct]);
     position_.emplace_back(v[cx], v[cy], v[cz]);
   }
   if (position_.empty()) throw InvalidInput(path + ": no rows");
+}
+
+double ReplayDevice::rate_hz() const noexcept {
+  const double span = time_.back() - time_.front();
+  return position_.size() > 1 && span > 0 ? double(position_.size() - 1) / span : 0.0;
 }
 
 bool ReplayDevice::begin_frame(DeviceState& s) noexcept {

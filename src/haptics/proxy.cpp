@@ -34,9 +34,9 @@ bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Cont
 // Re-projects point @p x onto the displaced surface: locate it, then take the surface point on its
 // projection line. Returns false when x is in no slab, or in a slab that faces away.
 bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x, const Vec3& n_ref,
-               double min_cos, QueryCache& cache, Contact& out) noexcept {
+               double min_cos, AlphaSolver solver, QueryCache& cache, Contact& out) noexcept {
   SlabCoordinates c;
-  const int slab = locator.find(x, cache.last_slab, AlphaSolver::Newton, c);
+  const int slab = locator.find(x, cache.last_slab, solver, c);
   if (slab < 0) return false;
   if (!surface_at(model, slab, c, out)) return false;
   if (out.normal.dot(n_ref) < std::max(kMinNormalAgreement, min_cos)) return false;
@@ -68,7 +68,7 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
       // two positions every tick (seen on the armadillo: force flips of 3 N); the residual test
       // with halving turns it into a damped iteration. A strict descent on |target - proxy| was
       // tried and rejected: it made the proxy lag on curved parts, acting as friction.
-      if (reproject(model, locator, s.position + step, s.normal, min_cos, s.proxy_cache, c) &&
+      if (reproject(model, locator, s.position + step, s.normal, min_cos, p.solver, s.proxy_cache, c) &&
           tangential(target - c.surface_point, c.normal).norm() < residual) {
         s.slab = c.slab;
         s.coords = c.coords;
@@ -132,14 +132,14 @@ ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const
   if (!s.contact) {
     // Free: follow the HIP; look for the first penetration, sub-stepping a long free move so that a
     // jump across a thin part in one tick is still caught on the entry side.
-    Contact c = query(model, locator, hip, s.hip_cache);
+    Contact c = query(model, locator, hip, s.hip_cache, p.solver);
     if (!c.penetrating() && s.has_last_hip) {
       const double step = p.tunnel_step > 0 ? p.tunnel_step : 0.002 * model_diagonal(model);
       const double len = (hip - s.last_hip).norm();
       const int subs = std::min(p.max_tunnel_steps, static_cast<int>(std::ceil(len / step)));
       QueryCache sub_cache = s.hip_cache;
       for (int k = 1; k < subs; ++k) {
-        const Contact ck = query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache);
+        const Contact ck = query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache, p.solver);
         if (ck.penetrating()) {
           c = ck;
           break;
@@ -232,7 +232,7 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
   const Vec3 hip = ws.to_model(hip_device);
   s.last_hip = hip;
   s.has_last_hip = true;
-  const Contact c = query(model, locator, hip, s.hip_cache);
+  const Contact c = query(model, locator, hip, s.hip_cache, p.solver);
   const ForceSample f = penalty_force(c, velocity, p.force, ws);
   s.contact = c.penetrating();
   s.stuck = false;
@@ -250,6 +250,12 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
     out.normal_force = p.force.stiffness * c.ray_depth() / ws.scale;
   }
   return out;
+}
+
+AlphaSolver parse_alpha_solver(const std::string& name) {
+  if (name == "newton") return AlphaSolver::Newton;
+  if (name == "bisection") return AlphaSolver::Bisection;
+  throw InvalidInput("alpha-plane solver '" + name + "': expected newton or bisection");
 }
 
 RenderMode parse_render_mode(const std::string& name) {

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
+#include <hdm/haptics/scenario_sites.h>
 #include <hdm/haptics/scenarios.h>
 #include <hdm/haptics/servo_loop.h>
-
-#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <chrono>
@@ -14,7 +13,6 @@ namespace hdm {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-const Vec3 kUp = Vec3::UnitY();
 
 // ---- hand-target paths, device frame [m] -------------------------------------------------------
 
@@ -32,13 +30,6 @@ void hold(std::vector<Vec3>& out, double seconds, double rate) {
 // Constant-speed resampling of a polyline that starts at out.back().
 void polyline(std::vector<Vec3>& out, const std::vector<Vec3>& pts, double speed, double rate) {
   for (const Vec3& p : pts) line_to(out, p, speed, rate);
-}
-
-bool cast(const ExactMeshQuery& ref, const Vec3& from, const Vec3& to, Vec3& hit) {
-  const SegmentHit h = ref.first_hit(from, to);
-  if (h.face < 0) return false;
-  hit = from + h.t * (to - from);
-  return true;
 }
 
 struct Setup {
@@ -66,32 +57,6 @@ RefNormals vertex_normals(const TriangleMesh& m) {
   return r;
 }
 
-// The input's interpolated vertex normal at its closest point to p (model frame).
-Vec3 smooth_normal(const ExactMeshQuery& ref, const RefNormals& normals, const Vec3& p) {
-  const ClosestPoint cp = ref.closest_point(p);
-  const Tri& tri = ref.mesh().faces[cp.face];
-  const Vec3 &a = ref.mesh().vertices[tri[0]], &b = ref.mesh().vertices[tri[1]], &c = ref.mesh().vertices[tri[2]];
-  const Vec3 nn = (b - a).cross(c - a);
-  const double area = nn.squaredNorm();
-  if (!(area > 0)) return ref.face_normal(cp.face);
-  const double wb = (cp.point - a).cross(c - a).dot(nn) / area, wc = (b - a).cross(cp.point - a).dot(nn) / area;
-  return ((1 - wb - wc) * normals.vertex[tri[0]] + wb * normals.vertex[tri[1]] + wc * normals.vertex[tri[2]])
-      .normalized();
-}
-
-// Surface points under a curve: for each parameter, cast along -dir from outside the box.
-// Each point is pushed in along the input's smooth normal by @p depth [m] (the hand's offset).
-std::vector<Vec3> surface_curve(const ExactMeshQuery& ref, const RefNormals& normals, const Setup& s,
-                                const std::vector<Vec3>& starts, const Vec3& dir, double depth) {
-  std::vector<Vec3> pts;
-  for (const Vec3& a : starts) {
-    Vec3 hit;
-    if (cast(ref, a, a + dir * (3 * s.diag), hit))
-      pts.push_back(s.ws.to_device(hit) - depth * smooth_normal(ref, normals, hit));
-  }
-  return pts;
-}
-
 // ---- scoring ----------------------------------------------------------------------------------
 
 double angle_deg(const Vec3& a, const Vec3& b) {
@@ -110,8 +75,11 @@ struct RunFlags {
   bool score_normals = true;
 };
 
-ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
-                        const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags) {
+// Runs @p n ticks of @p dev against the renderer and scores them. The device is closed-loop
+// (simulated hand) or open-loop (replay); either way the force is scored on the motion it gets.
+ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                         const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags,
+                         HapticDevice& dev, int64_t n) {
   ScenarioReport r;
   r.scenario = scenario_name(o.scenario);
   r.mode = o.mode == RenderMode::Proxy ? "proxy" : "penalty";
@@ -120,27 +88,24 @@ ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, cons
   r.note = s.note;
   ProxyParams pp = o.proxy;
   if (!o.friction) pp.friction_scale = 0;
-  SimulatedDeviceOptions dopt = o.device;
-  dopt.rate_hz = o.rate_hz;
-  dopt.spec.max_force_n = pp.force.max_force;
-  SimulatedDevice dev(dopt, s.targets, s.targets.front());
   ProxyState st;
 
-  const int64_t n = static_cast<int64_t>(s.targets.size());
   std::vector<double> tick_ns(n), nerr, nerr_smooth, steady_force;
   nerr.reserve(n);
   nerr_smooth.reserve(n);
   steady_force.reserve(n);
   if (o.keep_trace) r.trace.reserve(n);
-  Vec3 f_prev = Vec3::Zero(), x_prev = s.targets.front(), hip_prev = s.ws.to_model(x_prev);
+  Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero();
   double returned = 0, absorbed = 0, force_sum = 0;
   int prev_slab = -1;
   const double max_f = pp.force.max_force;
   using clock = std::chrono::steady_clock;
 
-  for (int64_t k = 0; k < n; ++k) {
+  int64_t k = 0;
+  for (; k < n; ++k) {
     DeviceState ds;
-    dev.begin_frame(ds);
+    if (!dev.begin_frame(ds)) break;
+    if (k == 0) x_prev = ds.position, hip_prev = s.ws.to_model(ds.position);
     const auto t0 = clock::now();
     const ProxyOutput out = render_step(o.mode, model, locator, s.ws, ds.position, ds.velocity, pp, st);
     const auto t1 = clock::now();
@@ -210,7 +175,8 @@ ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, cons
     x_prev = x;
     hip_prev = hip;
   }
-  r.ticks = n;
+  r.ticks = k;
+  tick_ns.resize(k);
   r.energy_ratio = absorbed > 0 ? returned / absorbed : 0;
   r.mean_contact_force_n = r.contact_ticks > 0 ? force_sum / r.contact_ticks : 0;
   r.normal_error_p95_deg = p95(nerr);
@@ -227,6 +193,16 @@ ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, cons
   r.tick_ns_p99 = ls.p99;
   r.tick_ns_max = ls.max;
   return r;
+}
+
+// The closed loop: a simulated hand follows the setup's targets.
+ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                        const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags) {
+  SimulatedDeviceOptions dopt = o.device;
+  dopt.rate_hz = o.rate_hz;
+  dopt.spec.max_force_n = o.proxy.force.max_force;
+  SimulatedDevice dev(dopt, s.targets, s.targets.front());
+  return score_run(model, locator, ref, normals, o, s, flags, dev, static_cast<int64_t>(s.targets.size()));
 }
 
 // ---- scenario geometry ----------------------------------------------------------------------
@@ -265,114 +241,77 @@ double length(const std::vector<Vec3>& pts) {
   return len;
 }
 
-// Stroke over the back (the smooth top between the rump and the neck), toward the head at -X.
-void slide_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s) {
-  std::vector<Vec3> starts;
-  const double z = 0.5 * (s.box.min.z() + s.box.max.z());
-  for (int i = 0; i <= 200; ++i) {
-    const double x = s.box.min.x() + (0.85 - 0.37 * i / 200.0) * s.size.x();
-    starts.emplace_back(x, s.box.max.y() + 0.05 * s.diag, z);
-  }
-  std::vector<Vec3> pts = surface_curve(ref, nr, s, starts, -kUp, press_offset(o, o.press_force_n));
-  std::vector<Vec3> lifted = surface_curve(ref, nr, s, starts, -kUp, -0.01);
-  if (pts.size() < 10) throw InvalidInput("slide: the stroke does not reach the model's top surface");
+// Hand targets [m] under surface points: pressed in along the interpolated normal by @p depth [m]
+// (negative: lifted off).
+std::vector<Vec3> targets_under(const Setup& s, const std::vector<SurfacePoint>& pts, double depth) {
+  std::vector<Vec3> out;
+  out.reserve(pts.size());
+  for (const SurfacePoint& p : pts) out.push_back(s.ws.to_device(p.point) - depth * p.normal);
+  return out;
+}
+
+// Stroke over the smoothest exposed stretch of the input, there and back.
+void slide_path(const ScenarioSites& sites, const ScenarioOptions& o, Setup& s) {
+  const SurfaceStroke st = sites.slide_stroke();
+  std::vector<Vec3> pts = targets_under(s, st.points, press_offset(o, o.press_force_n));
+  std::vector<Vec3> lifted = targets_under(s, st.points, -0.01);
+  const double one_way = length(pts);
   pts.insert(pts.end(), pts.rbegin(), pts.rend());  // there and back
   std::reverse(lifted.begin(), lifted.end());
   stroke(o, s, pts, lifted, o.speed_m_s);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "stroke over the back toward -X and back, %.1f cm at %.0f mm/s, hand pressing %.2f N along -n",
-                100 * length(pts), 1e3 * o.speed_m_s, o.press_force_n);
+  const Vec3& a = st.points.front().point;
+  char buf[240];
+  std::snprintf(buf, sizeof buf,
+                "stroke from (%.4g, %.4g, %.4g) and back, %.1f cm each way at %.0f mm/s, hand pressing %.2f N along -n; "
+                "input roughness p95 %.1f deg, bend %.1f deg",
+                a.x(), a.y(), a.z(), 100 * one_way, 1e3 * o.speed_m_s, o.press_force_n, st.roughness_deg, st.bend_deg);
   s.note = buf;
 }
 
-void press_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s,
-                double hand_force, double hold_s) {
-  const Vec3 a(s.box.min.x() + 0.6 * s.size.x(), s.box.max.y() + 0.05 * s.diag, 0.5 * (s.box.min.z() + s.box.max.z()));
-  const std::vector<Vec3> in = surface_curve(ref, nr, s, {a}, -kUp, press_offset(o, hand_force));
-  const std::vector<Vec3> out = surface_curve(ref, nr, s, {a}, -kUp, -0.01);
-  if (in.empty()) throw InvalidInput("press: no surface under the press point");
-  s.targets.push_back(out.front());
-  line_to(s.targets, in.front(), 0.02, o.rate_hz);
+void press_path(const SurfacePoint& spot, const ScenarioOptions& o, Setup& s, double hand_force, double hold_s) {
+  const Vec3 p = s.ws.to_device(spot.point);
+  const Vec3 in = p - press_offset(o, hand_force) * spot.normal, out = p + 0.01 * spot.normal;
+  s.targets.push_back(out);
+  line_to(s.targets, in, 0.02, o.rate_hz);
   s.steady_begin = static_cast<int64_t>(s.targets.size() + 0.5 * hold_s * o.rate_hz);
   hold(s.targets, hold_s, o.rate_hz);
   s.steady_end = static_cast<int64_t>(s.targets.size());
-  line_to(s.targets, out.front(), 0.02, o.rate_hz);
+  line_to(s.targets, out, 0.02, o.rate_hz);
   hold(s.targets, 0.05, o.rate_hz);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "press on the back along -n, hand up to %.2f N, hold %.2f s", hand_force, hold_s);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "press at (%.4g, %.4g, %.4g) along -n, hand up to %.2f N, hold %.2f s",
+                spot.point.x(), spot.point.y(), spot.point.z(), hand_force, hold_s);
   s.note = buf;
 }
 
-void edges_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s) {
-  const Vec3 dir = -Vec3::UnitZ();
-  const double cx = s.box.min.x() + 0.55 * s.size.x(), cy = s.box.min.y() + 0.4 * s.size.y();
-  const double rad = 0.15 * std::min(s.size.x(), s.size.y());
-  std::vector<Vec3> starts;
-  for (int i = 0; i <= 256; ++i) {
-    const double a = 2 * kPi * i / 256;
-    starts.emplace_back(cx + rad * std::cos(a), cy + rad * std::sin(a), s.box.max.z() + 0.05 * s.diag);
-  }
-  const std::vector<Vec3> pts = surface_curve(ref, nr, s, starts, dir, press_offset(o, o.press_force_n));
-  const std::vector<Vec3> lifted = surface_curve(ref, nr, s, starts, dir, -0.01);
-  if (pts.size() < 32) throw InvalidInput("edges: the circle does not reach the model's side");
+void edges_path(const SurfaceStroke& st, const ScenarioOptions& o, Setup& s) {
+  const std::vector<Vec3> pts = targets_under(s, st.points, press_offset(o, o.press_force_n));
+  const std::vector<Vec3> lifted = targets_under(s, st.points, -0.01);
   stroke(o, s, pts, lifted, o.speed_m_s);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "circle on the +Z side, %.1f cm at %.0f mm/s, hand pressing %.2f N along -n",
-                100 * length(pts), 1e3 * o.speed_m_s, o.press_force_n);
+  const Vec3& a = st.points.front().point;
+  char buf[240];
+  std::snprintf(buf, sizeof buf,
+                "two-turn spiral round the slab corner near (%.4g, %.4g, %.4g), %.1f cm at %.0f mm/s, hand pressing "
+                "%.2f N along -n; %d slab crossings on the input, roughness p95 %.1f deg",
+                a.x(), a.y(), a.z(), 100 * length(pts), 1e3 * o.speed_m_s, o.press_force_n, st.slab_crossings,
+                st.roughness_deg);
   s.note = buf;
 }
 
-// The ear: the highest region of the model along +Y; its thickness direction is the smallest
-// principal axis of the vertices near the top; push through it along that axis.
-void thin_path(const ExactMeshQuery& ref, const RefNormals& nr, const ScenarioOptions& o, Setup& s) {
-  const auto& V = ref.mesh().vertices;
-  int top = 0;
-  for (int i = 0; i < static_cast<int>(V.size()); ++i)
-    if (V[i].y() > V[top].y()) top = i;
-  // A horizontal slice of the ear at 60 % of the way up from the slice top - 0.2·height to the tip,
-  // near the top vertex: its centroid is inside the ear, and its minor axis in the XZ plane is
-  // the ear's thickness direction.
-  const double r = 0.1 * s.diag, y_mid = V[top].y() - 0.08 * s.size.y(), band = 0.01 * s.size.y();
-  Eigen::Vector2d c2 = Eigen::Vector2d::Zero();
-  int cnt = 0;
-  auto in_slice = [&](const Vec3& v) {
-    return std::abs(v.y() - y_mid) < band && Eigen::Vector2d(v.x() - V[top].x(), v.z() - V[top].z()).norm() < r;
-  };
-  for (const Vec3& v : V)
-    if (in_slice(v)) c2 += Eigen::Vector2d(v.x(), v.z()), ++cnt;
-  if (cnt < 10) throw InvalidInput("thin: too few vertices in a slice below the top of the model");
-  c2 /= cnt;
-  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-  for (const Vec3& v : V)
-    if (in_slice(v)) {
-      const Eigen::Vector2d d(v.x() - c2.x(), v.z() - c2.y());
-      cov += d * d.transpose();
-    }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-  const Eigen::Vector2d minor = es.eigenvectors().col(0);
-  const Vec3 c(c2.x(), y_mid, c2.y()), axis = Vec3(minor.x(), 0, minor.y()).normalized();
-  std::vector<SegmentHit> hits;
-  ref.segment_hits(c + axis * s.diag, c - axis * s.diag, hits);
-  if (hits.size() < 2) throw InvalidInput("thin: the line across the ear does not cross it");
-  // Push along the input's normal at the entry point, so a frictionless surface does not deflect
-  // the hand sideways; the exit is where that line leaves the ear.
-  const Vec3 in = c + axis * s.diag + hits[0].t * (-2 * axis * s.diag);
-  const Vec3 n_in = smooth_normal(ref, nr, in);
-  ref.segment_hits(in + n_in * 0.01 * s.diag, in - n_in * 0.2 * s.diag, hits);
-  if (hits.size() < 2) throw InvalidInput("thin: the push line does not cross the ear");
-  const Vec3 a = in + n_in * 0.01 * s.diag, b = in - n_in * 0.2 * s.diag;
-  const Vec3 out = a + hits[1].t * (b - a);
-  const Vec3 in_d = s.ws.to_device(a + hits[0].t * (b - a)), out_d = s.ws.to_device(out), u = -n_in;
+// Push through the thinnest sheet along its entry normal, so that a frictionless surface does not
+// deflect the hand sideways, until the hand alone would apply max force with the handle at the far side.
+void thin_path(const ThinSite& site, const ScenarioOptions& o, Setup& s) {
+  const Vec3 in_d = s.ws.to_device(site.entry.point), out_d = s.ws.to_device(site.exit), u = -site.entry.normal;
   s.targets.push_back(in_d - u * 0.01);
-  // Push until the hand alone would apply max force with the handle at the far side.
   line_to(s.targets, out_d + u * (o.proxy.force.max_force / o.device.hand_stiffness), 0.02, o.rate_hz);
   s.steady_begin = static_cast<int64_t>(s.targets.size());
   hold(s.targets, 0.3, o.rate_hz);
   s.steady_end = static_cast<int64_t>(s.targets.size());
   line_to(s.targets, in_d - u * 0.01, 0.02, o.rate_hz);
   hold(s.targets, 0.05, o.rate_hz);
+  const Vec3& in = site.entry.point;
   char buf[200];
-  std::snprintf(buf, sizeof buf, "ear at (%.4g, %.4g, %.4g), %.2f mm thick at the device, pushed along (%.2f, %.2f, %.2f)",
+  std::snprintf(buf, sizeof buf, "thinnest sheet at (%.4g, %.4g, %.4g), %.2f mm thick at the device, pushed along (%.2f, %.2f, %.2f)",
                 in.x(), in.y(), in.z(), 1e3 * (out_d - in_d).norm(), u.x(), u.y(), u.z());
   s.note = buf;
 }
@@ -402,23 +341,26 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
   Setup s = base_setup(ref, o);
   RunFlags flags;
   const RefNormals normals = vertex_normals(ref.mesh());
+  const ScenarioSites sites(ref);
   switch (o.scenario) {
-    case Scenario::Slide: slide_path(ref, normals, o, s); break;
-    case Scenario::Press: press_path(ref, normals, o, s, 1.2 * o.proxy.force.max_force, 0.3); break;
-    case Scenario::Thin: thin_path(ref, normals, o, s); break;
-    case Scenario::Edges: edges_path(ref, normals, o, s); break;
+    case Scenario::Slide: slide_path(sites, o, s); break;
+    case Scenario::Press: press_path(sites.press_spot(), o, s, 1.2 * o.proxy.force.max_force, 0.3); break;
+    case Scenario::Thin: thin_path(sites.thin_site(model, locator), o, s); break;
+    case Scenario::Edges: edges_path(sites.edges_spiral(model, locator), o, s); break;
     case Scenario::Stiff: {
       // Sweep stiffness in 1 dB-like steps (×10^0.1); stable = the held force settles (std/mean < 5 %)
       // and the contact returns no more energy than it absorbed (Colgate & Schenkel's passivity).
       flags.score_normals = false;
       double best = 0, passive = 0;
       ScenarioReport best_report;
+      const SurfacePoint spot = sites.press_spot();
       for (int i = 0; i < 80; ++i) {
         ScenarioOptions oi = o;
         oi.proxy.force.stiffness = 200 * std::pow(10.0, 0.1 * i);
         Setup si = base_setup(ref, oi);
-        press_path(ref, normals, oi, si, 1.5, 0.3);
+        press_path(spot, oi, si, 1.5, 0.3);
         const ScenarioReport ri = simulate(model, locator, ref, nullptr, oi, si, flags);
+
         const bool stable = ri.force_cv < 0.05 && ri.pop_throughs == 0 && ri.energy_ratio < 2;
         if (stable && ri.energy_ratio <= 1.0 && best == passive) passive = oi.proxy.force.stiffness;
         if (stable) {
@@ -437,6 +379,21 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
     }
   }
   return simulate(model, locator, ref, &normals, o, s, flags);
+}
+
+ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                          ReplayDevice& device, const ScenarioOptions& options) {
+  ScenarioOptions o = options;
+  o.rate_hz = device.rate_hz();
+  if (!(o.rate_hz > 0)) throw InvalidInput("replay: the trajectory needs at least two rows with increasing time");
+  Setup s = base_setup(ref, o);
+  s.steady_begin = 0;
+  s.steady_end = static_cast<int64_t>(device.size());
+  s.note = "replay of a recorded trajectory (open loop: the handle does not respond to the force)";
+  const RefNormals normals = vertex_normals(ref.mesh());
+  ScenarioReport r = score_run(model, locator, ref, &normals, o, s, RunFlags{}, device, static_cast<int64_t>(device.size()));
+  r.scenario = "replay";
+  return r;
 }
 
 }  // namespace hdm

@@ -3,6 +3,8 @@
 // radial direction), never the slab code's own output.
 #include "haptics/haptics_fixtures.h"
 
+#include <hdm/core/error.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,9 +29,11 @@ Vec3 dev(const Vec3& model) { return sphere().ws.to_device(model); }
 // The proxy stays on the displaced surface (exactly, through evaluate_surface at its own
 // coordinates) and on the analytic sphere (within the bake's fidelity), and the frictionless force
 // is radial, while the HIP slides 1 mm deep along a quarter great circle crossing many slab edges.
-TEST(Proxy, StaysOnSurfaceAndForceIsRadialWhileSliding) {
+// Both alpha-plane solvers (the paper's 15-step bisection resolves α to 2^-15 of the shell).
+void slide_on_sphere(AlphaSolver solver) {
   const auto& S = sphere();
-  const ProxyParams p = sphere_params();
+  ProxyParams p = sphere_params();
+  p.solver = solver;
   ProxyState st;
   const int n = 4000;
   std::vector<double> angles;
@@ -57,6 +61,15 @@ TEST(Proxy, StaysOnSurfaceAndForceIsRadialWhileSliding) {
   std::sort(angles.begin(), angles.end());
   EXPECT_LT(angles[angles.size() * 95 / 100], 3.0) << "p95 force direction vs the analytic normal [deg]";
   EXPECT_LT(angles.back(), 6.0);
+}
+
+TEST(Proxy, StaysOnSurfaceAndForceIsRadialWhileSliding) { slide_on_sphere(AlphaSolver::Newton); }
+TEST(Proxy, StaysOnSurfaceAndForceIsRadialWhileSlidingWithBisection) { slide_on_sphere(AlphaSolver::Bisection); }
+
+TEST(Proxy, ParsesSolverNames) {
+  EXPECT_EQ(parse_alpha_solver("newton"), AlphaSolver::Newton);
+  EXPECT_EQ(parse_alpha_solver("bisection"), AlphaSolver::Bisection);
+  EXPECT_THROW(parse_alpha_solver("secant"), InvalidInput);
 }
 
 // Pushing far past the shell's inner face keeps the contact (the HIP's own query finds no slab

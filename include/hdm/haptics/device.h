@@ -112,7 +112,8 @@ class ReplayDevice final : public HapticDevice {
  public:
   /// @brief Loads @p csv_path (all rows read here, so frames never do I/O).
   /// @throws IoError when the file cannot be read; InvalidInput when the header lacks the
-  /// position columns or a row is malformed (naming the line).
+  /// position columns, a row is malformed, a time or position is not finite (NaN, inf) or the
+  /// time goes backwards (each naming the file and line).
   explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {});
   /// Next recorded row (velocity by backward difference); false after the last one. noexcept, O(1).
   bool begin_frame(DeviceState& state) noexcept override;
@@ -122,6 +123,8 @@ class ReplayDevice final : public HapticDevice {
   DeviceSpec spec() const noexcept override { return spec_; }
   /// Number of recorded ticks.
   size_t size() const noexcept { return position_.size(); }
+  /// Mean tick rate of the recording [Hz]: (rows - 1) / recorded duration; 0 for one row or no duration.
+  double rate_hz() const noexcept;
   /// Last commanded force [N].
   const Vec3& last_force() const noexcept { return last_force_; }
 

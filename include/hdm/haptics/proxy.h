@@ -31,6 +31,7 @@ struct ProxyParams {
   double tunnel_step = 0.0;          ///< free-space sub-step [model units] to catch a HIP that jumps across a
                                      ///< thin part in one tick; 0: 0.002 × the model's source diagonal
   int max_tunnel_steps = 16;         ///< cap on free-space sub-steps per tick
+  AlphaSolver solver = AlphaSolver::Newton;  ///< alpha-plane root finder of every slab lookup (paper: Bisection)
 };
 
 /// Status of one proxy tick.
@@ -120,6 +121,10 @@ inline ProxyOutput render_step(RenderMode mode, const SlabModel& model, const Sl
   return mode == RenderMode::Proxy ? proxy_step(model, locator, ws, hip_device, velocity, params, state)
                                    : penalty_step(model, locator, ws, hip_device, velocity, params, state);
 }
+
+/// @brief Parses "newton" or "bisection" (the alpha-plane root finder, hdm::AlphaSolver).
+/// @throws InvalidInput for any other name, naming it.
+AlphaSolver parse_alpha_solver(const std::string& name);
 
 /// @brief Parses "proxy" or "penalty".
 /// @throws InvalidInput for any other name.

@@ -16,11 +16,14 @@ namespace hdm {
 
 /// The scenarios of `hdm feel`.
 enum class Scenario : uint8_t {
-  Slide,  ///< stroke across the top of the model at `speed_m_s`, the hand pressing with `press_force_n`
-  Press,  ///< push straight into a thick part until the hand pushes with 1.2 × max force, hold, release
-  Thin,   ///< push through the thinnest high part (the bunny's ear: the top of the model along +Y) with max force
-  Edges,  ///< circle on the side (+Z) of the model, crossing many slab edges and corners at constant force
-  Stiff,  ///< the highest stiffness [N/m] whose press-and-hold stays stable at the rate
+  Slide,  ///< there and back along the smoothest exposed stroke (ScenarioSites::slide_stroke) at `speed_m_s`,
+          ///< the hand pressing with `press_force_n`
+  Press,  ///< push along -n into the thickest smooth spot (ScenarioSites::press_spot) until the hand pushes
+          ///< with 1.2 × max force, hold, release
+  Thin,   ///< push through the thinnest sheet reachable from outside (ScenarioSites::thin_site) with max force
+  Edges,  ///< two-turn spiral round a slab corner (ScenarioSites::edges_spiral), crossing its slab edges and
+          ///< passing the neighbouring corners at constant force
+  Stiff,  ///< the highest stiffness [N/m] whose press-and-hold (at the press spot) stays stable at the rate
 };
 
 /// @brief Parses slide, press, thin, edges or stiff. @throws InvalidInput otherwise.
@@ -28,7 +31,7 @@ Scenario parse_scenario(const std::string& name);
 /// Name of @p s.
 const char* scenario_name(Scenario s) noexcept;
 
-/// Settings of a scenario run. Geometry is in the model frame with +Y up.
+/// Settings of a scenario run. Paths are found on the exact input (model frame, any orientation).
 struct ScenarioOptions {
   Scenario scenario = Scenario::Slide;
   RenderMode mode = RenderMode::Proxy;
@@ -85,5 +88,17 @@ struct ScenarioReport {
 ///       tick loop (and in the Stiff search, between runs). Each tick is hdm::render_step, timed.
 ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
                             const ScenarioOptions& options);
+
+/// @brief Plays a recorded trajectory (open loop) through the renderer and scores it like a
+/// scenario: pop-throughs, force steps, normal error against @p reference, energy.
+/// @param device   the recording, positions in the device frame of hdm::fit_workspace(bounds of
+///                 @p reference, options.workspace_m) (what `hdm feel --trace` writes; a CSV of
+///                 `hdm sculpt --forces` uses the slab model's box, a few per cent larger).
+/// @param options  mode, proxy parameters, friction and workspace; the rate is the recording's.
+/// @return the report, scenario "replay"; ticks = rows played.
+/// @throws InvalidInput when the recording has fewer than two rows or no duration.
+/// @note Allocates only before the tick loop; each tick is hdm::render_step, timed.
+ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
+                          ReplayDevice& device, const ScenarioOptions& options);
 
 }  // namespace hdm

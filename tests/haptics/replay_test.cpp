@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+// Replay (`hdm feel --replay`): a recorded trajectory is played open loop through the renderer and
+// scored against the exact input; bad recordings are refused with the file and line named.
+#include "support/test_models.h"
+
+#include <hdm/core/error.h>
+#include <hdm/haptics/scenario_sites.h>
+#include <hdm/haptics/scenarios.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace hdm {
+namespace {
+
+std::string temp_csv(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / name).string();
+}
+
+// A straight press 2 mm deep along the input's normal, held: the proxy force is k·2 mm along the
+// exact input normal (k = 1000 N/m, frictionless), with no pop-through.
+TEST(Replay, PressIsScoredAgainstTheInput) {
+  const SlabModel& model = test::baked_bunny(150, 16);
+  const SlabLocator locator(model);
+  const ExactMeshQuery reference(test::bunny());
+  const SurfacePoint spot = ScenarioSites(reference).press_spot();
+  const Workspace ws = fit_workspace(bounds(test::bunny()), 0.16);
+  const Vec3 p = ws.to_device(spot.point), n = spot.face_normal;
+  const std::string path = temp_csv("hdm_replay_press.csv");
+  const int ramp = 400, hold = 200;
+  {
+    std::ofstream f(path);
+    f << "time_s,device_x_m,device_y_m,device_z_m\n";
+    for (int k = 0; k < ramp + hold; ++k) {
+      const double depth = -0.005 + 0.007 * std::min(1.0, double(k) / ramp);  // 5 mm out to 2 mm in
+      const Vec3 x = p - n * depth;
+      char line[128];
+      std::snprintf(line, sizeof line, "%.6f,%.9f,%.9f,%.9f\n", k * 1e-3, x.x(), x.y(), x.z());
+      f << line;
+    }
+  }
+  ReplayDevice device(path);
+  ScenarioOptions o;
+  const ScenarioReport r = run_replay(model, locator, reference, device, o);
+  std::filesystem::remove(path);
+  EXPECT_EQ(r.scenario, "replay");
+  EXPECT_EQ(r.ticks, ramp + hold);
+  EXPECT_NEAR(r.rate_hz, 1000, 1e-6);
+  EXPECT_EQ(r.pop_throughs, 0);
+  EXPECT_NEAR(r.max_force_n, 1000 * 0.002, 0.3) << "k x 2 mm, within the bake's surface error";
+  EXPECT_LT(r.normal_error_p95_deg, 10.0) << "force along the exact input normal";
+  EXPECT_LE(r.energy_ratio, 1.0) << "a press and hold returns no energy";
+}
+
+TEST(Replay, RefusesBadRecordingsNamingFileAndLine) {
+  const std::string path = temp_csv("hdm_replay_bad.csv");
+  auto expect_refused = [&](const std::string& body, const std::string& reason) {
+    {
+      std::ofstream f(path);
+      f << "time_s,device_x_m,device_y_m,device_z_m\n" << body;
+    }
+    try {
+      ReplayDevice d(path);
+      ADD_FAILURE() << "accepted: " << reason;
+    } catch (const InvalidInput& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(path + ":3"), std::string::npos) << what;
+      EXPECT_NE(what.find(reason), std::string::npos) << what;
+    }
+  };
+  expect_refused("0,0,0,0\n0.001,nan,0,0\n", "not a finite number");
+  expect_refused("0,0,0,0\n0.001,0,inf,0\n", "not a finite number");
+  expect_refused("0.002,0,0,0\n0.001,0,0,0\n", "time goes backwards");
+  expect_refused("0,0,0,0\n0.001,0,x,0\n", "malformed number");
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace hdm
