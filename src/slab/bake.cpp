@@ -192,24 +192,39 @@ VertexFrame vertex_frames(const Coarse& c, int smoothing) {
 // Move such vertices towards the centroid of their one-ring until every star is visible from one
 // direction; the displacement map records the input surface wherever the vertex goes.
 void untangle(Coarse& c) {
-  for (int it = 0; it < 20; ++it) {
+  const size_t nv = c.vertices.size();
+  std::vector<uint8_t> region(nv);
+  for (int it = 0; it < 60; ++it) {
     const VertexFrame fr = vertex_frames(c, 0);
-    bool moved = false;
-    for (size_t v = 0; v < c.vertices.size(); ++v) {
+    // A vertex needs moving when its best direction sees some incident face at a grazing angle or
+    // not at all. Moving it alone cannot help when its neighbours are folded too, so the one-ring
+    // moves with it (a local Laplacian step, Jacobi order).
+    std::fill(region.begin(), region.end(), uint8_t(0));
+    bool any = false;
+    for (size_t v = 0; v < nv; ++v) {
       double worst = 2;
       for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
         worst = std::min(worst, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
-      if (worst > 0.03) continue;
+      if (worst > 0.1) continue;
+      any = true;
+      region[v] = 2;
+      if (it >= 10)  // the vertex alone first; its ring too when that was not enough
+        for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+          for (int32_t u : c.faces[fr.faces[k]]) region[u] = std::max<uint8_t>(region[u], 1);
+    }
+    if (!any) return;
+    std::vector<Vec3> next = c.vertices;
+    for (size_t v = 0; v < nv; ++v) {
+      if (!region[v]) continue;
       Vec3 centroid = Vec3::Zero();
       int count = 0;
       for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
         for (int32_t u : c.faces[fr.faces[k]])
           if (u != static_cast<int32_t>(v)) centroid += c.vertices[u], ++count;
-      if (count == 0) continue;
-      c.vertices[v] = 0.5 * (c.vertices[v] + centroid / count);
-      moved = true;
+      const double step = region[v] == 2 || it < 10 ? 0.5 : 0.25;  // the ring follows gently
+      if (count) next[v] = (1 - step) * c.vertices[v] + step * centroid / count;
     }
-    if (!moved) return;
+    c.vertices = std::move(next);
   }
 }
 
