@@ -3,7 +3,7 @@
 # table (docs/figures.md). Usage: scripts/bake_table.sh [extra bake arguments...]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-hdm="$here/build/bin/hdm"
+hdm="${HDM:-$here/build/bin/hdm}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 echo "| model | slabs | n | input tris | submesh tris | bake s | misses | invalid | overlapping pairs | undercut cols | RMS % | max % | RMS back % | max back % | contact agreement | depth RMS % | depth max % |"
@@ -26,6 +26,7 @@ PY
 for m in bunny00.off armadillo.off refined_elephant.off lion-head.off; do run "$m" "$@"; done
 if [ $# -eq 0 ]; then
   run bunny00.off --slabs 150 --grid 15
-  run bunny00.off --slabs 1200 --grid 8
-  run bunny00.off --slabs 5000 --grid 4
+  run bunny00.off --density 1
+  run bunny00.off --density 1 --grid 8
+  run bunny00.off --density 2.25 --grid 12
 fi
