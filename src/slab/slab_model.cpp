@@ -65,18 +65,62 @@ void update_positions(SlabModel& model, const int32_t* samples, size_t count) no
   for (size_t k = 0; k < count; ++k) model.positions[samples[k]] = sample_position(model, samples[k]).cast<float>();
 }
 
+namespace {
+
+// Stores the unit normal of sample s from its area-weighted sum, in `normals` and in every slab
+// copy of the sample (with its current displacement).
+inline void store_normal(SlabModel& m, int32_t s, const Vec3f& sum, bool copy) noexcept {
+  const float len = sum.norm();
+  const Vec3f n = len > 0 ? Vec3f(sum / len) : Vec3f(0, 0, 1);
+  m.normals[s] = n;
+  if (!copy) return;
+  const SlabSample v{m.displacement[s], {n[0], n[1], n[2]}};
+  m.samples.for_each_slot(s, [&](int32_t slot) { m.slab_samples[slot] = v; });
+}
+
+inline Vec3f face_normal(const SlabModel& m, const Tri& t) noexcept {
+  const Vec3f& a = m.positions[t[0]];
+  return (m.positions[t[1]] - a).cross(m.positions[t[2]] - a);  // area-weighted
+}
+
+}  // namespace
+
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept {
   const SampleLayout& L = model.samples;
+  const bool copy = model.slab_samples.size() == L.ids.size();
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
+    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e)
+      sum += face_normal(model, L.triangles[L.incident_triangles[e]]);
+    store_normal(model, s, sum, copy);
+  }
+}
+
+FaceNormalCache::FaceNormalCache(const SlabModel& model)
+    : stamp(model.samples.triangles.size(), 0), face(model.samples.triangles.size()) {}
+
+void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache) noexcept {
+  const SampleLayout& L = model.samples;
+  const bool copy = model.slab_samples.size() == L.ids.size();
+  if (++cache.current == 0) {  // wrapped: forget every memo once every 2³² calls
+    std::fill(cache.stamp.begin(), cache.stamp.end(), 0u);
+    cache.current = 1;
+  }
+  const uint32_t now = cache.current;
+  for (size_t k = 0; k < count; ++k) {
+    const int32_t s = samples[k];
+    Vec3f sum = Vec3f::Zero();
+    // Same triangles in the same order as the overload above: the same sum, bit for bit.
     for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
-      const Tri& t = L.triangles[L.incident_triangles[e]];
-      const Vec3f& a = model.positions[t[0]];
-      sum += (model.positions[t[1]] - a).cross(model.positions[t[2]] - a);  // area-weighted
+      const int32_t f = L.incident_triangles[e];
+      if (cache.stamp[f] != now) {
+        cache.stamp[f] = now;
+        cache.face[f] = face_normal(model, L.triangles[f]);
+      }
+      sum += cache.face[f];
     }
-    const float len = sum.norm();
-    model.normals[s] = len > 0 ? Vec3f(sum / len) : Vec3f(0, 0, 1);
+    store_normal(model, s, sum, copy);
   }
 }
 
@@ -156,10 +200,12 @@ void rebuild_derived(SlabModel& m) {
 
   m.positions.resize(ns);
   m.normals.resize(ns);
+  m.slab_samples.resize(m.samples.ids.size());
   std::vector<int32_t> all(ns);
   for (size_t s = 0; s < ns; ++s) all[s] = static_cast<int32_t>(s);
   update_positions(m, all.data(), ns);
-  update_normals(m, all.data(), ns);
+  FaceNormalCache faces(m);
+  update_normals(m, all.data(), ns, faces);  // also fills slab_samples
 }
 
 void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces) {

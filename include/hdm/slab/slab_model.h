@@ -25,6 +25,14 @@ struct SlabGeometry {
   Aabb box;                   ///< box of the six corners: contains the whole slab
 };
 
+/// One grid point of a slab as the haptic query reads it: the displacement and the unit normal of
+/// its sample, side by side (16 bytes), so a grid cell's three points are one or two cache lines of
+/// one slab's block instead of six loads from two sample-indexed arrays.
+struct SlabSample {
+  float delta;  ///< displacement δ in [0,1] (copy of SlabModel::displacement)
+  float n[3];   ///< unit normal (copy of SlabModel::normals)
+};
+
 /// A baked slab model.
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
@@ -54,6 +62,10 @@ struct SlabModel {
   std::vector<SlabGeometry> geometry;               ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> vertex_slab_offsets, vertex_slabs;  ///< CSR coarse vertex -> slabs
+  /// #S·samples.per_slab: slab-major copy of `displacement` and `normals`, in grid::index order
+  /// within a slab (slot slab·per_slab + index holds sample samples.ids[slot]). What the query
+  /// interpolates; update_normals() keeps it in sync with `displacement` and `normals`.
+  std::vector<SlabSample> slab_samples;
 
   /// Number of slabs.
   int slab_count() const noexcept { return static_cast<int>(slabs.size()); }
@@ -88,9 +100,28 @@ Vec3 sample_position(const SlabModel& model, int sample) noexcept;
 void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
-/// triangles of every slab, across seams) (paper §3.4; design notes §4.4).
-/// @note O(k·valence); no allocation.
+/// triangles of every slab, across seams) (paper §3.4; design notes §4.4), and refreshes their
+/// displacement and normal in `slab_samples` (when it is built).
+/// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
+///       samples sharing triangles use the FaceNormalCache overload.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;
+
+/// Caller-owned per-triangle memo for update_normals(): each grid triangle's (area-weighted)
+/// normal is computed once per call however many of its corners are updated. One per thread.
+struct FaceNormalCache {
+  /// @brief Sizes the memo for @p model's grid triangles (16 bytes per triangle). Allocates.
+  explicit FaceNormalCache(const SlabModel& model);
+  std::vector<uint32_t> stamp;  ///< #triangles: call number that computed `face` (0: never)
+  std::vector<Vec3f> face;      ///< #triangles: cross product of the triangle's edges [model units²]
+  uint32_t current = 0;         ///< number of the current call
+};
+
+/// @brief update_normals() with each affected grid triangle's normal computed once: the same
+/// result bit for bit (same products, same summation order), about a third of the cross products
+/// when the samples form a patch (each triangle has three corners).
+/// @pre @p cache was built for a model with the same layout.
+/// @note O(k·valence); no allocation, noexcept: used by the edit tools in the servo tick.
+void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache) noexcept;
 
 /// @brief Exact per-slab validity: the Jacobian N(α)·D(w) is positive over the whole slab
 /// (design notes §3.7: three quadratics positive on [0,1]).
