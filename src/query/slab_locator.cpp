@@ -9,18 +9,18 @@ namespace hdm {
 SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
   const int S = model.slab_count();
   order_.resize(S);
-  boxes_.resize(S);
+  std::vector<Box> boxes(S);
+  std::vector<Sides> sides(S);
   std::vector<Vec3> centres(S);
   for (int s = 0; s < S; ++s) {
     order_[s] = s;
     const Aabb& b = model.geometry[s].box;
     centres[s] = 0.5 * (b.min + b.max);
     for (int a = 0; a < 3; ++a) {  // round outward so the float box contains the double box
-      boxes_[s].lo[a] = std::nextafter(static_cast<float>(b.min[a]), -INFINITY);
-      boxes_[s].hi[a] = std::nextafter(static_cast<float>(b.max[a]), INFINITY);
+      boxes[s].lo[a] = std::nextafter(static_cast<float>(b.min[a]), -INFINITY);
+      boxes[s].hi[a] = std::nextafter(static_cast<float>(b.max[a]), INFINITY);
     }
   }
-  sides_.resize(S);
   for (int s = 0; s < S; ++s) {
     const Tri& t = model.slabs[s];
     Vec3 corner[6];
@@ -38,7 +38,7 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
       const Vec3 up = 0.5 * (corner[v + 3] - corner[v] + corner[w + 3] - corner[w]);
       Vec3 n = along.cross(up);
       const double len = n.norm();
-      Sides& sd = sides_[s];
+      Sides& sd = sides[s];
       if (!(len > 0)) {  // degenerate: a plane that rejects nothing
         sd.n[e][0] = sd.n[e][1] = sd.n[e][2] = 0, sd.d[e] = INFINITY;
         continue;
@@ -55,8 +55,11 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
   }
   nodes_.reserve(2 * S / 2 + 2);
   build(0, S, centres);
-  leaf_boxes_.resize(S);
-  for (int k = 0; k < S; ++k) leaf_boxes_[k] = boxes_[order_[k]];
+  filters_.resize(S);
+  for (int s = 0; s < S; ++s) filters_[s] = {boxes[s], sides[s]};
+  leaf_.resize(S);
+  for (int k = 0; k < S; ++k) leaf_[k] = {filters_[order_[k]], order_[k]};
+  std::vector<int32_t>().swap(order_);  // only the build needs it; leaf_ holds the slab ids
   edge_ = model.edge_neighbour;
 
   // Neighbourhood: edge neighbours first (most likely next slab), then the rest of the corner rings.
@@ -78,7 +81,7 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
 
 size_t SlabLocator::memory_bytes() const noexcept {
   return nodes_.capacity() * sizeof(Node) + order_.capacity() * sizeof(int32_t) +
-         (boxes_.capacity() + leaf_boxes_.capacity()) * sizeof(Box) + sides_.capacity() * sizeof(Sides) +
+         filters_.capacity() * sizeof(Filter) + leaf_.capacity() * sizeof(LeafEntry) +
          edge_.capacity() * sizeof(edge_[0]) +
          ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t);
 }
@@ -128,9 +131,8 @@ int SlabLocator::find_bvh(const Vec3& p, AlphaSolver solver, double guess, SlabC
       continue;
     if (n.count > 0) {
       for (int32_t k = n.first; k < n.first + n.count; ++k)
-        if (leaf_boxes_[k].contains(x, y, z) && sides_[order_[k]].may_contain(x, y, z) &&
-            locate_in_slab(g[order_[k]], p, solver, guess, c, edge))
-          return order_[k];
+        if (leaf_[k].filter.may_contain(x, y, z) && locate_in_slab(g[leaf_[k].slab], p, solver, guess, c, edge))
+          return leaf_[k].slab;
     } else if (top < 126) {
       stack[top++] = n.first;
       stack[top++] = static_cast<int32_t>(&n - nodes_.data()) + 1;
