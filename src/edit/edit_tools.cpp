@@ -12,11 +12,11 @@ namespace hdm {
 EditScratch::EditScratch(const SlabModel& m)
     : sample_stamp(m.samples.count, 0),
       texel_stamp(m.texels.count, 0),
-      queue(std::max(m.samples.count, m.texels.count)),
+      queue(std::max(m.samples.count, m.texels.count) + 1),  // +1: branch-free pushes write one past
       changed(m.samples.count),
-      ring(m.samples.count),
+      ring(m.samples.count + 1),
       dirty_slabs(m.slab_count(), 0),
-      faces(m),
+      faces(),
       grid_weights(m.samples.per_slab) {
   const SampleLayout& L = m.samples;
   const double n = L.n;
@@ -103,9 +103,14 @@ int32_t flood(const SampleLayout& L, std::vector<uint32_t>& marks, uint32_t stam
   while (head < tail) {
     const int32_t s = queue[head++];
     if (!visit(s)) continue;
+    // Branch-free push: whether a neighbour was already queued is a coin flip inside a patch, and
+    // a mispredicted branch per neighbour cost more than the unconditional stores.
     for (int32_t e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e) {
       const int32_t t = L.neighbours[e];
-      if (marks[t] != stamp) marks[t] = stamp, queue[tail++] = t;
+      const bool fresh = marks[t] != stamp;
+      marks[t] = stamp;
+      queue[tail] = t;
+      tail += fresh;
     }
   }
   return static_cast<int32_t>(tail);
@@ -124,7 +129,10 @@ void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcep
     const int32_t c = s.changed[k];
     for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
       const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
-      if (s.sample_stamp[t] != stamp) s.sample_stamp[t] = stamp, s.ring[ring++] = t;
+      const bool fresh = s.sample_stamp[t] != stamp;  // branch-free, as in flood()
+      s.sample_stamp[t] = stamp;
+      s.ring[ring] = t;
+      ring += fresh;
     }
     dirty.mark(L, c);
   }

@@ -16,8 +16,8 @@ namespace hdm {
 /// Caller-owned buffers for edits, sized once for a model so that edits never allocate (they may
 /// run in the servo loop). One per editing thread.
 struct EditScratch {
-  /// @brief Sizes every buffer for @p model. Allocates O(#samples + #texels + #S·n²): about
-  /// 16 bytes per sample, 8 per texel and 32 per grid triangle (the face-normal memo).
+  /// @brief Sizes every buffer for @p model. Allocates O(#samples + #texels + #S): about
+  /// 16 bytes per sample, 8 per texel, 1 per slab, plus a fixed ~130 KB (face-normal memo).
   explicit EditScratch(const SlabModel& model);
   std::vector<uint32_t> sample_stamp, texel_stamp;  ///< visit marks of the current edit
   uint32_t stamp = 0;                               ///< current edit's mark

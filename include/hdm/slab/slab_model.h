@@ -107,19 +107,28 @@ void update_positions(SlabModel& model, const int32_t* samples, size_t count) no
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;
 
 /// Caller-owned per-triangle memo for update_normals(): each grid triangle's (area-weighted)
-/// normal is computed once per call however many of its corners are updated. One per thread.
+/// normal is computed once per call however many of its corners are updated. A direct-mapped
+/// table of kSlots entries keyed by triangle id (an edit's triangles have nearby ids, so they
+/// rarely collide; a collision only costs a recomputation), small enough to stay in cache,
+/// unlike a table over every triangle of the model. One per thread.
 struct FaceNormalCache {
-  /// @brief Sizes the memo for @p model's grid triangles (16 bytes per triangle). Allocates.
-  explicit FaceNormalCache(const SlabModel& model);
-  std::vector<uint32_t> stamp;  ///< #triangles: call number that computed `face` (0: never)
-  std::vector<Vec3f> face;      ///< #triangles: cross product of the triangle's edges [model units²]
-  uint32_t current = 0;         ///< number of the current call
+  static constexpr int32_t kSlots = 4096;  ///< table entries (power of two)
+  /// @brief Allocates the table (about 100 KB, independent of the model).
+  FaceNormalCache();
+  /// One memo entry.
+  struct Entry {
+    Vec3f face;          ///< cross product of the triangle's edges [model units²]
+    int32_t tri = -1;    ///< triangle whose normal `face` holds (-1: none)
+    uint32_t stamp = 0;  ///< call number that set `tri`
+  };
+  std::vector<Entry> memo;        ///< kSlots entries, triangle f in slot f & (kSlots - 1)
+  std::vector<int32_t> pending;   ///< triangles listed for evaluation (flushed when full)
+  uint32_t current = 0;           ///< number of the current call
 };
 
 /// @brief update_normals() with each affected grid triangle's normal computed once: the same
 /// result bit for bit (same products, same summation order), about a third of the cross products
 /// when the samples form a patch (each triangle has three corners).
-/// @pre @p cache was built for a model with the same layout.
 /// @note O(k·valence); no allocation, noexcept: used by the edit tools in the servo tick.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache) noexcept;
 
