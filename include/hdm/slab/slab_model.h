@@ -36,8 +36,11 @@ struct SlabSample {
 /// A baked slab model.
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
-/// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`
-/// and `normals` and must not run concurrently with readers of the same samples.
+/// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`,
+/// `positions`, `normals` and `slab_samples` and must not run concurrently with readers of the
+/// same samples. Code that changes `displacement` outside the edit tools must call
+/// update_positions() and update_normals() on the changed samples and their one-ring (or
+/// rebuild_derived()), or the query will read stale values from `slab_samples`.
 struct SlabModel {
   // ---- stored ----
   int grid_n = 16;                ///< displacement intervals per slab edge (n)
