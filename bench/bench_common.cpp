@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "bench_common.h"
 
+#include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/slab/bake.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 
 namespace hdm::bench {
@@ -62,7 +64,15 @@ const Fixture& fixture() {
     o.grid_n = env_int("HDM_BENCH_GRID", 16);
     o.texel_density = env_int("HDM_BENCH_TEXELS", 2);
     o.separate_slabs = env_int("HDM_BENCH_SEPARATE", 1) != 0;
-    x->model = bake_slabs(x->mesh, x->path, o);
+    // $HDM_BENCH_HDM: a baked model reused across runs (loaded if it exists, else baked and saved),
+    // so large models (10^5 slabs: minutes to bake) are baked once for many benchmark runs.
+    const char* cached = std::getenv("HDM_BENCH_HDM");
+    if (cached && *cached && std::filesystem::exists(cached)) {
+      x->model = load_model(cached);
+    } else {
+      x->model = bake_slabs(x->mesh, x->path, o);
+      if (cached && *cached) save_model(x->model, cached);
+    }
     x->locator = std::make_unique<SlabLocator>(x->model);
     std::mt19937_64 rng(1);
     x->path_points = walk(x->model, 20000, x->diagonal / 1600, 0.005 * x->diagonal, rng);

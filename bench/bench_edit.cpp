@@ -40,6 +40,7 @@ void edit(benchmark::State& state, Tool tool) {
       m.displacement = f.model.displacement;
       m.positions = f.model.positions;
       m.normals = f.model.normals;
+      m.slab_samples = f.model.slab_samples;
       m.colour = f.model.colour;
       k = 0;
       state.ResumeTiming();

@@ -12,10 +12,19 @@ namespace hdm {
 EditScratch::EditScratch(const SlabModel& m)
     : sample_stamp(m.samples.count, 0),
       texel_stamp(m.texels.count, 0),
-      queue(std::max(m.samples.count, m.texels.count)),
+      queue(std::max(m.samples.count, m.texels.count) + 1),  // +1: branch-free pushes write one past
       changed(m.samples.count),
-      ring(m.samples.count),
-      dirty_slabs(m.slab_count(), 0) {}
+      ring(m.samples.count + 1),
+      dirty_slabs(m.slab_count(), 0),
+      faces(),
+      grid_weights(m.samples.per_slab) {
+  const SampleLayout& L = m.samples;
+  const double n = L.n;
+  for (int k = 0; k < L.per_slab; ++k) {  // projection_line()'s arithmetic
+    const double wT = L.point_i[k] / n, wS = L.point_j[k] / n, wR = 1.0 - wT - wS;
+    grid_weights[k] = {wR, wS, wT};
+  }
+}
 
 namespace {
 
@@ -39,17 +48,28 @@ void cell_points(const SampleLayout& L, int slab, const Vec3& bary, int32_t out[
   out[2] = ids[grid::index(N, i, j + 1)];
 }
 
-// projection_line() inlined (same arithmetic, so the same bits): the flood fill calls it once per
-// visited sample, and an out-of-line call with its loads was a third of the edit's time.
-inline void line_of(const SlabModel& m, int32_t id, Vec3& p0, Vec3& p1) noexcept {
-  const SampleLayout& L = m.samples;
-  const int index = L.home_index[id];
-  const double n = L.n;
-  const double wT = L.point_i[index] / n, wS = L.point_j[index] / n, wR = 1.0 - wT - wS;
-  const Tri& t = m.slabs[L.home_slab[id]];
-  p0 = wR * m.inner[t[0]] + wS * m.inner[t[1]] + wT * m.inner[t[2]];
-  p1 = wR * m.outer[t[0]] + wS * m.outer[t[1]] + wT * m.outer[t[2]];
-}
+// projection_line() with the same arithmetic (so the same bits), fed from tables: the grid
+// weights come from EditScratch::grid_weights and the six coarse corners of the last home slab are
+// kept, since consecutive samples of a flood fill mostly share their home slab.
+struct LineEvaluator {
+  LineEvaluator(const SlabModel& model, const std::array<double, 3>* w) noexcept : m(model), weights(w) {}
+  const SlabModel& m;
+  const std::array<double, 3>* weights;
+  int32_t slab = -1;
+  Vec3 i0, i1, i2, o0, o1, o2;
+  void operator()(int32_t id, Vec3& p0, Vec3& p1) noexcept {
+    const int32_t home = m.samples.home_slab[id];
+    if (home != slab) {
+      slab = home;
+      const Tri& t = m.slabs[home];
+      i0 = m.inner[t[0]], i1 = m.inner[t[1]], i2 = m.inner[t[2]];
+      o0 = m.outer[t[0]], o1 = m.outer[t[1]], o2 = m.outer[t[2]];
+    }
+    const std::array<double, 3>& w = weights[m.samples.home_index[id]];
+    p0 = w[0] * i0 + w[1] * i1 + w[2] * i2;
+    p1 = w[0] * o0 + w[1] * o1 + w[2] * o2;
+  }
+};
 
 // Marks the slabs of the grid triangles incident to a sample (or texel). Consecutive incident
 // triangles mostly share a slab, so the slab range is remembered instead of dividing each time.
@@ -58,6 +78,10 @@ struct DirtyMarker {
   int32_t per_slab;
   int32_t lo = 0, hi = 0;  // triangle range [lo, hi) of the last slab marked
   void mark(const SampleLayout& L, int32_t s) noexcept {
+    if (s >= L.first_interior) {  // interior: held by its home slab only
+      dirty[L.home_slab[s]] = 1;
+      return;
+    }
     for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
       const int32_t tri = L.incident_triangles[e];
       if (tri >= lo && tri < hi) continue;
@@ -79,9 +103,14 @@ int32_t flood(const SampleLayout& L, std::vector<uint32_t>& marks, uint32_t stam
   while (head < tail) {
     const int32_t s = queue[head++];
     if (!visit(s)) continue;
+    // Branch-free push: whether a neighbour was already queued is a coin flip inside a patch, and
+    // a mispredicted branch per neighbour cost more than the unconditional stores.
     for (int32_t e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e) {
       const int32_t t = L.neighbours[e];
-      if (marks[t] != stamp) marks[t] = stamp, queue[tail++] = t;
+      const bool fresh = marks[t] != stamp;
+      marks[t] = stamp;
+      queue[tail] = t;
+      tail += fresh;
     }
   }
   return static_cast<int32_t>(tail);
@@ -100,11 +129,14 @@ void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcep
     const int32_t c = s.changed[k];
     for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
       const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
-      if (s.sample_stamp[t] != stamp) s.sample_stamp[t] = stamp, s.ring[ring++] = t;
+      const bool fresh = s.sample_stamp[t] != stamp;  // branch-free, as in flood()
+      s.sample_stamp[t] = stamp;
+      s.ring[ring] = t;
+      ring += fresh;
     }
     dirty.mark(L, c);
   }
-  update_normals(m, s.ring.data(), ring);
+  update_normals(m, s.ring.data(), ring, s.faces);  // also refreshes the slab-major copy
 }
 
 // Flood fill over the displacement samples, seeded with the grid cell under the contact.
@@ -124,9 +156,10 @@ EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec
   if (!contact.in_shell() || !(radius > 0) || !hip.allFinite()) return r;
   const Vec3 centre = hip + contact.normal * (radius + std::max(resilience, 0.0));
   const double r2 = radius * radius;
+  LineEvaluator line_of{m, s.grid_weights.data()};
   r.visited = flood_samples(m, s, contact, [&](int32_t id) {
     Vec3 p0, p1;
-    line_of(m, id, p0, p1);
+    line_of(id, p0, p1);
     // Line P(t) = p0 + t·L against the sphere: a t² + b t + c = 0 (design notes §5.1).
     const Vec3 L = p1 - p0, w = p0 - centre;
     const double a = L.squaredNorm(), b = 2 * L.dot(w), c = w.squaredNorm() - r2;
@@ -153,9 +186,10 @@ EditResult add_material(SlabModel& m, EditScratch& s, const Contact& contact, do
   EditResult r;
   if (!contact.in_shell() || !(radius > 0) || !(height > 0)) return r;
   const Vec3 centre = contact.surface_point;
+  LineEvaluator line_of{m, s.grid_weights.data()};
   r.visited = flood_samples(m, s, contact, [&](int32_t id) {
     Vec3 p0, p1;
-    line_of(m, id, p0, p1);
+    line_of(id, p0, p1);
     const double len = (p1 - p0).norm();
     const double d = (p0 + double(m.displacement[id]) * (p1 - p0) - centre).norm();
     if (d >= radius || len <= 0) return false;
@@ -187,7 +221,7 @@ EditResult paint(SlabModel& m, EditScratch& s, const Contact& contact, double ra
     const int local = T.home_index[id], slab = T.home_slab[id];
     // The texel on the displaced surface: evaluate_surface()'s point, without its normal.
     const Vec3 bary(1 - (T.point_i[local] + T.point_j[local]) / N, T.point_j[local] / N, T.point_i[local] / N);
-    const detail::GridCell cell = detail::grid_cell(m, slab, bary[1], bary[2]);
+    const detail::LocalCell cell = detail::local_cell(m.grid_n, bary[1], bary[2]);
     double delta;
     Vec3 ray;
     const double d = (detail::surface_point(m, slab, bary[1], bary[2], cell, delta, ray) - centre).norm();

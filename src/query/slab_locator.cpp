@@ -8,19 +8,15 @@ namespace hdm {
 
 SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
   const int S = model.slab_count();
-  order_.resize(S);
-  boxes_.resize(S);
-  std::vector<Vec3> centres(S);
+  std::vector<Box> boxes(S);
+  std::vector<Sides> sides(S);
   for (int s = 0; s < S; ++s) {
-    order_[s] = s;
     const Aabb& b = model.geometry[s].box;
-    centres[s] = 0.5 * (b.min + b.max);
     for (int a = 0; a < 3; ++a) {  // round outward so the float box contains the double box
-      boxes_[s].lo[a] = std::nextafter(static_cast<float>(b.min[a]), -INFINITY);
-      boxes_[s].hi[a] = std::nextafter(static_cast<float>(b.max[a]), INFINITY);
+      boxes[s].lo[a] = std::nextafter(static_cast<float>(b.min[a]), -INFINITY);
+      boxes[s].hi[a] = std::nextafter(static_cast<float>(b.max[a]), INFINITY);
     }
   }
-  sides_.resize(S);
   for (int s = 0; s < S; ++s) {
     const Tri& t = model.slabs[s];
     Vec3 corner[6];
@@ -38,7 +34,7 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
       const Vec3 up = 0.5 * (corner[v + 3] - corner[v] + corner[w + 3] - corner[w]);
       Vec3 n = along.cross(up);
       const double len = n.norm();
-      Sides& sd = sides_[s];
+      Sides& sd = sides[s];
       if (!(len > 0)) {  // degenerate: a plane that rejects nothing
         sd.n[e][0] = sd.n[e][1] = sd.n[e][2] = 0, sd.d[e] = INFINITY;
         continue;
@@ -53,10 +49,9 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
       sd.d[e] = std::nextafter(static_cast<float>(d + 1e-5 * M), INFINITY);
     }
   }
-  nodes_.reserve(2 * S / 2 + 2);
-  build(0, S, centres);
-  leaf_boxes_.resize(S);
-  for (int k = 0; k < S; ++k) leaf_boxes_[k] = boxes_[order_[k]];
+  filters_.resize(S);
+  for (int s = 0; s < S; ++s) filters_[s] = {boxes[s], sides[s]};
+  build_grid();
   edge_ = model.edge_neighbour;
 
   // Neighbourhood: edge neighbours first (most likely next slab), then the rest of the corner rings.
@@ -76,71 +71,79 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
   }
 }
 
-size_t SlabLocator::memory_bytes() const noexcept {
-  return nodes_.capacity() * sizeof(Node) + order_.capacity() * sizeof(int32_t) +
-         (boxes_.capacity() + leaf_boxes_.capacity()) * sizeof(Box) + sides_.capacity() * sizeof(Sides) +
-         edge_.capacity() * sizeof(edge_[0]) +
-         ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t);
-}
-
-int SlabLocator::build(int32_t begin, int32_t end, std::vector<Vec3>& centres) {
-  const int index = static_cast<int>(nodes_.size());
-  nodes_.push_back({});
-  Aabb box, cbox;
-  for (int32_t k = begin; k < end; ++k) {
-    const Aabb& b = (*geometry_)[order_[k]].box;
-    box.extend(b.min);
-    box.extend(b.max);
-    cbox.extend(centres[order_[k]]);
-  }
-  Node& node = nodes_[index];
-  for (int a = 0; a < 3; ++a) {  // round outward so float boxes still contain the double boxes
-    node.lo[a] = std::nextafter(static_cast<float>(box.min[a]), -INFINITY);
-    node.hi[a] = std::nextafter(static_cast<float>(box.max[a]), INFINITY);
-  }
-  if (end - begin <= 4) {
-    node.first = begin;
-    node.count = end - begin;
-    return index;
-  }
-  int axis;
-  (cbox.max - cbox.min).maxCoeff(&axis);
-  const int32_t mid = (begin + end) / 2;
-  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                   [&](int32_t a, int32_t b) { return centres[a][axis] < centres[b][axis]; });
-  build(begin, mid, centres);
-  const int right = build(mid, end, centres);
-  nodes_[index].first = right;
-  nodes_[index].count = 0;
-  return index;
-}
-
-int SlabLocator::find_bvh(const Vec3& p, AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
-  const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
-  const auto& g = *geometry_;
-  int32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  int edge;
-  while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    if (!(x >= n.lo[0] && x <= n.hi[0] && y >= n.lo[1] && y <= n.hi[1] && z >= n.lo[2] && z <= n.hi[2]))
-      continue;
-    if (n.count > 0) {
-      for (int32_t k = n.first; k < n.first + n.count; ++k)
-        if (leaf_boxes_[k].contains(x, y, z) && sides_[order_[k]].may_contain(x, y, z) &&
-            locate_in_slab(g[order_[k]], p, solver, guess, c, edge))
-          return order_[k];
-    } else if (top < 126) {
-      stack[top++] = n.first;
-      stack[top++] = static_cast<int32_t>(&n - nodes_.data()) + 1;
+void SlabLocator::build_grid() {
+  const int S = static_cast<int>(filters_.size());
+  if (S == 0) return;
+  // Extent of all boxes and the median largest box side h: cells h/2 wide, capped at 32 cells per
+  // slab. At 10^5 slabs (bunny, n = 16) a cell then lists ~14 boxes where the query looks, against
+  // ~37 for cells h wide (global query ~650 vs ~900 ns), for ~930 instead of ~450 bytes per slab.
+  std::vector<float> side(S);
+  for (int a = 0; a < 3; ++a) grid_lo_[a] = INFINITY, grid_hi_[a] = -INFINITY;
+  for (int s = 0; s < S; ++s) {
+    const Box& b = filters_[s].box;
+    float m = 0;
+    for (int a = 0; a < 3; ++a) {
+      grid_lo_[a] = std::min(grid_lo_[a], b.lo[a]), grid_hi_[a] = std::max(grid_hi_[a], b.hi[a]);
+      m = std::max(m, b.hi[a] - b.lo[a]);
     }
+    side[s] = m;
+  }
+  std::nth_element(side.begin(), side.begin() + S / 2, side.end());
+  double h = std::max(static_cast<double>(side[S / 2]), 1e-30) * 0.5;
+  double cells = 1;
+  for (int a = 0; a < 3; ++a) cells *= std::max(1.0, std::ceil((grid_hi_[a] - grid_lo_[a]) / h));
+  if (cells > 32.0 * S) h *= std::cbrt(cells / (32.0 * S));
+  size_t total = 1;
+  for (int a = 0; a < 3; ++a) {
+    grid_dim_[a] = std::max(1, static_cast<int>(std::ceil((grid_hi_[a] - grid_lo_[a]) / h)));
+    grid_inv_[a] = static_cast<float>(grid_dim_[a] / std::max(double(grid_hi_[a] - grid_lo_[a]), 1e-30));
+    total *= static_cast<size_t>(grid_dim_[a]);
+  }
+  // Two passes over every slab's cell range: count, then fill.
+  grid_offsets_.assign(total + 1, 0);
+  auto for_cells = [&](int s, auto&& f) {
+    const Box& b = filters_[s].box;
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = cell_coord(b.lo[a], a), hi[a] = cell_coord(b.hi[a], a);
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) f((static_cast<size_t>(z) * grid_dim_[1] + y) * grid_dim_[0] + x);
+  };
+  for (int s = 0; s < S; ++s) for_cells(s, [&](size_t k) { ++grid_offsets_[k + 1]; });
+  for (size_t k = 0; k < total; ++k) grid_offsets_[k + 1] += grid_offsets_[k];
+  grid_entries_.resize(grid_offsets_[total]);
+  std::vector<int32_t> fill(grid_offsets_.begin(), grid_offsets_.end() - 1);
+  for (int s = 0; s < S; ++s) for_cells(s, [&](size_t k) { grid_entries_[fill[k]++] = {filters_[s].box, s}; });
+}
+
+int SlabLocator::find_grid(const Vec3& p, AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
+  const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
+  // Outside the union of the (float) boxes no slab can hold the point.
+  if (!(x >= grid_lo_[0] && x <= grid_hi_[0] && y >= grid_lo_[1] && y <= grid_hi_[1] && z >= grid_lo_[2] &&
+        z <= grid_hi_[2]))
+    return -1;
+  const size_t k =
+      (static_cast<size_t>(cell_coord(z, 2)) * grid_dim_[1] + cell_coord(y, 1)) * grid_dim_[0] + cell_coord(x, 0);
+  const auto& g = *geometry_;
+  int edge;
+  for (int32_t e = grid_offsets_[k]; e < grid_offsets_[k + 1]; ++e) {
+    const GridEntry& ge = grid_entries_[e];
+    if (ge.box.contains(x, y, z) && filters_[ge.slab].sides.may_contain(x, y, z) &&
+        locate_in_slab(g[ge.slab], p, solver, guess, c, edge))
+      return ge.slab;
   }
   return -1;
 }
 
+size_t SlabLocator::memory_bytes() const noexcept {
+  return filters_.capacity() * sizeof(Filter) +
+         edge_.capacity() * sizeof(edge_[0]) +
+         ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t) +
+         grid_offsets_.capacity() * sizeof(int32_t) + grid_entries_.capacity() * sizeof(GridEntry);
+}
+
 int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
-  if (!p.allFinite() || nodes_.empty()) return -1;
+  if (!p.allFinite() || filters_.empty()) return -1;
   const auto& g = *geometry_;
   if (hint >= 0 && hint < static_cast<int>(g.size())) {
     const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
@@ -150,14 +153,14 @@ int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess,
     const int32_t across = edge >= 0 ? edge_[hint][edge] : -1;
     if (across >= 0 && candidate(across, x, y, z) && locate_in_slab(g[across], p, solver, guess, c, edge))
       return across;
-    int count;
+    int count = 0;
     const int32_t* ring = neighbourhood(hint, count);
     for (int k = 0; k < count; ++k) {
       const int32_t s = ring[k];
       if (s != across && candidate(s, x, y, z) && locate_in_slab(g[s], p, solver, guess, c, edge)) return s;
     }
   }
-  return find_bvh(p, solver, guess, c);
+  return find_grid(p, solver, guess, c);
 }
 
 }  // namespace hdm

@@ -10,13 +10,11 @@ namespace hdm {
 
 void evaluate_surface(const SlabModel& model, int slab, const SlabCoordinates& c, Contact& out) noexcept {
   const double wS = c.bary[1], wT = c.bary[2];
-  const detail::GridCell cell = detail::grid_cell(model, slab, wS, wT);
+  const detail::LocalCell cell = detail::local_cell(model.grid_n, wS, wT);
   double delta;
   Vec3 ray;
   out.surface_point = detail::surface_point(model, slab, wS, wT, cell, delta, ray);
-  const Vec3f nf = static_cast<float>(cell.wa) * model.normals[cell.a] +
-                   static_cast<float>(cell.wb) * model.normals[cell.b] +
-                   static_cast<float>(cell.wd) * model.normals[cell.d];
+  const Vec3f nf = detail::interpolated_normal(model, slab, cell);
   out.slab = slab;
   out.coords = c;
   out.delta = delta;

@@ -2,7 +2,9 @@
 #pragma once
 // Internal: the displaced-surface interpolation shared by the query (slab_query.cpp) and the
 // paint tool (edit_tools.cpp), inline so paint can skip the normal. One formula for both, so a
-// texel's position agrees bit for bit with what evaluate_surface() reports.
+// texel's position agrees bit for bit with what evaluate_surface() reports. Both read the
+// slab-major SlabModel::slab_samples (one slab's block per query) rather than the sample-indexed
+// `displacement` and `normals`, which are scattered over memory at 10^4+ slabs.
 
 #include <hdm/query/slab_query.h>
 #include <hdm/slab/triangle_grid.h>
@@ -11,15 +13,20 @@
 
 namespace hdm::detail {
 
-/// Grid triangle under (wS, wT) of @p slab: its three global sample ids and their weights
-/// (design notes §4.1: the renderer's up/down split).
-struct GridCell {
-  int32_t a, b, d;
+/// Grid triangle under (wS, wT) of a slab with n intervals per edge: its three grid indices
+/// (grid::index order within the slab) and their weights (design notes §4.1: the renderer's
+/// up/down split). Depends on the slab's grid only, not on its data.
+struct LocalCell {
+  int32_t la, lb, ld;
   double wa, wb, wd;
 };
 
-inline GridCell grid_cell(const SlabModel& model, int slab, double wS, double wT) noexcept {
-  const int n = model.grid_n;
+/// LocalCell plus the three global sample ids (for sample-indexed fields such as friction).
+struct GridCell : LocalCell {
+  int32_t a, b, d;
+};
+
+inline LocalCell local_cell(int n, double wS, double wT) noexcept {
   double hx = std::max(0.0, n * wT), hy = std::max(0.0, n * wS);
   if (hx + hy > n) {  // rounding beyond the hypotenuse
     const double s = n / (hx + hy);
@@ -28,32 +35,53 @@ inline GridCell grid_cell(const SlabModel& model, int slab, double wS, double wT
   const int i = std::min(static_cast<int>(hx), n - 1);
   const int j = std::min(static_cast<int>(hy), n - 1 - i);
   double fx = hx - i, fy = hy - j;
-  const int32_t* ids = &model.samples.ids[static_cast<size_t>(slab) * model.samples.per_slab];
-  GridCell c;
+  LocalCell c;
   if (fx + fy > 1 && i + j <= n - 2) {  // "down" triangle (i+1,j+1), (i+1,j), (i,j+1)
-    c.a = ids[grid::index(n, i + 1, j + 1)], c.b = ids[grid::index(n, i + 1, j)], c.d = ids[grid::index(n, i, j + 1)];
+    c.la = grid::index(n, i + 1, j + 1), c.lb = grid::index(n, i + 1, j), c.ld = grid::index(n, i, j + 1);
     c.wa = fx + fy - 1, c.wb = 1 - fy, c.wd = 1 - fx;
   } else {  // "up" triangle (i,j), (i+1,j), (i,j+1)
     if (fx + fy > 1) {
       const double s = 1 / (fx + fy);
       fx *= s, fy *= s;
     }
-    c.a = ids[grid::index(n, i, j)], c.b = ids[grid::index(n, i + 1, j)], c.d = ids[grid::index(n, i, j + 1)];
+    c.la = grid::index(n, i, j), c.lb = grid::index(n, i + 1, j), c.ld = grid::index(n, i, j + 1);
     c.wa = 1 - fx - fy, c.wb = fx, c.wd = fy;
   }
   return c;
 }
 
+inline GridCell grid_cell(const SlabModel& model, int slab, double wS, double wT) noexcept {
+  GridCell c;
+  static_cast<LocalCell&>(c) = local_cell(model.grid_n, wS, wT);
+  const int32_t* ids = &model.samples.ids[static_cast<size_t>(slab) * model.samples.per_slab];
+  c.a = ids[c.la], c.b = ids[c.lb], c.d = ids[c.ld];
+  return c;
+}
+
+/// The three grid points of @p cell in @p slab's block of SlabModel::slab_samples.
+inline const SlabSample* slab_block(const SlabModel& model, int slab) noexcept {
+  return model.slab_samples.data() + static_cast<size_t>(slab) * model.samples.per_slab;
+}
+
 /// Surface point P0(w) + δ(w)·D(w) at barycentrics (·, wS, wT) of @p slab [model units]; also
-/// returns δ and D(w) when asked.
-inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT, const GridCell& cell,
+/// returns δ and D(w). Reads the slab-major copy (SlabModel::slab_samples), whose values equal
+/// `displacement`, so the result is the same as interpolating `displacement`.
+inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT, const LocalCell& cell,
                           double& delta, Vec3& ray) noexcept {
   const SlabGeometry& g = model.geometry[slab];
-  const float* disp = model.displacement.data();
-  delta = cell.wa * disp[cell.a] + cell.wb * disp[cell.b] + cell.wd * disp[cell.d];
+  const SlabSample* v = slab_block(model, slab);
+  delta = cell.wa * v[cell.la].delta + cell.wb * v[cell.lb].delta + cell.wd * v[cell.ld].delta;
   ray = g.dR + wS * g.d1 + wT * g.d2;         // D(w) = Σ wV dV
   const Vec3 p0 = g.R0 + wS * g.e1 + wT * g.e2;  // P0(w) = Σ wV V0
   return p0 + delta * ray;
+}
+
+/// Interpolated (not normalised) normal over @p cell of @p slab, in float as `normals` is stored.
+inline Vec3f interpolated_normal(const SlabModel& model, int slab, const LocalCell& cell) noexcept {
+  const SlabSample* v = slab_block(model, slab);
+  using Map = Eigen::Map<const Vec3f>;
+  return static_cast<float>(cell.wa) * Map(v[cell.la].n) + static_cast<float>(cell.wb) * Map(v[cell.lb].n) +
+         static_cast<float>(cell.wd) * Map(v[cell.ld].n);
 }
 
 }  // namespace hdm::detail

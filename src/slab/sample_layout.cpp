@@ -130,6 +130,13 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   for (size_t f = 0; f < L.triangles.size(); ++f)
     for (int k = 0; k < 3; ++k) pairs.emplace_back(L.triangles[f][k], static_cast<int32_t>(f));
   build_csr(pairs, L.count, L.triangle_offsets, L.incident_triangles);
+
+  // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
+  L.first_interior = interior_base;
+  pairs.clear();
+  for (size_t slot = 0; slot < L.ids.size(); ++slot)
+    if (L.ids[slot] < interior_base) pairs.emplace_back(L.ids[slot], static_cast<int32_t>(slot));
+  build_csr(pairs, interior_base, L.shared_slot_offsets, L.slot_of_shared);
   return L;
 }
 

@@ -65,18 +65,94 @@ void update_positions(SlabModel& model, const int32_t* samples, size_t count) no
   for (size_t k = 0; k < count; ++k) model.positions[samples[k]] = sample_position(model, samples[k]).cast<float>();
 }
 
+namespace {
+
+// Stores the unit normal of sample s from its area-weighted sum, in `normals` and in every slab
+// copy of the sample (with its current displacement).
+inline void store_normal(SlabModel& m, int32_t s, const Vec3f& sum, bool copy) noexcept {
+  const float len = sum.norm();
+  const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : Vec3f(0, 0, 1);  // one division, not three
+  m.normals[s] = n;
+  if (!copy) return;
+  const SlabSample v{m.displacement[s], {n[0], n[1], n[2]}};
+  m.samples.for_each_slot(s, [&](int32_t slot) { m.slab_samples[slot] = v; });
+}
+
+inline Vec3f face_normal(const SlabModel& m, const Tri& t) noexcept {
+  const Vec3f& a = m.positions[t[0]];
+  return (m.positions[t[1]] - a).cross(m.positions[t[2]] - a);  // area-weighted
+}
+
+}  // namespace
+
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept {
   const SampleLayout& L = model.samples;
+  const bool copy = model.slab_samples.size() == L.ids.size();
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
-    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
-      const Tri& t = L.triangles[L.incident_triangles[e]];
-      const Vec3f& a = model.positions[t[0]];
-      sum += (model.positions[t[1]] - a).cross(model.positions[t[2]] - a);  // area-weighted
+    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e)
+      sum += face_normal(model, L.triangles[L.incident_triangles[e]]);
+    store_normal(model, s, sum, copy);
+  }
+}
+
+FaceNormalCache::FaceNormalCache() : memo(kSlots), pending(2 * kSlots) {}
+
+namespace {
+
+// Evaluates the listed triangles whose slot still names them (a later triangle may have taken the
+// slot; its own entry in the list comes after and is evaluated then).
+void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending) noexcept {
+  constexpr int32_t mask = FaceNormalCache::kSlots - 1;
+  for (size_t k = 0; k < pending; ++k) {
+    const int32_t f = cache.pending[k];
+    FaceNormalCache::Entry& e = cache.memo[f & mask];
+    if (e.tri == f) e.face = face_normal(m, m.samples.triangles[f]);
+  }
+  pending = 0;
+}
+
+}  // namespace
+
+void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache) noexcept {
+  const SampleLayout& L = model.samples;
+  const bool copy = model.slab_samples.size() == L.ids.size();
+  constexpr int32_t mask = FaceNormalCache::kSlots - 1;
+  if (++cache.current == 0) {  // wrapped: forget every memo once every 2³² calls
+    for (FaceNormalCache::Entry& e : cache.memo) e.tri = -1, e.stamp = 0;
+    cache.current = 1;
+  }
+  const uint32_t now = cache.current;
+  // Branch-free passes (whether a triangle was already seen is unpredictable, and a mispredicted
+  // branch costs about as much as a cross product): list the triangles not yet in the memo, evaluate
+  // them, then sum per sample in incidence order.
+  size_t pending = 0;
+  const size_t room = cache.pending.size();
+  for (size_t k = 0; k < count; ++k) {
+    const int32_t s = samples[k];
+    const int32_t first = L.triangle_offsets[s], last = L.triangle_offsets[s + 1];
+    if (pending + static_cast<size_t>(last - first) > room) flush_faces(model, cache, pending);
+    for (int32_t e = first; e < last; ++e) {
+      const int32_t f = L.incident_triangles[e];
+      FaceNormalCache::Entry& m = cache.memo[f & mask];
+      const bool fresh = m.tri != f || m.stamp != now;
+      m.tri = f, m.stamp = now;
+      cache.pending[pending] = f;
+      pending += fresh;
     }
-    const float len = sum.norm();
-    model.normals[s] = len > 0 ? Vec3f(sum / len) : Vec3f(0, 0, 1);
+  }
+  flush_faces(model, cache, pending);
+  for (size_t k = 0; k < count; ++k) {
+    const int32_t s = samples[k];
+    Vec3f sum = Vec3f::Zero();
+    // Same triangles in the same order as the overload above: the same sum, bit for bit.
+    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
+      const int32_t f = L.incident_triangles[e];
+      const FaceNormalCache::Entry& m = cache.memo[f & mask];
+      sum += m.tri == f ? m.face : face_normal(model, L.triangles[f]);  // recompute if evicted
+    }
+    store_normal(model, s, sum, copy);
   }
 }
 
@@ -156,10 +232,12 @@ void rebuild_derived(SlabModel& m) {
 
   m.positions.resize(ns);
   m.normals.resize(ns);
+  m.slab_samples.resize(m.samples.ids.size());
   std::vector<int32_t> all(ns);
   for (size_t s = 0; s < ns; ++s) all[s] = static_cast<int32_t>(s);
   update_positions(m, all.data(), ns);
-  update_normals(m, all.data(), ns);
+  FaceNormalCache faces;
+  update_normals(m, all.data(), ns, faces);  // also fills slab_samples
 }
 
 void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces) {

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 using namespace hdm;
@@ -70,4 +71,23 @@ TEST(SampleLayoutTest, rejects_non_manifold_and_bad_ids) {
   EXPECT_THROW(build_sample_layout(fan, 5, 4), InvalidInput);
   EXPECT_THROW(build_sample_layout({{0, 1, 7}}, 3, 4), InvalidInput);
   EXPECT_THROW(build_sample_layout({{0, 1, 2}}, 3, 0), InvalidInput);
+}
+
+TEST(SampleLayoutTest, slots_list_every_grid_point_of_a_sample) {
+  // Reference: invert `ids` by brute force; for_each_slot must give exactly the same slots.
+  const TriangleMesh m = test::icosphere(1, 1.0);
+  for (int n : {1, 2, 3, 16}) {
+    const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n);
+    std::vector<std::vector<int32_t>> expected(L.count);
+    for (size_t slot = 0; slot < L.ids.size(); ++slot) expected[L.ids[slot]].push_back(int32_t(slot));
+    for (int32_t s = 0; s < L.count; ++s) {
+      std::vector<int32_t> got;
+      L.for_each_slot(s, [&](int32_t slot) { got.push_back(slot); });
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, expected[s]) << "n = " << n << ", sample " << s;
+      if (s >= L.first_interior) {
+        ASSERT_EQ(expected[s].size(), 1u);  // interior: one slab only
+      }
+    }
+  }
 }

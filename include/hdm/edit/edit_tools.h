@@ -7,6 +7,7 @@
 
 #include <hdm/query/slab_query.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -15,7 +16,8 @@ namespace hdm {
 /// Caller-owned buffers for edits, sized once for a model so that edits never allocate (they may
 /// run in the servo loop). One per editing thread.
 struct EditScratch {
-  /// @brief Sizes every buffer for @p model. Allocates O(#samples + #texels + #S).
+  /// @brief Sizes every buffer for @p model. Allocates O(#samples + #texels + #S): about
+  /// 16 bytes per sample, 8 per texel, 1 per slab, plus a fixed ~130 KB (face-normal memo).
   explicit EditScratch(const SlabModel& model);
   std::vector<uint32_t> sample_stamp, texel_stamp;  ///< visit marks of the current edit
   uint32_t stamp = 0;                               ///< current edit's mark
@@ -23,6 +25,10 @@ struct EditScratch {
   std::vector<int32_t> changed;                     ///< samples changed by the last edit
   std::vector<int32_t> ring;                        ///< changed samples plus their neighbours
   std::vector<uint8_t> dirty_slabs;                 ///< #S flags set by edits; the renderer clears them
+  FaceNormalCache faces;                            ///< per-triangle normals, each computed once per edit
+  /// per_slab entries: barycentrics (wR, wS, wT) of each grid index of the displacement grid, as
+  /// projection_line() computes them (same bits), so the flood fill does not divide per sample.
+  std::vector<std::array<double, 3>> grid_weights;
 };
 
 /// What one edit did.

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file
-/// Finding the slab that holds a point: previous slab, its neighbours, then a BVH over slab boxes
-/// (paper §3.1 suggests a hierarchy; design notes §3.6).
+/// Finding the slab that holds a point: previous slab, its neighbours, then a uniform grid over
+/// slab boxes (paper §3.1 suggests a hierarchy; a grid with cells of half a slab box needs one
+/// lookup and a short contiguous list, where a BVH descent missed the cache at every level at
+/// 10^5 slabs; design notes §3.6).
 
 #include <hdm/query/alpha_plane.h>
 
@@ -16,8 +18,9 @@ namespace hdm {
 /// Threading: const methods may be called from any number of threads at once.
 class SlabLocator {
  public:
-  /// @brief Builds the BVH and per-slab neighbourhoods of @p model (its derived data must be built).
-  /// @note O(#S log #S) time, about 200 bytes per slab.
+  /// @brief Builds the search grid and per-slab neighbourhoods of @p model (its derived data must
+  /// be built).
+  /// @note O(#S) time; about 1 KB per slab (mostly the grid's cell lists).
   explicit SlabLocator(const SlabModel& model);
 
   /// @brief Finds a slab that contains @p p.
@@ -26,7 +29,8 @@ class SlabLocator {
   /// @param solver  alpha-plane root finder.
   /// @param[out] c  coordinates of @p p in the slab found.
   /// @return the slab id, or -1 when no slab holds @p p (outside the shell, or NaN).
-  /// @note noexcept, no allocation. Tries the hint, its edge and corner neighbours, then the BVH.
+  /// @note noexcept, no allocation. Tries the hint, its edge and corner neighbours, then the slabs
+  ///       listed in the point's grid cell.
   int find(const Vec3& p, int hint, AlphaSolver solver, SlabCoordinates& c) const noexcept {
     return find(p, hint, solver, -1.0, c);
   }
@@ -34,7 +38,7 @@ class SlabLocator {
   /// @brief find() with a starting guess for α (the previous tick's α; -1 for none).
   /// @note Same result as find() up to rounding of α. When the hint fails, the edge neighbour
   ///       beyond the edge the point crossed is tried first, then the rest of the neighbourhood
-  ///       (each behind a float box test), then the BVH.
+  ///       (each behind a float box test), then the grid cell.
   int find(const Vec3& p, int hint, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
 
   /// @brief Slabs sharing an edge or a corner with @p slab (edge neighbours first).
@@ -44,15 +48,10 @@ class SlabLocator {
     return ring_.data() + ring_offsets_[slab];
   }
 
-  /// Heap bytes held by this locator (BVH, neighbourhoods, per-slab query data).
+  /// Heap bytes held by this locator (grid, neighbourhoods, per-slab filters).
   size_t memory_bytes() const noexcept;
 
  private:
-  struct Node {
-    float lo[3], hi[3];
-    int32_t first;  // leaf: first index into order_; inner: right child (left child is this + 1)
-    int32_t count;  // leaf: number of slabs; inner: 0
-  };
   // Slab box rounded outward to float: a 24-byte test that rejects most candidates without
   // touching the 360-byte SlabGeometry (it contains the double box, so results are unchanged).
   struct Box {
@@ -72,20 +71,43 @@ class SlabLocator {
              n[2][0] * x + n[2][1] * y + n[2][2] * z <= d[2];
     }
   };
+  // Box and side planes of one slab side by side (72 bytes, two cache lines at most): one miss per
+  // candidate instead of one per array.
+  struct Filter {
+    Box box;
+    Sides sides;
+    bool may_contain(float x, float y, float z) const noexcept {
+      return box.contains(x, y, z) && sides.may_contain(x, y, z);
+    }
+  };
   bool candidate(int32_t slab, float x, float y, float z) const noexcept {
-    return boxes_[slab].contains(x, y, z) && sides_[slab].may_contain(x, y, z);
+    return filters_[slab].may_contain(x, y, z);
   }
-  int find_bvh(const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
-  int build(int32_t begin, int32_t end, std::vector<Vec3>& centres);
+  int find_grid(const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
+  void build_grid();
+  // Cell coordinate of v along axis a: monotonic in v, so a box [lo, hi] holding v is listed in
+  // v's cell when it is listed in every cell from cell(lo) to cell(hi).
+  int cell_coord(float v, int a) const noexcept {
+    const float t = (v - grid_lo_[a]) * grid_inv_[a];
+    return t <= 0 ? 0 : t >= float(grid_dim_[a] - 1) ? grid_dim_[a] - 1 : static_cast<int>(t);
+  }
 
   const std::vector<SlabGeometry>* geometry_;
-  std::vector<Node> nodes_;
-  std::vector<int32_t> order_;
-  std::vector<Box> boxes_;       // #S, by slab id
-  std::vector<Box> leaf_boxes_;  // #S, in order_ order (contiguous within a leaf)
-  std::vector<Sides> sides_;     // #S, by slab id
+  std::vector<Filter> filters_;  // #S, by slab id
   std::vector<std::array<int32_t, 3>> edge_;  // #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> ring_offsets_, ring_;
+  // Uniform grid over the slab boxes, cells half a slab box wide: cell k lists, inline, the
+  // boxes of every slab whose box overlaps it (grid_entries_[grid_offsets_[k] .. [k+1])). A
+  // global query reads one offset and one contiguous run instead of descending the BVH, and a
+  // point in no slab (a quarter of a coherent path at 10^5 slabs) is rejected as cheaply.
+  float grid_lo_[3] = {0, 0, 0}, grid_hi_[3] = {0, 0, 0}, grid_inv_[3] = {0, 0, 0};
+  int grid_dim_[3] = {1, 1, 1};
+  std::vector<int32_t> grid_offsets_;
+  struct GridEntry {  // 28 bytes: the box alone; the side planes are read only when it passes
+    Box box;
+    int32_t slab;
+  };
+  std::vector<GridEntry> grid_entries_;
 };
 
 }  // namespace hdm

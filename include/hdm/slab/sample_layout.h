@@ -36,6 +36,26 @@ struct SampleLayout {
   std::vector<int32_t> neighbour_offsets, neighbours;
   /// CSR sample -> incident grid triangles (indices into `triangles`).
   std::vector<int32_t> triangle_offsets, incident_triangles;
+  /// Samples with id >= first_interior are interior to their home slab: their only grid point is
+  /// (home_slab, home_index). Corner and edge samples (ids below it) may be held by several slabs.
+  /// INT32_MAX (no sample known to be interior) when the layout was not built by build_sample_layout.
+  int32_t first_interior = INT32_MAX;
+  /// CSR over the shared samples (ids < first_interior): every grid point that holds sample s is
+  /// slot_of_shared[shared_slot_offsets[s] .. shared_slot_offsets[s+1]), a slot being
+  /// slab·per_slab + grid index (an index into `ids`). Lets edits update slab-major copies of a
+  /// sample's data (SlabModel::slab_samples) without a search.
+  std::vector<int32_t> shared_slot_offsets, slot_of_shared;
+
+  /// @brief Calls @p f(slot) for every grid point (slab·per_slab + grid index) that holds sample @p s.
+  /// @note O(number of slabs holding s): 1 for interior samples; noexcept if @p f is.
+  template <class F>
+  void for_each_slot(int32_t s, F&& f) const {
+    if (s >= first_interior) {
+      f(home_slab[s] * per_slab + home_index[s]);
+      return;
+    }
+    for (int32_t k = shared_slot_offsets[s]; k < shared_slot_offsets[s + 1]; ++k) f(slot_of_shared[k]);
+  }
 };
 
 /// @brief Builds the global sample layout of a slab mesh.

@@ -25,11 +25,22 @@ struct SlabGeometry {
   Aabb box;                   ///< box of the six corners: contains the whole slab
 };
 
+/// One grid point of a slab as the haptic query reads it: the displacement and the unit normal of
+/// its sample, side by side (16 bytes), so a grid cell's three points are one or two cache lines of
+/// one slab's block instead of six loads from two sample-indexed arrays.
+struct SlabSample {
+  float delta;  ///< displacement δ in [0,1] (copy of SlabModel::displacement)
+  float n[3];   ///< unit normal (copy of SlabModel::normals)
+};
+
 /// A baked slab model.
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
-/// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`
-/// and `normals` and must not run concurrently with readers of the same samples.
+/// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`,
+/// `positions`, `normals` and `slab_samples` and must not run concurrently with readers of the
+/// same samples. Code that changes `displacement` outside the edit tools must call
+/// update_positions() and update_normals() on the changed samples and their one-ring (or
+/// rebuild_derived()), or the query will read stale values from `slab_samples`.
 struct SlabModel {
   // ---- stored ----
   int grid_n = 16;                ///< displacement intervals per slab edge (n)
@@ -54,6 +65,10 @@ struct SlabModel {
   std::vector<SlabGeometry> geometry;               ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> vertex_slab_offsets, vertex_slabs;  ///< CSR coarse vertex -> slabs
+  /// #S·samples.per_slab: slab-major copy of `displacement` and `normals`, in grid::index order
+  /// within a slab (slot slab·per_slab + index holds sample samples.ids[slot]). What the query
+  /// interpolates; update_normals() keeps it in sync with `displacement` and `normals`.
+  std::vector<SlabSample> slab_samples;
 
   /// Number of slabs.
   int slab_count() const noexcept { return static_cast<int>(slabs.size()); }
@@ -88,9 +103,37 @@ Vec3 sample_position(const SlabModel& model, int sample) noexcept;
 void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
-/// triangles of every slab, across seams) (paper §3.4; design notes §4.4).
-/// @note O(k·valence); no allocation.
+/// triangles of every slab, across seams) (paper §3.4; design notes §4.4), and refreshes their
+/// displacement and normal in `slab_samples` (when it is built).
+/// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
+///       samples sharing triangles use the FaceNormalCache overload.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;
+
+/// Caller-owned per-triangle memo for update_normals(): each grid triangle's (area-weighted)
+/// normal is computed once per call however many of its corners are updated. A direct-mapped
+/// table of kSlots entries keyed by triangle id (an edit's triangles have nearby ids, so they
+/// rarely collide; a collision only costs a recomputation), small enough to stay in cache,
+/// unlike a table over every triangle of the model. One per thread.
+struct FaceNormalCache {
+  static constexpr int32_t kSlots = 4096;  ///< table entries (power of two)
+  /// @brief Allocates the table (about 100 KB, independent of the model).
+  FaceNormalCache();
+  /// One memo entry.
+  struct Entry {
+    Vec3f face;          ///< cross product of the triangle's edges [model units²]
+    int32_t tri = -1;    ///< triangle whose normal `face` holds (-1: none)
+    uint32_t stamp = 0;  ///< call number that set `tri`
+  };
+  std::vector<Entry> memo;        ///< kSlots entries, triangle f in slot f & (kSlots - 1)
+  std::vector<int32_t> pending;   ///< triangles listed for evaluation (flushed when full)
+  uint32_t current = 0;           ///< number of the current call
+};
+
+/// @brief update_normals() with each affected grid triangle's normal computed once: the same
+/// result bit for bit (same products, same summation order), about a third of the cross products
+/// when the samples form a patch (each triangle has three corners).
+/// @note O(k·valence); no allocation, noexcept: used by the edit tools in the servo tick.
+void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache) noexcept;
 
 /// @brief Exact per-slab validity: the Jacobian N(α)·D(w) is positive over the whole slab
 /// (design notes §3.7: three quadratics positive on [0,1]).
