@@ -17,7 +17,7 @@ namespace hdm {
 /// run in the servo loop). One per editing thread.
 struct EditScratch {
   /// @brief Sizes every buffer for @p model. Allocates O(#samples + #texels + #S): about
-  /// 16 bytes per sample, 8 per texel, 1 per slab, plus a fixed ~130 KB (face-normal memo).
+  /// 12 bytes per sample, 8 per texel, 1 per slab, plus a fixed ~120 KB (face-normal memo).
   explicit EditScratch(const SlabModel& model);
   std::vector<uint32_t> sample_stamp, texel_stamp;  ///< visit marks of the current edit
   uint32_t stamp = 0;                               ///< current edit's mark

@@ -116,7 +116,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count) noex
 /// unlike a table over every triangle of the model. One per thread.
 struct FaceNormalCache {
   static constexpr int32_t kSlots = 4096;  ///< table entries (power of two)
-  /// @brief Allocates the table (about 100 KB, independent of the model).
+  /// @brief Allocates the table and the pending list (about 110 KB, independent of the model).
   FaceNormalCache();
   /// One memo entry.
   struct Entry {
