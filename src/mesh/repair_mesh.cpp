@@ -31,19 +31,6 @@ bool needs_repair(const TriangleMesh& mesh) {
 
 namespace {
 
-void check_input(const TriangleMesh& mesh, const std::string& name) {
-  if (mesh.faces.empty() || mesh.vertices.empty()) throw InvalidInput(name + ": mesh is empty (no triangles)");
-  for (size_t v = 0; v < mesh.vertices.size(); ++v)
-    if (!mesh.vertices[v].allFinite())
-      throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
-  const auto nv = static_cast<int32_t>(mesh.vertices.size());
-  for (size_t f = 0; f < mesh.faces.size(); ++f)
-    for (int32_t id : mesh.faces[f])
-      if (id < 0 || id >= nv)
-        throw InvalidInput(name + ": face " + std::to_string(f) + " uses vertex id " + std::to_string(id) +
-                           " outside [0, " + std::to_string(nv) + ")");
-}
-
 // Zero-area faces with three distinct, collinear vertices (after welding there are no others): the
 // middle vertex w lies on the long edge (u, v). Split the neighbour across that edge at w and drop
 // the sliver, so no gap opens (a T-junction becomes two triangles). Faces are consistently
@@ -104,7 +91,7 @@ std::array<Point, 3> rotated(std::array<Point, 3> t) {
 
 TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, const RepairOptions& options,
                          RepairReport* report) {
-  check_input(mesh, name);
+  validate_mesh_data(mesh, name);
   RepairReport rep;
   std::vector<Point> points;
   points.reserve(mesh.vertices.size());

@@ -70,7 +70,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   return t;
 }
 
-void validate_for_bake(const TriangleMesh& mesh, const std::string& name) {
+void validate_mesh_data(const TriangleMesh& mesh, const std::string& name) {
   if (mesh.faces.empty() || mesh.vertices.empty())
     throw InvalidInput(name + ": mesh is empty (no triangles)");
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
@@ -82,6 +82,10 @@ void validate_for_bake(const TriangleMesh& mesh, const std::string& name) {
       if (id < 0 || id >= nv)
         throw InvalidInput(name + ": face " + std::to_string(f) + " uses vertex id " + std::to_string(id) +
                            " outside [0, " + std::to_string(nv) + ")");
+}
+
+void validate_for_bake(const TriangleMesh& mesh, const std::string& name) {
+  validate_mesh_data(mesh, name);
   const MeshTopology t = analyze_topology(mesh);
   if (t.non_manifold_edges > 0)
     throw InvalidInput(name + ": " + std::to_string(t.non_manifold_edges) +

@@ -37,6 +37,13 @@ struct MeshTopology {
 /// @note O(#F log #F), allocates.
 MeshTopology analyze_topology(const TriangleMesh& mesh);
 
+/// @brief Checks that @p mesh holds usable data: at least one face, finite coordinates, vertex ids
+/// in range.
+/// @param name  file or argument name used in the error message.
+/// @throws InvalidInput naming @p name and the first defect found.
+/// @note O(#V + #F).
+void validate_mesh_data(const TriangleMesh& mesh, const std::string& name);
+
 /// @brief Checks that @p mesh can be baked into slabs.
 /// @param mesh  input mesh.
 /// @param name  file or argument name used in the error message.
