@@ -96,9 +96,13 @@ bool bad_input(const Workspace& ws, const Vec3& hip_device, const Vec3& velocity
   return !std::isfinite(ws.scale) || !(ws.scale > 0) || !ws.origin.allFinite();
 }
 
-// Normal damping, "never pull" on the normal part, then the max-force clamp.
+// Normal damping, "never pull" on the normal part, then the max-force clamp. The damper is bounded
+// by the spring along the normal (|b·v_n| <= k·depth): at contact onset the force then starts at
+// most at twice the spring instead of jumping by b·v_n, and it can never pull. Pressed in (k·depth
+// above b·|v_n|), the damping is the full b, so the stiffness limits are unchanged.
 void finish_force(Vec3 f, const Vec3& n, const Vec3& velocity, const ForceParams& fp, ProxyOutput& out) noexcept {
-  f -= fp.damping * velocity.dot(n) * n;
+  const double spring = std::max(f.dot(n), 0.0);
+  f += std::clamp(-fp.damping * velocity.dot(n), -spring, spring) * n;
   const double fn = f.dot(n);
   if (fn < 0) f -= fn * n;
   const double mag = f.norm();

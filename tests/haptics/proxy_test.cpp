@@ -209,5 +209,27 @@ TEST(Proxy, CatchesAFastEntry) {
   EXPECT_NEAR(st.position.norm(), 1.0, 0.01 * S.diag);
 }
 
+// The damper never exceeds the spring along the normal: a handle entering fast gets at most twice
+// the spring force k·depth (depth from the analytic sphere), so the force starts near zero at the
+// surface instead of at b·v; leaving fast, the force never pulls.
+TEST(Proxy, DampingIsBoundedByTheSpringAtContactOnset) {
+  const auto& S = sphere();
+  ProxyParams p = sphere_params();
+  p.force.damping = 20.0;  // a strong damper, so b·v alone would dominate k·depth near the surface
+  const Vec3 d = Vec3(0.2, 0.3, 0.93).normalized();
+  for (double v : {0.05, 0.5}) {  // approach speeds [m/s], into the sphere
+    ProxyState st;
+    proxy_step(S.model, *S.locator, S.ws, dev(d * 1.01), Vec3::Zero(), p, st);
+    const Vec3 hip = d * (1.0 - 0.002 * S.diag);  // just inside the analytic surface
+    const ProxyOutput o = proxy_step(S.model, *S.locator, S.ws, dev(hip), -v * d, p, st);
+    ASSERT_TRUE(st.contact);
+    const double depth_m = (st.position - hip).norm() / S.ws.scale;
+    EXPECT_LE(o.force.norm(), 2 * p.force.stiffness * depth_m * (1 + 1e-9) + 1e-12) << "v " << v;
+    EXPECT_GT(o.force.dot(d), 0.0) << "pushes outward";
+    const ProxyOutput out = proxy_step(S.model, *S.locator, S.ws, dev(hip), 5.0 * d, p, st);  // leaving fast
+    EXPECT_GE(out.force.dot(st.normal), -1e-12) << "never pulls";
+  }
+}
+
 }  // namespace
 }  // namespace hdm
