@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -228,6 +229,19 @@ void untangle(Coarse& c) {
   }
 }
 
+// Vertices whose best direction does not see every incident face (min dot <= 0.02).
+int count_unseen_stars(const Coarse& c) {
+  const VertexFrame fr = vertex_frames(c, 0);
+  int bad = 0;
+  for (size_t v = 0; v < c.vertices.size(); ++v) {
+    double worst = 2;
+    for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+      worst = std::min(worst, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
+    bad += worst <= 0.02;
+  }
+  return bad;
+}
+
 // Distance along ray x + t·d (t > 0) to the coarse surface, ignoring faces around vertex v.
 double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_t v, const Vec3& x,
                      const Vec3& d, double far, std::vector<SegmentHit>& hits) {
@@ -259,16 +273,27 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   progress(o, "decimate", 0);
   // meshoptimizer's simplifier can, rarely, fold two triangles onto one edge; the collapse sequence
   // depends on the target, so retry with nearby targets before giving up.
+  // The decimation can also leave a vertex whose star no direction sees whole even after
+  // untangling (the tip of a thin tusk or trunk): its slabs cannot be valid at any thickness. The
+  // collapse order depends on the target, so try a few nearby targets and keep the first coarse
+  // mesh without such a vertex (else the one with the fewest).
   Coarse coarse;
-  for (int attempt = 0;; ++attempt) {
+  int fewest = std::numeric_limits<int>::max();
+  for (int attempt = 0; attempt <= 12; ++attempt) {
     const int t = target + (attempt % 2 ? 1 : -1) * ((attempt + 1) / 2) * std::max(1, target / 100);
-    coarse = decimate(mesh, std::max(4, t));
-    const MeshTopology topo = analyze_topology(TriangleMesh{coarse.vertices, coarse.faces});
-    if (topo.non_manifold_edges == 0 && topo.inconsistent_edges == 0) break;
-    if (attempt == 12) validate_for_bake(TriangleMesh{coarse.vertices, coarse.faces}, name + " (decimated)");
+    Coarse c = decimate(mesh, std::max(4, t));
+    const MeshTopology topo = analyze_topology(TriangleMesh{c.vertices, c.faces});
+    if (topo.non_manifold_edges != 0 || topo.inconsistent_edges != 0) {
+      if (attempt == 12 && fewest == std::numeric_limits<int>::max())
+        validate_for_bake(TriangleMesh{c.vertices, c.faces}, name + " (decimated)");
+      continue;
+    }
+    untangle(c);
+    const int hopeless = count_unseen_stars(c);
+    if (hopeless < fewest) fewest = hopeless, coarse = std::move(c);
+    if (fewest == 0) break;
   }
   progress(o, "decimate", 1);
-  untangle(coarse);
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   const size_t nv = coarse.vertices.size();
   const ExactMeshQuery input(mesh);
