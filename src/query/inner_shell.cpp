@@ -10,7 +10,6 @@ InnerShell::InnerShell(const SlabModel& model) {
   closed_ = !model.edge_neighbour.empty();
   for (const auto& e : model.edge_neighbour)
     for (int32_t s : e) closed_ &= s >= 0;
-  if (!closed_) return;
   const int ns = model.slab_count();
   tris_.resize(ns);
   std::vector<Vec3> centres(ns);
@@ -101,7 +100,7 @@ int InnerShell::crossings(const Vec3& p, const Vec3& d) const noexcept {
 }
 
 bool InnerShell::encloses(const Vec3& p) const noexcept {
-  if (!closed_ || nodes_.empty() || !p.allFinite()) return false;
+  if (nodes_.empty() || !p.allFinite()) return false;
   const Node& root = nodes_[0];
   for (int a = 0; a < 3; ++a)
     if (p[a] < root.lo[a] || p[a] > root.hi[a]) return false;

@@ -26,13 +26,17 @@ class InnerShell {
   explicit InnerShell(const SlabModel& model);
 
   /// True when every slab edge is shared by two slabs, so the inner shell encloses a volume.
+  /// An open model's inner shell still answers encloses() by parity, like the open input.
   bool closed() const noexcept { return closed_; }
 
   /// @brief Whether @p p is enclosed by the inner shell.
   /// @param p  point [model units, model frame].
-  /// @return false for open models (closed() false), NaN points and points outside the inner
-  ///         shell's box; otherwise the majority of three ray-parity tests along fixed skew
-  ///         directions (one ray grazing an edge cannot flip the answer).
+  /// @return false for NaN points and points outside the inner shell's box; otherwise the majority
+  ///         of three ray-parity tests along fixed skew directions (one ray grazing an edge cannot
+  ///         flip the answer). For an open model (closed() false) the inner shell is open like its
+  ///         input, and the answer is the same majority-of-three parity that
+  ///         ExactMeshQuery::inside gives on an open input: well defined near the surface, away
+  ///         from the boundary; near the boundary, as for the input, it depends on the rays.
   /// @note noexcept, no allocation. Cost: three ray traversals of a BVH over #S triangles,
   ///       O(log #S + crossings) each.
   /// @pre the slabs are valid and disjoint (`hdm check`: no invalid slabs, no overlapping pairs);

@@ -43,8 +43,8 @@ struct BakeReport {
   int invalid_slabs = 0;            ///< slabs whose Jacobian is not positive everywhere (design notes §3.7)
   int64_t ray_misses = 0;           ///< sample rays that found no outward-facing input surface (filled from neighbours)
   int64_t undercut_columns = 0;     ///< sample rays that cross the input more than once
-  int shell_iterations = 0;
-  bool separated = false;           ///< overlapping slabs were thinned apart (see BakeOptions::separate_slabs)         ///< rounds of shrinking/growing the shell
+  int shell_iterations = 0;         ///< rounds of shrinking/growing the shell
+  bool separated = false;           ///< overlapping slabs were thinned apart (see BakeOptions::separate_slabs)
   double seconds = 0;               ///< wall time of the bake [s]
 };
 
