@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Error-bounded baking: the coarse resolution is chosen so that the measured fidelity meets a
+/// bound, instead of being given as a slab count.
+
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/analysis/fidelity.h>
+#include <hdm/slab/bake.h>
+
+#include <string>
+#include <vector>
+
+namespace hdm {
+
+/// Fidelity bounds for bake_to_tolerance(), as % of the input's bounding-box diagonal. A bound of
+/// +infinity (the default) is not checked.
+struct Tolerance {
+  double max_pct = INFINITY;  ///< bound on the maximum distance, both ways (Fidelity::max_pct, max_back_pct)
+  double rms_pct = INFINITY;  ///< bound on the RMS distance, both ways (Fidelity::rms_pct, rms_back_pct)
+  int max_slabs = 100000;     ///< never bake more slabs than this (nor more than the input's triangles)
+  int max_rounds = 6;         ///< bakes tried at most
+};
+
+/// One bake tried by bake_to_tolerance().
+struct ToleranceRound {
+  int slabs = 0;       ///< slabs built
+  Fidelity fidelity;   ///< measured against the input
+  bool met = false;    ///< every bound of the Tolerance holds
+};
+
+/// @brief Bakes @p mesh with more and more slabs until the fidelity measured against @p input
+/// meets @p tolerance (an error-bounded bake).
+///
+/// Round 1 bakes with @p options as given. While a bound is missed, the next slab count is the
+/// previous one times the worst ratio of measured to wanted error, clamped to [1.5, 3] (on smooth
+/// parts the error falls like the coarse edge length squared, so like 1/slabs), and capped at
+/// Tolerance::max_slabs and the input's triangle count. The grid n and every other option stay as
+/// given. Stops at the first model that meets the bounds, at the cap, or after
+/// Tolerance::max_rounds bakes; the model returned is the last one baked (the finest).
+///
+/// The decimation that places the coarse vertices is already error-driven (edge collapses of
+/// least quadric error first, meshoptimizer), so this chooses how far it goes, measured on the
+/// finished slab model rather than on the coarse mesh: the error that counts includes undercut
+/// columns and sampling, which the coarse mesh's own error does not see.
+///
+/// @param mesh      input [model units], as for bake_slabs().
+/// @param name      file or argument name for error messages.
+/// @param options   bake options; options.slabs (or, at 0, options.density) gives round 1.
+/// @param input     exact queries on @p mesh (the reference of measure_fidelity()).
+/// @param tolerance bounds and limits.
+/// @param[out] rounds  every bake tried, in order (optional).
+/// @param[out] report  the returned model's bake report (optional).
+/// @return the model of the last round; rounds->back().met says whether it meets the bounds.
+/// @throws InvalidInput naming @p name for an invalid mesh, options or tolerance (a bound that is
+///         not positive, max_slabs < 1, max_rounds < 1); NumericalError as bake_slabs().
+/// @note Cost: up to max_rounds bakes and fidelity measurements; one round when the first bake
+///       meets the bounds.
+SlabModel bake_to_tolerance(const TriangleMesh& mesh, const std::string& name, const BakeOptions& options,
+                            const ExactMeshQuery& input, const Tolerance& tolerance,
+                            std::vector<ToleranceRound>* rounds = nullptr, BakeReport* report = nullptr);
+
+}  // namespace hdm

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/analysis/bake_to_tolerance.h>
+#include <hdm/core/error.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdm {
+
+SlabModel bake_to_tolerance(const TriangleMesh& mesh, const std::string& name, const BakeOptions& options,
+                            const ExactMeshQuery& input, const Tolerance& tolerance,
+                            std::vector<ToleranceRound>* rounds, BakeReport* report) {
+  if (!(tolerance.max_pct > 0) || !(tolerance.rms_pct > 0))
+    throw InvalidInput(name + ": error bounds must be positive (max " + std::to_string(tolerance.max_pct) + "%, RMS " +
+                       std::to_string(tolerance.rms_pct) + "%)");
+  if (tolerance.max_slabs < 1 || tolerance.max_rounds < 1)
+    throw InvalidInput(name + ": the slab cap and the number of rounds must be at least 1");
+  const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(mesh.faces.size())));
+  BakeOptions o = options;
+  std::vector<ToleranceRound> tried;
+  for (int round = 0;; ++round) {
+    BakeReport r;
+    SlabModel model = bake_slabs(mesh, name, o, &r);
+    ToleranceRound t;
+    t.slabs = r.slabs;
+    t.fidelity = measure_fidelity(model, input);
+    const Fidelity& f = t.fidelity;
+    const double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct,
+                                   f.rms_pct / tolerance.rms_pct, f.rms_back_pct / tolerance.rms_pct});
+    t.met = worst <= 1;
+    tried.push_back(t);
+    // The decimation may land below its target (it stops where no collapse is allowed), so the
+    // next count grows from the larger of target and result.
+    const int base = std::max(r.slabs, o.slabs);
+    const int next = static_cast<int>(std::min<double>(cap, std::ceil(base * std::clamp(worst, 1.5, 3.0))));
+    if (t.met || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
+      if (rounds) *rounds = std::move(tried);
+      if (report) *report = r;
+      return model;
+    }
+    o.slabs = next;
+  }
+}
+
+}  // namespace hdm
