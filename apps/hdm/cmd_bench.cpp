@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // hdm bench: bakes a model, then times the haptic query against the exact alternative (Embree
 // closest point + inside test) on the same points in the same run (design README, "How we
-// measure"; docs/performance.md).
+// measure"; docs/performance.md), and against CGAL's AABB-tree closest point as a second baseline.
 //
 // Timing method: every latency figure is a distribution over batches of kBatch consecutive
 // queries, each batch timed with two steady_clock reads and divided by kBatch, so the timer's own
@@ -11,6 +11,7 @@
 // the median over repeats, with the spread (min..max of the repeat medians).
 #include "commands.h"
 
+#include <hdm/analysis/cgal_closest_point.h>
 #include <hdm/analysis/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/edit/edit_tools.h>
@@ -45,7 +46,7 @@ using Clock = std::chrono::steady_clock;
 struct BenchArgs {
   std::string model;
   int slabs = 0, grid = 16, texels = 2, repeat = 5, ticks = 20000, points = 20000;
-  bool json = false, no_separate = false;
+  bool json = false, no_separate = false, no_cgal = false;
   uint64_t seed = 1;
 };
 
@@ -250,6 +251,8 @@ void run_bench(const BenchArgs& a) {
   const SlabLocator locator(model);
   const double locator_s = std::chrono::duration<double>(Clock::now() - l0).count();
   const ExactMeshQuery exact(mesh);
+  // The second baseline, CGAL's AABB tree (closest point only), unless --no-cgal.
+  const std::unique_ptr<CgalClosestPoint> cgal = a.no_cgal ? nullptr : std::make_unique<CgalClosestPoint>(mesh);
 
   // ---- points: device scale maps the diagonal onto a 16 cm workspace ----
   std::mt19937_64 rng(a.seed);
@@ -265,7 +268,7 @@ void run_bench(const BenchArgs& a) {
   for (size_t k = 1; k < path_pts.size(); ++k) velocity[k] = (path_pts[k] - path_pts[k - 1]) / ws.scale * 1000.0;
 
   // ---- (a)-(c) latency, hdm and Embree interleaved in each repeat ----
-  std::vector<Stats> coh, glo, tick, proxy_tick, emb_coh, emb_glo;
+  std::vector<Stats> coh, glo, tick, proxy_tick, emb_coh, emb_glo, cgal_coh, cgal_glo;
   int64_t in_shell_coh = 0, in_shell_glo = 0, contacts = 0;
   const ForceParams fp;
   for (int r = 0; r < a.repeat; ++r) {
@@ -293,6 +296,10 @@ void run_bench(const BenchArgs& a) {
     emb_glo.push_back(time_batches(global_pts.size(), [&](size_t k) {
       sink += exact.closest_point(global_pts[k]).distance + exact.inside(global_pts[k]);
     }));
+    if (cgal) {
+      cgal_coh.push_back(time_batches(path_pts.size(), [&](size_t k) { sink += cgal->closest_point(path_pts[k]).x(); }));
+      cgal_glo.push_back(time_batches(global_pts.size(), [&](size_t k) { sink += cgal->closest_point(global_pts[k]).x(); }));
+    }
     QueryCache tcache;
     int64_t in_contact = 0;
     tick.push_back(time_batches(path_pts.size(), [&](size_t k) {
@@ -316,6 +323,7 @@ void run_bench(const BenchArgs& a) {
   const Summary s_coh = summarise(coh), s_glo = summarise(glo), s_tick = summarise(tick),
                 s_ecoh = summarise(emb_coh), s_eglo = summarise(emb_glo);
   const bool have_proxy = !proxy_tick.empty();
+  const Summary s_ccoh = cgal ? summarise(cgal_coh) : Summary{}, s_cglo = cgal ? summarise(cgal_glo) : Summary{};
   const Summary s_proxy = have_proxy ? summarise(proxy_tick) : Summary{};
 
   // ---- (d) edits vs touched samples: last, on the model itself (a copy would double peak memory) ----
@@ -410,9 +418,15 @@ void run_bench(const BenchArgs& a) {
       {"contact_fraction", double(contacts) / path_pts.size()},
       {"hdm", {{"coherent_ns", to_json(s_coh)}, {"global_ns", to_json(s_glo)}, {"tick_ns", to_json(s_tick)},
                {"proxy_tick_ns", have_proxy ? to_json(s_proxy) : nlohmann::json()}}},
-      {"baseline", {{"embree_ns", to_json(s_ecoh)}, {"embree_global_ns", to_json(s_eglo)}}},
+      {"baseline", {{"embree_ns", to_json(s_ecoh)},
+                    {"embree_global_ns", to_json(s_eglo)},
+                    {"cgal_closest_ns", cgal ? to_json(s_ccoh) : nlohmann::json()},
+                    {"cgal_closest_global_ns", cgal ? to_json(s_cglo) : nlohmann::json()},
+                    {"cgal_build_s", cgal ? nlohmann::json(cgal->build_seconds()) : nlohmann::json()}}},
       {"ratio_coherent", ratio_coh},
       {"ratio_global", ratio_glo},
+      {"ratio_cgal_coherent", cgal ? nlohmann::json(s_ccoh.s.median / s_coh.s.median) : nlohmann::json()},
+      {"ratio_cgal_global", cgal ? nlohmann::json(s_cglo.s.median / s_glo.s.median) : nlohmann::json()},
       {"edit_ns_per_sample", geom_edit_ns},
       {"edit_ns_per_visited", {{"carve", per_visited('c')}, {"add", per_visited('a')}, {"paint_per_texel", per_visited('p')}}},
       {"edit_ns_per_changed", {{"carve", per_changed('c')}, {"add", per_changed('a')}, {"paint_per_texel", per_changed('p')}}},
@@ -445,7 +459,14 @@ void run_bench(const BenchArgs& a) {
   if (have_proxy) row("hdm servo tick (proxy_step)", s_proxy);
   row("Embree closest+inside, path pts", s_ecoh);
   row("Embree closest+inside, global pts", s_eglo);
+  if (cgal) {
+    row("CGAL AABB closest, path pts", s_ccoh);
+    row("CGAL AABB closest, global pts", s_cglo);
+  }
   std::printf("  speed-up vs Embree (median)       coherent %.1fx, global %.1fx\n", ratio_coh, ratio_glo);
+  if (cgal)
+    std::printf("  speed-up vs CGAL closest (median) coherent %.1fx, global %.1fx (tree built in %.2f s)\n",
+                s_ccoh.s.median / s_coh.s.median, s_cglo.s.median / s_glo.s.median, cgal->build_seconds());
   std::printf("  points in shell                   coherent %.1f%%, global %.1f%%; max path step %.3f mm\n",
               100.0 * in_shell_coh / path_pts.size(), 100.0 * in_shell_glo / global_pts.size(),
               max_step / ws.scale * 1000);
@@ -465,7 +486,7 @@ void add_bench_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench", "Bake a model and time the haptic query, servo tick, edits and bake against Embree");
   cmd->add_option("--model", a->model, "input mesh (default: <repository>/data/meshes/bunny00.off)");
-  cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles / n^2); the input is "
+  cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles * 4 / n^2); the input is "
                                        "subdivided 1-to-4 until it has more triangles")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--grid", a->grid, "displacement intervals per slab edge n")->check(CLI::Range(1, 256));
@@ -477,6 +498,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--seed", a->seed, "random seed of the points");
   cmd->add_flag("--no-separate-slabs", a->no_separate,
                 "bake without thinning overlapping slabs apart (much faster at 10^4+ slabs)");
+  cmd->add_flag("--no-cgal", a->no_cgal, "skip the second baseline (CGAL's AABB tree closest point)");
   cmd->add_flag("--json", a->json, "print one JSON object");
   cmd->callback([a] { run_bench(*a); });
 }

@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+// The CGAL closest-point baseline against brute force over every triangle.
+#include "support/test_models.h"
+
+#include <hdm/analysis/cgal_closest_point.h>
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/core/error.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace hdm;
+
+TEST(CgalClosestPointTest, matches_brute_force) {
+  TriangleMesh m = test::icosphere(3, 1.0);
+  for (Vec3& v : m.vertices) v.x() *= 1.7;  // an ellipsoid, so closest points are not radial
+  const CgalClosestPoint cgal(m);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (int k = 0; k < 500; ++k) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    double best = INFINITY;
+    for (const Tri& t : m.faces)
+      best = std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+    EXPECT_NEAR((cgal.closest_point(p) - p).norm(), best, 1e-9) << p.transpose();
+  }
+}
+
+TEST(CgalClosestPointTest, refuses_an_empty_mesh) { EXPECT_THROW(CgalClosestPoint(TriangleMesh{}), InvalidInput); }
