@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# Scaling plots for docs/performance.md: runs `hdm bench --json` over slab counts and grid sizes
-# and plots latency, bake time and memory with gnuplot into docs/img/bench_*.png.
+# Scaling plots for docs/performance.md: runs `hdm bench --json` over slab counts, grid sizes and
+# input sizes (the input subdivided 1-to-4, slab count fixed: the baselines' mesh grows, the slab
+# model does not) and plots latency, bake time and memory with gnuplot into docs/img/bench_*.png.
+# Results already in OUT_DIR are reused.
 #
 # Usage: scripts/bench_plots.sh [BUILD_DIR] [OUT_DIR]
 #   BUILD_DIR  build directory holding bin/hdm (default: build-bench)
 #   OUT_DIR    where the JSON results go (default: out/bench)
-# Env: SLABS="150 300 1000 ..."  GRIDS="4 8 16 32 64"  REPEAT=3  MODEL=data/meshes/bunny00.off
+# Env: SLABS="150 300 1000 ..."  GRIDS="4 8 16 32 64"  SUBDIVIDE="0 1 2"  INPUT_SLABS=1178
+#      REPEAT=3  MODEL=data/meshes/bunny00.off
 # Needs: jq, gnuplot. Takes about 10 minutes on 2 cores (the 100k-slab bake dominates).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +19,8 @@ MODEL=${MODEL:-data/meshes/bunny00.off}
 SLABS=${SLABS:-"150 300 1000 3000 10000 30000"}  # add 100000 for the full sweep (+8 min, 10 GB)
 GRIDS=${GRIDS:-"4 8 16 32 64"}
 GRID_SLABS=${GRID_SLABS:-300}
+SUBDIVIDE=${SUBDIVIDE:-"0 1 2"}
+INPUT_SLABS=${INPUT_SLABS:-1178}
 REPEAT=${REPEAT:-3}
 IMG=docs/img
 mkdir -p "$OUT" "$IMG"
@@ -32,6 +37,16 @@ for g in $GRIDS; do
   f="$OUT/grid_$g.json"
   [ -s "$f" ] || { echo "grid $g" >&2; "$HDM" bench --model "$MODEL" --slabs "$GRID_SLABS" --grid "$g" --repeat "$REPEAT" --no-separate-slabs --texels 1 --json > "$f"; }
 done
+
+for k in $SUBDIVIDE; do
+  f="$OUT/input_$k.json"
+  [ -s "$f" ] || { echo "input subdivided $k times" >&2; "$HDM" bench --model "$MODEL" --slabs "$INPUT_SLABS" --subdivide "$k" --repeat "$REPEAT" --json > "$f"; }
+done
+irow='[.input_triangles, .slabs, .hdm.coherent_ns.median, .hdm.global_ns.median, .baseline.embree_ns.median,
+       .baseline.embree_global_ns.median, .baseline.cgal_closest_ns.median, .baseline.cgal_closest_global_ns.median,
+       .ratio_coherent, .ratio_global] | @tsv'
+: > "$OUT/inputs.tsv"
+for k in $SUBDIVIDE; do jq -r "$irow" "$OUT/input_$k.json" >> "$OUT/inputs.tsv"; done
 
 # One row per run: x slabs grid input_tris coh_med coh_p99 glo_med glo_p99 tick_med emb_med emb_glo_med
 #                  bake_s bytes_per_slab bytes_per_sample peak_rss_mb edit_ns
@@ -60,6 +75,15 @@ plot "$OUT/slabs.tsv" u 1:4 w lp lw 2 t "hdm coherent median", \
      "" u 1:7 w lp t "hdm global p99", \
      "" u 1:9 w lp dt 2 t "Embree closest+inside (path points)", \
      "" u 1:10 w lp dt 2 t "Embree closest+inside (global points)"
+set xlabel "input triangles (bunny00 subdivided 1-to-4; the slab model stays at $INPUT_SLABS slabs, n = 16)"
+set output "$IMG/bench_latency_vs_input.png"
+set title "Query latency vs input size: hdm against the exact queries on the input"
+plot "$OUT/inputs.tsv" u 1:3 w lp lw 2 t "hdm coherent median", \
+     "" u 1:4 w lp lw 2 t "hdm global median", \
+     "" u 1:5 w lp dt 2 t "Embree closest+inside (path points)", \
+     "" u 1:6 w lp dt 2 t "Embree closest+inside (global points)", \
+     "" u 1:7 w lp dt 3 t "CGAL AABB closest (path points)", \
+     "" u 1:8 w lp dt 3 t "CGAL AABB closest (global points)"
 set xlabel "grid intervals per slab edge n"
 set logscale x 2
 set output "$IMG/bench_latency_vs_grid.png"
