@@ -49,8 +49,9 @@ bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Cont
   out.coords = c;
   out.delta = delta;
   out.ray = ray;
-  const double len = nf.norm();
-  out.normal = len > 0 ? Vec3(nf.cast<double>() * (1.0 / len)) : Vec3(ray.normalized());
+  const Vec3 nd = nf.cast<double>();
+  const double len = nd.norm();  // in double: the normal is unit to rounding, as the force bounds assume
+  out.normal = len > 0 ? Vec3(nd * (1.0 / len)) : Vec3(ray.normalized());
   out.depth = (delta - c.alpha) * std::max(ray.dot(out.normal), 0.1 * ray.norm());  // as evaluate_surface
   return out.surface_point.allFinite() && out.normal.allFinite();
 }
