@@ -33,18 +33,18 @@ double model_diagonal(const SlabModel& m) noexcept {
 // stalls with a growing tangential force, then snaps across (force steps of 8 % at 10 kHz). The
 // one-ring sum turns about half as fast.
 bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Contact& out) noexcept {
-  if (model.haptic_normals.empty() || model.haptic_normals.size() != model.normals.size()) {
+  if (model.haptic_normals.size() != model.slab_samples.size() || model.haptic_normals.empty()) {
     evaluate_surface(model, slab, c, out);
     return out.surface_point.allFinite() && out.normal.allFinite();
   }
   const double wS = c.bary[1], wT = c.bary[2];
-  const detail::GridCell cell = detail::grid_cell(model, slab, wS, wT);
+  const detail::LocalCell cell = detail::local_cell(model.grid_n, wS, wT);
   double delta;
   Vec3 ray;
   out.surface_point = detail::surface_point(model, slab, wS, wT, cell, delta, ray);
-  const Vec3f* hn = model.haptic_normals.data();
-  const Vec3f nf = static_cast<float>(cell.wa) * hn[cell.a] + static_cast<float>(cell.wb) * hn[cell.b] +
-                   static_cast<float>(cell.wd) * hn[cell.d];
+  const Vec3f* hn = model.haptic_normals.data() + static_cast<size_t>(slab) * model.samples.per_slab;  // slab-major
+  const Vec3f nf = static_cast<float>(cell.wa) * hn[cell.la] + static_cast<float>(cell.wb) * hn[cell.lb] +
+                   static_cast<float>(cell.wd) * hn[cell.ld];
   out.slab = slab;
   out.coords = c;
   out.delta = delta;

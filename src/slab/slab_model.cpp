@@ -93,15 +93,15 @@ inline void store_haptic_normal(SlabModel& m, int32_t s) noexcept {
   Vec3f sum = m.normals[s];
   for (int32_t k = L.neighbour_offsets[s]; k < L.neighbour_offsets[s + 1]; ++k) sum += m.normals[L.neighbours[k]];
   const float len = sum.norm();
-  m.haptic_normals[s] = len > 0 ? Vec3f(sum * (1.0f / len)) : m.normals[s];
+  const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : m.normals[s];
+  L.for_each_slot(s, [&](int32_t slot) { m.haptic_normals[slot] = n; });
 }
 
 }  // namespace
 
 void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept {
   const SampleLayout& L = model.samples;
-  if (model.haptic_normals.size() != static_cast<size_t>(L.count) || model.normals.size() != model.haptic_normals.size())
-    return;
+  if (model.haptic_normals.size() != L.ids.size() || model.normals.size() != static_cast<size_t>(L.count)) return;
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     store_haptic_normal(model, s);
@@ -268,7 +268,7 @@ void rebuild_derived(SlabModel& m) {
   m.haptic_normals.clear();  // filled once below, not per update_normals() ring
   FaceNormalCache faces;
   update_normals(m, all.data(), ns, faces);  // also fills slab_samples
-  m.haptic_normals.resize(ns);
+  m.haptic_normals.resize(m.samples.ids.size());
   update_haptic_normals(m, all.data(), ns, false);
 }
 

@@ -62,8 +62,10 @@ struct SlabModel {
   SampleLayout texels;            ///< colour texels (grid n·m)
   std::vector<Vec3f> positions;   ///< #samples surface points (cache of sample_position) [model units]
   std::vector<Vec3f> normals;     ///< #samples unit normals of the displaced surface
-  /// #samples unit normals for force shading (the proxy, hdm::proxy_step): each sample's normal
-  /// summed with those of its grid neighbours (one ring, across seams) and normalised. The proxy's
+  /// #S·samples.per_slab unit normals for force shading (the proxy, hdm::proxy_step), slab-major
+  /// like `slab_samples` (slot slab·per_slab + grid index holds sample samples.ids[slot]): each
+  /// sample's normal summed with those of its grid neighbours (one ring, across seams) and
+  /// normalised, the same in every slot of a shared sample. The proxy's
   /// fixed point (the surface point whose interpolated normal points at the hand) folds, and the
   /// force jumps, wherever penetration depth × the normal field's rate of turn exceeds 1 rad; the
   /// grid normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
@@ -140,9 +142,10 @@ struct FaceNormalCache {
 /// @brief Recomputes `haptic_normals` of @p samples from `normals`: the normalised sum of the
 /// sample's normal and its grid neighbours' (SampleLayout::neighbours, across seams, so a sample
 /// shared by several slabs has one value). With @p with_ring, the grid neighbours of @p samples
-/// are recomputed too (what a change of their `normals` affects).
+/// are recomputed too (what a change of their `normals` affects). Every slot of a sample gets
+/// the same value.
 /// @note O(count·valence²) with the ring, O(count·valence) without; no allocation. Does nothing
-///       when `haptic_normals` is not sized to the samples.
+///       when `haptic_normals` is not sized to the slots (samples.ids).
 void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept;
 
 /// @brief update_normals() with each affected grid triangle's normal computed once: the same
