@@ -37,10 +37,11 @@ struct SlabSample {
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
 /// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`,
-/// `positions`, `normals` and `slab_samples` and must not run concurrently with readers of the
-/// same samples. Code that changes `displacement` outside the edit tools must call
+/// `positions`, `normals`, `slab_samples` and `haptic_normals` and must not run concurrently with
+/// readers of the same samples. Code that changes `displacement` outside the edit tools must call
 /// update_positions() and update_normals() on the changed samples and their one-ring (or
-/// rebuild_derived()), or the query will read stale values from `slab_samples`.
+/// rebuild_derived()), or the query will read stale values from `slab_samples` (and the proxy from
+/// `haptic_normals`).
 struct SlabModel {
   // ---- stored ----
   int grid_n = 16;                ///< displacement intervals per slab edge (n)
