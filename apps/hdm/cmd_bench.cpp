@@ -380,7 +380,7 @@ void run_bench(const BenchArgs& a) {
   const SampleLayout& L = model.samples;
   const size_t sample_bytes = bytes(model.displacement) + bytes(model.friction_static) +
                               bytes(model.friction_dynamic) + bytes(model.stiffness_scale) +
-                              bytes(model.positions) + bytes(model.normals) + bytes(L.ids) + bytes(L.triangles) +
+                              bytes(model.positions) + bytes(model.normals) + bytes(model.haptic_normals) + bytes(L.ids) + bytes(L.triangles) +
                               bytes(L.home_slab) + bytes(L.home_index) + bytes(L.neighbour_offsets) +
                               bytes(L.neighbours) + bytes(L.triangle_offsets) + bytes(L.incident_triangles) +
                               bytes(L.shared_slot_offsets) + bytes(L.slot_of_shared) + bytes(model.slab_samples);

@@ -101,6 +101,7 @@ void run_feel(const FeelArgs& a) {
                             {"max_force_step_pct", r.max_force_step_pct},
                             {"normal_error_p95_deg", r.normal_error_p95_deg},
                             {"normal_error_smooth_p95_deg", r.normal_error_smooth_p95_deg},
+                            {"normal_floor_p95_deg", r.normal_floor_p95_deg},
                             {"energy_ratio", r.energy_ratio},
                             {"stable_stiffness_n_per_m", r.stable_stiffness_n_per_m},
                             {"passive_stiffness_n_per_m", r.passive_stiffness_n_per_m},
@@ -123,8 +124,8 @@ void run_feel(const FeelArgs& a) {
   std::printf("  ticks               %lld (%lld in contact)\n", (long long)r.ticks, (long long)r.contact_ticks);
   std::printf("  pop-throughs        %d\n", r.pop_throughs);
   std::printf("  max force step      %.2f %% of max force (handle still)\n", r.max_force_step_pct);
-  std::printf("  normal error p95    %.2f deg (face), %.2f deg (smooth input normal)\n", r.normal_error_p95_deg,
-              r.normal_error_smooth_p95_deg);
+  std::printf("  normal error p95    %.2f deg (face), %.2f deg (smooth input normal); input's own face vs smooth %.2f deg\n",
+              r.normal_error_p95_deg, r.normal_error_smooth_p95_deg, r.normal_floor_p95_deg);
   std::printf("  energy ratio        %.3f (returned / absorbed)\n", r.energy_ratio);
   std::printf("  force               max %.3f N, mean in contact %.3f N, cv %.3f\n", r.max_force_n,
               r.mean_contact_force_n, r.force_cv);

@@ -42,6 +42,23 @@ bool represented(const SlabModel& model, const SlabLocator& locator, const Vec3&
   return c.penetrating() && std::abs((c.surface_point - p).dot(n)) < 0.25 * t && c.normal.dot(n) > std::cos(25 * kPi / 180);
 }
 
+// The bake represents a stroke when at every point a point 0.002 of the diagonal under it (about
+// 0.3 mm at the device) is inside the rendered surface, with its surface point within that depth of
+// the input's tangent plane and its normal within 15 degrees of the input's interpolated normal.
+// On the armadillo the smoothest slab corner fails this: its grid folds over itself near the
+// corner (neighbouring grid normals 77 degrees apart) and the model's normal is 27 degrees off
+// the input's there, which no force rendering of the slab model can follow.
+bool stroke_represented(const SlabModel& model, const SlabLocator& locator, const SurfaceStroke& st, double diag) {
+  const double d = 0.002 * diag, cos_max = std::cos(15 * kPi / 180);
+  QueryCache cache;
+  for (const SurfacePoint& p : st.points) {
+    const Contact c = query(model, locator, p.point - p.normal * d, cache);
+    if (!c.penetrating() || std::abs((c.surface_point - p.point).dot(p.normal)) > d || c.normal.dot(p.normal) < cos_max)
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 ScenarioSites::ScenarioSites(const ExactMeshQuery& reference, const SiteOptions& options)
@@ -301,6 +318,7 @@ SurfaceStroke ScenarioSites::edges_spiral(const SlabModel& model, const SlabLoca
       if (slab >= 0) last = slab;
     }
     if (st.slab_crossings < 6) continue;  // a corner whose fan the spiral misses
+    if (!stroke_represented(model, locator, st, diag_)) continue;  // the bake misses the relief there
     best_score = sc;
     best = std::move(st);
   }

@@ -90,9 +90,10 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
   if (!o.friction) pp.friction_scale = 0;
   ProxyState st;
 
-  std::vector<double> tick_ns(n), nerr, nerr_smooth, steady_force;
+  std::vector<double> tick_ns(n), nerr, nerr_smooth, nfloor, steady_force;
   nerr.reserve(n);
   nerr_smooth.reserve(n);
+  nfloor.reserve(n);
   steady_force.reserve(n);
   if (o.keep_trace) r.trace.reserve(n);
   Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero();
@@ -143,6 +144,7 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
             const Vec3 ns = (1 - wb - wc) * normals->vertex[tri[0]] + wb * normals->vertex[tri[1]] +
                             wc * normals->vertex[tri[2]];
             nerr_smooth.push_back(angle_deg(f, ns));
+            nfloor.push_back(angle_deg(ref.face_normal(cp.face), ns));
           }
         }
       }
@@ -181,6 +183,7 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
   r.mean_contact_force_n = r.contact_ticks > 0 ? force_sum / r.contact_ticks : 0;
   r.normal_error_p95_deg = p95(nerr);
   r.normal_error_smooth_p95_deg = p95(nerr_smooth);
+  r.normal_floor_p95_deg = p95(nfloor);
   if (!steady_force.empty()) {
     double m = 0, v = 0;
     for (double x : steady_force) m += x;

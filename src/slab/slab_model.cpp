@@ -85,6 +85,33 @@ inline Vec3f face_normal(const SlabModel& m, const Tri& t) noexcept {
 
 }  // namespace
 
+namespace {
+
+// One-ring sum of unit normals, normalised (the force-shading normal of sample s).
+inline void store_haptic_normal(SlabModel& m, int32_t s) noexcept {
+  const SampleLayout& L = m.samples;
+  Vec3f sum = m.normals[s];
+  for (int32_t k = L.neighbour_offsets[s]; k < L.neighbour_offsets[s + 1]; ++k) sum += m.normals[L.neighbours[k]];
+  const float len = sum.norm();
+  const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : m.normals[s];
+  L.for_each_slot(s, [&](int32_t slot) { m.haptic_normals[slot] = n; });
+}
+
+}  // namespace
+
+void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept {
+  const SampleLayout& L = model.samples;
+  if (model.haptic_normals.size() != L.ids.size() || model.normals.size() != static_cast<size_t>(L.count)) return;
+  for (size_t k = 0; k < count; ++k) {
+    const int32_t s = samples[k];
+    store_haptic_normal(model, s);
+    if (!with_ring) continue;
+    // A neighbour shared with another listed sample is recomputed once per listing: the same value.
+    for (int32_t e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e)
+      store_haptic_normal(model, L.neighbours[e]);
+  }
+}
+
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept {
   const SampleLayout& L = model.samples;
   const bool copy = model.slab_samples.size() == L.ids.size();
@@ -95,6 +122,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count) noex
       sum += face_normal(model, L.triangles[L.incident_triangles[e]]);
     store_normal(model, s, sum, copy);
   }
+  update_haptic_normals(model, samples, count, true);
 }
 
 FaceNormalCache::FaceNormalCache() : memo(kSlots), pending(2 * kSlots) {}
@@ -154,6 +182,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
     }
     store_normal(model, s, sum, copy);
   }
+  update_haptic_normals(model, samples, count, true);
 }
 
 namespace {
@@ -236,8 +265,11 @@ void rebuild_derived(SlabModel& m) {
   std::vector<int32_t> all(ns);
   for (size_t s = 0; s < ns; ++s) all[s] = static_cast<int32_t>(s);
   update_positions(m, all.data(), ns);
+  m.haptic_normals.clear();  // filled once below, not per update_normals() ring
   FaceNormalCache faces;
   update_normals(m, all.data(), ns, faces);  // also fills slab_samples
+  m.haptic_normals.resize(m.samples.ids.size());
+  update_haptic_normals(m, all.data(), ns, false);
 }
 
 void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces) {

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -158,6 +159,47 @@ TEST(EditToolsTest, edited_normals_match_a_brute_force_recompute) {
     moved += (before[s] - f.model.normals[s]).norm() > 1e-3;
   }
   EXPECT_GT(moved, 200);  // the edits did turn normals
+}
+
+TEST(EditToolsTest, haptic_normals_follow_the_edits) {
+  // The proxy's force-shading field: each sample's normal plus its grid neighbours', normalised.
+  // Reference: the neighbours found from the grid triangles of every slab (not the layout's
+  // adjacency), after edits, against the brute-force normals.
+  Fixture f;
+  std::mt19937 rng(13);
+  for (int k = 0; k < 20; ++k) {
+    Contact c;
+    Vec3 hip;
+    if (!f.contact_at(int(rng() % f.model.samples.count), 0.004, c, hip)) continue;
+    if (k % 2) carve(f.model, f.scratch, c, hip, 0.015 * f.diag, 0.0);
+    else add_material(f.model, f.scratch, c, 0.015 * f.diag, 0.004 * f.diag);
+  }
+  const SampleLayout& L = f.model.samples;
+  const std::vector<Vec3> n = brute_force_normals(f.model);
+  std::vector<std::vector<int32_t>> nb(L.count);
+  for (const Tri& t : L.triangles)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        if (a != b) nb[t[a]].push_back(t[b]);
+  std::vector<Vec3> ref(L.count);
+  for (int s = 0; s < L.count; ++s) {
+    std::sort(nb[s].begin(), nb[s].end());
+    nb[s].erase(std::unique(nb[s].begin(), nb[s].end()), nb[s].end());
+    Vec3 sum = n[s];
+    for (int32_t u : nb[s]) sum += n[u];
+    ref[s] = sum.normalized();
+  }
+  // Slab-major: every slot of a shared sample (edges, corners) holds its sample's value.
+  ASSERT_EQ(f.model.haptic_normals.size(), L.ids.size());
+  std::vector<int64_t> first_slot(L.count, -1);
+  for (size_t slot = 0; slot < L.ids.size(); ++slot) {
+    const int32_t s = L.ids[slot];
+    ASSERT_LT((f.model.haptic_normals[slot].cast<double>() - ref[s]).norm(), 3e-3) << "slot " << slot;
+    // Bit for bit the same in every slab that holds the sample, so the interpolated field is the
+    // same on a shared edge or corner from either side.
+    if (first_slot[s] < 0) first_slot[s] = int64_t(slot);
+    else ASSERT_EQ(f.model.haptic_normals[slot], f.model.haptic_normals[first_slot[s]]) << "sample " << s;
+  }
 }
 
 TEST(EditToolsTest, slab_major_copy_follows_the_edits) {

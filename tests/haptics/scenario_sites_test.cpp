@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 namespace hdm {
@@ -75,6 +76,29 @@ TEST(ScenarioSites, EdgesSpiralCrossesManySlabs) {
   }
   EXPECT_GE(slabs.size(), 5u) << "the spiral goes round a corner: every slab of its fan";
   EXPECT_GE(s.slab_crossings, 6);
+}
+
+// A corner the bake does not represent is not used: flatten the displacement (δ = 0, the inner
+// shell) round the corner the spiral chose, so the model misses the input there; the spiral moves
+// to another corner, clear of the flattened patch.
+TEST(ScenarioSites, EdgesSpiralAvoidsACornerTheBakeMisses) {
+  const Bunny& b = bunny();
+  const SurfaceStroke first = b.sites.edges_spiral(b.model, b.locator);
+  Vec3 centre = Vec3::Zero();
+  for (const SurfacePoint& p : first.points) centre += p.point;
+  centre /= double(first.points.size());
+  double radius = 0;
+  for (const SurfacePoint& p : first.points) radius = std::max(radius, (p.point - centre).norm());
+  SlabModel m = b.model;
+  int flattened = 0;
+  for (int s = 0; s < m.samples.count; ++s)
+    if ((m.positions[s].cast<double>() - centre).norm() < 1.2 * radius) m.displacement[s] = 0.0f, ++flattened;
+  ASSERT_GT(flattened, 50);
+  rebuild_derived(m);
+  const SlabLocator locator(m);
+  const SurfaceStroke moved = b.sites.edges_spiral(m, locator);
+  for (const SurfacePoint& p : moved.points)
+    ASSERT_GT((p.point - centre).norm(), 1.2 * radius) << "the spiral still crosses the flattened patch";
 }
 
 TEST(ScenarioSites, AreDeterministic) {

@@ -99,9 +99,12 @@ class ScenarioSites {
 
   /// @brief Edges: a two-turn spiral (radius 0.35 to 1.1 of the mean corner spacing) round the
   /// slab corner whose neighbourhood is smoothest and exposed, so that it crosses every slab edge
-  /// at that corner twice and passes the neighbouring corners.
+  /// at that corner twice and passes the neighbouring corners, among the spirals the slab model
+  /// represents (at every point, 0.002 of the diagonal under it is inside the rendered surface,
+  /// whose point is within that depth of the input's tangent plane and whose normal is within 15°
+  /// of the input's interpolated normal).
   /// @param model    the slab model baked from the input (its coarse corners and slabs).
-  /// @param locator  its locator, to count slab crossings.
+  /// @param locator  its locator, to count slab crossings and test the representation.
   /// @throws InvalidInput when no corner qualifies.
   SurfaceStroke edges_spiral(const SlabModel& model, const SlabLocator& locator) const;
 

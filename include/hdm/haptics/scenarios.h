@@ -67,6 +67,10 @@ struct ScenarioReport {
   double max_force_step_pct = 0;    ///< largest tick-to-tick |ΔF| as % of max force over ticks where the handle moved < 0.1 mm
   double normal_error_p95_deg = 0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
   double normal_error_smooth_p95_deg = 0;  ///< same against the input's interpolated (area-weighted vertex) normal
+  /// The input's own facet noise at the same points: its face normal against its interpolated
+  /// vertex normal (p95) [deg]. A force that follows any continuous normal field cannot get far
+  /// below this against the face normal.
+  double normal_floor_p95_deg = 0;
   double energy_ratio = 0;          ///< work the rendered force returned to the handle / work it absorbed
   double stable_stiffness_n_per_m = 0;  ///< stiff: highest stiffness whose press-and-hold settles (hand coupled); others: the stiffness used
   double passive_stiffness_n_per_m = 0; ///< stiff: highest stiffness at which the rendered contact is also passive

@@ -37,10 +37,11 @@ struct SlabSample {
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
 /// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`,
-/// `positions`, `normals` and `slab_samples` and must not run concurrently with readers of the
-/// same samples. Code that changes `displacement` outside the edit tools must call
+/// `positions`, `normals`, `slab_samples` and `haptic_normals` and must not run concurrently with
+/// readers of the same samples. Code that changes `displacement` outside the edit tools must call
 /// update_positions() and update_normals() on the changed samples and their one-ring (or
-/// rebuild_derived()), or the query will read stale values from `slab_samples`.
+/// rebuild_derived()), or the query will read stale values from `slab_samples` (and the proxy from
+/// `haptic_normals`).
 struct SlabModel {
   // ---- stored ----
   int grid_n = 16;                ///< displacement intervals per slab edge (n)
@@ -62,6 +63,15 @@ struct SlabModel {
   SampleLayout texels;            ///< colour texels (grid n·m)
   std::vector<Vec3f> positions;   ///< #samples surface points (cache of sample_position) [model units]
   std::vector<Vec3f> normals;     ///< #samples unit normals of the displaced surface
+  /// #S·samples.per_slab unit normals for force shading (the proxy, hdm::proxy_step), slab-major
+  /// like `slab_samples` (slot slab·per_slab + grid index holds sample samples.ids[slot]): each
+  /// sample's normal summed with those of its grid neighbours (one ring, across seams) and
+  /// normalised, the same in every slot of a shared sample. The proxy's
+  /// fixed point (the surface point whose interpolated normal points at the hand) folds, and the
+  /// force jumps, wherever penetration depth × the normal field's rate of turn exceeds 1 rad; the
+  /// grid normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
+  /// update_normals() keeps it in sync with `normals` (the samples it is given and their ring).
+  std::vector<Vec3f> haptic_normals;
   std::vector<SlabGeometry> geometry;               ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> vertex_slab_offsets, vertex_slabs;  ///< CSR coarse vertex -> slabs
@@ -104,7 +114,8 @@ void update_positions(SlabModel& model, const int32_t* samples, size_t count) no
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; design notes §4.4), and refreshes their
-/// displacement and normal in `slab_samples` (when it is built).
+/// displacement and normal in `slab_samples` (when it is built) and `haptic_normals` of them and
+/// their grid neighbours (when it is built).
 /// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
 ///       samples sharing triangles use the FaceNormalCache overload.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;
@@ -128,6 +139,15 @@ struct FaceNormalCache {
   std::vector<int32_t> pending;   ///< triangles listed for evaluation (flushed when full)
   uint32_t current = 0;           ///< number of the current call
 };
+
+/// @brief Recomputes `haptic_normals` of @p samples from `normals`: the normalised sum of the
+/// sample's normal and its grid neighbours' (SampleLayout::neighbours, across seams, so a sample
+/// shared by several slabs has one value). With @p with_ring, the grid neighbours of @p samples
+/// are recomputed too (what a change of their `normals` affects). Every slot of a sample gets
+/// the same value.
+/// @note O(count·valence²) with the ring, O(count·valence) without; no allocation. Does nothing
+///       when `haptic_normals` is not sized to the slots (samples.ids).
+void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept;
 
 /// @brief update_normals() with each affected grid triangle's normal computed once: the same
 /// result bit for bit (same products, same summation order), about a third of the cross products
