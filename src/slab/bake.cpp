@@ -419,9 +419,28 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     tgt_in[v] = std::min(tgt_in[v], off_in[v]), tgt_out[v] = std::min(tgt_out[v], off_out[v]);
     place(v);
   };
+  // Overlapping pairs are kept from one check to the next and searched again only around slabs
+  // whose corners moved since (most of the shell is settled after the first iterations).
+  std::vector<std::pair<int32_t, int32_t>> known_pairs;
+  std::vector<Vec3> checked_inner, checked_outer;
+  std::vector<uint8_t> moved(model.slabs.size());
+  auto current_pairs = [&]() -> const std::vector<std::pair<int32_t, int32_t>>& {
+    if (checked_inner.empty()) {
+      known_pairs = overlapping_pairs(model);
+    } else {
+      for (size_t f = 0; f < model.slabs.size(); ++f) {
+        moved[f] = 0;
+        for (int32_t v : model.slabs[f]) moved[f] |= model.inner[v] != checked_inner[v] || model.outer[v] != checked_outer[v];
+      }
+      update_overlapping_pairs(model, moved, known_pairs);
+    }
+    checked_inner = model.inner;
+    checked_outer = model.outer;
+    return known_pairs;
+  };
   auto separate = [&] {
     for (int it = 0; it < 12; ++it) {
-      const auto pairs = overlapping_pairs(model);
+      const auto pairs = current_pairs();
       if (pairs.empty()) break;
       for (const auto& [a, b] : pairs)
         for (int32_t f : {a, b})
