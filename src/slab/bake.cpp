@@ -552,10 +552,11 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     model.displacement[s] = static_cast<float>(std::clamp(0.5 * (lo + hi), 0.0, 1.0));
   });
   rep.undercut_columns = std::count(undercut.begin(), undercut.end(), uint8_t(1));
+  // rebuild_derived() builds the texel layout (and fills `colour` with its default); the bake's
+  // colour is set afterwards, so the layout is built once.
   model.colour.clear();
-  model.texels = build_sample_layout(model.slabs, static_cast<int>(nv), n * o.texel_density);
-  model.colour.assign(model.texels.count, o.colour);
   rebuild_derived(model);
+  model.colour.assign(model.texels.count, o.colour);
 
   for (int s = 0; s < model.slab_count(); ++s) {
     const Tri& t = model.slabs[s];

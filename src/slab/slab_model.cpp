@@ -3,6 +3,10 @@
 #include <hdm/slab/slab_model.h>
 #include <hdm/slab/triangle_grid.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -235,9 +239,16 @@ void rebuild_derived(SlabModel& m) {
   m.slab_samples.resize(m.samples.ids.size());
   std::vector<int32_t> all(ns);
   for (size_t s = 0; s < ns; ++s) all[s] = static_cast<int32_t>(s);
-  update_positions(m, all.data(), ns);
-  FaceNormalCache faces;
-  update_normals(m, all.data(), ns, faces);  // also fills slab_samples
+  // In blocks of samples, in parallel: each call writes only its own samples' position, normal and
+  // slab copies, and a normal is the same sum in the same order whatever the block.
+  constexpr size_t block = 16384;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
+    update_positions(m, all.data() + r.begin(), r.size());
+  });
+  tbb::enumerable_thread_specific<FaceNormalCache> caches;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
+    update_normals(m, all.data() + r.begin(), r.size(), caches.local());  // also fills slab_samples
+  });
 }
 
 void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces) {
