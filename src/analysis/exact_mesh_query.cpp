@@ -103,13 +103,18 @@ RTCRayHit make_ray(const Vec3& o, const Vec3& d, float tnear, float tfar) {
 }  // namespace
 
 ClosestPoint ExactMeshQuery::closest_point(const Vec3& p) const {
-  PointQueryState st{&mesh_, p, {Vec3::Zero(), std::numeric_limits<double>::infinity(), -1}};
+  return closest_point(p, std::numeric_limits<double>::infinity());
+}
+
+ClosestPoint ExactMeshQuery::closest_point(const Vec3& p, double radius) const {
+  // Only faces nearer than `radius` are accepted; the float sphere gets the callback's margin.
+  PointQueryState st{&mesh_, p, {Vec3::Zero(), radius, -1}};
   RTCPointQuery q;
   q.x = static_cast<float>(p.x());
   q.y = static_cast<float>(p.y());
   q.z = static_cast<float>(p.z());
   q.time = 0;
-  q.radius = std::numeric_limits<float>::infinity();
+  q.radius = std::isinf(radius) ? std::numeric_limits<float>::infinity() : static_cast<float>(radius) * 1.0001f + 1e-30f;
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(impl_->scene, &q, &ctx, point_query_callback, &st);
