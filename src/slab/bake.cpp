@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -256,7 +257,11 @@ double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_
 
 }  // namespace
 
-SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& o, BakeReport* report) {
+namespace {
+
+// The bake; `prebuilt` is the caller's BVH over `mesh`, or null to build one here.
+SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const std::string& name, const BakeOptions& o,
+               BakeReport* report) {
   const auto start = std::chrono::steady_clock::now();
   if (o.grid_n < 1 || o.grid_n > 256) throw InvalidInput("--grid " + std::to_string(o.grid_n) + ": must be in [1, 256]");
   if (o.texel_density < 1 || o.texel_density > 16)
@@ -282,6 +287,7 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   for (int attempt = 0; attempt <= 12; ++attempt) {
     const int t = target + (attempt % 2 ? 1 : -1) * ((attempt + 1) / 2) * std::max(1, target / 100);
     Coarse c = decimate(mesh, std::max(4, t));
+    progress(o, "decimate", attempt / 13.0);
     const MeshTopology topo = analyze_topology(TriangleMesh{c.vertices, c.faces});
     if (topo.non_manifold_edges != 0 || topo.inconsistent_edges != 0) {
       if (attempt == 12 && fewest == std::numeric_limits<int>::max())
@@ -296,7 +302,9 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   progress(o, "decimate", 1);
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   const size_t nv = coarse.vertices.size();
-  const ExactMeshQuery input(mesh);
+  std::unique_ptr<const ExactMeshQuery> own;
+  if (!prebuilt) own = std::make_unique<const ExactMeshQuery>(mesh);
+  const ExactMeshQuery& input = prebuilt ? *prebuilt : *own;
   const ExactMeshQuery coarse_query(TriangleMesh{coarse.vertices, coarse.faces});
 
   progress(o, "measure", 0);
@@ -471,9 +479,9 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   std::vector<uint8_t> stale(nv);
   for (int round = 0; round < 8; ++round) {
     rep.shell_iterations = round + 1;
-    progress(o, "grow shell", 0);
+    progress(o, "grow shell", round / 8.0);
     grow();
-    progress(o, "separate", 0);
+    progress(o, "separate", round / 8.0);
     if (separating) separate();
     for (size_t v = 0; v < nv; ++v)
       stale[v] = !(model.inner[v] == cast_inner[v]) || !(model.outer[v] == cast_outer[v]);
@@ -555,8 +563,10 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   // rebuild_derived() builds the texel layout (and fills `colour` with its default); the bake's
   // colour is set afterwards, so the layout is built once.
   model.colour.clear();
+  progress(o, "derived data", 0);
   rebuild_derived(model);
   model.colour.assign(model.texels.count, o.colour);
+  progress(o, "derived data", 1);
 
   for (int s = 0; s < model.slab_count(); ++s) {
     const Tri& t = model.slabs[s];
@@ -571,6 +581,16 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (report) *report = rep;
   return model;
+}
+
+}  // namespace
+
+SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& o, BakeReport* report) {
+  return bake(mesh, nullptr, name, o, report);
+}
+
+SlabModel bake_slabs(const ExactMeshQuery& input, const std::string& name, const BakeOptions& o, BakeReport* report) {
+  return bake(input.mesh(), &input, name, o, report);
 }
 
 }  // namespace hdm
