@@ -16,11 +16,12 @@ struct ExactMeshQuery::Impl {
   double diagonal = 0;
 };
 
-ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()), mesh_(mesh) {
+ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
+    : impl_(std::make_unique<Impl>()), mesh_(mesh) {
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw NumericalError("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneBuildQuality(impl_->scene, quality == BvhQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                          3 * sizeof(float), mesh.vertices.size()));

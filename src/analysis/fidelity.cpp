@@ -52,7 +52,7 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input) {
   };
   const double near = 1e-2 * diag;
   const Sum fwd = distances(ns + nt, input, near, [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
-  const ExactMeshQuery recon(surface);
+  const ExactMeshQuery recon(surface, BvhQuality::medium);  // about one query per triangle
   const int64_t nv = static_cast<int64_t>(in.vertices.size()), nf = static_cast<int64_t>(in.faces.size());
   const Sum back = distances(nv + nf, recon, near, [&](int64_t k) { return k < nv ? in.vertices[k] : centroid(in, k - nv); });
   f.points = ns + nt;

@@ -25,6 +25,10 @@ struct SegmentHit {
   int32_t face;    ///< face hit
 };
 
+/// How much time Embree spends on building the BVH (RTC_BUILD_QUALITY_*): `high` (spatial splits)
+/// builds 2-3× slower than `medium` for 10-20% faster queries. Results are exact either way.
+enum class BvhQuality { high, medium };
+
 /// Embree BVH over a triangle mesh (single precision inside Embree; the closest-point distance is
 /// recomputed in double on the winning triangle).
 ///
@@ -32,9 +36,12 @@ struct SegmentHit {
 class ExactMeshQuery {
  public:
   /// @brief Builds the BVH over @p mesh (copied into Embree's buffers).
+  /// @param quality  `high` (the default) for many queries; `medium` when the build dominates (a
+  ///                 BVH used for about one query per triangle, such as the reconstructed surface
+  ///                 in measure_fidelity(): 5.1 M triangles build in ~2 s instead of ~6 s).
   /// @throws NumericalError if Embree cannot create a device.
-  /// @note O(#F log #F).
-  explicit ExactMeshQuery(const TriangleMesh& mesh);
+  /// @note O(#F log #F), parallel (Embree's TBB builder).
+  explicit ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality = BvhQuality::high);
   ~ExactMeshQuery();
   ExactMeshQuery(const ExactMeshQuery&) = delete;
   ExactMeshQuery& operator=(const ExactMeshQuery&) = delete;
