@@ -50,7 +50,7 @@ std::vector<Pair> pairs_among(const SlabModel& m, const std::vector<int32_t>& se
     owner.insert(owner.end(), 8, s);
   }
   if (shell.faces.empty()) return {};
-  const ExactMeshQuery bvh(shell);
+  const ExactMeshQuery bvh(shell, BvhQuality::medium);  // about three segments per triangle
   auto shares_vertex = [&](int a, int b) {
     for (int32_t x : m.slabs[a])
       for (int32_t y : m.slabs[b])
