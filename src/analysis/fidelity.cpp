@@ -18,7 +18,7 @@ struct Sum {
 };
 
 // Exact distances from `count` points to `target`. Most points lie within `near` of it, so the
-// search starts with that radius; the others are searched again without a bound (same result).
+// query starts with that radius; the others are queried again without a bound (same result).
 template <class PointAt>
 Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt point_at) {
   return tbb::parallel_reduce(

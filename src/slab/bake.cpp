@@ -427,7 +427,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
     tgt_in[v] = std::min(tgt_in[v], off_in[v]), tgt_out[v] = std::min(tgt_out[v], off_out[v]);
     place(v);
   };
-  // Overlapping pairs are kept from one check to the next and searched again only around slabs
+  // Overlapping pairs are kept from one check to the next and recomputed only around slabs
   // whose corners moved since (most of the shell is settled after the first iterations).
   std::vector<std::pair<int32_t, int32_t>> known_pairs;
   std::vector<Vec3> checked_inner, checked_outer;

@@ -105,7 +105,7 @@ TEST(ShellTest, overlap_check_finds_interpenetrating_slabs) {
   EXPECT_GT(count_overlapping_pairs(m), 0);
 }
 
-TEST(ShellTest, updated_overlapping_pairs_match_a_full_search) {
+TEST(ShellTest, updated_overlapping_pairs_match_a_full_recomputation) {
   // Two spheres baked apart, then some of one sphere's corners pushed into the other, in steps:
   // after each step the updated pairs must equal the pairs found from scratch.
   TriangleMesh two = test::icosphere(3, 1.0, Vec3(-1.5, 0, 0));

@@ -53,11 +53,11 @@ class ExactMeshQuery {
   /// @brief The closest point on the mesh to @p p if it lies within @p radius of @p p (the same
   /// point as closest_point(p)), else face -1 and distance @p radius.
   ///
-  /// The search starts with a sphere of that radius instead of an unbounded one, so Embree culls
+  /// The query starts with a sphere of that radius instead of an unbounded one, so Embree culls
   /// every BVH node farther away from the start: for points known to lie near the mesh (fidelity
   /// samples) this is several times faster than closest_point(p), which the caller uses as the
   /// fallback when face is -1.
-  /// @param radius  search radius [model units], > 0.
+  /// @param radius  query radius [model units], > 0.
   /// @note Thread-safe (const); O(log #F) for a radius of the order of the local triangle size.
   ClosestPoint closest_point(const Vec3& p, double radius) const;
 

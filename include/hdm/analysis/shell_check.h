@@ -33,7 +33,7 @@ std::vector<std::pair<int32_t, int32_t>> overlapping_pairs(const SlabModel& mode
 /// @brief Brings @p pairs, the result of overlapping_pairs() on an earlier state of @p model, up to
 /// date after the corners of some slabs moved (the bake's shell iterations move few slabs at a time).
 ///
-/// Pairs with a moved member are dropped and searched again: every slab whose corner box overlaps a
+/// Pairs with a moved member are dropped and recomputed: every slab whose corner box overlaps a
 /// moved slab's box is a candidate, and the boundary edges of the moved slabs and candidates are
 /// cast against the boundary triangles of the same set, with the test of count_overlapping_pairs().
 /// Pairs of two unmoved slabs are kept as they were (their boundaries did not change).
