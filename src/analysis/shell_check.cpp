@@ -98,8 +98,8 @@ void update_overlapping_pairs(const SlabModel& m, const std::vector<uint8_t>& mo
     pairs = overlapping_pairs(m);
     return;
   }
-  // Corner boxes (a slab is the convex hull of its six corners... up to the twist of its bilinear
-  // sides, which its two side triangles share: the boundary triangles lie in the box).
+  // Box of each slab's six corners: its boundary triangles have their vertices among the corners,
+  // so they lie in it, and two slabs whose boundaries cross have overlapping boxes.
   std::vector<Aabb> box(S);
   tbb::parallel_for(0, S, [&](int s) {
     for (int32_t v : m.slabs[s]) box[s].extend(m.inner[v]), box[s].extend(m.outer[v]);
