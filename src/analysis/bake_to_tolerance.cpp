@@ -7,20 +7,20 @@
 
 namespace hdm {
 
-SlabModel bake_to_tolerance(const TriangleMesh& mesh, const std::string& name, const BakeOptions& options,
-                            const ExactMeshQuery& input, const Tolerance& tolerance,
+SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
+                            const Tolerance& tolerance,
                             std::vector<ToleranceRound>* rounds, BakeReport* report) {
   if (!(tolerance.max_pct > 0) || !(tolerance.rms_pct > 0))
     throw InvalidInput(name + ": error bounds must be positive (max " + std::to_string(tolerance.max_pct) + "%, RMS " +
                        std::to_string(tolerance.rms_pct) + "%)");
   if (tolerance.max_slabs < 1 || tolerance.max_rounds < 1)
     throw InvalidInput(name + ": the slab cap and the number of rounds must be at least 1");
-  const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(mesh.faces.size())));
+  const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(input.mesh().faces.size())));
   BakeOptions o = options;
   std::vector<ToleranceRound> tried;
   for (int round = 0;; ++round) {
     BakeReport r;
-    SlabModel model = bake_slabs(mesh, name, o, &r);
+    SlabModel model = bake_slabs(input, name, o, &r);
     ToleranceRound t;
     t.slabs = r.slabs;
     t.fidelity = measure_fidelity(model, input);

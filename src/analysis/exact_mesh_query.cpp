@@ -16,11 +16,12 @@ struct ExactMeshQuery::Impl {
   double diagonal = 0;
 };
 
-ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()), mesh_(mesh) {
+ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
+    : impl_(std::make_unique<Impl>()), mesh_(mesh) {
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw NumericalError("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneBuildQuality(impl_->scene, quality == BvhQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                          3 * sizeof(float), mesh.vertices.size()));
@@ -103,13 +104,18 @@ RTCRayHit make_ray(const Vec3& o, const Vec3& d, float tnear, float tfar) {
 }  // namespace
 
 ClosestPoint ExactMeshQuery::closest_point(const Vec3& p) const {
-  PointQueryState st{&mesh_, p, {Vec3::Zero(), std::numeric_limits<double>::infinity(), -1}};
+  return closest_point(p, std::numeric_limits<double>::infinity());
+}
+
+ClosestPoint ExactMeshQuery::closest_point(const Vec3& p, double radius) const {
+  // Only faces nearer than `radius` are accepted; the float sphere gets the callback's margin.
+  PointQueryState st{&mesh_, p, {Vec3::Zero(), radius, -1}};
   RTCPointQuery q;
   q.x = static_cast<float>(p.x());
   q.y = static_cast<float>(p.y());
   q.z = static_cast<float>(p.z());
   q.time = 0;
-  q.radius = std::numeric_limits<float>::infinity();
+  q.radius = std::isinf(radius) ? std::numeric_limits<float>::infinity() : static_cast<float>(radius) * 1.0001f + 1e-30f;
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(impl_->scene, &q, &ctx, point_query_callback, &st);

@@ -17,13 +17,18 @@ struct Sum {
   Sum operator+(const Sum& o) const { return {sq + o.sq, std::max(max, o.max)}; }
 };
 
+// Exact distances from `count` points to `target`. Most points lie within `near` of it, so the
+// query starts with that radius; the others are queried again without a bound (same result).
 template <class PointAt>
-Sum distances(int64_t count, const ExactMeshQuery& target, PointAt point_at) {
+Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt point_at) {
   return tbb::parallel_reduce(
       tbb::blocked_range<int64_t>(0, count, 1024), Sum{},
       [&](const tbb::blocked_range<int64_t>& r, Sum s) {
         for (int64_t k = r.begin(); k < r.end(); ++k) {
-          const double d = target.closest_point(point_at(k)).distance;
+          const Vec3 p = point_at(k);
+          ClosestPoint c = target.closest_point(p, near);
+          if (c.face < 0) c = target.closest_point(p);
+          const double d = c.distance;
           s.sq += d * d;
           s.max = std::max(s.max, d);
         }
@@ -45,10 +50,11 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input) {
     const Tri& f = m.faces[t];
     return Vec3((m.vertices[f[0]] + m.vertices[f[1]] + m.vertices[f[2]]) / 3.0);
   };
-  const Sum fwd = distances(ns + nt, input, [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
-  const ExactMeshQuery recon(surface);
+  const double near = 1e-2 * diag;
+  const Sum fwd = distances(ns + nt, input, near, [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
+  const ExactMeshQuery recon(surface, BvhQuality::medium);  // about one query per triangle
   const int64_t nv = static_cast<int64_t>(in.vertices.size()), nf = static_cast<int64_t>(in.faces.size());
-  const Sum back = distances(nv + nf, recon, [&](int64_t k) { return k < nv ? in.vertices[k] : centroid(in, k - nv); });
+  const Sum back = distances(nv + nf, recon, near, [&](int64_t k) { return k < nv ? in.vertices[k] : centroid(in, k - nv); });
   f.points = ns + nt;
   f.back_points = nv + nf;
   f.rms_pct = 100 * std::sqrt(fwd.sq / f.points) / diag;

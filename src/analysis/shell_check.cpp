@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/analysis/shell_check.h>
+#include <hdm/core/error.h>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <set>
+#include <string>
 
 namespace hdm {
 
@@ -18,14 +21,24 @@ int count_invalid_slabs(const SlabModel& m) {
   return bad;
 }
 
-std::vector<std::pair<int32_t, int32_t>> overlapping_pairs(const SlabModel& m) {
-  // Boundary triangles of every slab; vertex ids: inner v -> v, outer v -> C + v.
+namespace {
+
+using Pair = std::pair<int32_t, int32_t>;
+
+// Boundary pairs among the slabs listed in `set` (see count_overlapping_pairs()): the boundary
+// triangles of those slabs in one BVH, each of their boundary edges cast against it. A pair is kept
+// when `keep(a, b)` holds. Sorted, unique.
+template <class Keep>
+std::vector<Pair> pairs_among(const SlabModel& m, const std::vector<int32_t>& set, Keep keep) {
+  // Boundary triangles of every listed slab; vertex ids: inner v -> v, outer v -> C + v.
   const int C = m.coarse_vertex_count();
   TriangleMesh shell;
   shell.vertices = m.inner;
   shell.vertices.insert(shell.vertices.end(), m.outer.begin(), m.outer.end());
+  shell.faces.reserve(8 * set.size());
   std::vector<int32_t> owner;
-  for (int s = 0; s < m.slab_count(); ++s) {
+  owner.reserve(8 * set.size());
+  for (int32_t s : set) {
     const Tri& t = m.slabs[s];
     shell.faces.push_back({t[0], t[2], t[1]});
     shell.faces.push_back({C + t[0], C + t[1], C + t[2]});
@@ -36,33 +49,84 @@ std::vector<std::pair<int32_t, int32_t>> overlapping_pairs(const SlabModel& m) {
     }
     owner.insert(owner.end(), 8, s);
   }
-  const ExactMeshQuery bvh(shell);
+  if (shell.faces.empty()) return {};
+  const ExactMeshQuery bvh(shell, BvhQuality::medium);  // about three segments per triangle
   auto shares_vertex = [&](int a, int b) {
     for (int32_t x : m.slabs[a])
       for (int32_t y : m.slabs[b])
         if (x == y) return true;
     return false;
   };
-  using Pairs = std::set<std::pair<int32_t, int32_t>>;
-  const Pairs pairs = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, shell.faces.size(), 256), Pairs{},
-      [&](const tbb::blocked_range<size_t>& r, Pairs acc) {
-        std::vector<SegmentHit> hits;
-        for (size_t f = r.begin(); f < r.end(); ++f)
-          for (int k = 0; k < 3; ++k) {
-            bvh.segment_hits(shell.vertices[shell.faces[f][k]], shell.vertices[shell.faces[f][(k + 1) % 3]], hits);
-            for (const SegmentHit& h : hits) {
-              const int a = owner[f], b = owner[h.face];
-              if (a != b && !shares_vertex(a, b)) acc.insert(std::minmax(a, b));
-            }
-          }
-        return acc;
-      },
-      [](Pairs a, const Pairs& b) {
-        a.insert(b.begin(), b.end());
-        return a;
-      });
-  return {pairs.begin(), pairs.end()};
+  tbb::enumerable_thread_specific<std::vector<Pair>> found;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, shell.faces.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<Pair>& acc = found.local();
+    std::vector<SegmentHit> hits;
+    for (size_t f = r.begin(); f < r.end(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        bvh.segment_hits(shell.vertices[shell.faces[f][k]], shell.vertices[shell.faces[f][(k + 1) % 3]], hits);
+        for (const SegmentHit& h : hits) {
+          const int a = owner[f], b = owner[h.face];
+          if (a != b && !shares_vertex(a, b) && keep(a, b)) acc.push_back(std::minmax(a, b));
+        }
+      }
+  });
+  std::vector<Pair> pairs;
+  for (const std::vector<Pair>& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+
+}  // namespace
+
+std::vector<std::pair<int32_t, int32_t>> overlapping_pairs(const SlabModel& m) {
+  std::vector<int32_t> all(m.slab_count());
+  for (int s = 0; s < m.slab_count(); ++s) all[s] = s;
+  return pairs_among(m, all, [](int, int) { return true; });
+}
+
+void update_overlapping_pairs(const SlabModel& m, const std::vector<uint8_t>& moved, std::vector<Pair>& pairs) {
+  const int S = m.slab_count();
+  if (moved.size() != static_cast<size_t>(S))
+    throw InvalidInput("update_overlapping_pairs: " + std::to_string(moved.size()) + " moved flags for " +
+                       std::to_string(S) + " slabs");
+  std::vector<int32_t> moved_ids;
+  for (int s = 0; s < S; ++s)
+    if (moved[s]) moved_ids.push_back(s);
+  if (moved_ids.empty()) return;
+  if (moved_ids.size() > static_cast<size_t>(S) / 8) {
+    pairs = overlapping_pairs(m);
+    return;
+  }
+  // Box of each slab's six corners: its boundary triangles have their vertices among the corners,
+  // so they lie in it, and two slabs whose boundaries cross have overlapping boxes.
+  std::vector<Aabb> box(S);
+  tbb::parallel_for(0, S, [&](int s) {
+    for (int32_t v : m.slabs[s]) box[s].extend(m.inner[v]), box[s].extend(m.outer[v]);
+  });
+  auto overlap = [](const Aabb& a, const Aabb& b) {
+    return (a.min.array() <= b.max.array()).all() && (b.min.array() <= a.max.array()).all();
+  };
+  std::vector<uint8_t> in_set(S, 0);
+  tbb::parallel_for(0, S, [&](int s) {
+    if (moved[s]) {
+      in_set[s] = 1;
+      return;
+    }
+    for (int32_t k : moved_ids)
+      if (overlap(box[s], box[k])) {
+        in_set[s] = 1;
+        return;
+      }
+  });
+  std::vector<int32_t> set;
+  for (int s = 0; s < S; ++s)
+    if (in_set[s]) set.push_back(s);
+  std::vector<Pair> fresh = pairs_among(m, set, [&](int a, int b) { return moved[a] || moved[b]; });
+  std::erase_if(pairs, [&](const Pair& p) { return moved[p.first] || moved[p.second]; });
+  pairs.insert(pairs.end(), fresh.begin(), fresh.end());
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
 int64_t count_overlapping_pairs(const SlabModel& m) { return static_cast<int64_t>(overlapping_pairs(m).size()); }

@@ -2,7 +2,10 @@
 #include <hdm/core/error.h>
 #include <hdm/mesh/triangle_mesh.h>
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -17,10 +20,6 @@ Aabb bounds(const TriangleMesh& mesh) {
 
 namespace {
 
-struct DirectedEdge {
-  int32_t a, b;  // as traversed by a face
-};
-
 int find_root(std::vector<int32_t>& parent, int32_t x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
   return x;
@@ -31,7 +30,9 @@ int find_root(std::vector<int32_t>& parent, int32_t x) {
 MeshTopology analyze_topology(const TriangleMesh& mesh) {
   MeshTopology t;
   const double area_eps = 1e-14 * std::pow(std::max(bounds(mesh).diagonal(), 1e-300), 2);
-  std::vector<DirectedEdge> edges;
+  // One key per directed edge: the undirected edge (lo, hi) in the high bits, the direction
+  // (a < b) in the lowest, so one parallel integer sort groups the uses of each edge.
+  std::vector<uint64_t> edges;
   edges.reserve(mesh.faces.size() * 3);
   std::vector<int32_t> parent(mesh.vertices.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -43,21 +44,20 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
     const Vec3 n = (mesh.vertices[f[1]] - mesh.vertices[f[0]]).cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
     if (n.norm() <= area_eps) ++t.degenerate_faces;
     for (int k = 0; k < 3; ++k) {
-      edges.push_back({f[k], f[(k + 1) % 3]});
-      parent[find_root(parent, f[k])] = find_root(parent, f[(k + 1) % 3]);
+      const int32_t a = f[k], b = f[(k + 1) % 3];
+      const auto [lo, hi] = std::minmax(a, b);
+      edges.push_back((((uint64_t(uint32_t(lo)) << 32) | uint32_t(hi)) << 1) | uint64_t(a < b));
+      parent[find_root(parent, a)] = find_root(parent, b);
     }
   }
   // Group by undirected edge; count uses and directions.
-  std::sort(edges.begin(), edges.end(), [](const DirectedEdge& x, const DirectedEdge& y) {
-    auto kx = std::minmax(x.a, x.b), ky = std::minmax(y.a, y.b);
-    return kx < ky;
-  });
+  tbb::parallel_sort(edges.begin(), edges.end());
   for (size_t i = 0; i < edges.size();) {
     size_t j = i;
-    const auto key = std::minmax(edges[i].a, edges[i].b);
+    const uint64_t key = edges[i] >> 1;
     int forward = 0;
-    while (j < edges.size() && std::minmax(edges[j].a, edges[j].b) == key) {
-      forward += edges[j].a < edges[j].b;
+    while (j < edges.size() && (edges[j] >> 1) == key) {
+      forward += static_cast<int>(edges[j] & 1);
       ++j;
     }
     const size_t uses = j - i;

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -256,7 +257,11 @@ double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_
 
 }  // namespace
 
-SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& o, BakeReport* report) {
+namespace {
+
+// The bake; `prebuilt` is the caller's BVH over `mesh`, or null to build one here.
+SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const std::string& name, const BakeOptions& o,
+               BakeReport* report) {
   const auto start = std::chrono::steady_clock::now();
   if (o.grid_n < 1 || o.grid_n > 256) throw InvalidInput("--grid " + std::to_string(o.grid_n) + ": must be in [1, 256]");
   if (o.texel_density < 1 || o.texel_density > 16)
@@ -282,6 +287,7 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   for (int attempt = 0; attempt <= 12; ++attempt) {
     const int t = target + (attempt % 2 ? 1 : -1) * ((attempt + 1) / 2) * std::max(1, target / 100);
     Coarse c = decimate(mesh, std::max(4, t));
+    progress(o, "decimate", attempt / 13.0);
     const MeshTopology topo = analyze_topology(TriangleMesh{c.vertices, c.faces});
     if (topo.non_manifold_edges != 0 || topo.inconsistent_edges != 0) {
       if (attempt == 12 && fewest == std::numeric_limits<int>::max())
@@ -296,7 +302,9 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   progress(o, "decimate", 1);
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   const size_t nv = coarse.vertices.size();
-  const ExactMeshQuery input(mesh);
+  std::unique_ptr<const ExactMeshQuery> own;
+  if (!prebuilt) own = std::make_unique<const ExactMeshQuery>(mesh);
+  const ExactMeshQuery& input = prebuilt ? *prebuilt : *own;
   const ExactMeshQuery coarse_query(TriangleMesh{coarse.vertices, coarse.faces});
 
   progress(o, "measure", 0);
@@ -419,9 +427,28 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     tgt_in[v] = std::min(tgt_in[v], off_in[v]), tgt_out[v] = std::min(tgt_out[v], off_out[v]);
     place(v);
   };
+  // Overlapping pairs are kept from one check to the next and recomputed only around slabs
+  // whose corners moved since (most of the shell is settled after the first iterations).
+  std::vector<std::pair<int32_t, int32_t>> known_pairs;
+  std::vector<Vec3> checked_inner, checked_outer;
+  std::vector<uint8_t> moved(model.slabs.size());
+  auto current_pairs = [&]() -> const std::vector<std::pair<int32_t, int32_t>>& {
+    if (checked_inner.empty()) {
+      known_pairs = overlapping_pairs(model);
+    } else {
+      for (size_t f = 0; f < model.slabs.size(); ++f) {
+        moved[f] = 0;
+        for (int32_t v : model.slabs[f]) moved[f] |= model.inner[v] != checked_inner[v] || model.outer[v] != checked_outer[v];
+      }
+      update_overlapping_pairs(model, moved, known_pairs);
+    }
+    checked_inner = model.inner;
+    checked_outer = model.outer;
+    return known_pairs;
+  };
   auto separate = [&] {
     for (int it = 0; it < 12; ++it) {
-      const auto pairs = overlapping_pairs(model);
+      const auto pairs = current_pairs();
       if (pairs.empty()) break;
       for (const auto& [a, b] : pairs)
         for (int32_t f : {a, b})
@@ -452,9 +479,9 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   std::vector<uint8_t> stale(nv);
   for (int round = 0; round < 8; ++round) {
     rep.shell_iterations = round + 1;
-    progress(o, "grow shell", 0);
+    progress(o, "grow shell", round / 8.0);
     grow();
-    progress(o, "separate", 0);
+    progress(o, "separate", round / 8.0);
     if (separating) separate();
     for (size_t v = 0; v < nv; ++v)
       stale[v] = !(model.inner[v] == cast_inner[v]) || !(model.outer[v] == cast_outer[v]);
@@ -533,10 +560,13 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
     model.displacement[s] = static_cast<float>(std::clamp(0.5 * (lo + hi), 0.0, 1.0));
   });
   rep.undercut_columns = std::count(undercut.begin(), undercut.end(), uint8_t(1));
+  // rebuild_derived() builds the texel layout (and fills `colour` with its default); the bake's
+  // colour is set afterwards, so the layout is built once.
   model.colour.clear();
-  model.texels = build_sample_layout(model.slabs, static_cast<int>(nv), n * o.texel_density);
-  model.colour.assign(model.texels.count, o.colour);
+  progress(o, "derived data", 0);
   rebuild_derived(model);
+  model.colour.assign(model.texels.count, o.colour);
+  progress(o, "derived data", 1);
 
   for (int s = 0; s < model.slab_count(); ++s) {
     const Tri& t = model.slabs[s];
@@ -551,6 +581,16 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (report) *report = rep;
   return model;
+}
+
+}  // namespace
+
+SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& o, BakeReport* report) {
+  return bake(mesh, nullptr, name, o, report);
+}
+
+SlabModel bake_slabs(const ExactMeshQuery& input, const std::string& name, const BakeOptions& o, BakeReport* report) {
+  return bake(input.mesh(), &input, name, o, report);
 }
 
 }  // namespace hdm

@@ -3,6 +3,9 @@
 #include <hdm/slab/sample_layout.h>
 #include <hdm/slab/triangle_grid.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <string>
 #include <unordered_map>
@@ -15,25 +18,33 @@ uint64_t edge_key(int32_t a, int32_t b) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(lo)) << 32) | static_cast<uint32_t>(hi);
 }
 
-// CSR from (key, value) pairs with keys in [0, count): counting sort, then each (short) row sorted
-// and deduplicated in place; linear in the number of pairs, unlike one global sort.
-void build_csr(std::vector<std::pair<int32_t, int32_t>>& pairs, int count, std::vector<int32_t>& offsets,
-               std::vector<int32_t>& values) {
+// CSR from (key, value) pairs with keys in [0, count), listed by `each(emit)` calling emit(key,
+// value) for every pair (twice: counting, then filling, so the pairs are never stored): counting
+// sort, then each (short) row sorted and deduplicated in place, rows in parallel; linear in the
+// number of pairs, unlike one global sort.
+template <class Each>
+void build_csr(Each each, int count, std::vector<int32_t>& offsets, std::vector<int32_t>& values) {
   std::vector<int32_t> start(count + 1, 0);
-  for (const auto& p : pairs) ++start[p.first + 1];
+  each([&](int32_t key, int32_t) { ++start[key + 1]; });
   for (int s = 0; s < count; ++s) start[s + 1] += start[s];
-  std::vector<int32_t> raw(pairs.size()), fill(start.begin(), start.end() - 1);
-  for (const auto& p : pairs) raw[fill[p.first]++] = p.second;
+  std::vector<int32_t> raw(start[count]), fill(start.begin(), start.end() - 1);
+  each([&](int32_t key, int32_t value) { raw[fill[key]++] = value; });
+  std::vector<int32_t>().swap(fill);
+  std::vector<int32_t> kept(count);
+  tbb::parallel_for(tbb::blocked_range<int>(0, count, 4096), [&](const tbb::blocked_range<int>& r) {
+    for (int s = r.begin(); s < r.end(); ++s) {
+      auto first = raw.begin() + start[s], last = raw.begin() + start[s + 1];
+      std::sort(first, last);
+      kept[s] = static_cast<int32_t>(std::unique(first, last) - first);
+    }
+  });
   offsets.assign(count + 1, 0);
-  values.clear();
-  values.reserve(pairs.size());
-  for (int s = 0; s < count; ++s) {
-    auto first = raw.begin() + start[s], last = raw.begin() + start[s + 1];
-    std::sort(first, last);
-    values.insert(values.end(), first, std::unique(first, last));
-    offsets[s + 1] = static_cast<int32_t>(values.size());
-  }
-  values.shrink_to_fit();
+  for (int s = 0; s < count; ++s) offsets[s + 1] = offsets[s] + kept[s];
+  values.assign(offsets[count], 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, count, 4096), [&](const tbb::blocked_range<int>& r) {
+    for (int s = r.begin(); s < r.end(); ++s)
+      std::copy(raw.begin() + start[s], raw.begin() + start[s] + kept[s], values.begin() + offsets[s]);
+  });
 }
 
 }  // namespace
@@ -104,6 +115,7 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   }
   for (int32_t id = 0; id < L.count; ++id)
     if (L.home_slab[id] < 0) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
+  L.first_interior = interior_base;
 
   // Grid triangles, counter-clockwise from outside (design notes §1.3).
   L.triangles.reserve(static_cast<size_t>(S) * n * n);
@@ -118,25 +130,26 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
       }
   }
 
-  std::vector<std::pair<int32_t, int32_t>> pairs;
-  pairs.reserve(L.triangles.size() * 6);
-  for (const Tri& t : L.triangles)
-    for (int k = 0; k < 3; ++k) {
-      pairs.emplace_back(t[k], t[(k + 1) % 3]);
-      pairs.emplace_back(t[(k + 1) % 3], t[k]);
-    }
-  build_csr(pairs, L.count, L.neighbour_offsets, L.neighbours);
-  pairs.clear();
-  for (size_t f = 0; f < L.triangles.size(); ++f)
-    for (int k = 0; k < 3; ++k) pairs.emplace_back(L.triangles[f][k], static_cast<int32_t>(f));
-  build_csr(pairs, L.count, L.triangle_offsets, L.incident_triangles);
+  build_csr(
+      [&](auto emit) {
+        for (const Tri& t : L.triangles)
+          for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
+      },
+      L.count, L.neighbour_offsets, L.neighbours);
+  build_csr(
+      [&](auto emit) {
+        for (size_t f = 0; f < L.triangles.size(); ++f)
+          for (int k = 0; k < 3; ++k) emit(L.triangles[f][k], static_cast<int32_t>(f));
+      },
+      L.count, L.triangle_offsets, L.incident_triangles);
 
   // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
-  L.first_interior = interior_base;
-  pairs.clear();
-  for (size_t slot = 0; slot < L.ids.size(); ++slot)
-    if (L.ids[slot] < interior_base) pairs.emplace_back(L.ids[slot], static_cast<int32_t>(slot));
-  build_csr(pairs, interior_base, L.shared_slot_offsets, L.slot_of_shared);
+  build_csr(
+      [&](auto emit) {
+        for (size_t slot = 0; slot < L.ids.size(); ++slot)
+          if (L.ids[slot] < interior_base) emit(L.ids[slot], static_cast<int32_t>(slot));
+      },
+      interior_base, L.shared_slot_offsets, L.slot_of_shared);
   return L;
 }
 

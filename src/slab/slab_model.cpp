@@ -3,6 +3,10 @@
 #include <hdm/slab/slab_model.h>
 #include <hdm/slab/triangle_grid.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -231,25 +235,26 @@ void rebuild_derived(SlabModel& m) {
         "texel_density = " + std::to_string(m.texel_density) + " must be >= 1 with grid_n·texel_density <= 4096");
   check(m.inner.size() == m.outer.size(), "inner and outer vertex counts differ");
   check(!m.slabs.empty(), "no slabs");
+  // Per-element checks build their message only on failure (millions of elements per model).
   for (size_t v = 0; v < m.inner.size(); ++v)
-    check(m.inner[v].allFinite() && m.outer[v].allFinite(), "coarse vertex " + std::to_string(v) + " is not finite");
+    if (!(m.inner[v].allFinite() && m.outer[v].allFinite())) check(false, "coarse vertex " + std::to_string(v) + " is not finite");
   m.samples = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n);
   m.texels = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n * m.texel_density);
   const size_t ns = m.samples.count, nt = m.texels.count;
   check(m.displacement.size() == ns, "displacement has " + std::to_string(m.displacement.size()) +
                                          " samples, the layout has " + std::to_string(ns));
   for (size_t s = 0; s < ns; ++s)
-    check(m.displacement[s] >= 0.0f && m.displacement[s] <= 1.0f,
-          "displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
+    if (!(m.displacement[s] >= 0.0f && m.displacement[s] <= 1.0f))
+      check(false, "displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
   fill_default(m.colour, nt, Vec3f(0.8f, 0.8f, 0.8f), "colour");
   fill_default(m.friction_static, ns, 0.3f, "friction_static");
   fill_default(m.friction_dynamic, ns, 0.2f, "friction_dynamic");
   fill_default(m.stiffness_scale, ns, 1.0f, "stiffness_scale");
-  for (size_t t = 0; t < nt; ++t) check(m.colour[t].allFinite(), "colour of texel " + std::to_string(t) + " is not finite");
+  for (size_t t = 0; t < nt; ++t)
+    if (!m.colour[t].allFinite()) check(false, "colour of texel " + std::to_string(t) + " is not finite");
   for (size_t s = 0; s < ns; ++s)
-    check(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) &&
-              std::isfinite(m.stiffness_scale[s]),
-          "surface field of sample " + std::to_string(s) + " is not finite");
+    if (!(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) && std::isfinite(m.stiffness_scale[s])))
+      check(false, "surface field of sample " + std::to_string(s) + " is not finite");
 
   m.geometry.resize(m.slabs.size());
   for (size_t s = 0; s < m.slabs.size(); ++s) {
@@ -264,12 +269,21 @@ void rebuild_derived(SlabModel& m) {
   m.slab_samples.resize(m.samples.ids.size());
   std::vector<int32_t> all(ns);
   for (size_t s = 0; s < ns; ++s) all[s] = static_cast<int32_t>(s);
-  update_positions(m, all.data(), ns);
+  // In blocks of samples, in parallel: each call writes only its own samples' position, normal and
+  // slab copies, and a normal is the same sum in the same order whatever the block.
+  constexpr size_t block = 16384;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
+    update_positions(m, all.data() + r.begin(), r.size());
+  });
   m.haptic_normals.clear();  // filled once below, not per update_normals() ring
-  FaceNormalCache faces;
-  update_normals(m, all.data(), ns, faces);  // also fills slab_samples
+  tbb::enumerable_thread_specific<FaceNormalCache> caches;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
+    update_normals(m, all.data() + r.begin(), r.size(), caches.local());  // also fills slab_samples
+  });
   m.haptic_normals.resize(m.samples.ids.size());
-  update_haptic_normals(m, all.data(), ns, false);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
+    update_haptic_normals(m, all.data() + r.begin(), r.size(), false);  // reads the finished normals
+  });
 }
 
 void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces) {

@@ -54,7 +54,7 @@ TEST(BakeToToleranceTest, refines_until_the_bound_holds_by_brute_force) {
   Tolerance t;
   t.max_pct = 0.3;
   std::vector<ToleranceRound> rounds;
-  const SlabModel m = bake_to_tolerance(input, "bumpy", o, exact, t, &rounds);
+  const SlabModel m = bake_to_tolerance(exact, "bumpy", o, t, &rounds);
   ASSERT_GE(rounds.size(), 2u);  // 20 slabs cannot hold the bumps
   EXPECT_FALSE(rounds.front().met);
   EXPECT_TRUE(rounds.back().met);
@@ -73,7 +73,7 @@ TEST(BakeToToleranceTest, an_unreachable_bound_stops_at_the_cap) {
   t.rms_pct = 1e-9;
   t.max_slabs = 120;
   std::vector<ToleranceRound> rounds;
-  const SlabModel m = bake_to_tolerance(input, "bumpy", o, ExactMeshQuery(input), t, &rounds);
+  const SlabModel m = bake_to_tolerance(ExactMeshQuery(input), "bumpy", o, t, &rounds);
   EXPECT_FALSE(rounds.back().met);
   EXPECT_LE(m.slab_count(), 120);
   EXPECT_LE(int(rounds.size()), t.max_rounds);
@@ -83,7 +83,7 @@ TEST(BakeToToleranceTest, refuses_bounds_that_are_not_positive) {
   const TriangleMesh input = test::icosphere(2, 1.0);
   Tolerance t;
   t.max_pct = 0;
-  EXPECT_THROW(bake_to_tolerance(input, "sphere", BakeOptions{}, ExactMeshQuery(input), t), InvalidInput);
+  EXPECT_THROW(bake_to_tolerance(ExactMeshQuery(input), "sphere", BakeOptions{}, t), InvalidInput);
   t.max_pct = NAN;
-  EXPECT_THROW(bake_to_tolerance(input, "sphere", BakeOptions{}, ExactMeshQuery(input), t), InvalidInput);
+  EXPECT_THROW(bake_to_tolerance(ExactMeshQuery(input), "sphere", BakeOptions{}, t), InvalidInput);
 }

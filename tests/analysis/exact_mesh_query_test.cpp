@@ -38,3 +38,30 @@ TEST(ExactMeshQueryTest, inside_matches_the_sphere) {
     EXPECT_EQ(q.inside(p), r < 2.0) << p.transpose();
   }
 }
+
+TEST(ExactMeshQueryTest, closest_point_within_a_radius_matches_brute_force) {
+  const TriangleMesh m = test::icosphere(3, 2.0, Vec3(1, -1, 0.5));
+  const ExactMeshQuery q(m);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-4, 4), r(0.01, 1.5);
+  int found = 0, none = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const double radius = r(rng);
+    double best = 1e300;
+    for (const Tri& t : m.faces)
+      best = std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+    const ClosestPoint c = q.closest_point(p, radius);
+    if (best < radius) {
+      ++found;
+      ASSERT_GE(c.face, 0) << "point " << k;
+      EXPECT_NEAR(c.distance, best, 1e-9);
+      EXPECT_NEAR((c.point - p).norm(), best, 1e-9);
+    } else {
+      ++none;
+      EXPECT_EQ(c.face, -1) << "point " << k;
+    }
+  }
+  EXPECT_GT(found, 20);
+  EXPECT_GT(none, 20);
+}

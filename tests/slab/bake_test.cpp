@@ -2,6 +2,7 @@
 // Bake: validity checked numerically, an analytic sphere, the real models, bad input.
 #include "support/test_models.h"
 
+#include <hdm/analysis/exact_mesh_query.h>
 #include <hdm/analysis/fidelity.h>
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
@@ -103,4 +104,20 @@ TEST(BakeTest, bad_meshes_give_errors_naming_the_input) {
   BakeOptions zero_grid;
   zero_grid.grid_n = 0;
   EXPECT_THROW(bake_slabs(test::icosphere(1, 1.0), "x", zero_grid), InvalidInput);
+}
+
+TEST(BakeTest, bake_on_the_callers_bvh_gives_the_same_model) {
+  BakeOptions o;
+  o.slabs = 300;
+  o.grid_n = 4;
+  BakeReport r1, r2;
+  const SlabModel a = bake_slabs(test::bunny(), "bunny00.off", o, &r1);
+  const ExactMeshQuery input(test::bunny());
+  const SlabModel b = bake_slabs(input, "bunny00.off", o, &r2);
+  EXPECT_EQ(a.slabs, b.slabs);
+  EXPECT_EQ(a.inner, b.inner);
+  EXPECT_EQ(a.outer, b.outer);
+  EXPECT_EQ(a.displacement, b.displacement);
+  EXPECT_EQ(a.colour, b.colour);
+  EXPECT_EQ(r1.ray_misses, r2.ray_misses);
 }

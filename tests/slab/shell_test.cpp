@@ -146,3 +146,44 @@ TEST(ShellTest, overlap_check_finds_interpenetrating_slabs) {
     if (m.inner[v].x() > 0) m.inner[v].x() -= 1.2, m.outer[v].x() -= 1.2;
   EXPECT_GT(count_overlapping_pairs(m), 0);
 }
+
+TEST(ShellTest, updated_overlapping_pairs_match_a_full_recomputation) {
+  // Two spheres baked apart, then some of one sphere's corners pushed into the other, in steps:
+  // after each step the updated pairs must equal the pairs found from scratch.
+  TriangleMesh two = test::icosphere(3, 1.0, Vec3(-1.5, 0, 0));
+  const TriangleMesh b = test::icosphere(3, 1.0, Vec3(1.5, 0, 0));
+  const int offset = int(two.vertices.size());
+  two.vertices.insert(two.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (Tri t : b.faces) two.faces.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  BakeOptions o;
+  o.slabs = 1000;
+  o.grid_n = 2;
+  SlabModel m = bake_slabs(two, "two spheres", o);
+  std::vector<std::pair<int32_t, int32_t>> pairs = overlapping_pairs(m);
+  EXPECT_TRUE(pairs.empty());
+  const std::vector<Vec3> inner0 = m.inner, outer0 = m.outer;
+  for (int step = 1; step <= 4; ++step) {
+    // Move the corners of the right sphere that face the left one (a few slabs, below 1/8).
+    for (size_t v = 0; v < m.inner.size(); ++v)
+      if (const double mid = 0.5 * (inner0[v].x() + outer0[v].x()); mid > 0 && mid < 0.5 + 0.05 * step) {
+        m.inner[v].x() = inner0[v].x() - 0.35 * step;
+        m.outer[v].x() = outer0[v].x() - 0.35 * step;
+      }
+    std::vector<uint8_t> moved(m.slabs.size(), 0);
+    int count = 0;
+    for (size_t s = 0; s < m.slabs.size(); ++s) {
+      for (int32_t v : m.slabs[s]) moved[s] |= m.inner[v] != inner0[v];
+      count += moved[s];
+    }
+    ASSERT_GT(count, 0);
+    ASSERT_LE(count, int(m.slabs.size()) / 8) << "the incremental path must be the one tested";
+    // Every slab touching a moved corner counts as moved since the last update (corners moved at
+    // every step), which is what the bake passes.
+    update_overlapping_pairs(m, moved, pairs);
+    EXPECT_EQ(pairs, overlapping_pairs(m)) << "step " << step;
+    if (step == 4) {
+      EXPECT_FALSE(pairs.empty());
+    }
+  }
+  EXPECT_THROW(update_overlapping_pairs(m, std::vector<uint8_t>(3, 1), pairs), InvalidInput);
+}

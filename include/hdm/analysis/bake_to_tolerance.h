@@ -29,7 +29,7 @@ struct ToleranceRound {
   bool met = false;    ///< every bound of the Tolerance holds
 };
 
-/// @brief Bakes @p mesh with more and more slabs until the fidelity measured against @p input
+/// @brief Bakes the mesh of @p input with more and more slabs until the fidelity measured against it
 /// meets @p tolerance (an error-bounded bake).
 ///
 /// Round 1 bakes with @p options as given. While a bound is missed, the next slab count is the
@@ -44,20 +44,20 @@ struct ToleranceRound {
 /// finished slab model rather than on the coarse mesh: the error that counts includes undercut
 /// columns and sampling, which the coarse mesh's own error does not see.
 ///
-/// @param mesh      input [model units], as for bake_slabs().
+/// @param input     BVH over the input mesh [model units]: the bake's rays and the reference of
+///                  measure_fidelity(); its mesh must pass validate_mesh_data().
 /// @param name      file or argument name for error messages.
 /// @param options   bake options; options.slabs (or, at 0, options.density) gives round 1.
-/// @param input     exact queries on @p mesh (the reference of measure_fidelity()).
 /// @param tolerance bounds and limits.
 /// @param[out] rounds  every bake tried, in order (optional).
 /// @param[out] report  the returned model's bake report (optional).
 /// @return the model of the last round; rounds->back().met says whether it meets the bounds.
 /// @throws InvalidInput naming @p name for an invalid mesh, options or tolerance (a bound that is
 ///         not positive, max_slabs < 1, max_rounds < 1); NumericalError as bake_slabs().
-/// @note Cost: up to max_rounds bakes and fidelity measurements; one round when the first bake
-///       meets the bounds.
-SlabModel bake_to_tolerance(const TriangleMesh& mesh, const std::string& name, const BakeOptions& options,
-                            const ExactMeshQuery& input, const Tolerance& tolerance,
+/// @note Cost: up to max_rounds bakes and fidelity measurements, all on the one BVH of @p input;
+///       one round when the first bake meets the bounds.
+SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
+                            const Tolerance& tolerance,
                             std::vector<ToleranceRound>* rounds = nullptr, BakeReport* report = nullptr);
 
 }  // namespace hdm

@@ -30,6 +30,24 @@ int64_t count_overlapping_pairs(const SlabModel& model);
 /// the stored corners and slabs of @p model (derived data may be stale).
 std::vector<std::pair<int32_t, int32_t>> overlapping_pairs(const SlabModel& model);
 
+/// @brief Brings @p pairs, the result of overlapping_pairs() on an earlier state of @p model, up to
+/// date after the corners of some slabs moved (the bake's shell iterations move few slabs at a time).
+///
+/// Pairs with a moved member are dropped and recomputed: every slab whose corner box overlaps a
+/// moved slab's box is a candidate, and the boundary edges of the moved slabs and candidates are
+/// cast against the boundary triangles of the same set, with the test of count_overlapping_pairs().
+/// Pairs of two unmoved slabs are kept as they were (their boundaries did not change).
+/// @param model  slabs and stored corners (derived data may be stale); the slab list and the
+///               corners of unmoved slabs must be those @p pairs was computed for.
+/// @param moved  #S flags: 1 for every slab with a corner that moved since @p pairs was computed.
+/// @param[in,out] pairs  sorted (smaller id, larger id) pairs; replaced by the current ones.
+/// @throws InvalidInput if @p moved does not have one flag per slab.
+/// @note Parallel. O(#S) for the boxes plus O(#moved·#S) box tests and O(k log k) casts for the k
+///       moved and candidate slabs; falls back to overlapping_pairs() when more than 1/8 of the
+///       slabs moved.
+void update_overlapping_pairs(const SlabModel& model, const std::vector<uint8_t>& moved,
+                              std::vector<std::pair<int32_t, int32_t>>& pairs);
+
 /// @brief Sample columns whose projection line crosses the input surface more than once
 /// (undercuts a height field cannot hold), cast against @p input.
 int64_t count_undercut_columns(const SlabModel& model, const ExactMeshQuery& input);

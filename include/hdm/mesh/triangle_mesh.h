@@ -34,7 +34,7 @@ struct MeshTopology {
 
 /// @brief Counts boundary, non-manifold and inconsistently oriented edges, degenerate faces and
 /// components of @p mesh.
-/// @note O(#F log #F), allocates.
+/// @note O(#F log #F), allocates; the edge sort is parallel (TBB).
 MeshTopology analyze_topology(const TriangleMesh& mesh);
 
 /// @brief Checks that @p mesh holds usable data: at least one face, finite coordinates, vertex ids

@@ -13,6 +13,8 @@
 
 namespace hdm {
 
+class ExactMeshQuery;
+
 /// Options of bake_slabs(). Tolerances are relative to the input's bounding-box diagonal.
 struct BakeOptions {
   int slabs = 0;           ///< target slab count; 0: input triangles · density / n²
@@ -60,6 +62,15 @@ struct BakeReport {
 /// @note Parallel (TBB) ray casting; O(#F log #F + #S·n²).
 /// @see Jagnow & Dorsey 2002 §2 and §7; design notes §2.2, §3.7, §9-Q1..Q3.
 SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& options,
+                     BakeReport* report = nullptr);
+
+/// @brief Bakes `input.mesh()` into a slab model, casting the sample rays on the caller's Embree
+/// BVH @p input instead of building one (`hdm bake` reuses it to measure the fidelity: one BVH
+/// build less, about 3 s at 1.4 M input triangles on two cores).
+/// @param input    BVH over the mesh to bake; the mesh must pass validate_mesh_data() (checked
+///                 before building @p input, since the BVH reads the vertex ids).
+/// Otherwise as bake_slabs(const TriangleMesh&, ...), with the same result.
+SlabModel bake_slabs(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
                      BakeReport* report = nullptr);
 
 }  // namespace hdm

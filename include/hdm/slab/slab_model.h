@@ -90,7 +90,7 @@ struct SlabModel {
 /// layouts, slab constants, adjacency and normals.
 /// @throws InvalidInput when the stored data are inconsistent (sizes, ids, non-finite values,
 ///         displacements outside [0,1], grid_n < 1 or texel_density < 1), naming the member.
-/// @note O(#S·n²·m²); allocates.
+/// @note O(#S·n²·m²); allocates; positions, normals and the layouts' CSR rows in parallel (TBB).
 void rebuild_derived(SlabModel& model);
 
 /// @brief Slab constants of the slab with corners (R0,S0,T0) and (R1,S1,T1) [model units].
