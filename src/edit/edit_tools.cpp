@@ -136,7 +136,22 @@ void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcep
     }
     dirty.mark(L, c);
   }
-  update_normals(m, s.ring.data(), ring, s.faces);  // also refreshes the slab-major copy
+  update_normals(m, s.ring.data(), ring, s.faces, false);  // also refreshes the slab-major copy
+  // The force-shading normals read the one-ring of normals: the ring and its neighbours change,
+  // each listed once (the flood fill is done, so its queue is free to hold them).
+  const uint32_t again = next_stamp(s, s.sample_stamp);
+  int32_t wide = 0;
+  for (int32_t k = 0; k < ring; ++k) {
+    const int32_t c = s.ring[k];
+    for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
+      const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
+      const bool fresh = s.sample_stamp[t] != again;  // branch-free, as in flood()
+      s.sample_stamp[t] = again;
+      s.queue[wide] = t;
+      wide += fresh;
+    }
+  }
+  update_haptic_normals(m, s.queue.data(), static_cast<size_t>(wide), false);
 }
 
 // Flood fill over the displacement samples, seeded with the grid cell under the contact.

@@ -147,7 +147,8 @@ void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending) no
 
 }  // namespace
 
-void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache) noexcept {
+void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache,
+                    bool haptic_ring) noexcept {
   const SampleLayout& L = model.samples;
   const bool copy = model.slab_samples.size() == L.ids.size();
   constexpr int32_t mask = FaceNormalCache::kSlots - 1;
@@ -186,7 +187,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
     }
     store_normal(model, s, sum, copy);
   }
-  update_haptic_normals(model, samples, count, true);
+  if (haptic_ring) update_haptic_normals(model, samples, count, true);
 }
 
 namespace {

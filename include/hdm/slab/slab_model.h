@@ -152,8 +152,12 @@ void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t coun
 /// @brief update_normals() with each affected grid triangle's normal computed once: the same
 /// result bit for bit (same products, same summation order), about a third of the cross products
 /// when the samples form a patch (each triangle has three corners).
+/// With @p haptic_ring (the default) it then calls update_haptic_normals(samples, with_ring);
+/// without, the caller updates `haptic_normals` itself (the edit tools list the ring's
+/// neighbours once each with their visit stamps, instead of once per listing).
 /// @note O(k·valence); no allocation, noexcept: used by the edit tools in the servo tick.
-void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache) noexcept;
+void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache,
+                    bool haptic_ring = true) noexcept;
 
 /// @brief Exact per-slab validity: the Jacobian N(α)·D(w) is positive over the whole slab
 /// (design notes §3.7: three quadratics positive on [0,1]).
