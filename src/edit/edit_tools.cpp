@@ -116,6 +116,20 @@ int32_t flood(const SampleLayout& L, std::vector<uint32_t>& marks, uint32_t stam
   return static_cast<int32_t>(tail);
 }
 
+// Appends sample c and its grid neighbours not yet stamped with @p stamp to out[count...], stamping
+// them; returns the new count. Branch-free, as in flood() (out has room for one more).
+int32_t add_with_neighbours(const SampleLayout& L, int32_t c, std::vector<uint32_t>& marks, uint32_t stamp,
+                            int32_t* out, int32_t count) noexcept {
+  for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
+    const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
+    const bool fresh = marks[t] != stamp;
+    marks[t] = stamp;
+    out[count] = t;
+    count += fresh;
+  }
+  return count;
+}
+
 // After displacements changed (positions already refreshed by the visit): normals of the changed
 // samples and their one-ring (design notes §4.4), dirty flags of every slab that holds a changed
 // sample.
@@ -126,31 +140,15 @@ void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcep
   const SampleLayout& L = m.samples;
   DirtyMarker dirty{s.dirty_slabs, L.n * L.n};
   for (int32_t k = 0; k < changed; ++k) {
-    const int32_t c = s.changed[k];
-    for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
-      const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
-      const bool fresh = s.sample_stamp[t] != stamp;  // branch-free, as in flood()
-      s.sample_stamp[t] = stamp;
-      s.ring[ring] = t;
-      ring += fresh;
-    }
-    dirty.mark(L, c);
+    ring = add_with_neighbours(L, s.changed[k], s.sample_stamp, stamp, s.ring.data(), ring);
+    dirty.mark(L, s.changed[k]);
   }
   update_normals(m, s.ring.data(), ring, s.faces, false);  // also refreshes the slab-major copy
   // The force-shading normals read the one-ring of normals: the ring and its neighbours change,
   // each listed once (the flood fill is done, so its queue is free to hold them).
   const uint32_t again = next_stamp(s, s.sample_stamp);
   int32_t wide = 0;
-  for (int32_t k = 0; k < ring; ++k) {
-    const int32_t c = s.ring[k];
-    for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
-      const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
-      const bool fresh = s.sample_stamp[t] != again;  // branch-free, as in flood()
-      s.sample_stamp[t] = again;
-      s.queue[wide] = t;
-      wide += fresh;
-    }
-  }
+  for (int32_t k = 0; k < ring; ++k) wide = add_with_neighbours(L, s.ring[k], s.sample_stamp, again, s.queue.data(), wide);
   update_haptic_normals(m, s.queue.data(), static_cast<size_t>(wide), false);
 }
 

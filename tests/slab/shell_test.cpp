@@ -81,6 +81,16 @@ void expect_valid_disjoint(const TriangleMesh& mesh, const char* name, int slabs
   EXPECT_LT(f.rms_back_pct, 0.5) << name;
 }
 
+// Two unit spheres 3 apart along x, as one mesh.
+TriangleMesh two_spheres() {
+  TriangleMesh two = test::icosphere(3, 1.0, Vec3(-1.5, 0, 0));
+  const TriangleMesh b = test::icosphere(3, 1.0, Vec3(1.5, 0, 0));
+  const int offset = int(two.vertices.size());
+  two.vertices.insert(two.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (Tri t : b.faces) two.faces.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  return two;
+}
+
 }  // namespace
 
 TEST(ShellTest, torus) { expect_valid_disjoint(torus(), "torus", 400); }
@@ -132,11 +142,7 @@ TEST(ShellTest, slab_count_and_grid_extremes) {
 
 TEST(ShellTest, overlap_check_finds_interpenetrating_slabs) {
   // Two separate spheres baked into one model, then moved into each other: the check must see it.
-  TriangleMesh two = test::icosphere(3, 1.0, Vec3(-1.5, 0, 0));
-  const TriangleMesh b = test::icosphere(3, 1.0, Vec3(1.5, 0, 0));
-  const int offset = int(two.vertices.size());
-  two.vertices.insert(two.vertices.end(), b.vertices.begin(), b.vertices.end());
-  for (Tri t : b.faces) two.faces.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  const TriangleMesh two = two_spheres();
   BakeOptions o;
   o.slabs = 200;
   o.grid_n = 4;
@@ -150,11 +156,7 @@ TEST(ShellTest, overlap_check_finds_interpenetrating_slabs) {
 TEST(ShellTest, updated_overlapping_pairs_match_a_full_recomputation) {
   // Two spheres baked apart, then some of one sphere's corners pushed into the other, in steps:
   // after each step the updated pairs must equal the pairs found from scratch.
-  TriangleMesh two = test::icosphere(3, 1.0, Vec3(-1.5, 0, 0));
-  const TriangleMesh b = test::icosphere(3, 1.0, Vec3(1.5, 0, 0));
-  const int offset = int(two.vertices.size());
-  two.vertices.insert(two.vertices.end(), b.vertices.begin(), b.vertices.end());
-  for (Tri t : b.faces) two.faces.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  const TriangleMesh two = two_spheres();
   BakeOptions o;
   o.slabs = 1000;
   o.grid_n = 2;
