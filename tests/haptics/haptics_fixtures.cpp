@@ -23,6 +23,12 @@ const SphereFixture& sphere() {
   return f;
 }
 
+const BunnyFixture& paper_bunny() {
+  static const BunnyFixture f{baked_bunny(150, 16), SlabLocator(baked_bunny(150, 16)), ExactMeshQuery(bunny()),
+                              bounds(bunny()).diagonal()};
+  return f;
+}
+
 ProxyParams sphere_params(bool friction) {
   ProxyParams p;
   p.force.stiffness = 1000;

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Shared haptics fixtures: a baked analytic sphere with its locator and a workspace.
+// Shared haptics fixtures: a baked analytic sphere with its locator and a workspace; the paper's
+// bunny bake with its locator and the exact reference on the input.
 
+#include <hdm/analysis/exact_mesh_query.h>
 #include <hdm/haptics/proxy.h>
 
 #include <memory>
@@ -22,5 +24,17 @@ const SphereFixture& sphere();
 
 /// Params for the sphere: k = 1000 N/m, b = 0, max 3.3 N, frictionless unless @p friction.
 ProxyParams sphere_params(bool friction = false);
+
+/// bunny00.off baked at the paper's configuration (150 slabs, n = 16, test::baked_bunny), its
+/// locator, and exact queries on the input (the scenarios' reference).
+struct BunnyFixture {
+  const SlabModel& model;
+  SlabLocator locator{model};
+  ExactMeshQuery reference;
+  double diag = 0;  ///< the input's bounding-box diagonal
+};
+
+/// Built once per process.
+const BunnyFixture& paper_bunny();
 
 }  // namespace hdm::test

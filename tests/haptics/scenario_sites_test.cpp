@@ -3,6 +3,7 @@
 // exact input (on the surface, inside/outside tests, ray hits) and against facts of the bunny
 // (its ears are its thinnest parts and are at the top, +Y). A rotated bunny gets the same kind of
 // sites, so the scenarios do not depend on the model's orientation.
+#include "haptics/haptics_fixtures.h"
 #include "support/test_models.h"
 
 #include <hdm/haptics/scenario_sites.h>
@@ -17,12 +18,13 @@
 namespace hdm {
 namespace {
 
+// The paper's bunny bake (shared fixture) and the sites found on it.
 struct Bunny {
-  const SlabModel& model = test::baked_bunny(150, 16);
-  SlabLocator locator{model};
-  ExactMeshQuery reference{test::bunny()};
+  const SlabModel& model = test::paper_bunny().model;
+  const SlabLocator& locator = test::paper_bunny().locator;
+  const ExactMeshQuery& reference = test::paper_bunny().reference;
   ScenarioSites sites{reference};
-  double diag = bounds(test::bunny()).diagonal();
+  double diag = test::paper_bunny().diag;
 };
 
 const Bunny& bunny() {

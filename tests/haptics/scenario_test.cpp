@@ -4,6 +4,7 @@
 // passivity theory. Energy bounds allow a few per cent above 1 where the hand slides: force
 // shading (interpolated normals) is not a conservative field (Ruspini et al. 1997), so a stroke can
 // gain a little energy even from an ideal proxy.
+#include "haptics/haptics_fixtures.h"
 #include "support/test_models.h"
 
 #include <hdm/haptics/scenarios.h>
@@ -15,16 +16,7 @@
 namespace hdm {
 namespace {
 
-struct Bunny {
-  const SlabModel& model = test::baked_bunny(150, 16);
-  SlabLocator locator{model};
-  ExactMeshQuery reference{test::bunny()};
-};
-
-const Bunny& bunny() {
-  static const Bunny b;
-  return b;
-}
+const test::BunnyFixture& bunny() { return test::paper_bunny(); }
 
 ScenarioReport run(Scenario s, RenderMode mode, double rate = 1000) {
   ScenarioOptions o;
