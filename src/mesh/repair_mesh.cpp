@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
-// The only translation unit that includes CGAL (heavy templates: one compile, one place).
+// Mesh repair with CGAL's polygon mesh processing; one of the few translation units that include
+// CGAL (heavy templates: kept out of everything else).
 #include <hdm/core/error.h>
 #include <hdm/mesh/repair_mesh.h>
+
+#include "surface_mesh_copy.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
@@ -144,24 +147,13 @@ TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, cons
   if (CGAL::is_closed(sm)) PMP::orient_to_bound_a_volume(sm);
   sm.collect_garbage();
 
-  TriangleMesh out;
-  out.vertices.reserve(sm.number_of_vertices());
-  for (Mesh::Vertex_index v : sm.vertices()) {
-    const Point& p = sm.point(v);
-    out.vertices.emplace_back(p.x(), p.y(), p.z());
-  }
-  out.faces.reserve(sm.number_of_faces());
-  for (Mesh::Face_index f : sm.faces()) {
-    Tri t;
-    int k = 0;
-    for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[k++] = static_cast<int32_t>(v.idx());
-    out.faces.push_back(t);
+  TriangleMesh out = detail::to_triangle_mesh(sm, "repair_mesh");
+  for (const Tri& t : out.faces)
     if (original_orientation.count(rotated({sm.point(Mesh::Vertex_index(t[0])), sm.point(Mesh::Vertex_index(t[1])),
                                             sm.point(Mesh::Vertex_index(t[2]))})) == 0 &&
         original_orientation.count(rotated({sm.point(Mesh::Vertex_index(t[0])), sm.point(Mesh::Vertex_index(t[2])),
                                             sm.point(Mesh::Vertex_index(t[1]))})) != 0)
       ++rep.flipped_faces;
-  }
   // Welded vertices: input vertices minus those that survive or were removed as unused.
   rep.merged_vertices = static_cast<int64_t>(v0) - static_cast<int64_t>(v1);
   if (report) *report = rep;

@@ -3,6 +3,8 @@
 #include <hdm/core/error.h>
 #include <hdm/mesh/subdivide_mesh.h>
 
+#include "surface_mesh_copy.h"
+
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Subdivision_method_3/subdivision_methods_3.h>
 #include <CGAL/Surface_mesh.h>
@@ -61,23 +63,7 @@ TriangleMesh subdivide_mesh(const TriangleMesh& mesh, int64_t min_triangles, int
   if (steps) *steps = made;
   if (sm.has_garbage()) sm.collect_garbage();
 
-  TriangleMesh out;
-  out.vertices.reserve(sm.number_of_vertices());
-  for (Mesh::Vertex_index v : sm.vertices()) {
-    const Point& p = sm.point(v);
-    out.vertices.emplace_back(p.x(), p.y(), p.z());
-  }
-  out.faces.reserve(sm.number_of_faces());
-  for (Mesh::Face_index f : sm.faces()) {
-    Tri t{};
-    int k = 0;
-    for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
-      if (k == 3) throw NumericalError("subdivide_mesh: a face with more than three vertices");
-      t[k++] = static_cast<int32_t>(v.idx());
-    }
-    out.faces.push_back(t);
-  }
-  return out;
+  return detail::to_triangle_mesh(sm, "subdivide_mesh");
 }
 
 }  // namespace hdm

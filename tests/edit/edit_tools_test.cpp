@@ -32,6 +32,19 @@ struct Fixture {
     hip = p;
     return c.penetrating();
   }
+
+  // 20 attempts at random samples, alternately adding (even) and carving (odd) with a tool of
+  // radius_frac·diag; add raises by height_frac·diag.
+  void carve_and_add(unsigned seed, double radius_frac, double height_frac) {
+    std::mt19937 rng(seed);
+    for (int k = 0; k < 20; ++k) {
+      Contact c;
+      Vec3 hip;
+      if (!contact_at(int(rng() % model.samples.count), 0.004, c, hip)) continue;
+      if (k % 2) carve(model, scratch, c, hip, radius_frac * diag, 0.0);
+      else add_material(model, scratch, c, radius_frac * diag, height_frac * diag);
+    }
+  }
 };
 
 void expect_seams_closed(const SlabModel& m) {
@@ -166,14 +179,7 @@ TEST(EditToolsTest, haptic_normals_follow_the_edits) {
   // Reference: the neighbours found from the grid triangles of every slab (not the layout's
   // adjacency), after edits, against the brute-force normals.
   Fixture f;
-  std::mt19937 rng(13);
-  for (int k = 0; k < 20; ++k) {
-    Contact c;
-    Vec3 hip;
-    if (!f.contact_at(int(rng() % f.model.samples.count), 0.004, c, hip)) continue;
-    if (k % 2) carve(f.model, f.scratch, c, hip, 0.015 * f.diag, 0.0);
-    else add_material(f.model, f.scratch, c, 0.015 * f.diag, 0.004 * f.diag);
-  }
+  f.carve_and_add(13, 0.015, 0.004);
   const SampleLayout& L = f.model.samples;
   const std::vector<Vec3> n = brute_force_normals(f.model);
   std::vector<std::vector<int32_t>> nb(L.count);
@@ -206,14 +212,7 @@ TEST(EditToolsTest, slab_major_copy_follows_the_edits) {
   // The query reads slab_samples; after edits every grid point must hold its sample's current
   // displacement and normal exactly.
   Fixture f;
-  std::mt19937 rng(5);
-  for (int k = 0; k < 20; ++k) {
-    Contact c;
-    Vec3 hip;
-    if (!f.contact_at(int(rng() % f.model.samples.count), 0.004, c, hip)) continue;
-    if (k % 2) carve(f.model, f.scratch, c, hip, 0.012 * f.diag, 0.0);
-    else add_material(f.model, f.scratch, c, 0.012 * f.diag, 0.003 * f.diag);
-  }
+  f.carve_and_add(5, 0.012, 0.003);
   const SampleLayout& L = f.model.samples;
   ASSERT_EQ(f.model.slab_samples.size(), L.ids.size());
   for (size_t slot = 0; slot < L.ids.size(); ++slot) {

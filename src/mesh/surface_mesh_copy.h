@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Internal, for the CGAL translation units only: a CGAL::Surface_mesh back to a TriangleMesh.
+
+#include <hdm/core/error.h>
+#include <hdm/mesh/triangle_mesh.h>
+
+#include <CGAL/boost/graph/iterator.h>
+
+#include <string>
+
+namespace hdm::detail {
+
+// Vertex k of the result is Surface_mesh vertex index k, so @p sm must have no garbage
+// (collect_garbage() first). Throws NumericalError naming @p who for a face that is not a triangle.
+template <class SurfaceMesh>
+TriangleMesh to_triangle_mesh(const SurfaceMesh& sm, const char* who) {
+  using Vertex = typename SurfaceMesh::Vertex_index;
+  using Face = typename SurfaceMesh::Face_index;
+  TriangleMesh out;
+  out.vertices.reserve(sm.number_of_vertices());
+  for (Vertex v : sm.vertices()) {
+    const auto& p = sm.point(v);
+    out.vertices.emplace_back(p.x(), p.y(), p.z());
+  }
+  out.faces.reserve(sm.number_of_faces());
+  for (Face f : sm.faces()) {
+    Tri t{};
+    int k = 0;
+    for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
+      if (k == 3) throw NumericalError(std::string(who) + ": a face with more than three vertices");
+      t[k++] = static_cast<int32_t>(v.idx());
+    }
+    out.faces.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace hdm::detail
