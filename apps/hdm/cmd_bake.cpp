@@ -34,6 +34,7 @@ struct BakeArgs {
   // both ways) when the slab count follows --density, none when --slabs is given.
   double max_error = NAN, rms_error = NAN;
   bool no_error_bound = false;
+  bool grid_given = false;  // --grid on the command line: the error-bounded bake keeps it
   int max_slabs = 100000;
 };
 
@@ -83,6 +84,7 @@ void run_bake(const BakeArgs& a) {
     t.max_pct = max_error;
     t.rms_pct = rms_error;
     t.max_slabs = a.max_slabs;
+    t.adapt_grid = !a.grid_given;  // an explicit --grid is kept in every round
     model = bake_to_tolerance(reference, a.input, o, t, &rounds, &r);
     f = rounds.back().fidelity;
   } else {
@@ -125,6 +127,7 @@ void run_bake(const BakeArgs& a) {
     nlohmann::json tried = nlohmann::json::array();
     for (const ToleranceRound& t : rounds)
       tried.push_back({{"slabs", t.slabs},
+                       {"grid", t.grid_n},
                        {"rms_pct", t.fidelity.rms_pct},
                        {"max_pct", t.fidelity.max_pct},
                        {"rms_back_pct", t.fidelity.rms_back_pct},
@@ -159,8 +162,8 @@ void run_bake(const BakeArgs& a) {
   std::printf("  undercut columns    %lld\n", (long long)r.undercut_columns);
   std::printf("  slab separation     %s\n", r.separated ? "on (overlapping slabs thinned apart)" : "off (see hdm check for overlaps)");
   for (size_t k = 0; k < rounds.size(); ++k)
-    std::printf("  error-bounded round %zu: %d slabs, max %.4f%% / %.4f%% back, RMS %.4f%% / %.4f%% back%s\n", k + 1,
-                rounds[k].slabs, rounds[k].fidelity.max_pct, rounds[k].fidelity.max_back_pct, rounds[k].fidelity.rms_pct,
+    std::printf("  error-bounded round %zu: %d slabs (n = %d), max %.4f%% / %.4f%% back, RMS %.4f%% / %.4f%% back%s\n", k + 1,
+                rounds[k].slabs, rounds[k].grid_n, rounds[k].fidelity.max_pct, rounds[k].fidelity.max_back_pct, rounds[k].fidelity.rms_pct,
                 rounds[k].fidelity.rms_back_pct, rounds[k].met ? " (bound met)" : "");
   std::printf("  fidelity (%% of bounding-box diagonal)\n");
   std::printf("    model -> input    RMS %.4f%%  max %.4f%%\n", f.rms_pct, f.max_pct);
@@ -177,7 +180,10 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles * density / n^2)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--density", a->density, "with no --slabs: submesh triangles per input triangle (default 4)")
       ->check(CLI::Range(1e-3, 1024.0));
-  cmd->add_option("--grid", a->grid, "displacement intervals per slab edge n (paper: 15)")->check(CLI::Range(1, 256));
+  CLI::Option* grid = cmd->add_option("--grid", a->grid,
+                                      "displacement intervals per slab edge n (paper: 15; default 16, lowered "
+                                      "in error-bounded rounds that add slabs, so the samples stay at --density)")
+                          ->check(CLI::Range(1, 256));
   cmd->add_option("--texels", a->texels, "colour texels per displacement interval")->check(CLI::Range(1, 16));
   cmd->add_flag("--no-repair", a->no_repair,
                 "refuse a dirty mesh (non-manifold or inconsistent edges) instead of repairing it");
@@ -197,7 +203,10 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--max-slabs", a->max_slabs, "error-bounded bake: never more slabs than this (default 100000)")
       ->check(CLI::Range(1, 10000000));
   cmd->add_flag("--json", a->json, "print the report as one JSON object");
-  cmd->callback([a] { run_bake(*a); });
+  cmd->callback([a, grid] {
+    a->grid_given = grid->count() > 0;
+    run_bake(*a);
+  });
 }
 
 }  // namespace hdm::app

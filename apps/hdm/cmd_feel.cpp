@@ -21,7 +21,7 @@ namespace {
 
 struct FeelArgs {
   std::string model, scenario, mode = "proxy", input, trace, replay, solver = "newton";
-  double rate = 1000, stiffness = 1000, damping = 1, max_force = 3.3, speed = 0.1, press = 1.0;
+  double rate = 1000, stiffness = 1000, damping = 1, damping_force = 0.2, max_force = 3.3, speed = 0.1, press = 1.0;
   bool friction = false, json = false;
 };
 
@@ -74,6 +74,7 @@ void run_feel(const FeelArgs& a) {
   o.rate_hz = a.rate;
   o.proxy.force.stiffness = a.stiffness;
   o.proxy.force.damping = a.damping;
+  o.proxy.damping_force_n = a.damping_force;
   o.proxy.force.max_force = a.max_force;
   o.friction = a.friction;
   o.speed_m_s = a.speed;
@@ -99,6 +100,7 @@ void run_feel(const FeelArgs& a) {
                             {"contact_ticks", r.contact_ticks},
                             {"pop_throughs", r.pop_throughs},
                             {"max_force_step_pct", r.max_force_step_pct},
+                            {"reference_force_step_pct", r.reference_force_step_pct},
                             {"normal_error_p95_deg", r.normal_error_p95_deg},
                             {"normal_error_smooth_p95_deg", r.normal_error_smooth_p95_deg},
                             {"normal_floor_p95_deg", r.normal_floor_p95_deg},
@@ -123,7 +125,8 @@ void run_feel(const FeelArgs& a) {
               r.note.c_str());
   std::printf("  ticks               %lld (%lld in contact)\n", (long long)r.ticks, (long long)r.contact_ticks);
   std::printf("  pop-throughs        %d\n", r.pop_throughs);
-  std::printf("  max force step      %.2f %% of max force (handle still)\n", r.max_force_step_pct);
+  std::printf("  max force step      %.2f %% of max force (handle still); exact input's own %.2f %%\n",
+              r.max_force_step_pct, r.reference_force_step_pct);
   std::printf("  normal error p95    %.2f deg (face), %.2f deg (smooth input normal); input's own face vs smooth %.2f deg\n",
               r.normal_error_p95_deg, r.normal_error_smooth_p95_deg, r.normal_floor_p95_deg);
   std::printf("  energy ratio        %.3f (returned / absorbed)\n", r.energy_ratio);
@@ -156,6 +159,9 @@ void add_feel_command(CLI::App& app) {
   cmd->add_option("--input", a->input, "input mesh for the exact reference (default: model.source)");
   cmd->add_option("--stiffness", a->stiffness, "rendered stiffness [N/m] (default 1000)");
   cmd->add_option("--damping", a->damping, "normal damping [N·s/m] (default 1)");
+  cmd->add_option("--damping-force", a->damping_force,
+                  "spring force [N] over which the damping ramps in from 0 at contact (default 0.2; 0: full at once)")
+      ->check(CLI::Range(0.0, 100.0));
   cmd->add_option("--max-force", a->max_force, "device force limit [N] (default 3.3)");
   cmd->add_option("--speed", a->speed, "slide/edges hand speed [m/s] (default 0.1)");
   cmd->add_option("--press", a->press, "slide/edges hand force [N] (default 1)");

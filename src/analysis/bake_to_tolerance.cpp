@@ -18,15 +18,17 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(input.mesh().faces.size())));
   BakeOptions o = options;
   std::vector<ToleranceRound> tried;
+  double budget = 0;  // submesh triangles (slabs·n²) the next round may use when the grid adapts
   for (int round = 0;; ++round) {
     BakeReport r;
     SlabModel model = bake_slabs(input, name, o, &r);
     ToleranceRound t;
     t.slabs = r.slabs;
+    t.grid_n = r.grid_n;
     t.fidelity = measure_fidelity(model, input);
     const Fidelity& f = t.fidelity;
-    const double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct,
-                                   f.rms_pct / tolerance.rms_pct, f.rms_back_pct / tolerance.rms_pct});
+    const double worst_rms = std::max(f.rms_pct / tolerance.rms_pct, f.rms_back_pct / tolerance.rms_pct);
+    const double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct, worst_rms});
     t.met = worst <= 1;
     tried.push_back(t);
     // The decimation may land below its target (it stops where no collapse is allowed), so the
@@ -39,6 +41,12 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
       return model;
     }
     o.slabs = next;
+    if (tolerance.adapt_grid) {
+      if (round == 0) budget = static_cast<double>(r.slabs) * o.grid_n * o.grid_n;
+      if (worst_rms > 1) budget *= std::min(worst_rms, 3.0);
+      const int n = static_cast<int>(std::floor(std::sqrt(budget / next)));
+      o.grid_n = std::clamp(n, std::min(tolerance.min_grid, options.grid_n), options.grid_n);
+    }
   }
 }
 

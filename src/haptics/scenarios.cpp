@@ -71,6 +71,19 @@ double p95(std::vector<double>& v) {
   return v[k];
 }
 
+// The input's interpolated (area-weighted vertex) normal at closest point @p cp; false on a
+// degenerate face.
+bool smooth_normal(const ExactMeshQuery& ref, const RefNormals& normals, const ClosestPoint& cp, Vec3& out) {
+  const Tri& tri = ref.mesh().faces[cp.face];
+  const Vec3 &a = ref.mesh().vertices[tri[0]], &b = ref.mesh().vertices[tri[1]], &c = ref.mesh().vertices[tri[2]];
+  const Vec3 nn = (b - a).cross(c - a);
+  const double area = nn.squaredNorm();
+  if (!(area > 0)) return false;
+  const double wb = (cp.point - a).cross(c - a).dot(nn) / area, wc = (b - a).cross(cp.point - a).dot(nn) / area;
+  out = (1 - wb - wc) * normals.vertex[tri[0]] + wb * normals.vertex[tri[1]] + wc * normals.vertex[tri[2]];
+  return true;
+}
+
 struct RunFlags {
   bool score_normals = true;
 };
@@ -96,7 +109,8 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
   nfloor.reserve(n);
   steady_force.reserve(n);
   if (o.keep_trace) r.trace.reserve(n);
-  Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero();
+  Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero(), f_ref_prev = Vec3::Zero();
+  bool f_ref_valid = false;
   double returned = 0, absorbed = 0, force_sum = 0;
   int prev_slab = -1;
   const double max_f = pp.force.max_force;
@@ -130,25 +144,32 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
       r.max_penetration_mm = std::max(r.max_penetration_mm, 1e3 * out.contact.depth / s.ws.scale);
     }
     if (k >= s.steady_begin && k < s.steady_end) steady_force.push_back(fm);
+    bool ref_valid = false;
+    Vec3 f_ref = Vec3::Zero();
     if (flags.score_normals && fm > 0.05) {
       const ClosestPoint cp = ref.closest_point(st.position);  // proxy, or the paper's SCP
       if (cp.face >= 0) {
         nerr.push_back(angle_deg(f, ref.face_normal(cp.face)));
-        if (normals) {
-          const Tri& tri = ref.mesh().faces[cp.face];
-          const Vec3 &a = ref.mesh().vertices[tri[0]], &b = ref.mesh().vertices[tri[1]], &c = ref.mesh().vertices[tri[2]];
-          const Vec3 nn = (b - a).cross(c - a);
-          const double area = nn.squaredNorm();
-          if (area > 0) {
-            const double wb = (cp.point - a).cross(c - a).dot(nn) / area, wc = (b - a).cross(cp.point - a).dot(nn) / area;
-            const Vec3 ns = (1 - wb - wc) * normals->vertex[tri[0]] + wb * normals->vertex[tri[1]] +
-                            wc * normals->vertex[tri[2]];
-            nerr_smooth.push_back(angle_deg(f, ns));
-            nfloor.push_back(angle_deg(ref.face_normal(cp.face), ns));
-          }
+        Vec3 ns;
+        if (normals && smooth_normal(ref, *normals, cp, ns)) {
+          nerr_smooth.push_back(angle_deg(f, ns));
+          nfloor.push_back(angle_deg(ref.face_normal(cp.face), ns));
         }
       }
+      // The same contact rendered on the exact input: spring to the HIP's closest input point along
+      // the input's interpolated normal there (what a renderer of the smooth input would give).
+      const ClosestPoint ch = ref.closest_point(hip);
+      Vec3 nh;
+      if (normals && ch.face >= 0 && smooth_normal(ref, *normals, ch, nh)) {
+        const double spring = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale);
+        f_ref = spring * nh.normalized();
+        ref_valid = true;
+      }
     }
+    if (ref_valid && f_ref_valid && k > 0 && (x - x_prev).norm() < 1e-4)
+      r.reference_force_step_pct = std::max(r.reference_force_step_pct, 100 * (f_ref - f_ref_prev).norm() / max_f);
+    f_ref_prev = f_ref;
+    f_ref_valid = ref_valid;
     if (o.mode == RenderMode::Proxy && st.contact) {
       Contact e;
       evaluate_surface(model, st.slab, st.coords, e);

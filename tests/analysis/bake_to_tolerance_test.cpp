@@ -43,6 +43,18 @@ double brute_max_pct(const SlabModel& m, const TriangleMesh& input) {
   return 100 * mx / bounds(input).diagonal();
 }
 
+// The bumpy ellipsoid from 20 slabs at grid n, under a 0.3% maximum-error bound.
+SlabModel bake_bumpy(const ExactMeshQuery& exact, int grid_n, std::vector<ToleranceRound>& rounds,
+                     bool adapt_grid = true) {
+  BakeOptions o;
+  o.slabs = 20;
+  o.grid_n = grid_n;
+  Tolerance t;
+  t.max_pct = 0.3;
+  t.adapt_grid = adapt_grid;
+  return bake_to_tolerance(exact, "bumpy", o, t, &rounds);
+}
+
 }  // namespace
 
 TEST(BakeToToleranceTest, refines_until_the_bound_holds_by_brute_force) {
@@ -51,10 +63,8 @@ TEST(BakeToToleranceTest, refines_until_the_bound_holds_by_brute_force) {
   BakeOptions o;
   o.slabs = 20;
   o.grid_n = 4;
-  Tolerance t;
-  t.max_pct = 0.3;
   std::vector<ToleranceRound> rounds;
-  const SlabModel m = bake_to_tolerance(exact, "bumpy", o, t, &rounds);
+  const SlabModel m = bake_bumpy(exact, 4, rounds);
   ASSERT_GE(rounds.size(), 2u);  // 20 slabs cannot hold the bumps
   EXPECT_FALSE(rounds.front().met);
   EXPECT_TRUE(rounds.back().met);
@@ -77,6 +87,37 @@ TEST(BakeToToleranceTest, an_unreachable_bound_stops_at_the_cap) {
   EXPECT_FALSE(rounds.back().met);
   EXPECT_LE(m.slab_count(), 120);
   EXPECT_LE(int(rounds.size()), t.max_rounds);
+}
+
+// A missed maximum error adds slabs at the first round's sample budget (slabs·n², grid lowered);
+// a missed RMS adds samples; an explicit grid (adapt_grid off) is kept.
+TEST(BakeToToleranceTest, lowers_the_grid_when_only_the_maximum_error_is_missed) {
+  const ExactMeshQuery exact(bumpy_ellipsoid());
+  std::vector<ToleranceRound> rounds;
+  bake_bumpy(exact, 16, rounds);
+  ASSERT_GE(rounds.size(), 2u);
+  const double budget = double(rounds.front().slabs) * 16 * 16;
+  EXPECT_EQ(rounds.front().grid_n, 16);
+  for (size_t k = 1; k < rounds.size(); ++k) {
+    EXPECT_LT(rounds[k].grid_n, rounds[k - 1].grid_n + 1) << "round " << k;
+    EXPECT_GE(rounds[k].grid_n, Tolerance{}.min_grid);
+    EXPECT_LE(double(rounds[k].slabs) * rounds[k].grid_n * rounds[k].grid_n, budget * 1.1) << "round " << k;
+  }
+  EXPECT_LT(rounds.back().grid_n, 16);
+
+  bake_bumpy(exact, 16, rounds, false);
+  for (const ToleranceRound& r : rounds) EXPECT_EQ(r.grid_n, 16);
+
+  Tolerance rms;
+  rms.rms_pct = 1e-9;  // unreachable: every round misses the RMS by far, so the samples triple
+  rms.max_rounds = 2;
+  BakeOptions o;
+  o.slabs = 20;
+  o.grid_n = 8;
+  bake_to_tolerance(exact, "bumpy", o, rms, &rounds);
+  ASSERT_EQ(rounds.size(), 2u);
+  EXPECT_GT(double(rounds[1].slabs) * rounds[1].grid_n * rounds[1].grid_n,
+            1.5 * double(rounds[0].slabs) * rounds[0].grid_n * rounds[0].grid_n);
 }
 
 TEST(BakeToToleranceTest, refuses_bounds_that_are_not_positive) {

@@ -268,5 +268,34 @@ TEST(Proxy, DampingIsBoundedByTheSpringAtContactOnset) {
   }
 }
 
+// Hunt & Crossley-style onset: below ProxyParams::damping_force_n of spring force the damping
+// coefficient is b·spring/damping_force_n, above it the full b (the spring taken from the proxy's
+// own offset to the HIP along its normal, the damping law checked against it).
+TEST(Proxy, DampingRampsInWithTheSpringForce) {
+  const auto& S = sphere();
+  ProxyParams p = sphere_params();
+  p.force.damping = 2.0;
+  p.damping_force_n = 0.5;
+  const double v = 0.05;  // [m/s] into the sphere: b·v = 0.1 N, below every spring force used here
+  const Vec3 d = Vec3(0.2, 0.3, 0.93).normalized();
+  ProxyState st;
+  proxy_step(S.model, *S.locator, S.ws, dev(d * 1.01), Vec3::Zero(), p, st);
+  // 0.25 mm and 1.5 mm device deep (k = 1000 N/m, 10 model units per metre): ~0.25 N and ~1.5 N.
+  for (double depth_model : {0.0025, 0.015}) {
+    const Vec3 hip = d * (1.0 - depth_model);
+    const ProxyOutput o = proxy_step(S.model, *S.locator, S.ws, dev(hip), -v * d, p, st);
+    ASSERT_TRUE(st.contact);
+    const double spring = p.force.stiffness * (st.position - hip).dot(st.normal) / S.ws.scale;
+    const double b = p.force.damping * std::min(1.0, spring / p.damping_force_n);
+    const double damping = o.force.dot(st.normal) - spring;
+    EXPECT_NEAR(damping, b * v * std::abs(d.dot(st.normal)), 1e-9) << "spring " << spring << " N";
+    if (depth_model < 0.01) {
+      EXPECT_LT(spring, p.damping_force_n) << "the shallow contact is on the ramp";
+    } else {
+      EXPECT_GT(spring, p.damping_force_n) << "the deep contact has the full damping";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hdm

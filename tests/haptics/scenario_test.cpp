@@ -56,6 +56,10 @@ TEST(Scenario, ThinSheetHoldsWithProxyOnly) {
   // The paper's memoryless force flips as the hand crosses the sheet's midline: abruptly (a
   // pop-through) or through small forces, and either way returns energy the hand never put in.
   EXPECT_GT(q.energy_ratio, 1.0) << "the penalty force flips in the sheet: " << q.note;
+  // A memoryless renderer of the exact input (spring to the HIP's closest input point) flips too,
+  // once the hand passes the sheet's midline: the reference step is a pop-through the proxy avoids.
+  EXPECT_GT(p.reference_force_step_pct, 30.0) << p.note;
+  EXPECT_LT(p.max_force_step_pct, 0.5 * p.reference_force_step_pct);
 }
 
 TEST(Scenario, EdgesCrossSlabsWithoutSteps) {

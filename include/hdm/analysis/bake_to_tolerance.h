@@ -20,11 +20,16 @@ struct Tolerance {
   double rms_pct = INFINITY;  ///< bound on the RMS distance, both ways (Fidelity::rms_pct, rms_back_pct)
   int max_slabs = 100000;     ///< never bake more slabs than this (nor more than the input's triangles)
   int max_rounds = 6;         ///< bakes tried at most
+  /// Lower the grid n as the slab count grows, so that the samples (slabs·n²) do not grow with it
+  /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
+  bool adapt_grid = true;
+  int min_grid = 4;           ///< smallest grid n adapt_grid chooses (never above options.grid_n)
 };
 
 /// One bake tried by bake_to_tolerance().
 struct ToleranceRound {
   int slabs = 0;       ///< slabs built
+  int grid_n = 0;      ///< grid n used
   Fidelity fidelity;   ///< measured against the input
   bool met = false;    ///< every bound of the Tolerance holds
 };
@@ -35,8 +40,13 @@ struct ToleranceRound {
 /// Round 1 bakes with @p options as given. While a bound is missed, the next slab count is the
 /// previous one times the worst ratio of measured to wanted error, clamped to [1.5, 3] (on smooth
 /// parts the error falls like the coarse edge length squared, so like 1/slabs), and capped at
-/// Tolerance::max_slabs and the input's triangle count. The grid n and every other option stay as
-/// given. Stops at the first model that meets the bounds, at the cap, or after
+/// Tolerance::max_slabs and the input's triangle count. With Tolerance::adapt_grid the grid n of
+/// the next round is the largest n <= options.grid_n (and >= min_grid) with slabs·n² within the
+/// sample budget: round 1's slabs·n², times the RMS ratio (clamped to [1, 3]) in each round that
+/// missed the RMS bound. A missed maximum error is a coarse-geometry fault (undercut columns, a part
+/// the coarse mesh cuts off) that more slabs fix; sampling that part four times as densely only
+/// costs memory, and it sharpens the force-shading field the proxy follows (docs/haptics.md). Every
+/// other option stays as given. Stops at the first model that meets the bounds, at the cap, or after
 /// Tolerance::max_rounds bakes; the model returned is the last one baked (the finest).
 ///
 /// The decimation that places the coarse vertices is already error-driven (edge collapses of

@@ -23,6 +23,9 @@ enum class RenderMode : uint8_t {
 /// (Phantom Omni / Touch class) at 1 kHz.
 struct ProxyParams {
   ForceParams force;                 ///< stiffness k [N/m], damping b [N·s/m] along the normal, max force [N]
+  double damping_force_n = 0.2;      ///< spring force k·depth [N] at which the normal damping reaches force.damping;
+                                     ///< it ramps in linearly from 0 at contact (Hunt & Crossley 1975), so a
+                                     ///< contact starts without a damping step; 0: full damping at once
   double friction_scale = 1.0;       ///< factor on the per-sample μs, μd of SlabModel (0: frictionless)
   int iterations = 3;                ///< tangent-plane projection + re-projection rounds per tick (>= 1)
   int max_halvings = 6;              ///< step halvings when a candidate leaves the shell or turns too far
@@ -87,7 +90,8 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
 /// normal by more than max_turn_deg, or does not reduce the tangential residual); static friction holds it while |F_t| <= μs·F_n, otherwise it slides so that
 /// |F_t| = μd·F_n. Contact lasts while (HIP - proxy)·n_proxy < 0, whatever the HIP's own query
 /// says, so it holds past the inner face and through thin parts. Force
-/// F = k·s·(proxy - HIP)/scale - b·(v·n)·n, normal part never pulling, clamped to max_force.
+/// F = k·s·(proxy - HIP)/scale - b'·(v·n)·n with b' = b·min(1, k·depth/damping_force_n) (Hunt &
+/// Crossley 1975) and |b'·(v·n)| <= k·depth, normal part never pulling, clamped to max_force.
 ///
 /// @param model     slab model (derived data built).
 /// @param locator   its search structure.

@@ -65,6 +65,12 @@ struct ScenarioReport {
   int64_t ticks = 0, contact_ticks = 0, bad_input_ticks = 0;
   int pop_throughs = 0;             ///< force reversed, or vanished with the HIP inside / passing through the input
   double max_force_step_pct = 0;    ///< largest tick-to-tick |ΔF| as % of max force over ticks where the handle moved < 0.1 mm
+  /// The same step for a reference renderer of the exact input on the same handle motion: the
+  /// spring k·|HIP - c|·n(c) to the HIP's closest input point c along the input's interpolated
+  /// normal there (Embree closest point; ticks where both that and the rendered force exceed
+  /// 0.05 N). What the input's own shape asks for: on a convex part of radius R pressed to depth d,
+  /// any renderer's force turns by about v·dt/(R - d) per tick.
+  double reference_force_step_pct = 0;
   double normal_error_p95_deg = 0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
   double normal_error_smooth_p95_deg = 0;  ///< same against the input's interpolated (area-weighted vertex) normal
   /// The input's own facet noise at the same points: its face normal against its interpolated
