@@ -67,8 +67,8 @@ struct ScenarioReport {
   double max_force_step_pct = 0;    ///< largest tick-to-tick |ΔF| as % of max force over ticks where the handle moved < 0.1 mm
   /// The same step for a reference renderer of the exact input on the same handle motion: the
   /// spring k·|HIP - c|·n(c) to the HIP's closest input point c along the input's interpolated
-  /// normal there (Embree closest point; ticks where both that and the rendered force exceed
-  /// 0.05 N). What the input's own shape asks for: on a convex part of radius R pressed to depth d,
+  /// normal there (Embree closest point; the same ticks as max_force_step_pct, while the rendered
+  /// force exceeds 0.05 N). What the input's own shape asks for: on a convex part of radius R pressed to depth d,
   /// any renderer's force turns by about v·dt/(R - d) per tick.
   double reference_force_step_pct = 0;
   double normal_error_p95_deg = 0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
