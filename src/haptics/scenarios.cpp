@@ -42,21 +42,6 @@ struct Setup {
   std::string note;
 };
 
-struct RefNormals {
-  std::vector<Vec3> vertex;  // area-weighted vertex normals of the input
-};
-
-RefNormals vertex_normals(const TriangleMesh& m) {
-  RefNormals r;
-  r.vertex.assign(m.vertices.size(), Vec3::Zero());
-  for (const Tri& f : m.faces) {
-    const Vec3 n = (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
-    for (int k = 0; k < 3; ++k) r.vertex[f[k]] += n;
-  }
-  for (Vec3& n : r.vertex) n.normalize();
-  return r;
-}
-
 // ---- scoring ----------------------------------------------------------------------------------
 
 double angle_deg(const Vec3& a, const Vec3& b) {
@@ -71,19 +56,6 @@ double p95(std::vector<double>& v) {
   return v[k];
 }
 
-// The input's interpolated (area-weighted vertex) normal at closest point @p cp; false on a
-// degenerate face.
-bool smooth_normal(const ExactMeshQuery& ref, const RefNormals& normals, const ClosestPoint& cp, Vec3& out) {
-  const Tri& tri = ref.mesh().faces[cp.face];
-  const Vec3 &a = ref.mesh().vertices[tri[0]], &b = ref.mesh().vertices[tri[1]], &c = ref.mesh().vertices[tri[2]];
-  const Vec3 nn = (b - a).cross(c - a);
-  const double area = nn.squaredNorm();
-  if (!(area > 0)) return false;
-  const double wb = (cp.point - a).cross(c - a).dot(nn) / area, wc = (b - a).cross(cp.point - a).dot(nn) / area;
-  out = (1 - wb - wc) * normals.vertex[tri[0]] + wb * normals.vertex[tri[1]] + wc * normals.vertex[tri[2]];
-  return true;
-}
-
 struct RunFlags {
   bool score_normals = true;
 };
@@ -91,7 +63,7 @@ struct RunFlags {
 // Runs @p n ticks of @p dev against the renderer and scores them. The device is closed-loop
 // (simulated hand) or open-loop (replay); either way the force is scored on the motion it gets.
 ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
-                         const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags,
+                         const ScenarioSites* sites, const ScenarioOptions& o, const Setup& s, const RunFlags& flags,
                          HapticDevice& dev, int64_t n) {
   ScenarioReport r;
   r.scenario = scenario_name(o.scenario);
@@ -146,23 +118,20 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
     if (k >= s.steady_begin && k < s.steady_end) steady_force.push_back(fm);
     bool ref_valid = false;
     Vec3 f_ref = Vec3::Zero();
-    if (flags.score_normals && fm > 0.05) {
-      const ClosestPoint cp = ref.closest_point(st.position);  // proxy, or the paper's SCP
+    if (sites && flags.score_normals && fm > 0.05) {
+      // The input's face and interpolated normals at its closest point to the proxy (to the SCP
+      // in penalty mode).
+      const SurfacePoint cp = sites->project(st.position);
       if (cp.face >= 0) {
-        nerr.push_back(angle_deg(f, ref.face_normal(cp.face)));
-        Vec3 ns;
-        if (normals && smooth_normal(ref, *normals, cp, ns)) {
-          nerr_smooth.push_back(angle_deg(f, ns));
-          nfloor.push_back(angle_deg(ref.face_normal(cp.face), ns));
-        }
+        nerr.push_back(angle_deg(f, cp.face_normal));
+        nerr_smooth.push_back(angle_deg(f, cp.normal));
+        nfloor.push_back(angle_deg(cp.face_normal, cp.normal));
       }
       // The same contact rendered on the exact input: spring to the HIP's closest input point along
       // the input's interpolated normal there (what a renderer of the smooth input would give).
-      const ClosestPoint ch = ref.closest_point(hip);
-      Vec3 nh;
-      if (normals && ch.face >= 0 && smooth_normal(ref, *normals, ch, nh)) {
-        const double spring = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale);
-        f_ref = spring * nh.normalized();
+      const SurfacePoint ch = sites->project(hip);
+      if (ch.face >= 0) {
+        f_ref = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale) * ch.normal;
         ref_valid = true;
       }
     }
@@ -221,12 +190,12 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
 
 // The closed loop: a simulated hand follows the setup's targets.
 ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
-                        const RefNormals* normals, const ScenarioOptions& o, const Setup& s, const RunFlags& flags) {
+                        const ScenarioSites* sites, const ScenarioOptions& o, const Setup& s, const RunFlags& flags) {
   SimulatedDeviceOptions dopt = o.device;
   dopt.rate_hz = o.rate_hz;
   dopt.spec.max_force_n = o.proxy.force.max_force;
   SimulatedDevice dev(dopt, s.targets, s.targets.front());
-  return score_run(model, locator, ref, normals, o, s, flags, dev, static_cast<int64_t>(s.targets.size()));
+  return score_run(model, locator, ref, sites, o, s, flags, dev, static_cast<int64_t>(s.targets.size()));
 }
 
 // ---- scenario geometry ----------------------------------------------------------------------
@@ -364,7 +333,6 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
   if (!(o.rate_hz > 0)) throw InvalidInput("scenario: rate_hz must be > 0");
   Setup s = base_setup(ref, o);
   RunFlags flags;
-  const RefNormals normals = vertex_normals(ref.mesh());
   const ScenarioSites sites(ref);
   switch (o.scenario) {
     case Scenario::Slide: slide_path(sites, o, s); break;
@@ -402,7 +370,7 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
       return best_report;
     }
   }
-  return simulate(model, locator, ref, &normals, o, s, flags);
+  return simulate(model, locator, ref, &sites, o, s, flags);
 }
 
 ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
@@ -414,8 +382,8 @@ ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, co
   s.steady_begin = 0;
   s.steady_end = static_cast<int64_t>(device.size());
   s.note = "replay of a recorded trajectory (open loop: the handle does not respond to the force)";
-  const RefNormals normals = vertex_normals(ref.mesh());
-  ScenarioReport r = score_run(model, locator, ref, &normals, o, s, RunFlags{}, device, static_cast<int64_t>(device.size()));
+  const ScenarioSites sites(ref);
+  ScenarioReport r = score_run(model, locator, ref, &sites, o, s, RunFlags{}, device, static_cast<int64_t>(device.size()));
   r.scenario = "replay";
   return r;
 }
