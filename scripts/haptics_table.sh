@@ -27,11 +27,11 @@ if d["scenario"] == "stiff":
 else:
     pops = d["pop_throughs"]
     print(f"| {m} | {d['scenario']} | {d['mode']} | {d['rate_hz']:.0f} | {f'**{pops}**' if pops else '0'} | "
-          f"{d['max_force_step_pct']:.2f} | {d['reference_force_step_pct']:.2f} | "
+          f"{d['max_force_step_pct']:.2f} | {d['reference_force_step_pct']:.2f} / {d['reference_facet_force_step_pct']:.2f} | "
           f"{d['normal_error_p95_deg']:.2f} / {d['normal_error_smooth_p95_deg']:.2f} | {d['normal_floor_p95_deg']:.2f} | "
           f"{d['energy_ratio']:.3f} | {d['max_penetration_mm']:.2f} | {d['tick_ns']['median']:.0f} / {d['tick_ns']['p99']:.0f} |")
 PY
-echo "| model | scenario | mode | rate Hz | pop-throughs | max step % | exact input's step % | normal err p95 face / smooth ° | input face vs smooth ° | energy ratio | max pen. mm | tick ns median / p99 |"
+echo "| model | scenario | mode | rate Hz | pop-throughs | max step % | exact input's step % smooth / facets | normal err p95 face / smooth ° | input face vs smooth ° | energy ratio | max pen. mm | tick ns median / p99 |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for m in bunny00 armadillo; do
   for r in 1000 10000; do

@@ -101,6 +101,7 @@ void run_feel(const FeelArgs& a) {
                             {"pop_throughs", r.pop_throughs},
                             {"max_force_step_pct", r.max_force_step_pct},
                             {"reference_force_step_pct", r.reference_force_step_pct},
+                            {"reference_facet_force_step_pct", r.reference_facet_force_step_pct},
                             {"normal_error_p95_deg", r.normal_error_p95_deg},
                             {"normal_error_smooth_p95_deg", r.normal_error_smooth_p95_deg},
                             {"normal_floor_p95_deg", r.normal_floor_p95_deg},
@@ -125,8 +126,9 @@ void run_feel(const FeelArgs& a) {
               r.note.c_str());
   std::printf("  ticks               %lld (%lld in contact)\n", (long long)r.ticks, (long long)r.contact_ticks);
   std::printf("  pop-throughs        %d\n", r.pop_throughs);
-  std::printf("  max force step      %.2f %% of max force (handle still); exact input's own %.2f %%\n",
-              r.max_force_step_pct, r.reference_force_step_pct);
+  std::printf("  max force step      %.2f %% of max force (handle still); exact input's own %.2f %% (smooth), "
+              "%.2f %% (facets)\n",
+              r.max_force_step_pct, r.reference_force_step_pct, r.reference_facet_force_step_pct);
   std::printf("  normal error p95    %.2f deg (face), %.2f deg (smooth input normal); input's own face vs smooth %.2f deg\n",
               r.normal_error_p95_deg, r.normal_error_smooth_p95_deg, r.normal_floor_p95_deg);
   std::printf("  energy ratio        %.3f (returned / absorbed)\n", r.energy_ratio);

@@ -82,7 +82,8 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
   steady_force.reserve(n);
   if (o.keep_trace) r.trace.reserve(n);
   Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero(), f_ref_prev = Vec3::Zero();
-  bool f_ref_valid = false;
+  Vec3 f_fac_prev = Vec3::Zero();
+  bool f_ref_valid = false, f_fac_valid = false;
   double returned = 0, absorbed = 0, force_sum = 0;
   int prev_slab = -1;
   const double max_f = pp.force.max_force;
@@ -116,8 +117,8 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
       r.max_penetration_mm = std::max(r.max_penetration_mm, 1e3 * out.contact.depth / s.ws.scale);
     }
     if (k >= s.steady_begin && k < s.steady_end) steady_force.push_back(fm);
-    bool ref_valid = false;
-    Vec3 f_ref = Vec3::Zero();
+    bool ref_valid = false, fac_valid = false;
+    Vec3 f_ref = Vec3::Zero(), f_fac = Vec3::Zero();
     if (sites && flags.score_normals && fm > 0.05) {
       // The input's face and interpolated normals at its closest point to the proxy (to the SCP
       // in penalty mode).
@@ -133,12 +134,22 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
       if (ch.face >= 0) {
         f_ref = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale) * ch.normal;
         ref_valid = true;
+        // Its facets: the spring straight to c, while the HIP is under c's face.
+        const Vec3 g = ch.point - hip;
+        if (g.dot(ch.face_normal) > 0) {
+          f_fac = std::min(max_f, pp.force.stiffness * g.norm() / s.ws.scale) * g.normalized();
+          fac_valid = true;
+        }
       }
     }
-    if (ref_valid && f_ref_valid && k > 0 && (x - x_prev).norm() < 1e-4)
-      r.reference_force_step_pct = std::max(r.reference_force_step_pct, 100 * (f_ref - f_ref_prev).norm() / max_f);
-    f_ref_prev = f_ref;
-    f_ref_valid = ref_valid;
+    const bool still = k > 0 && (x - x_prev).norm() < 1e-4;
+    auto reference_step = [&](const Vec3& f_now, bool valid, Vec3& f_before, bool& valid_before, double& worst) {
+      if (valid && valid_before && still) worst = std::max(worst, 100 * (f_now - f_before).norm() / max_f);
+      f_before = f_now;
+      valid_before = valid;
+    };
+    reference_step(f_ref, ref_valid, f_ref_prev, f_ref_valid, r.reference_force_step_pct);
+    reference_step(f_fac, fac_valid, f_fac_prev, f_fac_valid, r.reference_facet_force_step_pct);
     if (o.mode == RenderMode::Proxy && st.contact) {
       Contact e;
       evaluate_surface(model, st.slab, st.coords, e);

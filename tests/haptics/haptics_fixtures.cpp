@@ -29,6 +29,18 @@ const BunnyFixture& paper_bunny() {
   return f;
 }
 
+namespace {
+SlabModel bake(const TriangleMesh& mesh, const std::string& name, int slabs, int grid_n) {
+  BakeOptions o;
+  o.slabs = slabs;
+  o.grid_n = grid_n;
+  return bake_slabs(mesh, name, o);
+}
+}  // namespace
+
+BakedMesh::BakedMesh(const TriangleMesh& mesh, const std::string& name, int slabs, int grid_n)
+    : model(bake(mesh, name, slabs, grid_n)), locator(model), reference(mesh) {}
+
 ProxyParams sphere_params(bool friction) {
   ProxyParams p;
   p.force.stiffness = 1000;

@@ -7,6 +7,7 @@
 #include <hdm/haptics/proxy.h>
 
 #include <memory>
+#include <string>
 
 namespace hdm::test {
 
@@ -36,5 +37,14 @@ struct BunnyFixture {
 
 /// Built once per process.
 const BunnyFixture& paper_bunny();
+
+/// @p mesh baked at @p slabs slabs with @p grid_n intervals per edge, its locator, and exact
+/// queries on @p mesh: a scenario's three inputs.
+struct BakedMesh {
+  BakedMesh(const TriangleMesh& mesh, const std::string& name, int slabs, int grid_n);
+  SlabModel model;
+  SlabLocator locator;  // after model: built from it
+  ExactMeshQuery reference;
+};
 
 }  // namespace hdm::test

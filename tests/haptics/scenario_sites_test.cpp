@@ -8,7 +8,6 @@
 
 #include <hdm/haptics/scenario_sites.h>
 #include <hdm/haptics/scenarios.h>
-#include <hdm/slab/bake.h>
 
 #include <gtest/gtest.h>
 
@@ -116,19 +115,14 @@ TEST(ScenarioSites, AreDeterministic) {
 TEST(ScenarioSites, ScenariosDoNotDependOnOrientation) {
   TriangleMesh m = test::bunny();
   for (Vec3& v : m.vertices) v = Vec3(-v.x(), v.z(), -v.y());  // a proper rotation (det +1)
-  BakeOptions bo;
-  bo.slabs = 150;
-  bo.grid_n = 16;
-  const SlabModel model = bake_slabs(m, "rotated bunny", bo);
-  const SlabLocator locator(model);
-  const ExactMeshQuery reference(m);
+  const test::BakedMesh b(m, "rotated bunny", 150, 16);
   ScenarioOptions o;
   o.scenario = Scenario::Press;
-  const ScenarioReport p = run_scenario(model, locator, reference, o);
+  const ScenarioReport p = run_scenario(b.model, b.locator, b.reference, o);
   EXPECT_EQ(p.pop_throughs, 0) << p.note;
   EXPECT_GT(p.max_force_n, 3.0) << "the press reaches the device's max force: " << p.note;
   o.scenario = Scenario::Edges;
-  const ScenarioReport e = run_scenario(model, locator, reference, o);
+  const ScenarioReport e = run_scenario(b.model, b.locator, b.reference, o);
   EXPECT_EQ(e.pop_throughs, 0) << e.note;
   EXPECT_GE(e.slab_crossings, 5) << e.note;
   EXPECT_LT(e.normal_error_smooth_p95_deg, 10.0) << e.note;

@@ -71,6 +71,12 @@ struct ScenarioReport {
   /// force exceeds 0.05 N). What the input's own shape asks for: on a convex part of radius R pressed to depth d,
   /// any renderer's force turns by about v·dt/(R - d) per tick.
   double reference_force_step_pct = 0;
+  /// The same step for the exact input's facets: the spring k·(c - HIP) to the HIP's closest input
+  /// point c (not scored while the HIP is above c's face), so the force follows the face normal inside a
+  /// face and turns about edges and vertices. What a god-object on the faceted input, or on any
+  /// rendered mesh as rough, gives without force shading: at an edge of dihedral angle θ it steps
+  /// by about |F|·θ at any servo rate (the closest point jumps across the edge's bisector).
+  double reference_facet_force_step_pct = 0;
   double normal_error_p95_deg = 0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
   double normal_error_smooth_p95_deg = 0;  ///< same against the input's interpolated (area-weighted vertex) normal
   /// The input's own facet noise at the same points: its face normal against its interpolated
