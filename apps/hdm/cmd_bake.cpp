@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: MIT
 // hdm bake INPUT -o MODEL.hdm: mesh -> slab model, with the bake report and fidelity figures.
 #include "commands.h"
+#include "input_mesh.h"
 #include "progress_bar.h"
 
 #include <hdm/analysis/bake_to_tolerance.h>
 #include <hdm/analysis/fidelity.h>
 #include <hdm/io/hdm_file.h>
-#include <hdm/io/read_mesh.h>
-#include <hdm/mesh/repair_mesh.h>
 #include <hdm/slab/bake.h>
 
 #include <CLI/CLI.hpp>
@@ -27,9 +26,8 @@ struct BakeArgs {
   std::string input, output;
   int slabs = 0, grid = 16, texels = 2;
   double density = 4.0;
-  int max_hole_edges = 64;
-  double max_hole_size = 0.05;
-  bool json = false, no_repair = false;
+  InputOptions in;
+  bool json = false;
   // Error bound [% of the diagonal]. Unset (NaN): the fidelity targets (0.2% max, 0.02% RMS,
   // both ways) when the slab count follows --density, none when --slabs is given.
   double max_error = NAN, rms_error = NAN;
@@ -49,21 +47,16 @@ void run_bake(const BakeArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   ProgressBar bar;
   bar("read", 0);
-  TriangleMesh mesh = read_mesh(a.input);
-  bar("check input", 0);
-  RepairReport fixed;
-  if (!a.no_repair && needs_repair(mesh)) {
-    RepairOptions ro;
-    ro.max_hole_edges = a.max_hole_edges;
-    ro.max_hole_size = a.max_hole_size;
-    mesh = repair_mesh(mesh, a.input, ro, &fixed);
-  }
+  PreparedInput prepared = prepare_input(a.input, a.in, true);
+  TriangleMesh& mesh = prepared.mesh;
+  const RepairReport& fixed = prepared.repair;
   BakeOptions o;
   o.slabs = a.slabs;
   o.grid_n = a.grid;
   o.density = a.density;
   o.texel_density = a.texels;
   o.progress = [&](const char* stage, double f) { bar(stage, f); };
+  if (prepared.self_intersections > 0 && !std::getenv("HDM_NO_ENVELOPE")) o.surface = &prepared.envelope;  // TEMP env
   BakeReport r;
   const bool given = !std::isnan(a.max_error) || !std::isnan(a.rms_error);
   const bool bounded = !a.no_error_bound && (given || a.slabs == 0);
@@ -75,12 +68,17 @@ void run_bake(const BakeArgs& a) {
   const auto bvh_start = std::chrono::steady_clock::now();
   validate_mesh_data(mesh, a.input);
   const ExactMeshQuery reference(mesh);
+  // A mesh that crosses itself bounds the union of its parts; faces buried inside it are not on
+  // the surface the model follows, and the fidelity leaves them out.
+  std::vector<uint8_t> buried;
+  if (prepared.self_intersections > 0) buried = buried_faces(reference);
   const double bvh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - bvh_start).count();
   std::vector<ToleranceRound> rounds;
   Fidelity f;
   SlabModel model;
   if (bounded) {
     Tolerance t;
+    if (!buried.empty()) t.buried = &buried;
     t.max_pct = max_error;
     t.rms_pct = rms_error;
     t.max_slabs = a.max_slabs;
@@ -90,7 +88,7 @@ void run_bake(const BakeArgs& a) {
   } else {
     model = bake_slabs(reference, a.input, o, &r);
     bar("fidelity", 0);
-    f = measure_fidelity(model, reference);
+    f = measure_fidelity(model, reference, buried.empty() ? nullptr : &buried);
     bar("fidelity", 1);
   }
   r.seconds += bvh_seconds;  // the last round's bake and the input BVH it used
@@ -107,6 +105,7 @@ void run_bake(const BakeArgs& a) {
                       {"total_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
                       {"invalid_slabs", r.invalid_slabs},
                       {"ray_misses", r.ray_misses},
+                      {"overlapping_pairs", r.overlapping_pairs},
                       {"undercut_columns", r.undercut_columns},
                       {"separated", r.separated},
                       {"peak_rss_mib", peak_rss_mib()},
@@ -118,6 +117,15 @@ void run_bake(const BakeArgs& a) {
                         {"filled_holes", fixed.filled_holes},
                         {"added_faces", fixed.added_faces},
                         {"open_boundaries", fixed.open_boundaries}}},
+                      {"self_intersections", prepared.self_intersections},
+                      {"envelope_faces", prepared.envelope.faces.size()},
+                      {"orient",
+                       {{"components", prepared.orient.components},
+                        {"closed", prepared.orient.closed},
+                        {"nearly_closed", prepared.orient.nearly_closed},
+                        {"sheets", prepared.orient.sheets},
+                        {"flipped", prepared.orient.flipped},
+                        {"flipped_faces", prepared.orient.flipped_faces}}},
                       {"fidelity",
                        {{"rms_pct", f.rms_pct},
                         {"max_pct", f.max_pct},
@@ -132,6 +140,9 @@ void run_bake(const BakeArgs& a) {
                        {"max_pct", t.fidelity.max_pct},
                        {"rms_back_pct", t.fidelity.rms_back_pct},
                        {"max_back_pct", t.fidelity.max_back_pct},
+                       {"invalid_slabs", t.invalid_slabs},
+                       {"overlapping_pairs", t.overlapping_pairs},
+                       {"ray_misses", t.ray_misses},
                        {"met", t.met}});
     j["tolerance"] = {{"max_pct", std::isfinite(max_error) ? nlohmann::json(max_error) : nlohmann::json(nullptr)},
                       {"rms_pct", std::isfinite(rms_error) ? nlohmann::json(rms_error) : nlohmann::json(nullptr)},
@@ -157,9 +168,17 @@ void run_bake(const BakeArgs& a) {
                 "%d holes filled (%lld faces), %d open boundaries kept\n",
                 (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
                 (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
+  if (prepared.self_intersections > 0)
+    std::printf("  self-intersections  %lld face pairs cross: slabs follow the outer envelope (%zu faces), "
+                "buried faces left out of the fidelity\n",
+                (long long)prepared.self_intersections, prepared.envelope.faces.size());
+  if (prepared.orient.flipped)
+    std::printf("  oriented outward    %d of %d parts reversed (%lld faces)\n", prepared.orient.flipped,
+                prepared.orient.components, (long long)prepared.orient.flipped_faces);
   std::printf("  invalid slabs       %d\n", r.invalid_slabs);
   std::printf("  ray misses          %lld (filled at the point of the line nearest the input)\n", (long long)r.ray_misses);
   std::printf("  undercut columns    %lld\n", (long long)r.undercut_columns);
+  std::printf("  overlapping pairs   %lld\n", (long long)r.overlapping_pairs);
   std::printf("  slab separation     %s\n", r.separated ? "on (overlapping slabs thinned apart)" : "off (see hdm check for overlaps)");
   for (size_t k = 0; k < rounds.size(); ++k)
     std::printf("  error-bounded round %zu: %d slabs (n = %d), max %.4f%% / %.4f%% back, RMS %.4f%% / %.4f%% back%s\n", k + 1,
@@ -185,13 +204,7 @@ void add_bake_command(CLI::App& app) {
                                       "in error-bounded rounds that add slabs, so the samples stay at --density)")
                           ->check(CLI::Range(1, 256));
   cmd->add_option("--texels", a->texels, "colour texels per displacement interval")->check(CLI::Range(1, 16));
-  cmd->add_flag("--no-repair", a->no_repair,
-                "refuse a dirty mesh (non-manifold or inconsistent edges) instead of repairing it");
-  cmd->add_option("--max-hole", a->max_hole_edges, "fill boundary cycles of at most this many edges (default 64)")
-      ->check(CLI::Range(0, 1 << 20));
-  cmd->add_option("--max-hole-size", a->max_hole_size,
-                  "... and whose extent is at most this fraction of the diagonal (default 0.05)")
-      ->check(CLI::Range(0.0, 10.0));
+  add_input_options(*cmd, a->in);
   cmd->add_option("--max-error", a->max_error,
                   "error-bounded bake: raise the slab count until the maximum distance both ways is at most this "
                   "% of the diagonal (default without --slabs: 0.2, with --rms-error 0.02)")

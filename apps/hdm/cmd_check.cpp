@@ -2,15 +2,16 @@
 // hdm check MODEL.hdm --against INPUT: independent measurement of a slab model against its input
 // (design README, "How we measure"): exact queries on the input with Embree, never the slab code.
 #include "commands.h"
+#include "input_mesh.h"
 
 #include <hdm/analysis/fidelity.h>
 #include <hdm/analysis/shell_check.h>
 #include <hdm/io/hdm_file.h>
-#include <hdm/io/read_mesh.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -20,14 +21,18 @@ namespace {
 struct CheckArgs {
   std::string model, input;
   int64_t points = 100000;
+  InputOptions in;
   bool json = false;
 };
 
 void run_check(const CheckArgs& a) {
   const SlabModel model = load_model(a.model);
-  const TriangleMesh mesh = read_mesh(a.input);
-  const ExactMeshQuery exact(mesh);
-  const Fidelity f = measure_fidelity(model, exact);
+  // The input as `hdm bake` prepared it (the same repair and orientation, from the input alone).
+  const PreparedInput prepared = prepare_input(a.input, a.in);
+  const ExactMeshQuery exact(prepared.mesh);
+  std::vector<uint8_t> buried;
+  if (prepared.self_intersections > 0) buried = buried_faces(exact);
+  const Fidelity f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);
   const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0);
   const int invalid = count_invalid_slabs(model);
   const int64_t overlapping = count_overlapping_pairs(model);
@@ -43,6 +48,8 @@ void run_check(const CheckArgs& a) {
       {"invalid_slabs", invalid},
       {"overlapping_pairs", overlapping},
       {"undercut_columns", undercut},
+      {"self_intersections", prepared.self_intersections},
+      {"buried_faces", std::count(buried.begin(), buried.end(), uint8_t(1))},
       {"samples", model.samples.count}};
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
@@ -69,6 +76,7 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("model", a->model, "slab model (.hdm)")->required();
   cmd->add_option("--against", a->input, "the input mesh it was baked from")->required();
   cmd->add_option("--points", a->points, "contact test points")->check(CLI::Range(int64_t(100), int64_t(100000000)));
+  add_input_options(*cmd, a->in);
   cmd->add_flag("--json", a->json, "print one JSON object");
   cmd->callback([a] { run_check(*a); });
 }

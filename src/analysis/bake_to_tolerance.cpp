@@ -25,10 +25,16 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     ToleranceRound t;
     t.slabs = r.slabs;
     t.grid_n = r.grid_n;
-    t.fidelity = measure_fidelity(model, input);
+    t.fidelity = measure_fidelity(model, input, tolerance.buried);
     const Fidelity& f = t.fidelity;
     const double worst_rms = std::max(f.rms_pct / tolerance.rms_pct, f.rms_back_pct / tolerance.rms_pct);
-    const double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct, worst_rms});
+    double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct, worst_rms});
+    // A shell that is invalid somewhere or overlaps itself is a coarse-geometry fault as well:
+    // slabs that small enough parts get fix it (thin tubes, low-poly inputs, handles).
+    t.invalid_slabs = r.invalid_slabs;
+    t.overlapping_pairs = r.overlapping_pairs;
+    t.ray_misses = r.ray_misses;
+    if (r.invalid_slabs > 0 || r.overlapping_pairs > 0) worst = std::max(worst, 2.0);
     t.met = worst <= 1;
     tried.push_back(t);
     // The decimation may land below its target (it stops where no collapse is allowed), so the

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace hdm {
 
@@ -14,6 +15,11 @@ struct ExactMeshQuery::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   double diagonal = 0;
+  bool closed = true;
+  // Open meshes only: angle-weighted vertex normals and edge normals (sum of the faces' unit
+  // normals), the pseudonormals of Bærentzen & Aanæs 2005 that give the side of a point.
+  std::vector<Vec3> vertex_normal;
+  std::unordered_map<uint64_t, Vec3> edge_normal;
 };
 
 ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
@@ -22,6 +28,9 @@ ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
   if (!impl_->device) throw NumericalError("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, quality == BvhQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+  // Robust (watertight) triangle tests: a bake ray through an input vertex or edge, which a coarse
+  // mesh at the input's own resolution casts on purpose, must hit one of its faces.
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                          3 * sizeof(float), mesh.vertices.size()));
@@ -36,6 +45,56 @@ ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
   rtcReleaseGeometry(geom);
   rtcCommitScene(impl_->scene);
   impl_->diagonal = bounds(mesh).diagonal();
+  impl_->closed = analyze_topology(mesh).boundary_edges == 0;
+  if (!impl_->closed) {
+    const uint64_t nv = mesh.vertices.size();
+    impl_->vertex_normal.assign(nv, Vec3::Zero());
+    for (const Tri& t : mesh.faces) {
+      const Vec3 n = (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+      if (!(n.norm() > 0)) continue;
+      const Vec3 u = n.normalized();
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 e1 = mesh.vertices[t[(k + 1) % 3]] - mesh.vertices[t[k]], e2 = mesh.vertices[t[(k + 2) % 3]] - mesh.vertices[t[k]];
+        impl_->vertex_normal[t[k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * u;
+        const uint64_t a = uint64_t(t[k]), b = uint64_t(t[(k + 1) % 3]);
+        impl_->edge_normal[std::min(a, b) * nv + std::max(a, b)] += u;
+      }
+    }
+  }
+}
+
+bool ExactMeshQuery::closed() const { return impl_->closed; }
+
+namespace {
+struct WithinState {
+  const TriangleMesh* mesh;
+  Vec3 p;
+  double radius;
+  std::vector<int32_t>* out;
+};
+
+bool within_callback(RTCPointQueryFunctionArguments* args) {
+  auto* st = static_cast<WithinState*>(args->userPtr);
+  const Tri& f = st->mesh->faces[args->primID];
+  const Vec3 q = closest_point_on_triangle(st->p, st->mesh->vertices[f[0]], st->mesh->vertices[f[1]], st->mesh->vertices[f[2]]);
+  if ((q - st->p).norm() <= st->radius) st->out->push_back(static_cast<int32_t>(args->primID));
+  return false;  // the query sphere never shrinks
+}
+}  // namespace
+
+void ExactMeshQuery::faces_within(const Vec3& p, double radius, std::vector<int32_t>& faces) const {
+  faces.clear();
+  if (!p.allFinite() || !(radius >= 0)) return;
+  WithinState st{&mesh_, p, radius, &faces};
+  RTCPointQuery q;
+  q.x = static_cast<float>(p.x());
+  q.y = static_cast<float>(p.y());
+  q.z = static_cast<float>(p.z());
+  q.time = 0;
+  q.radius = static_cast<float>(radius) * 1.0001f + 1e-30f;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  rtcPointQuery(impl_->scene, &q, &ctx, within_callback, &st);
 }
 
 ExactMeshQuery::~ExactMeshQuery() {
@@ -149,6 +208,8 @@ SegmentHit ExactMeshQuery::first_hit(const Vec3& a, const Vec3& b) const {
 }
 
 bool ExactMeshQuery::inside(const Vec3& p) const {
+  if (!p.allFinite()) return false;
+  if (!impl_->closed) return behind(p);
   static const Vec3 dirs[3] = {Vec3(0.5773, 0.5774, 0.5771).normalized(), Vec3(-0.3141, 0.8523, -0.4182).normalized(),
                                Vec3(0.7071, -0.1234, -0.6963).normalized()};
   const double far = 4.0 * std::max(impl_->diagonal, 1e-30) + (p - mesh_.vertices[0]).norm();
@@ -156,9 +217,39 @@ bool ExactMeshQuery::inside(const Vec3& p) const {
   int votes = 0;
   for (const Vec3& d : dirs) {
     segment_hits(p, p + far * d, hits);
-    votes += static_cast<int>(hits.size() % 2);
+    // Winding number along the ray: +1 for each face left through its front, -1 through its back.
+    int winding = 0;
+    for (const SegmentHit& h : hits) winding += face_normal(h.face).dot(d) > 0 ? 1 : -1;
+    votes += winding != 0;
   }
   return votes >= 2;
+}
+
+bool ExactMeshQuery::behind(const Vec3& p) const {
+  if (!p.allFinite()) return false;
+  if (impl_->closed) return inside(p);  // the same answer for a closed mesh; no pseudonormals kept
+  const ClosestPoint c = closest_point(p);
+  if (c.face < 0) return false;
+  const Tri& t = mesh_.faces[c.face];
+  const Vec3* v[3] = {&mesh_.vertices[t[0]], &mesh_.vertices[t[1]], &mesh_.vertices[t[2]]};
+  const double scale = std::max({(*v[1] - *v[0]).norm(), (*v[2] - *v[1]).norm(), (*v[0] - *v[2]).norm()});
+  const double eps = 1e-9 * scale;
+  Vec3 n = face_normal(c.face);
+  {
+    bool done = false;
+    for (int k = 0; k < 3 && !done; ++k)
+      if ((c.point - *v[k]).norm() <= eps) n = impl_->vertex_normal[t[k]], done = true;
+    for (int k = 0; k < 3 && !done; ++k) {
+      const Vec3 e = *v[(k + 1) % 3] - *v[k];
+      const double s = std::clamp((c.point - *v[k]).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+      if ((c.point - (*v[k] + s * e)).norm() <= eps) {
+        const uint64_t nv = mesh_.vertices.size(), a = uint64_t(t[k]), b = uint64_t(t[(k + 1) % 3]);
+        n = impl_->edge_normal.at(std::min(a, b) * nv + std::max(a, b));
+        done = true;
+      }
+    }
+  }
+  return (p - c.point).dot(n) < 0;
 }
 
 Vec3 ExactMeshQuery::face_normal(int32_t f) const {

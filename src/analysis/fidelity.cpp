@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/analysis/fidelity.h>
-#include <hdm/query/inner_shell.h>
 #include <hdm/query/slab_query.h>
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <cmath>
@@ -39,7 +39,20 @@ Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt 
 
 }  // namespace
 
-Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input) {
+std::vector<uint8_t> buried_faces(const ExactMeshQuery& input) {
+  const TriangleMesh& m = input.mesh();
+  std::vector<uint8_t> buried(m.faces.size(), 0);
+  if (!input.closed()) return buried;
+  const double eps = 1e-5 * bounds(m).diagonal();
+  tbb::parallel_for(size_t(0), m.faces.size(), [&](size_t f) {
+    const Tri& t = m.faces[f];
+    const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
+    buried[f] = input.inside(c + eps * input.face_normal(static_cast<int32_t>(f)));
+  });
+  return buried;
+}
+
+Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<uint8_t>* buried) {
   TriangleMesh surface;
   displaced_surface(model, surface.vertices, surface.faces);
   const TriangleMesh& in = input.mesh();
@@ -53,10 +66,26 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input) {
   const double near = 1e-2 * diag;
   const Sum fwd = distances(ns + nt, input, near, [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
   const ExactMeshQuery recon(surface, BvhQuality::medium);  // about one query per triangle
-  const int64_t nv = static_cast<int64_t>(in.vertices.size()), nf = static_cast<int64_t>(in.faces.size());
-  const Sum back = distances(nv + nf, recon, near, [&](int64_t k) { return k < nv ? in.vertices[k] : centroid(in, k - nv); });
+  // Input points on the surface of the material: every vertex and centroid, or without buried faces.
+  std::vector<Vec3> back_points;
+  if (buried) {
+    std::vector<uint8_t> exposed(in.vertices.size(), 0);
+    for (size_t t = 0; t < in.faces.size(); ++t)
+      if (!(*buried)[t]) {
+        for (int32_t v : in.faces[t]) exposed[v] = 1;
+        back_points.push_back(centroid(in, static_cast<int64_t>(t)));
+      }
+    for (size_t v = 0; v < in.vertices.size(); ++v)
+      if (exposed[v]) back_points.push_back(in.vertices[v]);
+  } else {
+    back_points.reserve(in.vertices.size() + in.faces.size());
+    back_points.insert(back_points.end(), in.vertices.begin(), in.vertices.end());
+    for (size_t t = 0; t < in.faces.size(); ++t) back_points.push_back(centroid(in, static_cast<int64_t>(t)));
+  }
+  const auto nb = static_cast<int64_t>(back_points.size());
+  const Sum back = distances(nb, recon, near, [&](int64_t k) { return back_points[k]; });
   f.points = ns + nt;
-  f.back_points = nv + nf;
+  f.back_points = nb;
   f.rms_pct = 100 * std::sqrt(fwd.sq / f.points) / diag;
   f.max_pct = 100 * fwd.max / diag;
   f.rms_back_pct = 100 * std::sqrt(back.sq / f.back_points) / diag;
@@ -88,7 +117,10 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         (u(rng) * 2 - 1) * offset_pct / 100 * diag * input.face_normal(static_cast<int32_t>(f));
   }
   const SlabLocator locator(model);
-  const InnerShell core_test(model);
+  // A point in no slab is inside when the inner shell encloses it, by the same rule as the
+  // reference on the input: winding number for a closed model, the side of the surface for an
+  // open one.
+  const ExactMeshQuery core_test(TriangleMesh{model.inner, model.slabs});
   struct Acc {
     int64_t agree = 0, depth_n = 0, below = 0, above = 0, false_in = 0;
     double sq = 0, max = 0;
@@ -100,7 +132,7 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         for (int64_t k = r.begin(); k < r.end(); ++k) {
           const Contact c = query(model, locator, points[k], cache);
           const bool exact_in = input.inside(points[k]);
-          const bool core = !c.in_shell() && core_test.encloses(points[k]);
+          const bool core = !c.in_shell() && core_test.inside(points[k]);
           a.agree += (c.penetrating() || core) == exact_in;
           a.below += exact_in && !c.in_shell() && !core;
           a.above += exact_in && c.in_shell() && !c.penetrating();

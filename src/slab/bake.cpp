@@ -1,16 +1,18 @@
 // SPDX-License-Identifier: MIT
-// Bake: decimate (meshoptimizer), choose ray directions and shell offsets, validate every slab,
+// Bake: decimate (checked edge collapses, decimate_mesh()), choose ray directions and shell offsets, validate every slab,
 // cast one ray per sample against the input (Embree, TBB). Design notes §2.2, §3.7, §9-Q1..Q3.
 #include <hdm/analysis/exact_mesh_query.h>
 #include <hdm/analysis/shell_check.h>
 #include <hdm/core/error.h>
+#include <hdm/mesh/decimate_mesh.h>
 #include <hdm/slab/bake.h>
 
-#include <meshoptimizer.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <chrono>
@@ -30,64 +32,13 @@ void progress(const BakeOptions& o, const char* stage, double f) {
   if (o.progress) o.progress(stage, f);
 }
 
-// Decimate to about `target` triangles with meshoptimizer's edge-collapse simplifier; the coarse
-// vertices are a subset of the input vertices, so they lie on the input surface.
+// Decimate to about `target` triangles (decimate_mesh(): edge collapses under the link condition,
+// so the coarse mesh keeps the input's topology and orientation).
 Coarse decimate(const TriangleMesh& mesh, int target) {
-  const size_t nv = mesh.vertices.size(), nf = mesh.faces.size();
-  std::vector<float> pos(3 * nv);
-  for (size_t v = 0; v < nv; ++v)
-    for (int a = 0; a < 3; ++a) pos[3 * v + a] = static_cast<float>(mesh.vertices[v][a]);
-  std::vector<unsigned> idx(3 * nf), out(3 * nf);
-  for (size_t f = 0; f < nf; ++f)
-    for (int a = 0; a < 3; ++a) idx[3 * f + a] = static_cast<unsigned>(mesh.faces[f][a]);
-  size_t count = idx.size();
-  if (static_cast<size_t>(target) < nf) {
-    float err = 0;
-    count = meshopt_simplify(out.data(), idx.data(), idx.size(), pos.data(), nv, 3 * sizeof(float),
-                             3 * static_cast<size_t>(target), 1.0f, 0, &err);
-  } else {
-    out = idx;
-  }
-  Coarse c;
-  std::vector<int32_t> remap(nv, -1);
-  for (size_t k = 0; k + 2 < count; k += 3) {
-    Tri t;
-    for (int a = 0; a < 3; ++a) {
-      int32_t& r = remap[out[k + a]];
-      if (r < 0) {
-        r = static_cast<int32_t>(c.vertices.size());
-        c.vertices.push_back(mesh.vertices[out[k + a]]);
-      }
-      t[a] = r;
-    }
-    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) c.faces.push_back(t);
-  }
-  // Two triangles on the same three vertices (a collapsed "pillow") make their edges non-manifold;
-  // they enclose no volume, so drop both.
-  std::vector<std::pair<Tri, int32_t>> keyed;
-  for (size_t f = 0; f < c.faces.size(); ++f) {
-    Tri k = c.faces[f];
-    std::sort(k.begin(), k.end());
-    keyed.emplace_back(k, static_cast<int32_t>(f));
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<uint8_t> drop(c.faces.size(), 0);
-  for (size_t k = 1; k < keyed.size(); ++k)
-    if (keyed[k].first == keyed[k - 1].first) drop[keyed[k].second] = drop[keyed[k - 1].second] = 1;
-  size_t w = 0;
-  for (size_t f = 0; f < c.faces.size(); ++f)
-    if (!drop[f]) c.faces[w++] = c.faces[f];
-  c.faces.resize(w);
-  // Keep only the vertices the remaining faces use.
-  std::vector<int32_t> used(c.vertices.size(), -1);
-  std::vector<Vec3> kept;
-  for (Tri& t : c.faces)
-    for (int32_t& id : t) {
-      if (used[id] < 0) used[id] = static_cast<int32_t>(kept.size()), kept.push_back(c.vertices[id]);
-      id = used[id];
-    }
-  c.vertices = std::move(kept);
-  return c;
+  DecimateOptions o;
+  o.target_faces = target;
+  TriangleMesh m = decimate_mesh(mesh, o);
+  return Coarse{std::move(m.vertices), std::move(m.faces)};
 }
 
 struct VertexFrame {
@@ -196,7 +147,9 @@ VertexFrame vertex_frames(const Coarse& c, int smoothing) {
 void untangle(Coarse& c) {
   const size_t nv = c.vertices.size();
   std::vector<uint8_t> region(nv);
-  for (int it = 0; it < 60; ++it) {
+  // The vertex alone moves first; its ring follows gently for a few steps only, since every step
+  // of the ring also moves good vertices off the input.
+  for (int it = 0; it < 20; ++it) {
     const VertexFrame fr = vertex_frames(c, 0);
     // A vertex needs moving when its best direction sees some incident face at a grazing angle or
     // not at all. Moving it alone cannot help when its neighbours are folded too, so the one-ring
@@ -207,7 +160,7 @@ void untangle(Coarse& c) {
       double worst = 2;
       for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
         worst = std::min(worst, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
-      if (worst > 0.1) continue;
+      if (worst > 0.02) continue;
       any = true;
       region[v] = 2;
       if (it >= 10)  // the vertex alone first; its ring too when that was not enough
@@ -228,19 +181,6 @@ void untangle(Coarse& c) {
     }
     c.vertices = std::move(next);
   }
-}
-
-// Vertices whose best direction does not see every incident face (min dot <= 0.02).
-int count_unseen_stars(const Coarse& c) {
-  const VertexFrame fr = vertex_frames(c, 0);
-  int bad = 0;
-  for (size_t v = 0; v < c.vertices.size(); ++v) {
-    double worst = 2;
-    for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
-      worst = std::min(worst, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
-    bad += worst <= 0.02;
-  }
-  return bad;
 }
 
 // Distance along ray x + t·d (t > 0) to the coarse surface, ignoring faces around vertex v.
@@ -276,28 +216,15 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       o.slabs > 0 ? o.slabs : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) * o.density / (n * n))));
 
   progress(o, "decimate", 0);
-  // meshoptimizer's simplifier can, rarely, fold two triangles onto one edge; the collapse sequence
-  // depends on the target, so retry with nearby targets before giving up.
-  // The decimation can also leave a vertex whose star no direction sees whole even after
-  // untangling (the tip of a thin tusk or trunk): its slabs cannot be valid at any thickness. The
-  // collapse order depends on the target, so try a few nearby targets and keep the first coarse
-  // mesh without such a vertex (else the one with the fewest).
-  Coarse coarse;
-  int fewest = std::numeric_limits<int>::max();
-  for (int attempt = 0; attempt <= 12; ++attempt) {
-    const int t = target + (attempt % 2 ? 1 : -1) * ((attempt + 1) / 2) * std::max(1, target / 100);
-    Coarse c = decimate(mesh, std::max(4, t));
-    progress(o, "decimate", attempt / 13.0);
-    const MeshTopology topo = analyze_topology(TriangleMesh{c.vertices, c.faces});
-    if (topo.non_manifold_edges != 0 || topo.inconsistent_edges != 0) {
-      if (attempt == 12 && fewest == std::numeric_limits<int>::max())
-        validate_for_bake(TriangleMesh{c.vertices, c.faces}, name + " (decimated)");
-      continue;
-    }
-    untangle(c);
-    const int hopeless = count_unseen_stars(c);
-    if (hopeless < fewest) fewest = hopeless, coarse = std::move(c);
-    if (fewest == 0) break;
+  Coarse coarse = decimate(o.surface ? *o.surface : mesh, target);
+  // A vertex whose star no direction sees whole cannot have valid slabs at any thickness.
+  untangle(coarse);
+  if (const char* dbg = std::getenv("HDM_DEBUG_COARSE")) {  // TEMP
+    FILE* fp = std::fopen(dbg, "w");
+    std::fprintf(fp, "OFF\n%zu %zu 0\n", coarse.vertices.size(), coarse.faces.size());
+    for (auto& v : coarse.vertices) std::fprintf(fp, "%.17g %.17g %.17g\n", v.x(), v.y(), v.z());
+    for (auto& f : coarse.faces) std::fprintf(fp, "3 %d %d %d\n", f[0], f[1], f[2]);
+    std::fclose(fp);
   }
   progress(o, "decimate", 1);
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
@@ -311,18 +238,59 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   // Thickness each side must cover the input's deviation from the coarse surface near the vertex
   // (one-sided Hausdorff, attributed to the nearest coarse face's corners), plus edit headroom.
   std::vector<double> need_in(nv, 0.0), need_out(nv, 0.0);
+  std::vector<double> slab_need_in(coarse.faces.size(), 0.0), slab_need_out(coarse.faces.size(), 0.0);
   {
     std::vector<int32_t> face(mesh.vertices.size());
     std::vector<double> signed_dist(mesh.vertices.size());
-    tbb::parallel_for(size_t(0), mesh.vertices.size(), [&](size_t v) {
+    // (With an envelope as the coarse surface, buried input vertices would ask for the depth of
+    // their burial; the ray-based needs below see the surface the rays will find.)
+    tbb::parallel_for(size_t(0), o.surface ? size_t(0) : mesh.vertices.size(), [&](size_t v) {
       const ClosestPoint cp = coarse_query.closest_point(mesh.vertices[v]);
       face[v] = cp.face;
       signed_dist[v] = (mesh.vertices[v] - cp.point).dot(fr.face_normal[cp.face]);
     });
-    for (size_t v = 0; v < mesh.vertices.size(); ++v)
+    for (size_t v = 0; v < (o.surface ? size_t(0) : mesh.vertices.size()); ++v)
       for (int32_t c : coarse.faces[face[v]]) {
         need_out[c] = std::max(need_out[c], signed_dist[v]);
         need_in[c] = std::max(need_in[c], -signed_dist[v]);
+      }
+  }
+  // ... and the extent the slab's own lines need: from points of each coarse slab, along the
+  // interpolated ray direction both ways, the outward-facing input hit nearest the coarse surface
+  // (where the rays will look for it). Where the input runs oblique to the rays this is longer than
+  // its normal distance, and it sees input features between input vertices.
+  {
+    constexpr int m = 6;  // points per slab edge
+    const double reach = 0.5 * diag;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, coarse.faces.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+      std::vector<SegmentHit> hits;
+      for (size_t f = r.begin(); f < r.end(); ++f) {
+        const Tri& t = coarse.faces[f];
+        double far_in = 0, far_out = 0;
+        for (int i = 0; i <= m; ++i)
+          for (int j = 0; i + j <= m; ++j) {
+            const double wT = double(i) / m, wS = double(j) / m, wR = 1 - wT - wS;
+            const Vec3 x = wR * coarse.vertices[t[0]] + wS * coarse.vertices[t[1]] + wT * coarse.vertices[t[2]];
+            const Vec3 d = (wR * fr.direction[t[0]] + wS * fr.direction[t[1]] + wT * fr.direction[t[2]]).normalized();
+            const double len = std::min({fr.edge[t[0]], fr.edge[t[1]], fr.edge[t[2]], reach});
+            double best = INFINITY;
+            input.segment_hits(x + len * d, x - len * d, hits);  // t = 0 outer end, 1 inner end
+            for (const SegmentHit& h : hits)
+              if (input.face_normal(h.face).dot(d) > 0) {
+                const double s = (0.5 - h.t) * 2 * len;  // signed distance from x along d
+                if (std::abs(s) < std::abs(best)) best = s;
+              }
+            if (!std::isfinite(best)) continue;
+            (best > 0 ? far_out : far_in) = std::max(best > 0 ? far_out : far_in, std::abs(best));
+          }
+        slab_need_in[f] = far_in;
+        slab_need_out[f] = far_out;
+      }
+    });
+    for (size_t f = 0; f < coarse.faces.size(); ++f)
+      for (int32_t c : coarse.faces[f]) {
+        need_in[c] = std::max(need_in[c], slab_need_in[f]);
+        need_out[c] = std::max(need_out[c], slab_need_out[f]);
       }
   }
   // Dilate the needs over the one-ring: neighbouring offsets then vary slowly, which keeps the
@@ -336,15 +304,36 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   std::vector<double> off_in(nv), off_out(nv), cap_in(nv), cap_out(nv), min_off(nv), tgt_in(nv), tgt_out(nv);
   {
     std::vector<SegmentHit> hits;
+    std::vector<int32_t> near_faces;
+    std::vector<int32_t> ring2(coarse.faces.size(), 0);  // vi + 1 for faces of the 2-ring of vi
     for (size_t v = 0; v < nv; ++v) {
       const Vec3& x = coarse.vertices[v];
       const Vec3& d = fr.direction[v];
       const auto vi = static_cast<int32_t>(v);
+      for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
+        for (int32_t u : coarse.faces[fr.faces[k]])
+          for (int32_t j = fr.offsets[u]; j < fr.offsets[u + 1]; ++j) ring2[fr.faces[j]] = vi + 1;
       cap_in[v] = 0.45 * free_distance(coarse_query, fr, vi, x, -d, diag, hits);
       cap_out[v] = 0.45 * free_distance(coarse_query, fr, vi, x, d, diag, hits);
       // No thicker than the local slab size: longer rays add no fidelity, only spread the samples.
       cap_in[v] = std::min(cap_in[v], o.max_thickness * fr.edge[v]);
       cap_out[v] = std::min(cap_out[v], o.max_thickness * fr.edge[v]);
+      // ... nor than 0.45 of the clearance to another part of the coarse surface on that side, in
+      // any direction (faces beyond the vertex's 2-ring, in front of or behind the vertex): shells
+      // of parts side by side (legs, fingers) cannot meet where the free distance along the
+      // ray sees nothing.
+      const double reach = std::max(cap_in[v], cap_out[v]) / 0.45;
+      coarse_query.faces_within(x, reach, near_faces);
+      double clear_in = reach, clear_out = reach;
+      for (int32_t f : near_faces) {
+        if (ring2[f] == vi + 1) continue;
+        const Tri& t = coarse.faces[f];
+        const Vec3 q = closest_point_on_triangle(x, coarse.vertices[t[0]], coarse.vertices[t[1]], coarse.vertices[t[2]]);
+        double& clear = (q - x).dot(d) > 0 ? clear_out : clear_in;
+        clear = std::min(clear, (q - x).norm());
+      }
+      cap_in[v] = std::min(cap_in[v], 0.45 * clear_in);
+      cap_out[v] = std::min(cap_out[v], 0.45 * clear_out);
       // Headroom for edits and for the cursor's penetration (design notes §9-Q1), at least
       // options.min_thickness of the diagonal where the model is thick enough.
       const double floor = std::max(o.headroom * fr.edge[v], o.min_thickness * diag);
@@ -375,17 +364,25 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
     model.inner[v] = coarse.vertices[v] - off_in[v] * fr.direction[v];
     model.outer[v] = coarse.vertices[v] + off_out[v] * fr.direction[v];
   };
-  auto slab_ok = [&](int32_t f) {
+  auto jacobian = [&](int32_t f) {
     const Tri& t = model.slabs[f];
     const SlabGeometry g = make_slab_geometry(model.inner[t[0]], model.inner[t[1]], model.inner[t[2]],
                                               model.outer[t[0]], model.outer[t[1]], model.outer[t[2]]);
-    return slab_min_jacobian(g, model.outer[t[1]] - model.inner[t[1]], model.outer[t[2]] - model.inner[t[2]]) > 0.02;
+    return slab_min_jacobian(g, model.outer[t[1]] - model.inner[t[1]], model.outer[t[2]] - model.inner[t[2]]);
   };
+  // The Jacobian each slab must keep while the shell grows: 0.02, or half of what the thinnest
+  // shell gives where that is less (a barely seen star), never letting a valid slab turn invalid.
+  std::vector<double> required(model.slabs.size());
+  auto slab_ok = [&](int32_t f) { return jacobian(f) > required[f]; };
   for (size_t v = 0; v < nv; ++v) place(v);
   // Slabs that are invalid even in the thinnest shell (a direction that cannot see all its faces)
   // are left out of the growth test and reported.
   std::vector<uint8_t> hopeless(model.slabs.size());
-  for (size_t f = 0; f < model.slabs.size(); ++f) hopeless[f] = !slab_ok(static_cast<int32_t>(f));
+  for (size_t f = 0; f < model.slabs.size(); ++f) {
+    const double j = jacobian(static_cast<int32_t>(f));
+    hopeless[f] = !(j > 0);
+    required[f] = j > 0.04 ? 0.02 : 0.5 * j;
+  }
   auto ring_ok = [&](size_t v) {
     for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
       if (!hopeless[fr.faces[k]] && !slab_ok(fr.faces[k])) return false;
@@ -395,18 +392,22 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   // valid shell, raise each vertex's offset towards its target, keeping the largest value (found by
   // bisection) for which every slab around the vertex stays valid. Gauss-Seidel sweeps.
   auto grow = [&] {
-    for (int sweep = 0; sweep < 12; ++sweep) {
+    // Every vertex grows by a bounded step per sweep (at most doubling, or a sixth of its
+    // target), so neighbours rise together and the alpha-planes stay parallel; a vertex that
+    // jumped to its target alone would tilt its slabs and block its neighbours' growth.
+    for (int sweep = 0; sweep < 32; ++sweep) {
       bool changed = false;
       for (size_t v = 0; v < nv; ++v)
         for (int side = 0; side < 2; ++side) {
           double& off = side ? off_out[v] : off_in[v];
           const double target = side ? tgt_out[v] : tgt_in[v];
           if (off >= target * 0.999) continue;
-          double lo = off, hi = target;
+          const double start = off;
+          double lo = off, hi = std::min(target, std::max(2 * off, off + target / 6));
           off = hi;
           place(v);
           if (!ring_ok(v)) {
-            for (int it = 0; it < 8; ++it) {
+            for (int it = 0; it < 6; ++it) {
               off = 0.5 * (lo + hi);
               place(v);
               (ring_ok(v) ? lo : hi) = off;
@@ -414,7 +415,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
             off = lo;
             place(v);
           }
-          changed |= off > lo * 1.001 || off == target;
+          changed |= off > start * 1.001;
         }
       if (!changed) break;
     }
@@ -449,6 +450,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   auto separate = [&] {
     for (int it = 0; it < 12; ++it) {
       const auto pairs = current_pairs();
+      if (std::getenv("HDM_DEBUG_MISS")) std::fprintf(stderr, "separate it %d pairs %zu\n", it, pairs.size());  // TEMP
       if (pairs.empty()) break;
       for (const auto& [a, b] : pairs)
         for (int32_t f : {a, b})
@@ -460,6 +462,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
             bad = true;
             for (int32_t v : model.slabs[f]) shrink(v, 0.8);
           }
+        if (std::getenv("HDM_DEBUG_MISS") && bad) std::fprintf(stderr, "  fix %d\n", fix);  // TEMP
         if (!bad) break;
       }
     }
@@ -487,8 +490,10 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       stale[v] = !(model.inner[v] == cast_inner[v]) || !(model.outer[v] == cast_outer[v]);
     cast_inner = model.inner;
     cast_outer = model.outer;
-    // One ray per distinct sample, from the outer end inward; keep the first (outermost) hit
-    // whose triangle faces outward (design notes §2.2).
+    // One ray per distinct sample, from the outer end inward; of the hits whose triangle faces
+    // outward, keep the one nearest the coarse surface (design notes §2.2 keep the outermost: in a
+    // thick shell between close parts, fingers or the walls of a hole, the outermost hit can be
+    // another part's surface, while the coarse surface follows the local one).
     const int blocks = 20;
     for (int b = 0; b < blocks; ++b) {
       const int lo = int(int64_t(ns) * b / blocks), hi = int(int64_t(ns) * (b + 1) / blocks);
@@ -503,11 +508,17 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
           const Vec3 up = p1 - p0;
           missed[s] = 1;
           undercut[s] = hits.size() > 1;
+          const int index = model.samples.home_index[s];
+          const double wT = model.samples.point_i[index] / double(n), wS = model.samples.point_j[index] / double(n);
+          const Vec3 coarse_point = (1 - wT - wS) * coarse.vertices[home[0]] + wS * coarse.vertices[home[1]] +
+                                    wT * coarse.vertices[home[2]];
+          const double t_coarse = (coarse_point - p0).dot(up) / std::max(up.squaredNorm(), 1e-300);
+          double best = INFINITY;
           for (const SegmentHit& h : hits)
-            if (input.face_normal(h.face).dot(up) > 0) {
+            if (input.face_normal(h.face).dot(up) > 0 && std::abs(1.0 - h.t - t_coarse) < best) {
+              best = std::abs(1.0 - h.t - t_coarse);
               model.displacement[s] = static_cast<float>(std::clamp(1.0 - h.t, 0.0, 1.0));
               missed[s] = 0;
-              break;
             }
         }
       });
@@ -525,6 +536,42 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       for (int32_t v : model.slabs[model.samples.home_slab[s]]) (out ? grow_out : grow_in)[v] = 1;
     }
     rep.ray_misses = misses;
+    if (std::getenv("HDM_DEBUG_MISS")) {  // TEMP
+      int64_t capped = 0, blocked = 0, reached = 0;
+      for (int s2 = 0; s2 < ns; ++s2) {
+        if (!missed[s2]) continue;
+        bool cap = false, blk = false;
+        for (int32_t v : model.slabs[model.samples.home_slab[s2]]) {
+          cap |= tgt_in[v] >= cap_in[v] * 0.999 || tgt_out[v] >= cap_out[v] * 0.999;
+          blk |= off_in[v] < tgt_in[v] * 0.99 || off_out[v] < tgt_out[v] * 0.99;
+        }
+        capped += cap; blocked += blk; reached += !cap && !blk;
+        if (!cap && !blk && reached <= 5 && round == 0) {
+          const int sl = model.samples.home_slab[s2], idx = model.samples.home_index[s2];
+          const Tri& t = model.slabs[sl];
+          const double wT = model.samples.point_i[idx] / double(n), wS = model.samples.point_j[idx] / double(n), wR = 1 - wT - wS;
+          const Vec3 x = wR * coarse.vertices[t[0]] + wS * coarse.vertices[t[1]] + wT * coarse.vertices[t[2]];
+          const Vec3 d = (wR * fr.direction[t[0]] + wS * fr.direction[t[1]] + wT * fr.direction[t[2]]).normalized();
+          std::vector<SegmentHit> hh;
+          input.segment_hits(x + diag * d, x - diag * d, hh);
+          std::fprintf(stderr, "  neither: sample %d slab %d w (%.2f %.2f %.2f) tgt_in %.4f %.4f %.4f tgt_out %.4f %.4f %.4f need_in %.4f %.4f %.4f slabneed %.4f/%.4f hits:", s2, sl, wR, wS, wT, tgt_in[t[0]], tgt_in[t[1]], tgt_in[t[2]], tgt_out[t[0]], tgt_out[t[1]], tgt_out[t[2]], need_in[t[0]], need_in[t[1]], need_in[t[2]], slab_need_in[sl], slab_need_out[sl]);
+          for (auto& h : hh) std::fprintf(stderr, " s=%.4f%s", (0.5 - h.t) * 2 * diag, input.face_normal(h.face).dot(d) > 0 ? "+" : "-");
+          std::fprintf(stderr, "\n");
+        }
+      }
+      std::fprintf(stderr, "round %d misses %lld: corner at cap %lld, growth blocked %lld, neither %lld\n", round, (long long)misses, (long long)capped, (long long)blocked, (long long)reached);
+      int shown = 0;
+      for (int s2 = 0; s2 < ns && shown < 8; ++s2) {
+        if (!missed[s2]) continue;
+        ++shown;
+        const int sl = model.samples.home_slab[s2];
+        std::fprintf(stderr, "round %d miss sample %d slab %d hopeless %d:", round, s2, sl, (int)hopeless[sl]);
+        for (int32_t v : model.slabs[sl]) std::fprintf(stderr, " v%d in %.3g/%.3g out %.3g/%.3g cap %.3g/%.3g edge %.3g", v, off_in[v], tgt_in[v], off_out[v], tgt_out[v], cap_in[v], cap_out[v], fr.edge[v]);
+        Vec3 p0, p1;
+        projection_line(model, sl, model.samples.home_index[s2], p0, p1);
+        std::fprintf(stderr, " len %.3g dist0 %.3g dist1 %.3g\n", (p1 - p0).norm(), input.closest_point(p0).distance, input.closest_point(p1).distance);
+      }
+    }
     if (misses == 0 || round == 7) break;
     bool grew = false;
     for (size_t v = 0; v < nv; ++v) {
@@ -535,10 +582,10 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   }
   if (rep.ray_misses <= o.miss_limit * ns) break;
   }
-  if (rep.ray_misses > o.miss_limit * ns)
-    throw NumericalError(name + ": " + std::to_string(rep.ray_misses) + " of " + std::to_string(ns) +
-                         " sample rays miss the input (limit " + std::to_string(o.miss_limit * 100) +
-                         "%); the shell cannot enclose the surface here: try more slabs");
+  // Slab pairs that still overlap: none once separation converged; without separation (the
+  // second pass) the exact check runs once here.
+  rep.overlapping_pairs = rep.separated ? static_cast<int64_t>(current_pairs().size())
+                                        : static_cast<int64_t>(overlapping_pairs(model).size());
   // A column that misses the input still has a best point: the one on its line nearest the input
   // (sampled, then refined by golden-section search). This keeps the filled surface on the input
   // where the shell passes beside it, instead of averaging neighbours.
@@ -571,7 +618,18 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   for (int s = 0; s < model.slab_count(); ++s) {
     const Tri& t = model.slabs[s];
     if (slab_min_jacobian(model.geometry[s], model.outer[t[1]] - model.inner[t[1]], model.outer[t[2]] - model.inner[t[2]]) <= 0)
+      {
       ++rep.invalid_slabs;
+      if (std::getenv("HDM_DEBUG_MISS")) {  // TEMP
+        std::fprintf(stderr, "invalid slab %d hopeless %d required %.3g J %.3g:", s, (int)hopeless[s], required[s], jacobian(s));
+        for (int32_t v : t) {
+          double md = 2;
+          for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k) md = std::min(md, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
+          std::fprintf(stderr, " v%d in %.3g out %.3g mindot %.3f", v, off_in[v], off_out[v], md);
+        }
+        std::fprintf(stderr, "\n");
+      }
+      }
   }
   rep.slabs = model.slab_count();
   rep.grid_n = n;

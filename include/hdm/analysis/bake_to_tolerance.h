@@ -24,6 +24,9 @@ struct Tolerance {
   /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
   bool adapt_grid = true;
   int min_grid = 4;           ///< smallest grid n adapt_grid chooses (never above options.grid_n)
+  /// Optional #F flags of buried input faces (buried_faces()), left out of the fidelity's
+  /// input-to-model direction. Not owned.
+  const std::vector<uint8_t>* buried = nullptr;
 };
 
 /// One bake tried by bake_to_tolerance().
@@ -31,15 +34,20 @@ struct ToleranceRound {
   int slabs = 0;       ///< slabs built
   int grid_n = 0;      ///< grid n used
   Fidelity fidelity;   ///< measured against the input
-  bool met = false;    ///< every bound of the Tolerance holds
+  int invalid_slabs = 0;          ///< BakeReport::invalid_slabs of the round
+  int64_t overlapping_pairs = 0;  ///< BakeReport::overlapping_pairs of the round
+  int64_t ray_misses = 0;         ///< BakeReport::ray_misses of the round
+  bool met = false;    ///< every bound of the Tolerance holds, and no slab is invalid or overlaps another
 };
 
 /// @brief Bakes the mesh of @p input with more and more slabs until the fidelity measured against it
 /// meets @p tolerance (an error-bounded bake).
 ///
-/// Round 1 bakes with @p options as given. While a bound is missed, the next slab count is the
-/// previous one times the worst ratio of measured to wanted error, clamped to [1.5, 3] (on smooth
-/// parts the error falls like the coarse edge length squared, so like 1/slabs), and capped at
+/// Round 1 bakes with @p options as given. A round meets the tolerance when its fidelity holds
+/// every bound and it has no invalid slab and no overlapping pair. While a round does not, the
+/// next slab count is the previous one times the worst ratio of measured to wanted error (2 for an
+/// invalid or overlapping shell), clamped to [1.5, 3] (on smooth parts the error falls like the
+/// coarse edge length squared, so like 1/slabs), and capped at
 /// Tolerance::max_slabs and the input's triangle count. With Tolerance::adapt_grid the grid n of
 /// the next round is the largest n <= options.grid_n (and >= min_grid) with slabs·n² within the
 /// sample budget: round 1's slabs·n², times the RMS ratio (clamped to [1, 3]) in each round that
@@ -63,7 +71,7 @@ struct ToleranceRound {
 /// @param[out] report  the returned model's bake report (optional).
 /// @return the model of the last round; rounds->back().met says whether it meets the bounds.
 /// @throws InvalidInput naming @p name for an invalid mesh, options or tolerance (a bound that is
-///         not positive, max_slabs < 1, max_rounds < 1); NumericalError as bake_slabs().
+///         not positive, max_slabs < 1, max_rounds < 1).
 /// @note Cost: up to max_rounds bakes and fidelity measurements, all on the one BVH of @p input;
 ///       one round when the first bake meets the bounds.
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,

@@ -61,9 +61,35 @@ class ExactMeshQuery {
   /// @note Thread-safe (const); O(log #F) for a radius of the order of the local triangle size.
   ClosestPoint closest_point(const Vec3& p, double radius) const;
 
-  /// @brief Inside test by ray parity, the majority over three fixed directions (robust to rays
-  /// grazing an edge). Meaningful for closed meshes.
+  /// @brief Whether @p p is inside the material the mesh bounds.
+  ///
+  /// Closed mesh: the winding number along a ray (faces left through their front count +1,
+  /// through their back -1) is not zero, the majority over three fixed skew directions (a ray
+  /// grazing an edge cannot flip the answer). This is ray parity for a mesh that does not cross
+  /// itself, and the union of the parts for one that does (a leg pushed into a body is inside
+  /// once, not twice). Open mesh: behind() (the side of the surface; rays can leave through the
+  /// openings, so parity means nothing there).
+  /// @return false for a non-finite point.
+  /// @note Thread-safe (const); three ray traversals, or one closest-point query.
   bool inside(const Vec3& p) const;
+
+  /// @brief Whether @p p lies behind the surface: (p − c)·n < 0 for the closest point c and the
+  /// angle-weighted pseudonormal n there (the face normal inside a face, the sum of the two face
+  /// normals on an edge, the angle-weighted vertex normal at a vertex; Bærentzen & Aanæs, "Signed
+  /// distance computation using the angle weighted pseudonormal", IEEE TVCG 2005). Exact for
+  /// a closed mesh that does not cross itself, where it answers as inside() (no pseudonormals are
+  /// kept for closed meshes); for an open one it is the side of the surface the point is on, as a
+  /// one-sided surface (a sheet, a scan with a cut) is touched from its front.
+  /// @pre the mesh is oriented as orient_outward() orients it (faces counter-clockwise from the front).
+  bool behind(const Vec3& p) const;
+
+  /// True when every edge is used by two faces (no boundary).
+  bool closed() const;
+
+  /// @brief The faces with a point within @p radius of @p p (exact point-triangle distance), in
+  /// no particular order; @p faces is cleared first.
+  /// @note Thread-safe (const); O(log #F + found).
+  void faces_within(const Vec3& p, double radius, std::vector<int32_t>& faces) const;
 
   /// @brief Every hit of the segment a→b, sorted by t in [0,1].
   void segment_hits(const Vec3& a, const Vec3& b, std::vector<SegmentHit>& hits) const;

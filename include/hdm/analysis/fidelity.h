@@ -8,6 +8,7 @@
 #include <hdm/slab/slab_model.h>
 
 #include <cstdint>
+#include <vector>
 
 namespace hdm {
 
@@ -24,8 +25,21 @@ struct Fidelity {
 /// @brief Fidelity of @p model against @p input: every sample and grid-triangle centroid of the
 /// reconstructed surface to the input, and every input vertex and face centroid to the
 /// reconstructed surface (an Embree BVH over the displaced grid triangles).
+/// @param buried  optional #F flags of input faces that are not on the surface of the material
+///                (buried_faces()): their centroids, and vertices all of whose faces are buried,
+///                are left out of the input-to-model direction.
 /// @note Parallel (TBB); O((#samples + #V + #F) log #F).
-Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input);
+Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
+                          const std::vector<uint8_t>* buried = nullptr);
+
+/// @brief Faces of a closed input that lie inside the material it bounds: faces of a part pushed
+/// into another (a mesh that crosses itself), whose outside is still inside the union. A face is
+/// buried when the point 10⁻⁵ of the diagonal in front of its centroid is inside
+/// (ExactMeshQuery::inside, the winding number along rays). No face of an open mesh, or of a
+/// closed mesh that does not cross itself, is buried.
+/// @return #F flags (1: buried).
+/// @note Parallel (TBB); three rays per face.
+std::vector<uint8_t> buried_faces(const ExactMeshQuery& input);
 
 /// Contact accuracy near the surface.
 struct ContactAccuracy {
@@ -41,7 +55,10 @@ struct ContactAccuracy {
 /// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)
 /// offset along the face normal by a uniform amount in ±@p offset_pct % of the diagonal (1% in the
 /// design README's definition); hdm's inside/outside (penetration > 0 in a slab, or, in no slab,
-/// InnerShell::encloses) against ExactMeshQuery::inside, hdm's depth against the exact distance.
+/// ExactMeshQuery::inside on the inner shell's triangles) against ExactMeshQuery::inside on the
+/// input, hdm's depth against the exact distance.
+/// @pre @p input is oriented as orient_outward() orients it (an open input's inside is the back
+///      of its surface).
 /// @note Parallel (TBB).
 ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
                                 double offset_pct = 1.0);

@@ -29,8 +29,12 @@ struct BakeOptions {
   double min_thickness = 0.01;  ///< wanted shell thickness each side, fraction of the diagonal (cursor penetration F_max/k_s plus carve headroom), capped in thin parts
   int direction_smoothing = 10;  ///< Laplacian smoothing passes over the ray directions (each kept only while it sees all incident faces)
   bool separate_slabs = true;  ///< thin the shell where slabs of different parts overlap (falls back to no separation when that leaves more than miss_limit rays without a surface)
-  double miss_limit = 0.10;  ///< fail when more than this fraction of sample rays miss the input
+  double miss_limit = 0.10;  ///< when separation leaves more than this fraction of sample rays without a surface, bake again without it
   Vec3f colour{0.82f, 0.80f, 0.76f};  ///< initial surface colour, linear RGB
+  /// The surface the coarse mesh is decimated from, when not the input itself: an
+  /// intersection-free envelope (outer_envelope()) of an input that crosses itself, so that slabs
+  /// of crossing parts cannot overlap. The rays still record the input. Not owned; null: the input.
+  const TriangleMesh* surface = nullptr;
   /// Progress callback: stage name and fraction in [0,1] of that stage. Called from the calling thread.
   std::function<void(const char* stage, double fraction)> progress;
 };
@@ -43,7 +47,8 @@ struct BakeReport {
   int64_t submesh_triangles = 0;    ///< slabs·n², the triangles of the reconstructed surface
   int64_t samples = 0;              ///< distinct displacement samples
   int invalid_slabs = 0;            ///< slabs whose Jacobian is not positive everywhere (design notes §3.7)
-  int64_t ray_misses = 0;           ///< sample rays that found no outward-facing input surface (filled from neighbours)
+  int64_t ray_misses = 0;           ///< sample rays that found no outward-facing input surface (filled at the point of their line nearest the input)
+  int64_t overlapping_pairs = 0;    ///< slab pairs of different parts that overlap (0 when separation converged)
   int64_t undercut_columns = 0;     ///< sample rays that cross the input more than once
   int shell_iterations = 0;         ///< rounds of shrinking/growing the shell
   bool separated = false;           ///< overlapping slabs were thinned apart (see BakeOptions::separate_slabs)
@@ -57,8 +62,10 @@ struct BakeReport {
 /// @param[out] report  counters of the bake (optional).
 /// @return the model with derived data built; displacements δ in [0,1] with δ the parameter of
 ///         the outermost outward-facing hit of the sample's projection line (design notes §2.2).
-/// @throws InvalidInput (naming @p name) for an invalid mesh or options; NumericalError when more
-///         than options.miss_limit of the rays miss.
+/// @throws InvalidInput (naming @p name) for an invalid mesh or options. A shell that cannot
+///         enclose the input everywhere at this slab count is not an error: the report counts the
+///         rays that missed, the invalid slabs and the overlapping pairs, and bake_to_tolerance()
+///         bakes again with more slabs.
 /// @note Parallel (TBB) ray casting; O(#F log #F + #S·n²).
 /// @see Jagnow & Dorsey 2002 §2 and §7; design notes §2.2, §3.7, §9-Q1..Q3.
 SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& options,

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The input mesh as `hdm bake` prepares it, shared by `hdm check` so that both measure the same
+// surface: read, repair a dirty scan (unless refused), orient every part outward.
+#include <hdm/mesh/orient_mesh.h>
+#include <hdm/mesh/outer_envelope.h>
+#include <hdm/mesh/repair_mesh.h>
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace hdm::app {
+
+struct InputOptions {
+  bool no_repair = false;      // refuse a dirty mesh instead of repairing it
+  int max_hole_edges = 64;     // RepairOptions::max_hole_edges
+  double max_hole_size = 0.05; // RepairOptions::max_hole_size
+};
+
+struct PreparedInput {
+  TriangleMesh mesh;
+  RepairReport repair;
+  OrientReport orient;
+  int64_t self_intersections = 0;  // face pairs of the mesh that cross
+  TriangleMesh envelope;           // with `with_envelope` and self-intersections: outer_envelope(mesh)
+};
+
+// Adds --no-repair, --max-hole and --max-hole-size to @p cmd.
+void add_input_options(CLI::App& cmd, InputOptions& o);
+
+// Reads @p path, repairs it when needs_repair() (validate_for_bake() with --no-repair), then
+// orient_outward(), and counts its self-intersections; with @p with_envelope and
+// self-intersections, builds the envelope the bake decimates. Throws what read_mesh() and
+// repair_mesh() throw.
+PreparedInput prepare_input(const std::string& path, const InputOptions& o, bool with_envelope = false);
+
+}  // namespace hdm::app

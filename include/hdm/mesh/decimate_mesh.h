@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Decimation that cannot break the mesh: the coarse mesh the bake turns into slabs.
+
+#include <hdm/mesh/triangle_mesh.h>
+
+#include <cmath>
+#include <cstdint>
+
+namespace hdm {
+
+/// Options of decimate_mesh().
+struct DecimateOptions {
+  int64_t target_faces = 0;  ///< stop once the mesh has at most this many faces (the collapses
+                             ///< the guarantees allow may end above it)
+  /// Edges whose dihedral angle (between the two face normals) exceeds this are creases; boundary
+  /// edges always are features. Penalty planes keep the coarse vertices on features, and
+  /// collapses run along them, so slab edges end up on the creases of CAD-like parts [degrees].
+  double feature_angle_deg = 40.0;
+  double feature_weight = 20.0;  ///< weight of a feature's penalty planes against the face planes
+  /// A collapse is refused when it turns a face normal of its star by more than this [degrees]
+  /// (no fold-overs, and stars stay visible from one ray direction, which slabs need).
+  double max_normal_turn_deg = 75.0;
+  /// A collapse is refused when a face it makes has a smallest angle below this [degrees], unless
+  /// the faces it replaces were already that thin (slivers make slabs of little volume).
+  double min_angle_deg = 2.0;
+  /// A collapse is refused when it leaves a vertex (the new one, or one of its link) whose faces
+  /// no direction sees with a dot product of at least this, unless that vertex was already worse
+  /// seen (a slab needs a ray direction at each corner that sees every face around it; the
+  /// larger the margin, the thicker a valid shell can grow).
+  double min_visibility = 0.2;
+  /// true: each collapse keeps the end of least quadric error (a half-edge collapse), so coarse
+  /// vertices are input vertices and lie on the surface; false: the quadric's minimiser, which
+  /// follows the input more closely between vertices but puts vertices off the surface.
+  bool on_input = true;
+};
+
+/// What decimate_mesh() did.
+struct DecimateReport {
+  int64_t faces = 0;          ///< faces of the result
+  int64_t vertices = 0;       ///< vertices of the result
+  int64_t feature_edges = 0;  ///< input edges marked as features (creases and boundary)
+  int64_t collapses = 0;      ///< edge collapses made
+};
+
+/// @brief Decimates @p mesh by edge collapses ordered by Garland–Heckbert quadric error, each one
+/// checked so that the result keeps the input's topology and can be turned into valid slabs.
+///
+/// Quadrics: area-weighted face planes, plus, for each feature edge (boundary, or a crease sharper
+/// than DecimateOptions::feature_angle_deg), the planes through the edge perpendicular to its
+/// faces (Garland & Heckbert, "Surface Simplification Using Quadric Error Metrics", SIGGRAPH 1997,
+/// §6, extended from boundaries to creases). The new vertex goes to the quadric's minimiser,
+/// regularised towards the edge midpoint (Lindstrom 2000), so it is not on the input in general:
+/// the bake's rays record the input. A collapse is made only when:
+/// - the link condition holds (Dey, Edelsbrunner, Guha, Nekhayev, "Topology preserving edge
+///   contraction", 1999): the common neighbours of the two ends are exactly the apexes of the
+///   edge's faces, an interior edge does not join two boundary vertices, and no two faces would
+///   become duplicates; so the result is 2-manifold with the input's genus, boundary loops,
+///   components and orientation (faces keep their vertex order);
+/// - no face it moves turns its normal by more than DecimateOptions::max_normal_turn_deg (no
+///   fold-over) or becomes a new sliver (DecimateOptions::min_angle_deg);
+/// - every vertex whose star changes keeps a direction that sees all its faces
+///   (DecimateOptions::min_visibility): thin parts, tubes and tips stop the decimation early
+///   instead of giving vertices no valid slab direction, so the face count follows the shape.
+/// @param mesh  input [model units]: edge-manifold, consistently oriented triangles (as after
+///              repair_mesh()); closed or open; any genus and number of components. A vertex shared
+///              by two fans of faces (a pinch) is split into one vertex per fan first.
+/// @param options  see DecimateOptions; target_faces ≥ 1.
+/// @param[out] report  counters (optional).
+/// @return the coarse mesh, counter-clockwise like the input, every vertex used; at most
+///         target_faces faces unless the checks refuse every further collapse.
+/// @throws InvalidInput for invalid mesh data (validate_mesh_data()), non-manifold or
+///         inconsistently oriented edges, or target_faces < 1.
+/// @note O(#F log #F), single-threaded; allocates about 150 bytes per input face (positions,
+///       quadrics, corner lists and the lazy priority queue).
+TriangleMesh decimate_mesh(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report = nullptr);
+
+}  // namespace hdm

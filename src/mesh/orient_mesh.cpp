@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/mesh/orient_mesh.h>
+
+#include <algorithm>
+#include <numeric>
+#include <unordered_map>
+#include <vector>
+
+namespace hdm {
+namespace {
+
+struct Part {
+  std::vector<int32_t> faces;
+  Aabb box;
+  std::vector<std::array<Vec3, 3>> caps;  // fan triangles closing the boundary loops
+  double area = 0, cap_area = 0, volume = 0;
+  bool closed = true;
+};
+
+// Ray (fixed skew direction) parity of p against the triangles of a part and its caps
+// (Möller & Trumbore 1997).
+bool inside_part(const TriangleMesh& m, const Part& part, const Vec3& p) {
+  const Vec3 d = Vec3(0.5773, 0.5774, 0.5775).normalized();
+  auto crosses = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 e1 = b - a, e2 = c - a, h = d.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) < 1e-300) return false;
+    const Vec3 s = p - a;
+    const double u = s.dot(h) / det;
+    if (u < 0 || u > 1) return false;
+    const Vec3 q = s.cross(e1);
+    const double v = d.dot(q) / det;
+    if (v < 0 || u + v > 1) return false;
+    return e2.dot(q) / det > 0;
+  };
+  bool in = false;
+  for (int32_t f : part.faces) {
+    const Tri& t = m.faces[f];
+    in ^= crosses(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+  }
+  for (const auto& c : part.caps) in ^= crosses(c[0], c[1], c[2]);
+  return in;
+}
+
+}  // namespace
+
+OrientReport orient_outward(TriangleMesh& mesh) {
+  OrientReport rep;
+  const size_t nf = mesh.faces.size();
+  if (nf == 0) return rep;
+  const uint64_t nv = mesh.vertices.size();
+  // Half-edges (a→b) keyed a·nv + b; a face's edge has a twin when some face has (b→a).
+  std::vector<std::pair<uint64_t, int32_t>> half(3 * nf);
+  for (size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k)
+      half[3 * f + k] = {uint64_t(mesh.faces[f][k]) * nv + uint64_t(mesh.faces[f][(k + 1) % 3]), int32_t(f)};
+  std::sort(half.begin(), half.end());
+  auto twin = [&](int32_t a, int32_t b) {
+    const uint64_t key = uint64_t(b) * nv + uint64_t(a);
+    const auto it = std::lower_bound(half.begin(), half.end(), std::make_pair(key, int32_t(-1)));
+    return it != half.end() && it->first == key ? it->second : -1;
+  };
+  // Components through shared edges.
+  std::vector<int32_t> parent(nf);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<std::pair<int32_t, int32_t>> boundary;  // (a, b) half-edges without a twin
+  for (size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
+      const int32_t g = twin(a, b);
+      if (g >= 0) parent[find(int32_t(f))] = find(g);
+      else boundary.emplace_back(a, b);
+    }
+  std::unordered_map<int32_t, int32_t> part_of_root;
+  std::vector<Part> parts;
+  std::vector<int32_t> part_of_face(nf);
+  for (size_t f = 0; f < nf; ++f) {
+    const int32_t r = find(int32_t(f));
+    auto [it, added] = part_of_root.emplace(r, int32_t(parts.size()));
+    if (added) parts.emplace_back();
+    part_of_face[f] = it->second;
+    Part& p = parts[it->second];
+    p.faces.push_back(int32_t(f));
+    for (int32_t v : mesh.faces[f]) p.box.extend(mesh.vertices[v]);
+    const Vec3 &a = mesh.vertices[mesh.faces[f][0]], &b = mesh.vertices[mesh.faces[f][1]], &c = mesh.vertices[mesh.faces[f][2]];
+    p.area += 0.5 * (b - a).cross(c - a).norm();
+    p.volume += a.dot(b.cross(c)) / 6;
+  }
+  // Boundary loops: follow (a→b) to the boundary half-edge leaving b; cap each with a fan.
+  if (!boundary.empty()) {
+    std::unordered_multimap<int32_t, size_t> leaving;
+    for (size_t k = 0; k < boundary.size(); ++k) leaving.emplace(boundary[k].first, k);
+    std::vector<uint8_t> used(boundary.size(), 0);
+    std::vector<size_t> loop;
+    for (size_t start = 0; start < boundary.size(); ++start) {
+      if (used[start]) continue;
+      loop.clear();
+      for (size_t k = start; !used[k];) {
+        used[k] = 1;
+        loop.push_back(k);
+        auto range = leaving.equal_range(boundary[k].second);
+        size_t next = k;
+        for (auto it = range.first; it != range.second; ++it)
+          if (!used[it->second]) next = it->second;
+        if (next == k) break;
+        k = next;
+      }
+      Vec3 c = Vec3::Zero();
+      for (size_t k : loop) c += mesh.vertices[boundary[k].first];
+      c /= double(loop.size());
+      // The part of the loop's first edge (a→b): its face is the one with (a→b).
+      const uint64_t key = uint64_t(boundary[loop[0]].first) * nv + uint64_t(boundary[loop[0]].second);
+      const auto it = std::lower_bound(half.begin(), half.end(), std::make_pair(key, int32_t(-1)));
+      Part& part = parts[part_of_face[it->second]];
+      part.closed = false;
+      for (size_t k : loop) {
+        const Vec3 &a = mesh.vertices[boundary[k].first], &b = mesh.vertices[boundary[k].second];
+        part.caps.push_back({b, a, c});  // (b→a) closes the face's (a→b)
+        part.cap_area += 0.5 * (a - c).cross(b - c).norm();
+        part.volume += b.dot(a.cross(c)) / 6;
+      }
+    }
+  }
+  // Solid parts (closed or nearly closed) face out at even nesting depth, in at odd depth. A part
+  // is nested in another only when that one's box holds its whole box (parts that merely
+  // interpenetrate, such as the bones of a foot, are not cavities of each other).
+  std::vector<int32_t> solid;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    Part& p = parts[i];
+    ++rep.components;
+    if (p.closed) ++rep.closed, solid.push_back(int32_t(i));
+    else if (p.cap_area < 0.25 * p.area) ++rep.nearly_closed, solid.push_back(int32_t(i));
+    else ++rep.sheets;
+  }
+  for (int32_t i : solid) {
+    const Part& p = parts[i];
+    int depth = 0;
+    const Vec3& probe = mesh.vertices[mesh.faces[p.faces[0]][0]];
+    for (int32_t j : solid)
+      if (j != i && parts[j].box.contains(p.box.min) && parts[j].box.contains(p.box.max)) depth += inside_part(mesh, parts[j], probe);
+    const bool outward = (p.volume > 0) == (depth % 2 == 0);
+    if (outward) continue;
+    ++rep.flipped;
+    rep.flipped_faces += static_cast<int64_t>(p.faces.size());
+    for (int32_t f : p.faces) std::swap(mesh.faces[f][1], mesh.faces[f][2]);
+  }
+  return rep;
+}
+
+}  // namespace hdm
