@@ -56,7 +56,6 @@ void run_bake(const BakeArgs& a) {
   o.density = a.density;
   o.texel_density = a.texels;
   o.progress = [&](const char* stage, double f) { bar(stage, f); };
-  if (prepared.self_intersections > 0 && !std::getenv("HDM_NO_ENVELOPE")) o.surface = &prepared.envelope;  // TEMP env
   BakeReport r;
   const bool given = !std::isnan(a.max_error) || !std::isnan(a.rms_error);
   const bool bounded = !a.no_error_bound && (given || a.slabs == 0);
@@ -118,7 +117,7 @@ void run_bake(const BakeArgs& a) {
                         {"added_faces", fixed.added_faces},
                         {"open_boundaries", fixed.open_boundaries}}},
                       {"self_intersections", prepared.self_intersections},
-                      {"envelope_faces", prepared.envelope.faces.size()},
+                      {"self_intersections_left", prepared.resolved.pairs_after},
                       {"orient",
                        {{"components", prepared.orient.components},
                         {"closed", prepared.orient.closed},
@@ -169,9 +168,10 @@ void run_bake(const BakeArgs& a) {
                 (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
                 (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
   if (prepared.self_intersections > 0)
-    std::printf("  self-intersections  %lld face pairs cross: slabs follow the outer envelope (%zu faces), "
+    std::printf("  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces); "
                 "buried faces left out of the fidelity\n",
-                (long long)prepared.self_intersections, prepared.envelope.faces.size());
+                (long long)prepared.self_intersections, (long long)prepared.resolved.pairs_after,
+                (long long)prepared.resolved.faces_before, (long long)prepared.resolved.faces_after);
   if (prepared.orient.flipped)
     std::printf("  oriented outward    %d of %d parts reversed (%lld faces)\n", prepared.orient.flipped,
                 prepared.orient.components, (long long)prepared.orient.flipped_faces);

@@ -15,7 +15,7 @@ void add_input_options(CLI::App& cmd, InputOptions& o) {
       ->check(CLI::Range(0.0, 10.0));
 }
 
-PreparedInput prepare_input(const std::string& path, const InputOptions& o, bool with_envelope) {
+PreparedInput prepare_input(const std::string& path, const InputOptions& o, bool resolve) {
   PreparedInput in;
   in.mesh = read_mesh(path);
   if (o.no_repair) {
@@ -28,7 +28,7 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, bool
   }
   in.orient = orient_outward(in.mesh);
   in.self_intersections = count_self_intersections(in.mesh);
-  if (with_envelope && in.self_intersections > 0) in.envelope = outer_envelope(in.mesh);
+  if (resolve && in.self_intersections > 0) in.mesh = resolve_self_intersections(in.mesh, &in.resolved);
   return in;
 }
 

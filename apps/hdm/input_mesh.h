@@ -3,7 +3,7 @@
 // The input mesh as `hdm bake` prepares it, shared by `hdm check` so that both measure the same
 // surface: read, repair a dirty scan (unless refused), orient every part outward.
 #include <hdm/mesh/orient_mesh.h>
-#include <hdm/mesh/outer_envelope.h>
+#include <hdm/mesh/self_intersections.h>
 #include <hdm/mesh/repair_mesh.h>
 
 #include <CLI/CLI.hpp>
@@ -22,17 +22,17 @@ struct PreparedInput {
   TriangleMesh mesh;
   RepairReport repair;
   OrientReport orient;
-  int64_t self_intersections = 0;  // face pairs of the mesh that cross
-  TriangleMesh envelope;           // with `with_envelope` and self-intersections: outer_envelope(mesh)
+  int64_t self_intersections = 0;  // face pairs of the mesh (as read, repaired and oriented) that cross
+  SelfIntersectionReport resolved; // with `resolve`: what resolve_self_intersections() did
 };
 
 // Adds --no-repair, --max-hole and --max-hole-size to @p cmd.
 void add_input_options(CLI::App& cmd, InputOptions& o);
 
 // Reads @p path, repairs it when needs_repair() (validate_for_bake() with --no-repair), then
-// orient_outward(), and counts its self-intersections; with @p with_envelope and
-// self-intersections, builds the envelope the bake decimates. Throws what read_mesh() and
-// repair_mesh() throw.
-PreparedInput prepare_input(const std::string& path, const InputOptions& o, bool with_envelope = false);
+// orient_outward(), and counts its self-intersections; with @p resolve, replaces the mesh by
+// resolve_self_intersections() of it (what `hdm bake` bakes; `hdm check` measures against the
+// mesh before that). Throws what read_mesh() and repair_mesh() throw.
+PreparedInput prepare_input(const std::string& path, const InputOptions& o, bool resolve = false);
 
 }  // namespace hdm::app

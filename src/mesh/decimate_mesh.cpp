@@ -5,8 +5,6 @@
 #include <hdm/mesh/decimate_mesh.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <queue>
 #include <string>
@@ -198,7 +196,6 @@ class Simplifier {
       bool any = false;
       for (int32_t v = 0; v < static_cast<int32_t>(pos_.size()); ++v) {
         if (!alive_[v] || exact_visibility(v) > kFold) continue;
-        if (std::getenv("DBG")) std::fprintf(stderr, "fold vertex %d vis %.3f\n", v, exact_visibility(v));  // TEMP
         ring(v, fold_ring_);
         const std::vector<int32_t> around = fold_ring_;
         bool done = false;
@@ -452,7 +449,7 @@ class Simplifier {
       }
     });
     std::set_intersection(ra_.begin(), ra_.end(), rb_.begin(), rb_.end(), std::back_inserter(shared_));
-    if (edge_faces < 1 || edge_faces > 2 || static_cast<int>(shared_.size()) != edge_faces) { if (unfold && std::getenv("DBG")) std::fprintf(stderr, "  %d-%d link fail ef %d shared %zu\n", a, b, edge_faces, shared_.size()); return false; }
+    if (edge_faces < 1 || edge_faces > 2 || static_cast<int>(shared_.size()) != edge_faces) return false;
     if (edge_faces == 2 && ba && bb) return false;
     if (edge_faces == 2) {
       // (a,c,d) and (b,c,d) both faces: the tetrahedron case.
@@ -514,13 +511,12 @@ class Simplifier {
     const bool good = unfold ? seen > kFold : seen >= o_.min_visibility;
     const double was = good ? -2 : std::min(exact_visibility(a), exact_visibility(b));
     if (!good && (unfold ? !(seen > was + 1e-3) : seen < was)) {
-      if (unfold && std::getenv("DBG")) std::fprintf(stderr, "  %d-%d new star %.3f before %.3f\n", a, b, seen, was);
       return false;
     }
     const double max_turn = std::acos(std::clamp(min_cos, -1.0, 1.0));
     for (int32_t w : ra_) {
       if (w == b) continue;
-      if (!link_visible(w, a, b, x, max_turn)) { if (unfold && std::getenv("DBG")) std::fprintf(stderr, "  %d-%d link vertex %d\n", a, b, w); return false; }
+      if (!link_visible(w, a, b, x, max_turn)) return false;
     }
     for (int32_t w : rb_) {
       if (w == a || std::binary_search(ra_.begin(), ra_.end(), w)) continue;

@@ -216,16 +216,9 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       o.slabs > 0 ? o.slabs : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) * o.density / (n * n))));
 
   progress(o, "decimate", 0);
-  Coarse coarse = decimate(o.surface ? *o.surface : mesh, target);
+  Coarse coarse = decimate(mesh, target);
   // A vertex whose star no direction sees whole cannot have valid slabs at any thickness.
   untangle(coarse);
-  if (const char* dbg = std::getenv("HDM_DEBUG_COARSE")) {  // TEMP
-    FILE* fp = std::fopen(dbg, "w");
-    std::fprintf(fp, "OFF\n%zu %zu 0\n", coarse.vertices.size(), coarse.faces.size());
-    for (auto& v : coarse.vertices) std::fprintf(fp, "%.17g %.17g %.17g\n", v.x(), v.y(), v.z());
-    for (auto& f : coarse.faces) std::fprintf(fp, "3 %d %d %d\n", f[0], f[1], f[2]);
-    std::fclose(fp);
-  }
   progress(o, "decimate", 1);
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   const size_t nv = coarse.vertices.size();
@@ -242,14 +235,12 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   {
     std::vector<int32_t> face(mesh.vertices.size());
     std::vector<double> signed_dist(mesh.vertices.size());
-    // (With an envelope as the coarse surface, buried input vertices would ask for the depth of
-    // their burial; the ray-based needs below see the surface the rays will find.)
-    tbb::parallel_for(size_t(0), o.surface ? size_t(0) : mesh.vertices.size(), [&](size_t v) {
+    tbb::parallel_for(size_t(0), mesh.vertices.size(), [&](size_t v) {
       const ClosestPoint cp = coarse_query.closest_point(mesh.vertices[v]);
       face[v] = cp.face;
       signed_dist[v] = (mesh.vertices[v] - cp.point).dot(fr.face_normal[cp.face]);
     });
-    for (size_t v = 0; v < (o.surface ? size_t(0) : mesh.vertices.size()); ++v)
+    for (size_t v = 0; v < mesh.vertices.size(); ++v)
       for (int32_t c : coarse.faces[face[v]]) {
         need_out[c] = std::max(need_out[c], signed_dist[v]);
         need_in[c] = std::max(need_in[c], -signed_dist[v]);
@@ -450,7 +441,6 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   auto separate = [&] {
     for (int it = 0; it < 12; ++it) {
       const auto pairs = current_pairs();
-      if (std::getenv("HDM_DEBUG_MISS")) std::fprintf(stderr, "separate it %d pairs %zu\n", it, pairs.size());  // TEMP
       if (pairs.empty()) break;
       for (const auto& [a, b] : pairs)
         for (int32_t f : {a, b})
@@ -462,7 +452,6 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
             bad = true;
             for (int32_t v : model.slabs[f]) shrink(v, 0.8);
           }
-        if (std::getenv("HDM_DEBUG_MISS") && bad) std::fprintf(stderr, "  fix %d\n", fix);  // TEMP
         if (!bad) break;
       }
     }
@@ -536,42 +525,6 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       for (int32_t v : model.slabs[model.samples.home_slab[s]]) (out ? grow_out : grow_in)[v] = 1;
     }
     rep.ray_misses = misses;
-    if (std::getenv("HDM_DEBUG_MISS")) {  // TEMP
-      int64_t capped = 0, blocked = 0, reached = 0;
-      for (int s2 = 0; s2 < ns; ++s2) {
-        if (!missed[s2]) continue;
-        bool cap = false, blk = false;
-        for (int32_t v : model.slabs[model.samples.home_slab[s2]]) {
-          cap |= tgt_in[v] >= cap_in[v] * 0.999 || tgt_out[v] >= cap_out[v] * 0.999;
-          blk |= off_in[v] < tgt_in[v] * 0.99 || off_out[v] < tgt_out[v] * 0.99;
-        }
-        capped += cap; blocked += blk; reached += !cap && !blk;
-        if (!cap && !blk && reached <= 5 && round == 0) {
-          const int sl = model.samples.home_slab[s2], idx = model.samples.home_index[s2];
-          const Tri& t = model.slabs[sl];
-          const double wT = model.samples.point_i[idx] / double(n), wS = model.samples.point_j[idx] / double(n), wR = 1 - wT - wS;
-          const Vec3 x = wR * coarse.vertices[t[0]] + wS * coarse.vertices[t[1]] + wT * coarse.vertices[t[2]];
-          const Vec3 d = (wR * fr.direction[t[0]] + wS * fr.direction[t[1]] + wT * fr.direction[t[2]]).normalized();
-          std::vector<SegmentHit> hh;
-          input.segment_hits(x + diag * d, x - diag * d, hh);
-          std::fprintf(stderr, "  neither: sample %d slab %d w (%.2f %.2f %.2f) tgt_in %.4f %.4f %.4f tgt_out %.4f %.4f %.4f need_in %.4f %.4f %.4f slabneed %.4f/%.4f hits:", s2, sl, wR, wS, wT, tgt_in[t[0]], tgt_in[t[1]], tgt_in[t[2]], tgt_out[t[0]], tgt_out[t[1]], tgt_out[t[2]], need_in[t[0]], need_in[t[1]], need_in[t[2]], slab_need_in[sl], slab_need_out[sl]);
-          for (auto& h : hh) std::fprintf(stderr, " s=%.4f%s", (0.5 - h.t) * 2 * diag, input.face_normal(h.face).dot(d) > 0 ? "+" : "-");
-          std::fprintf(stderr, "\n");
-        }
-      }
-      std::fprintf(stderr, "round %d misses %lld: corner at cap %lld, growth blocked %lld, neither %lld\n", round, (long long)misses, (long long)capped, (long long)blocked, (long long)reached);
-      int shown = 0;
-      for (int s2 = 0; s2 < ns && shown < 8; ++s2) {
-        if (!missed[s2]) continue;
-        ++shown;
-        const int sl = model.samples.home_slab[s2];
-        std::fprintf(stderr, "round %d miss sample %d slab %d hopeless %d:", round, s2, sl, (int)hopeless[sl]);
-        for (int32_t v : model.slabs[sl]) std::fprintf(stderr, " v%d in %.3g/%.3g out %.3g/%.3g cap %.3g/%.3g edge %.3g", v, off_in[v], tgt_in[v], off_out[v], tgt_out[v], cap_in[v], cap_out[v], fr.edge[v]);
-        Vec3 p0, p1;
-        projection_line(model, sl, model.samples.home_index[s2], p0, p1);
-        std::fprintf(stderr, " len %.3g dist0 %.3g dist1 %.3g\n", (p1 - p0).norm(), input.closest_point(p0).distance, input.closest_point(p1).distance);
-      }
-    }
     if (misses == 0 || round == 7) break;
     bool grew = false;
     for (size_t v = 0; v < nv; ++v) {
@@ -620,15 +573,6 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
     if (slab_min_jacobian(model.geometry[s], model.outer[t[1]] - model.inner[t[1]], model.outer[t[2]] - model.inner[t[2]]) <= 0)
       {
       ++rep.invalid_slabs;
-      if (std::getenv("HDM_DEBUG_MISS")) {  // TEMP
-        std::fprintf(stderr, "invalid slab %d hopeless %d required %.3g J %.3g:", s, (int)hopeless[s], required[s], jacobian(s));
-        for (int32_t v : t) {
-          double md = 2;
-          for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k) md = std::min(md, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
-          std::fprintf(stderr, " v%d in %.3g out %.3g mindot %.3f", v, off_in[v], off_out[v], md);
-        }
-        std::fprintf(stderr, "\n");
-      }
       }
   }
   rep.slabs = model.slab_count();

@@ -59,7 +59,7 @@ TEST(Scenario, ThinSheetHoldsWithProxyOnly) {
   // A memoryless renderer of the exact input (spring to the HIP's closest input point) flips too,
   // once the hand passes the sheet's midline: the reference step is a pop-through the proxy avoids.
   EXPECT_GT(p.reference_force_step_pct, 30.0) << p.note;
-  EXPECT_LT(p.max_force_step_pct, 0.5 * p.reference_force_step_pct);
+  EXPECT_LT(p.max_force_step_pct, 0.5 * p.reference_force_step_pct) << p.note;
 }
 
 TEST(Scenario, EdgesCrossSlabsWithoutSteps) {

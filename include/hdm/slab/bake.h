@@ -31,10 +31,6 @@ struct BakeOptions {
   bool separate_slabs = true;  ///< thin the shell where slabs of different parts overlap (falls back to no separation when that leaves more than miss_limit rays without a surface)
   double miss_limit = 0.10;  ///< when separation leaves more than this fraction of sample rays without a surface, bake again without it
   Vec3f colour{0.82f, 0.80f, 0.76f};  ///< initial surface colour, linear RGB
-  /// The surface the coarse mesh is decimated from, when not the input itself: an
-  /// intersection-free envelope (outer_envelope()) of an input that crosses itself, so that slabs
-  /// of crossing parts cannot overlap. The rays still record the input. Not owned; null: the input.
-  const TriangleMesh* surface = nullptr;
   /// Progress callback: stage name and fraction in [0,1] of that stage. Called from the calling thread.
   std::function<void(const char* stage, double fraction)> progress;
 };

@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+// Self-intersection count and local repair, with CGAL; one of the few translation
+// units that include CGAL (heavy templates).
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/core/error.h>
+#include <hdm/mesh/self_intersections.h>
+
+#include "surface_mesh_copy.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/stitch_borders.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace hdm {
+namespace {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+
+// A halfedge mesh of the same triangles; vertices shared by several fans (pinches) are
+// duplicated, which leaves the faces, and so their intersections, unchanged.
+Mesh to_surface_mesh(const TriangleMesh& mesh) {
+  std::vector<Point> points;
+  points.reserve(mesh.vertices.size());
+  for (const Vec3& p : mesh.vertices) points.emplace_back(p.x(), p.y(), p.z());
+  std::vector<std::vector<std::size_t>> polygons;
+  polygons.reserve(mesh.faces.size());
+  for (const Tri& t : mesh.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+  PMP::orient_polygon_soup(points, polygons);
+  Mesh sm;
+  PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
+  return sm;
+}
+
+}  // namespace
+
+int64_t count_self_intersections(const TriangleMesh& mesh) {
+  validate_mesh_data(mesh, "count_self_intersections input");
+  const Mesh sm = to_surface_mesh(mesh);
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+  PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
+  return static_cast<int64_t>(pairs.size());
+}
+
+TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report) {
+  validate_mesh_data(mesh, "resolve_self_intersections input");
+  SelfIntersectionReport rep;
+  rep.faces_before = rep.faces_after = static_cast<int64_t>(mesh.faces.size());
+  Mesh sm = to_surface_mesh(mesh);
+  auto count = [](const Mesh& m) {
+    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+    PMP::self_intersections<CGAL::Parallel_if_available_tag>(m, std::back_inserter(pairs));
+    return static_cast<int64_t>(pairs.size());
+  };
+  rep.pairs_before = rep.pairs_after = count(sm);
+  auto keep = [&] {
+    if (report) *report = rep;
+    return mesh;
+  };
+  if (rep.pairs_before == 0 || !CGAL::is_closed(sm)) return keep();
+  try {
+    PMP::experimental::autorefine(sm);
+  } catch (const std::exception&) {
+    return keep();  // CGAL's refinement is experimental and asserts on some configurations
+  }
+  const ExactMeshQuery winding(mesh);
+  const double eps = 1e-6 * bounds(mesh).diagonal();
+  std::vector<Mesh::Face_index> buried;
+  for (Mesh::Face_index f : sm.faces()) {
+    std::array<Point, 3> c;
+    int k = 0;
+    for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) c[k++] = sm.point(v);
+    const Vec3 a(c[0].x(), c[0].y(), c[0].z()), b(c[1].x(), c[1].y(), c[1].z()), d(c[2].x(), c[2].y(), c[2].z());
+    const Vec3 n = (b - a).cross(d - a);
+    const Vec3 g = (a + b + d) / 3;
+    if (!(n.norm() > 0) || winding.inside(g + eps * n.normalized()) || !winding.inside(g - eps * n.normalized()))
+      buried.push_back(f);
+  }
+  for (Mesh::Face_index f : buried) CGAL::Euler::remove_face(sm.halfedge(f), sm);
+  sm.collect_garbage();
+  PMP::stitch_borders(sm);
+  sm.collect_garbage();
+  if (!CGAL::is_closed(sm) || sm.number_of_faces() == 0) return keep();
+  rep.pairs_after = count(sm);
+  rep.buried_faces = static_cast<int64_t>(buried.size());
+  TriangleMesh out = detail::to_triangle_mesh(sm, "resolve_self_intersections");
+  rep.faces_after = static_cast<int64_t>(out.faces.size());
+  rep.resolved = true;
+  if (report) *report = rep;
+  return out;
+}
+
+}  // namespace hdm
