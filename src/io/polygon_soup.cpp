@@ -111,11 +111,15 @@ PositionBits bits_of(const Vec3& p) {
 
 }  // namespace
 
-TriangleMesh to_triangle_mesh(const PolygonSoup& soup, const std::string& name) {
-  const std::vector<Vec3>& positions = soup.positions;
-  for (size_t v = 0; v < positions.size(); ++v)
+TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name) {
+  // Coordinates are rounded to float, as hdm has always read them (assimp's ai_real), so a mesh
+  // gives the same bake whatever its format; then widened exactly to double.
+  std::vector<Vec3>& positions = soup.positions;
+  for (size_t v = 0; v < positions.size(); ++v) {
+    positions[v] = positions[v].cast<float>().cast<double>();
     if (!positions[v].allFinite())
       throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
+  }
 
   std::vector<Tri> triangles;
   triangles.reserve(soup.corners.size() / 3 + 1);

@@ -14,7 +14,8 @@
 namespace hdm::detail {
 
 /// The file's vertices and polygons, as written. Corner ids index `positions` and are checked by
-/// the reader (in [0, positions.size())); polygons of one or two corners are kept here and
+/// the reader (in [0, positions.size())); positions keep the file's precision until
+/// to_triangle_mesh(); polygons of one or two corners are kept here and
 /// refused by to_triangle_mesh().
 struct PolygonSoup {
   std::vector<Vec3> positions;         ///< file vertices, in file order [file units]
@@ -30,13 +31,13 @@ struct PolygonSoup {
 /// count k); convex polygons of any size are fanned in O(k).
 inline constexpr size_t max_concave_polygon_corners = 64;
 
-/// @brief Triangulates the polygons of @p soup (convex ones as fans, concave ones by ear clipping
-/// in their best-fit plane, keeping the winding), welds vertices with identical positions (the
-/// first in file order keeps its place), drops vertices no triangle uses and numbers the rest in
-/// file order.
+/// @brief Rounds the coordinates of @p soup to float (hdm's input precision), triangulates its
+/// polygons (convex ones as fans, concave ones by ear clipping in their best-fit plane, keeping
+/// the winding), welds vertices with identical positions (the first in file order keeps its
+/// place), drops vertices no triangle uses and numbers the rest in file order.
 /// @throws InvalidInput "<name>: ..." when a polygon has fewer than three corners, a concave
 ///         polygon has more than max_concave_polygon_corners corners, or no triangle is left.
-TriangleMesh to_triangle_mesh(const PolygonSoup& soup, const std::string& name);
+TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name);
 
 /// Readers of hdm's own: each parses the whole file held in @p bytes and throws IoError
 /// "<name>[:<line>]: <reason>" when it is malformed, truncated, or claims more elements than it

@@ -6,7 +6,7 @@
 //
 // Reads the x, y, z properties of element "vertex" (any scalar type) and the list "vertex_indices"
 // (or "vertex_index") of element "face" (integer types); every other element and property is
-// skipped by its declared type. Coordinates keep the file's precision (float or double).
+// skipped by its declared type.
 #include "polygon_soup.h"
 #include "text_cursor.h"
 

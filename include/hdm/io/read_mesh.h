@@ -33,8 +33,9 @@ struct MeshReadOptions {
 /// linear in the file size. They triangulate polygons (convex ones as fans, concave ones of up to
 /// 64 corners by ear clipping in their best-fit plane, keeping the winding), weld vertices with
 /// identical positions, drop the vertices no triangle uses and number the rest in file order; faces
-/// keep the file's order and winding. Coordinates keep the file's precision (text is parsed to
-/// double; binary floats are widened exactly). STL's per-face normals, OBJ's texture coordinates
+/// keep the file's order and winding. Coordinates are rounded to float, as hdm has always read
+/// them (so an OFF and its binary STL give the same mesh and the same bake), then widened exactly
+/// to double. STL's per-face normals, OBJ's texture coordinates
 /// and normals, and colours are ignored. Each reader's header comment lists what it accepts.
 ///
 /// @param path     file name; its extension selects the reader.
