@@ -36,6 +36,7 @@ struct BakeArgs {
   bool no_error_bound = false;
   bool grid_given = false;  // --grid on the command line: the error-bounded bake keeps it
   int max_slabs = 100000;
+  InputLimit limit;
 };
 
 // Peak resident set size of this process [MiB] (Linux reports ru_maxrss in KiB).
@@ -49,7 +50,7 @@ void run_bake(const BakeArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   ProgressBar bar;
   bar("read", 0);
-  TriangleMesh mesh = read_mesh(a.input);
+  TriangleMesh mesh = read_mesh(a.input, {a.limit.bytes()});
   bar("check input", 0);
   RepairReport fixed;
   if (!a.no_repair && needs_repair(mesh)) {
@@ -203,6 +204,7 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--max-slabs", a->max_slabs, "error-bounded bake: never more slabs than this (default 100000)")
       ->check(CLI::Range(1, 10000000));
   cmd->add_flag("--json", a->json, "print the report as one JSON object");
+  add_input_limit(cmd, a->limit);
   cmd->callback([a, grid] {
     a->grid_given = grid->count() > 0;
     run_bake(*a);

@@ -21,11 +21,12 @@ struct CheckArgs {
   std::string model, input;
   int64_t points = 100000;
   bool json = false;
+  InputLimit limit;
 };
 
 void run_check(const CheckArgs& a) {
-  const SlabModel model = load_model(a.model);
-  const TriangleMesh mesh = read_mesh(a.input);
+  const SlabModel model = load_model(a.model, {a.limit.bytes()});
+  const TriangleMesh mesh = read_mesh(a.input, {a.limit.bytes()});
   const ExactMeshQuery exact(mesh);
   const Fidelity f = measure_fidelity(model, exact);
   const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0);
@@ -70,6 +71,7 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--against", a->input, "the input mesh it was baked from")->required();
   cmd->add_option("--points", a->points, "contact test points")->check(CLI::Range(int64_t(100), int64_t(100000000)));
   cmd->add_flag("--json", a->json, "print one JSON object");
+  add_input_limit(cmd, a->limit);
   cmd->callback([a] { run_check(*a); });
 }
 
