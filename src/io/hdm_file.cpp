@@ -150,6 +150,10 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
   if (m.texel_density < 1 || big_n > 4096)
     refuse("texel_density = " + std::to_string(m.texel_density) + " must be >= 1 with grid_n·texel_density <= 4096");
   if (m.inner.size() != m.outer.size()) refuse("inner and outer vertex counts differ");
+  // Samples, boxes and normals are float: coordinates beyond max_model_coordinate would overflow them.
+  for (size_t v = 0; v < m.inner.size(); ++v)
+    if (!(m.inner[v].cwiseAbs().maxCoeff() <= max_model_coordinate && m.outer[v].cwiseAbs().maxCoeff() <= max_model_coordinate))
+      refuse("coarse vertex " + std::to_string(v) + " is not finite or lies beyond ±1e15 model units");
   if (m.slabs.empty()) refuse("no slabs");
   const auto C = static_cast<int64_t>(m.inner.size()), S = static_cast<int64_t>(m.slabs.size());
   if (C > std::numeric_limits<int32_t>::max() || S > std::numeric_limits<int32_t>::max() / 3)

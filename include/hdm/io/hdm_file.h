@@ -45,6 +45,11 @@
 
 namespace hdm {
 
+/// Largest coordinate magnitude load_model() accepts for a coarse vertex [model units]: sample
+/// positions, boxes and normals are float, and their differences and cross products must stay
+/// finite.
+inline constexpr double max_model_coordinate = 1e15;
+
 /// Version of the `.hdm` format that save_model() writes and load_model() reads.
 inline constexpr uint32_t hdm_format_version = 1;
 
@@ -75,7 +80,8 @@ struct ModelLoadOptions {
 ///         has a count larger than the remaining bytes allow (checked before anything is
 ///         allocated), or fails the checksum ("<path>: checksum mismatch (file corrupt)").
 /// @throws InvalidInput "<path>: ..." when the content is inconsistent: grid sizes out of range,
-///         invalid slab corners, `DISP` or `COLR` not of the layout's size (checked before the
+///         invalid slab corners, a coarse vertex beyond ±max_model_coordinate, `DISP` or `COLR`
+///         not of the layout's size (checked before the
 ///         layouts are built, so no allocation follows grid_n or texel_density alone), or what
 ///         rebuild_derived() refuses.
 /// @note O(file size + rebuild_derived()); reads the whole file into memory; the derived arrays
