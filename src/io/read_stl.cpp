@@ -7,11 +7,13 @@
 // three corners) and a uint16 attribute; the file must hold all n records (trailing bytes are
 // ignored unless the file starts with "solid"). ASCII: one or more "solid [name] ... endsolid
 // [name]" blocks of "facet normal nx ny nz / outer loop / vertex x y z (three times) / endloop /
-// endfacet" (keywords in any case). A file is binary when its size is exactly 84 + 50·n, or when
-// it does not start with "solid". Normals and attributes are ignored.
+// endfacet" (keywords in any case). A file is binary when its size is exactly 84 + 50·n, when it
+// does not start with "solid", or when it does but holds control bytes (then its size must cover
+// the n records). Normals and attributes are ignored.
 #include "polygon_soup.h"
 #include "text_cursor.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -133,6 +135,16 @@ PolygonSoup parse_stl(std::string_view bytes, const std::string& name) {
   if (!solid)
     throw IoError(name + ": not an STL file (" + with_commas(bytes.size()) +
                   " bytes: too short for a binary STL, and no \"solid\" keyword)");
+  // Some exporters start a binary header with "solid": if the text holds control bytes, say that
+  // its size does not match its triangle count rather than report an ASCII syntax error.
+  if (bytes.size() >= header_bytes) {
+    const std::string_view head = bytes.substr(0, std::min<size_t>(bytes.size(), 1024));
+    const bool binary = std::any_of(head.begin(), head.end(), [](char c) {
+      const auto u = static_cast<unsigned char>(c);
+      return u < 0x09 || (u > 0x0d && u < 0x20) || u == 0x7f;
+    });
+    if (binary) return parse_binary(bytes, name);
+  }
   return parse_ascii(bytes, name);
 }
 

@@ -187,6 +187,9 @@ TEST(MeshReaders, StlVariants) {
     put(bin, uint16_t{0});
   }
   EXPECT_EQ(canonical(read_mesh_from_memory(bin, "solid_header.stl")), canonical(t));
+  // ... with two bytes of padding after the records (still binary: it holds control bytes), and cut.
+  EXPECT_EQ(canonical(read_mesh_from_memory(bin + "\n\n", "padded.stl")), canonical(t));
+  EXPECT_TRUE(has(error_of<IoError>(bin.substr(0, bin.size() - 10), "cut.stl"), "cut.stl: the binary STL header claims 4 triangles"));
   // Two ASCII solids, upper-case keywords in the second.
   std::ostringstream s;
   for (int solid = 0; solid < 2; ++solid) {
