@@ -23,7 +23,7 @@ namespace {
 constexpr uint64_t min_vertex_bytes = 6, min_face_bytes = 4;
 
 int64_t read_count(TextCursor& in, const char* what) {
-  const std::string_view t = in.token();
+  const std::string_view t = in.token(true);
   int64_t n = 0;
   if (t.empty()) in.fail(std::string("the OFF header ends before its ") + what + " count");
   if (!parse_int(t, n) || n < 0)
@@ -39,7 +39,7 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
 
   // Header keyword: [ST][C][N][4][n]OFF, optional.
   bool homogeneous = false, dimension_line = false;
-  std::string_view key = in.token();
+  std::string_view key = in.token(true);
   std::string_view k = key;
   if (k.substr(0, 2) == "ST") k.remove_prefix(2);
   if (!k.empty() && k[0] == 'C') k.remove_prefix(1);
@@ -50,7 +50,7 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
     if (in.at_line_end()) {
       if (!in.next_line() || !in.next_content_line()) in.fail("the file ends after the OFF keyword (no counts)");
     } else {
-      const std::string_view rest = in.token();
+      const std::string_view rest = in.token(true);
       if (rest == "BINARY") in.fail("binary OFF is not supported (write it as text OFF, PLY or STL)");
       in.unread(rest);
     }
@@ -90,8 +90,8 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
       in.fail("the file ends after " + with_commas(v) + " of the " + with_commas(need_v) + " vertices its header claims");
     double c[4] = {0, 0, 0, 1};
     for (int d = 0; d < (homogeneous ? 4 : 3); ++d) {
-      const std::string_view t = in.token();
-      if (t.empty() || t[0] == '#') in.fail("vertex " + std::to_string(v) + " has " + std::to_string(d) + " coordinates, expected " + (homogeneous ? "4" : "3"));
+      const std::string_view t = in.token(true);
+      if (t.empty()) in.fail("vertex " + std::to_string(v) + " has " + std::to_string(d) + " coordinates, expected " + (homogeneous ? "4" : "3"));
       if (!parse_double(t, c[d])) in.fail("vertex " + std::to_string(v) + ": " + quoted(t) + " is not a number");
     }
     soup.positions.emplace_back(c[0] / c[3], c[1] / c[3], c[2] / c[3]);
@@ -100,7 +100,7 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
   for (int64_t f = 0; f < nf; ++f) {
     if (!in.next_content_line())
       in.fail("the file ends after " + with_commas(f) + " of the " + with_commas(need_f) + " faces its header claims");
-    const std::string_view count = in.token();
+    const std::string_view count = in.token(true);
     int64_t corners = 0;
     if (!parse_int(count, corners) || corners < 0)
       in.fail("face " + std::to_string(f) + ": its corner count " + quoted(count) + " is not a non-negative integer");
@@ -109,9 +109,9 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
       in.fail("face " + std::to_string(f) + " claims " + with_commas(static_cast<uint64_t>(corners)) +
               " corners, more than the rest of the file can hold");
     for (int64_t j = 0; j < corners; ++j) {
-      const std::string_view t = in.token();
+      const std::string_view t = in.token(true);
       int64_t id = 0;
-      if (t.empty() || t[0] == '#')
+      if (t.empty())
         in.fail("face " + std::to_string(f) + " lists " + std::to_string(j) + " of its " + std::to_string(corners) + " corners");
       if (!parse_int(t, id)) in.fail("face " + std::to_string(f) + ": corner " + quoted(t) + " is not an integer");
       if (id < 0 || id >= nv)

@@ -69,11 +69,13 @@ class TextCursor {
       }
     }
   }
-  /// The next run of non-space characters on the current line (empty at the line's end).
-  std::string_view token() {
+  /// The next run of non-space characters on the current line (empty at the line's end); with
+  /// @p comments, a '#' ends the token ("0.5#red" gives "0.5") and the line.
+  std::string_view token(bool comments = false) {
     skip_blanks();
     const size_t start = pos_;
-    while (pos_ < text_.size() && !is_blank(text_[pos_]) && text_[pos_] != '\n') ++pos_;
+    if (comments && pos_ < text_.size() && text_[pos_] == '#') return text_.substr(start, 0);
+    while (pos_ < text_.size() && !is_blank(text_[pos_]) && text_[pos_] != '\n' && !(comments && text_[pos_] == '#')) ++pos_;
     return text_.substr(start, pos_ - start);
   }
   /// Leaves the cursor just before @p token (which token() returned) so it is read again.

@@ -146,7 +146,7 @@ TEST(MeshReaders, PlyVariants) {
 TEST(MeshReaders, OffVariants) {
   const std::vector<PosTri> want = canonical(tet());
   // counts on the keyword's line, comments, trailing face colours
-  EXPECT_EQ(canonical(read_mesh_from_memory("OFF 4 4 0 # counts\n0 0 0\n1 0 0 # a comment\n0 1 0\n0 0 1\n"
+  EXPECT_EQ(canonical(read_mesh_from_memory("OFF 4 4 0 # counts\n0 0 0\n1 0 0 # a comment\n0 1 0#no space\n0 0 1\n"
                                             "3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "a.off")), want);
   // no keyword; NOFF normals; 4OFF homogeneous coordinates (x/w)
   EXPECT_EQ(canonical(read_mesh_from_memory("4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "b.off")), want);
