@@ -39,9 +39,11 @@ inline constexpr size_t max_concave_polygon_corners = 64;
 ///         polygon has more than max_concave_polygon_corners corners, or no triangle is left.
 TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name);
 
-/// Readers of hdm's own: each parses the whole file held in @p bytes and throws IoError
-/// "<name>[:<line>]: <reason>" when it is malformed, truncated, or claims more elements than it
-/// can hold, and InvalidInput for a non-finite coordinate.
+/// Readers of hdm's own: each parses the whole file held in @p bytes in O(bytes.size()) and throws
+/// IoError "<name>[:<line>]: <reason>" when it is malformed, truncated, refers to a vertex it does
+/// not have, or claims more elements than it can hold (checked before anything is allocated for
+/// them); PLY throws InvalidInput when it holds no faces. Non-finite coordinates are refused by
+/// to_triangle_mesh().
 PolygonSoup parse_off(std::string_view bytes, const std::string& name);
 PolygonSoup parse_ply(std::string_view bytes, const std::string& name);
 PolygonSoup parse_obj(std::string_view bytes, const std::string& name);
