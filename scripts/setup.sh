@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package hdm needs and extracts the real models it uses
-# from Debian's libcgal-demo data archive into data/meshes/ (ignored by git).
+# from Debian's libcgal-demo data archive into data/meshes/ (ignored by git): the four
+# models of the docs, and small files in every format the readers' tests and fuzzers start from.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
@@ -9,7 +10,8 @@ packages=(cmake ninja-build g++ pkg-config
   libassimp-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri
-  libcgal-dev libcgal-demo gnuplot-nox)
+  libcgal-dev libcgal-demo gnuplot-nox
+  clang libclang-rt-14-dev)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -24,7 +26,9 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 archive=/usr/share/doc/libcgal-dev/data.tar.gz
-models=(bunny00.off armadillo.off refined_elephant.off lion-head.off)
+models=(bunny00.off armadillo.off refined_elephant.off lion-head.off
+  sphere.off sphere.ply sphere.stl colored_tetra.ply mesh_with_colors.off cube_poly.off
+  tetrahedron.off cube_quad.off icosahedron.off triangle.off)
 mkdir -p "$here/data/meshes"
 need=()
 for m in "${models[@]}"; do [ -s "$here/data/meshes/$m" ] || need+=("data/meshes/$m"); done

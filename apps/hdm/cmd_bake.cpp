@@ -34,6 +34,7 @@ struct BakeArgs {
   bool no_error_bound = false;
   bool grid_given = false;  // --grid on the command line: the error-bounded bake keeps it
   int max_slabs = 100000;
+  InputLimit limit;
 };
 
 // Peak resident set size of this process [MiB] (Linux reports ru_maxrss in KiB).
@@ -47,7 +48,7 @@ void run_bake(const BakeArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   ProgressBar bar;
   bar("read", 0);
-  PreparedInput prepared = prepare_input(a.input, a.in, true);
+  PreparedInput prepared = prepare_input(a.input, a.in, a.limit.bytes(), true);
   TriangleMesh& mesh = prepared.mesh;
   const RepairReport& fixed = prepared.repair;
   BakeOptions o;
@@ -216,6 +217,7 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--max-slabs", a->max_slabs, "error-bounded bake: never more slabs than this (default 100000)")
       ->check(CLI::Range(1, 10000000));
   cmd->add_flag("--json", a->json, "print the report as one JSON object");
+  add_input_limit(cmd, a->limit);
   cmd->callback([a, grid] {
     a->grid_given = grid->count() > 0;
     run_bake(*a);

@@ -23,12 +23,13 @@ struct CheckArgs {
   int64_t points = 100000;
   InputOptions in;
   bool json = false;
+  InputLimit limit;
 };
 
 void run_check(const CheckArgs& a) {
-  const SlabModel model = load_model(a.model);
+  const SlabModel model = load_model(a.model, {a.limit.bytes()});
   // The input as `hdm bake` prepared it (the same repair and orientation, from the input alone).
-  const PreparedInput prepared = prepare_input(a.input, a.in);
+  const PreparedInput prepared = prepare_input(a.input, a.in, a.limit.bytes());
   const ExactMeshQuery exact(prepared.mesh);
   std::vector<uint8_t> buried;
   if (prepared.self_intersections > 0) buried = buried_faces(exact);
@@ -78,6 +79,7 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--points", a->points, "contact test points")->check(CLI::Range(int64_t(100), int64_t(100000000)));
   add_input_options(*cmd, a->in);
   cmd->add_flag("--json", a->json, "print one JSON object");
+  add_input_limit(cmd, a->limit);
   cmd->callback([a] { run_check(*a); });
 }
 

@@ -17,11 +17,12 @@ namespace {
 struct ExportOptions {
   std::string model;
   std::string output;
+  InputLimit limit;
 };
 
 void run_export(const ExportOptions& o) {
   const std::vector<std::string> files = export_files(o.output);  // rejects a bad extension before loading
-  const SlabModel m = load_model(o.model);
+  const SlabModel m = load_model(o.model, {o.limit.bytes()});
   export_mesh(m, o.output);
   for (const std::string& f : files) std::printf("wrote %s\n", f.c_str());
 }
@@ -34,6 +35,7 @@ void add_export_command(CLI::App& app) {
       "export", "Write the displaced surface of a .hdm model as OBJ (+MTL+PNG), binary PLY or binary glTF");
   sub->add_option("model", opts->model, "model file (.hdm)")->required()->check(CLI::ExistingFile);
   sub->add_option("-o,--output", opts->output, "output file: .obj, .ply or .glb")->required();
+  add_input_limit(sub, opts->limit);
   sub->callback([opts] { run_export(*opts); });
 }
 

@@ -23,6 +23,7 @@ struct FeelArgs {
   std::string model, scenario, mode = "proxy", input, trace, replay, solver = "newton";
   double rate = 1000, stiffness = 1000, damping = 1, damping_force = 0.2, max_force = 3.3, speed = 0.1, press = 1.0;
   bool friction = false, json = false;
+  InputLimit limit;
 };
 
 // The input named in model.source: as written, else next to the model file.
@@ -61,10 +62,10 @@ void write_trace(const std::string& path, const ScenarioReport& r) {
 }
 
 void run_feel(const FeelArgs& a) {
-  const SlabModel model = load_model(a.model);
+  const SlabModel model = load_model(a.model, {a.limit.bytes()});
   const SlabLocator locator(model);
   const std::string input = find_input(model, a);
-  const ExactMeshQuery reference(read_mesh(input));
+  const ExactMeshQuery reference(read_mesh(input, {a.limit.bytes()}));
   if (a.scenario.empty() == a.replay.empty())
     throw InvalidInput("hdm feel: give either --scenario NAME or --replay CSV (exactly one)");
   ScenarioOptions o;
@@ -82,7 +83,7 @@ void run_feel(const FeelArgs& a) {
   o.keep_trace = !a.trace.empty();
   ScenarioReport r;
   if (!a.replay.empty()) {
-    ReplayDevice device(a.replay);  // throws naming the file and line on bad rows
+    ReplayDevice device(a.replay, {}, a.limit.bytes());  // throws naming the file and line on bad rows
     r = run_replay(model, locator, reference, device, o);
   } else {
     r = run_scenario(model, locator, reference, o);
@@ -170,6 +171,7 @@ void add_feel_command(CLI::App& app) {
   cmd->add_flag("--friction", a->friction, "use the model's friction fields (default: frictionless)");
   cmd->add_option("--trace", a->trace, "write one CSV row per tick here");
   cmd->add_flag("--json", a->json, "print the report as one JSON object");
+  add_input_limit(cmd, a->limit);
   cmd->callback([a] { run_feel(*a); });
 }
 

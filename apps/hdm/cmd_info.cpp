@@ -19,6 +19,7 @@ namespace {
 struct InfoOptions {
   std::string model;
   bool json = false;
+  InputLimit limit;
 };
 
 template <class T>
@@ -33,7 +34,7 @@ size_t stored_bytes(const SlabModel& m) {
 }
 
 void run_info(const InfoOptions& o) {
-  const SlabModel m = load_model(o.model);
+  const SlabModel m = load_model(o.model, {o.limit.bytes()});
   double lo = 0, hi = 0, sum = 0;
   if (!m.displacement.empty()) {
     const auto [a, b] = std::minmax_element(m.displacement.begin(), m.displacement.end());
@@ -81,6 +82,7 @@ void add_info_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("info", "Print the sizes, source and displacement range of a .hdm model");
   sub->add_option("model", opts->model, "model file (.hdm)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", opts->json, "print one JSON object instead of text");
+  add_input_limit(sub, opts->limit);
   sub->callback([opts] { run_info(*opts); });
 }
 

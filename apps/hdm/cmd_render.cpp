@@ -22,6 +22,7 @@ struct RenderArgs {
   std::string model, output, size = "1280x960", view = "0,15";
   std::string surface = "displaced", colour_by = "paint";
   bool edges = false;
+  InputLimit limit;
 };
 
 // Colour map for displacement magnitude: blue (δ = 0, inner face) through white to red (δ = 1,
@@ -94,7 +95,7 @@ void run_render(const RenderArgs& a) {
   parse_pair(a.size, 'x', o.width, o.height);  // validated by check_size
   parse_pair(a.view, ',', o.azimuth_deg, o.elevation_deg);
   o.show_slab_edges = a.edges;
-  SlabModel model = load_model(a.model);
+  SlabModel model = load_model(a.model, {a.limit.bytes()});
   restyle(model, a);
   render_png(model, a.output, o);
   std::printf("%s\n", a.output.c_str());
@@ -122,6 +123,7 @@ void add_render_command(CLI::App& app) {
   sub->add_option("--colour-by", args->colour_by, "paint: the model's colours; displacement: δ from blue (0) to red (1)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paint", "displacement"}));
+  add_input_limit(sub, args->limit);
   sub->callback([args] { run_render(*args); });
 }
 

@@ -28,6 +28,7 @@ struct SculptArgs {
   std::string model, script, output, forces, mode = "proxy", solver = "newton";
   double rate = 1000, edit_rate = 10;
   bool fast = false, every_tick = false, json = false;
+  InputLimit limit;
 };
 
 // One CSV row, recorded in preallocated storage by the servo thread and written afterwards.
@@ -124,9 +125,9 @@ void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
 }
 
 void run_sculpt(const SculptArgs& a) {
-  SlabModel model = load_model(a.model);
+  SlabModel model = load_model(a.model, {a.limit.bytes()});
   const std::string script_path = a.script.empty() ? HDM_DEFAULT_SCRIPT : a.script;
-  const Script script = read_script(script_path);
+  const Script script = read_script(script_path, a.limit.bytes());
   const SlabLocator locator(model);
   Aabb box;
   for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
@@ -216,6 +217,7 @@ void add_sculpt_command(CLI::App& app) {
       ->check(CLI::IsMember({"newton", "bisection"}));
   cmd->add_option("--forces", a->forces, "write one CSV row per tick here");
   cmd->add_flag("--json", a->json, "print the summary as one JSON object");
+  add_input_limit(cmd, a->limit);
   cmd->callback([a] { run_sculpt(*a); });
 }
 

@@ -26,6 +26,7 @@ struct SubdivideArgs {
   std::string input, output;
   int64_t min_triangles = 1000000;
   bool json = false, no_repair = false;
+  InputLimit limit;
 };
 
 // OFF text with shortest round-trip decimals (std::to_chars), so reading it back gives the same
@@ -58,7 +59,7 @@ void run_subdivide(const SubdivideArgs& a) {
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".off") throw InvalidInput(a.output + ": hdm subdivide writes OFF files (.off)");
   const auto start = std::chrono::steady_clock::now();
-  TriangleMesh mesh = read_mesh(a.input);
+  TriangleMesh mesh = read_mesh(a.input, {a.limit.bytes()});
   const auto input_triangles = static_cast<int64_t>(mesh.faces.size());
   bool repaired = false;
   if (!a.no_repair && needs_repair(mesh)) {
@@ -97,6 +98,7 @@ void add_subdivide_command(CLI::App& app) {
       ->check(CLI::Range(int64_t(0), int64_t(1) << 30));
   cmd->add_flag("--no-repair", a->no_repair, "refuse a dirty mesh instead of repairing it first");
   cmd->add_flag("--json", a->json, "print the report as one JSON object");
+  add_input_limit(cmd, a->limit);
   cmd->callback([a] { run_subdivide(*a); });
 }
 

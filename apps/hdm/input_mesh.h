@@ -32,7 +32,9 @@ void add_input_options(CLI::App& cmd, InputOptions& o);
 // Reads @p path, repairs it when needs_repair() (validate_for_bake() with --no-repair), then
 // orient_outward(), and counts its self-intersections; with @p resolve, replaces the mesh by
 // resolve_self_intersections() of it (what `hdm bake` bakes; `hdm check` measures against the
-// mesh before that). Throws what read_mesh() and repair_mesh() throw.
-PreparedInput prepare_input(const std::string& path, const InputOptions& o, bool resolve = false);
+// mesh before that). @p max_file_bytes is read_mesh()'s size limit. Throws what read_mesh() and
+// repair_mesh() throw.
+PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint64_t max_file_bytes,
+                            bool resolve = false);
 
 }  // namespace hdm::app

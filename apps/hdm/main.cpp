@@ -2,10 +2,19 @@
 // hdm: bake, sculpt, inspect, export and render haptic displacement map models.
 #include "commands.h"
 
+#include <hdm/io/read_file.h>
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
+
+void hdm::app::add_input_limit(CLI::App* cmd, InputLimit& limit) {
+  static_assert(InputLimit{}.mib << 20 == default_max_input_bytes);
+  cmd->add_option("--max-input-mb", limit.mib,
+                  "refuse input files larger than this many MiB before reading them (default 1024)")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 30));
+}
 
 int main(int argc, char** argv) {
   CLI::App app{"hdm: touch, sculpt and paint detailed 3D models with haptic displacement maps"};

@@ -2,20 +2,39 @@
 #include "sculpt_script.h"
 
 #include <hdm/core/error.h>
+#include <hdm/io/read_file.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 
 namespace hdm::app {
 namespace {
 
-Vec3 vec3(const nlohmann::json& j, const std::string& where) {
-  if (!j.is_array() || j.size() != 3) throw InvalidInput(where + ": expected an array of three numbers");
+// Stroke ends may lie up to one box size outside the normalised box [0,1]³: enough for any stroke
+// that reaches the surface, and it bounds the number of points a stroke is sampled at.
+constexpr double min_coordinate = -1, max_coordinate = 2;
+
+Vec3 vec3(const nlohmann::json& j, const std::string& where, double lo, double hi) {
+  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
+    throw InvalidInput(where + ": expected an array of three numbers");
   Vec3 v(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
-  if (!v.allFinite()) throw InvalidInput(where + ": not finite");
+  if (!v.allFinite() || v.minCoeff() < lo || v.maxCoeff() > hi)
+    throw InvalidInput(where + ": each number must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return v;
+}
+
+// A number field with its default, refused unless finite and in [lo, hi]; @p prefix names the
+// object ("<file>: " or "<file>: strokes[3].").
+double number(const nlohmann::json& j, const char* key, double fallback, double lo, double hi, const std::string& prefix) {
+  if (!j.contains(key)) return fallback;
+  const nlohmann::json& v = j[key];
+  if (!v.is_number()) throw InvalidInput(prefix + key + ": expected a number");
+  const double x = v.get<double>();
+  if (!std::isfinite(x) || x < lo || x > hi)
+    throw InvalidInput(prefix + key + " = " + v.dump() + ": must lie in [" + nlohmann::json(lo).dump() + ", " +
+                       nlohmann::json(hi).dump() + "]");
+  return x;
 }
 
 Tool tool_named(const std::string& s, const std::string& where) {
@@ -53,47 +72,58 @@ bool project(const SlabModel& m, const SlabLocator& loc, const Aabb& box, const 
 
 }  // namespace
 
-Script read_script(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInput(path + ": cannot open script");
+Script parse_script(std::string_view text, const std::string& path) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in);
+    j = nlohmann::json::parse(text.begin(), text.end());
   } catch (const std::exception& e) {
     throw InvalidInput(path + ": not valid JSON: " + e.what());
   }
+  if (!j.is_object()) throw InvalidInput(path + ": expected a JSON object with 'strokes'");
   Script s;
   try {
+    if (j.contains("name") && !j["name"].is_string()) throw InvalidInput(path + ": name: expected a string");
     s.name = j.value("name", path);
-    s.workspace_m = j.value("workspace_m", 0.16);
-    s.force.stiffness = j.value("stiffness_n_per_m", s.force.stiffness);
-    s.force.damping = j.value("damping_ns_per_m", s.force.damping);
-    s.force.max_force = j.value("max_force_n", s.force.max_force);
+    const std::string top = path + ": ";
+    s.workspace_m = number(j, "workspace_m", 0.16, 1e-3, 10.0, top);
+    s.force.stiffness = number(j, "stiffness_n_per_m", s.force.stiffness, 1e-3, 1e7, top);
+    s.force.damping = number(j, "damping_ns_per_m", s.force.damping, 0.0, 1e5, top);
+    s.force.max_force = number(j, "max_force_n", s.force.max_force, 1e-3, 1e4, top);
     if (!j.contains("strokes") || !j["strokes"].is_array() || j["strokes"].empty())
       throw InvalidInput(path + ": 'strokes' must be a non-empty array");
     for (size_t k = 0; k < j["strokes"].size(); ++k) {
       const auto& js = j["strokes"][k];
       const std::string where = path + ": strokes[" + std::to_string(k) + "]";
+      if (!js.is_object()) throw InvalidInput(where + ": expected an object");
       Stroke st;
+      if (js.contains("tool") && !js["tool"].is_string()) throw InvalidInput(where + ".tool: expected a string");
       st.tool = tool_named(js.value("tool", "probe"), where + ".tool");
-      st.from = vec3(js.at("from"), where + ".from");
-      st.to = vec3(js.at("to"), where + ".to");
-      st.radius_mm = js.value("radius_mm", st.radius_mm);
-      st.depth_mm = js.value("depth_mm", st.depth_mm);
-      st.speed_mm_s = js.value("speed_mm_s", st.speed_mm_s);
-      st.resilience_mm = js.value("resilience_mm", st.resilience_mm);
-      st.height_mm = js.value("height_mm", st.height_mm);
-      if (js.contains("colour")) st.colour = vec3(js["colour"], where + ".colour").cast<float>();
-      if (!(st.radius_mm > 0) || !(st.speed_mm_s > 0) || !(st.depth_mm >= 0))
-        throw InvalidInput(where + ": radius_mm and speed_mm_s must be > 0, depth_mm >= 0");
+      if (!js.contains("from") || !js.contains("to")) throw InvalidInput(where + ": needs 'from' and 'to'");
+      st.from = vec3(js["from"], where + ".from", min_coordinate, max_coordinate);
+      st.to = vec3(js["to"], where + ".to", min_coordinate, max_coordinate);
+      // Device-space millimetres and mm/s: bounds far outside any device, so a typo cannot ask for
+      // years of device time or a brush larger than the workspace.
+      const std::string field = where + ".";
+      st.radius_mm = number(js, "radius_mm", st.radius_mm, 1e-3, 1e4, field);
+      st.depth_mm = number(js, "depth_mm", st.depth_mm, 0.0, 1e4, field);
+      st.speed_mm_s = number(js, "speed_mm_s", st.speed_mm_s, 1e-2, 1e5, field);
+      st.resilience_mm = number(js, "resilience_mm", st.resilience_mm, 0.0, 1e4, field);
+      st.height_mm = number(js, "height_mm", st.height_mm, 0.0, 1e4, field);
+      if (js.contains("colour")) st.colour = vec3(js["colour"], where + ".colour", 0.0, 1.0).cast<float>();
       s.strokes.push_back(st);
     }
   } catch (const nlohmann::json::exception& e) {
     throw InvalidInput(path + ": " + e.what());
   }
-  if (!(s.workspace_m > 0) || !(s.force.stiffness > 0) || !(s.force.max_force > 0))
-    throw InvalidInput(path + ": workspace_m, stiffness_n_per_m and max_force_n must be > 0");
   return s;
+}
+
+Script read_script(const std::string& path, uint64_t max_bytes) {
+  try {
+    return parse_script(read_file(path, max_bytes), path);
+  } catch (const IoError& e) {
+    throw InvalidInput(e.what());  // read_script's documented error type
+  }
 }
 
 Trajectory build_trajectory(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
@@ -103,7 +133,12 @@ Trajectory build_trajectory(const Script& script, const SlabModel& m, const Slab
   Trajectory tr;
   const double dt = 1.0 / rate_hz;
   auto move = [&](const Vec3& a, const Vec3& b, double seconds, Tool tool, int stroke) {
-    const int n = std::max(1, static_cast<int>(std::ceil(seconds / dt)));
+    const double ticks = std::ceil(seconds / dt);
+    if (!(ticks <= double(max_trajectory_ticks - tr.position.size())))
+      throw InvalidInput(script.name + ": stroke " + std::to_string(stroke) + " takes the device past " +
+                         std::to_string(max_trajectory_ticks) + " ticks at " + std::to_string(rate_hz) +
+                         " Hz (too slow or too long a script)");
+    const int n = std::max(1, static_cast<int>(ticks));
     for (int k = 1; k <= n; ++k) {
       tr.position.push_back(a + (b - a) * (double(k) / n));
       tr.tool.push_back(tool);

@@ -4,9 +4,12 @@
 // a per-tick device trajectory before the servo loop starts.
 
 #include <hdm/haptics/force.h>
+#include <hdm/io/read_file.h>
 #include <hdm/query/slab_query.h>
 
+#include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hdm::app {
@@ -30,8 +33,25 @@ struct Script {
   std::vector<Stroke> strokes;
 };
 
-/// Reads a script; throws InvalidInput naming the file and the field on errors.
-Script read_script(const std::string& path);
+/// @brief Parses a script from the JSON text @p json; @p name starts every error message.
+///
+/// Fields (defaults in Script and Stroke): name; workspace_m in [0.001, 10]; stiffness_n_per_m in
+/// [0.001, 1e7]; damping_ns_per_m in [0, 1e5]; max_force_n in [0.001, 1e4]; strokes, a non-empty
+/// array of objects with tool (probe, carve, add, paint), from and to (three numbers each in
+/// [-1, 2], normalised box coordinates), radius_mm in [0.001, 1e4], depth_mm, resilience_mm and
+/// height_mm in [0, 1e4], speed_mm_s in [0.01, 1e5], colour (three numbers in [0, 1]).
+/// @throws InvalidInput "<name>: ..." naming the field when the text is not JSON, a field has the
+///         wrong type or lies outside its range.
+/// @note O(text size); the JSON document takes a small multiple of the text's size in memory.
+Script parse_script(std::string_view json, const std::string& name);
+
+/// @brief Reads the script file @p path (at most @p max_bytes bytes) with parse_script().
+/// @throws InvalidInput naming the file (and the field) on every error, the file's size included.
+Script read_script(const std::string& path, uint64_t max_bytes = default_max_input_bytes);
+
+/// Most device ticks build_trajectory() makes (about 14 hours at 1 kHz): a script that asks for
+/// more is refused before the trajectory outgrows memory.
+inline constexpr size_t max_trajectory_ticks = 50'000'000;
 
 /// Per-tick device trajectory: device position [m] and active tool per tick.
 struct Trajectory {
@@ -42,7 +62,8 @@ struct Trajectory {
 
 /// Projects every stroke on the model surface (marching its own haptic query inward from the
 /// bounding-box point towards the box centre) and samples the device path at @p rate_hz.
-/// Throws InvalidInput when a stroke point does not reach the surface.
+/// Throws InvalidInput when a stroke point does not reach the surface, or when the trajectory
+/// would take more than max_trajectory_ticks ticks.
 Trajectory build_trajectory(const Script& script, const SlabModel& model, const SlabLocator& locator,
                             const Workspace& ws, double rate_hz);
 

@@ -3,10 +3,11 @@
 #include <hdm/haptics/device.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
-#include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <string_view>
 
 namespace hdm {
 
@@ -46,17 +47,52 @@ void SimulatedDevice::end_frame(const Vec3& force_n) noexcept {
   ++tick_;
 }
 
-ReplayDevice::ReplayDevice(const std::string& path, DeviceSpec spec) : spec_(spec) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot read");
-  std::string line;
-  if (!std::getline(in, line)) throw InvalidInput(path + ": empty file");
+ReplayDevice::ReplayDevice(const std::string& path, DeviceSpec spec, uint64_t max_file_bytes) : spec_(spec) {
+  std::error_code ec;
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw IoError(path + ": cannot read (" + ec.message() + ")");
+  if (size > max_file_bytes)
+    throw IoError(path + ": " + std::to_string(size) + " bytes, more than the input limit of " +
+                  std::to_string(max_file_bytes) + " bytes; raise the limit to read it (hdm: --max-input-mb)");
+  std::ifstream in(path, std::ios::binary);
+  std::string text(static_cast<size_t>(size), '\0');
+  if (!in || (size > 0 && !in.read(text.data(), static_cast<std::streamsize>(size)))) throw IoError(path + ": cannot read");
+  parse(text, path);
+}
+
+ReplayDevice ReplayDevice::from_csv(std::string_view csv, const std::string& name, DeviceSpec spec) {
+  ReplayDevice d;
+  d.spec_ = spec;
+  d.parse(csv, name);
+  return d;
+}
+
+void ReplayDevice::parse(std::string_view text, const std::string& path) {
+  // One line at a time, without its line end ("\n" or "\r\n").
+  size_t pos = 0;
+  auto next_line = [&](std::string_view& line) {
+    if (pos >= text.size()) return false;
+    size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    line = text.substr(pos, end - pos);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos = end + 1;
+    return true;
+  };
+  auto trim = [](std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+    return s;
+  };
+  std::string_view line;
+  if (!next_line(line)) throw InvalidInput(path + ": empty file");
   // Locate the columns by name so that extra columns may follow.
-  std::vector<std::string> cols;
-  {
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cols.push_back(c);
+  std::vector<std::string_view> cols;
+  for (size_t start = 0;;) {
+    const size_t comma = line.find(',', start);
+    cols.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
   }
   auto col = [&](const char* name) {
     const auto it = std::find(cols.begin(), cols.end(), name);
@@ -65,19 +101,23 @@ ReplayDevice::ReplayDevice(const std::string& path, DeviceSpec spec) : spec_(spe
   };
   const size_t ct = col("time_s"), cx = col("device_x_m"), cy = col("device_y_m"), cz = col("device_z_m");
   std::vector<double> v;
-  for (int64_t no = 2; std::getline(in, line); ++no) {
-    if (line.empty()) continue;
+  for (int64_t no = 2; next_line(line); ++no) {
+    if (trim(line).empty()) continue;
     v.clear();
-    const char* p = line.c_str();
-    while (*p) {
-      char* end;
-      v.push_back(std::strtod(p, &end));
-      if (end == p) throw InvalidInput(path + ":" + std::to_string(no) + ": malformed number");
-      p = end;
-      if (*p == ',') ++p;
-    }
-    if (v.size() < cols.size()) throw InvalidInput(path + ":" + std::to_string(no) + ": too few columns");
     const std::string where = path + ":" + std::to_string(no) + ": ";
+    for (size_t start = 0; start == 0 || start < line.size();) {  // one number per cell; a trailing comma ends the row
+      size_t comma = line.find(',', start);
+      if (comma == std::string_view::npos) comma = line.size();
+      std::string_view cell = trim(line.substr(start, comma - start));
+      if (cell.size() > 1 && cell[0] == '+') cell.remove_prefix(1);
+      double x = 0;
+      const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), x);
+      if (cell.empty() || end != cell.data() + cell.size() || (ec != std::errc() && ec != std::errc::result_out_of_range))
+        throw InvalidInput(where + "malformed number in column " + std::to_string(v.size() + 1));
+      v.push_back(ec == std::errc() ? x : INFINITY);  // out of range: refused below if it is used
+      start = comma + 1;
+    }
+    if (v.size() < cols.size()) throw InvalidInput(where + "too few columns");
     if (!std::isfinite(v[ct]) || !std::isfinite(v[cx]) || !std::isfinite(v[cy]) || !std::isfinite(v[cz]))
       throw InvalidInput(where + "time or position is not a finite number");
     if (!time_.empty() && v[ct] < time_.back()) throw InvalidInput(where + "time goes backwards");

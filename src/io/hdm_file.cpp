@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
 #include <hdm/io/hdm_file.h>
+#include <hdm/io/read_file.h>
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -51,7 +54,7 @@ class Writer {
 
 class Reader {
  public:
-  Reader(const std::string& path, const std::vector<uint8_t>& bytes) : path_(path), bytes_(bytes) {}
+  Reader(const std::string& path, std::span<const uint8_t> bytes) : path_(path), bytes_(bytes) {}
 
   /// Bytes left before the trailing checksum.
   size_t payload_left() const {
@@ -106,7 +109,7 @@ class Reader {
 
  private:
   const std::string& path_;
-  const std::vector<uint8_t>& bytes_;
+  std::span<const uint8_t> bytes_;
   size_t pos_ = 0;
 };
 
@@ -137,18 +140,49 @@ void get_vectors(Reader& r, const char (&t)[5], std::vector<V>& v) {
     }
 }
 
-std::vector<uint8_t> read_whole_file(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open for reading");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw IoError(path + ": cannot determine the file size");
-  in.seekg(0, std::ios::beg);
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) throw IoError(path + ": read error");
-  return bytes;
+// Checks the sizes the stored counts imply before rebuild_derived() builds the sample and texel
+// layouts from them: grid_n and texel_density alone decide how much those layouts allocate, so
+// the file must hold one displacement per sample and one colour per texel of exactly that layout.
+void check_layout_sizes(const SlabModel& m, const std::string& path) {
+  auto refuse = [&](const std::string& why) { throw InvalidInput(path + ": " + why); };
+  const int64_t n = m.grid_n, big_n = int64_t(m.grid_n) * m.texel_density;
+  if (n < 1 || n > 1024) refuse("grid_n = " + std::to_string(m.grid_n) + " outside [1, 1024]");
+  if (m.texel_density < 1 || big_n > 4096)
+    refuse("texel_density = " + std::to_string(m.texel_density) + " must be >= 1 with grid_n·texel_density <= 4096");
+  if (m.inner.size() != m.outer.size()) refuse("inner and outer vertex counts differ");
+  // Samples, boxes and normals are float: coordinates beyond max_model_coordinate would overflow them.
+  for (size_t v = 0; v < m.inner.size(); ++v)
+    if (!(m.inner[v].cwiseAbs().maxCoeff() <= max_model_coordinate && m.outer[v].cwiseAbs().maxCoeff() <= max_model_coordinate))
+      refuse("coarse vertex " + std::to_string(v) + " is not finite or lies beyond ±1e15 model units");
+  if (m.slabs.empty()) refuse("no slabs");
+  const auto C = static_cast<int64_t>(m.inner.size()), S = static_cast<int64_t>(m.slabs.size());
+  if (C > std::numeric_limits<int32_t>::max() || S > std::numeric_limits<int32_t>::max() / 3)
+    refuse(std::to_string(C) + " coarse vertices and " + std::to_string(S) + " slabs: more than hdm's limit");
+  std::vector<uint64_t> edges;
+  edges.reserve(3 * m.slabs.size());
+  for (size_t s = 0; s < m.slabs.size(); ++s)
+    for (int k = 0; k < 3; ++k) {
+      const int64_t a = m.slabs[s][k], b = m.slabs[s][(k + 1) % 3];
+      if (a < 0 || a >= C || b < 0 || b >= C || a == b) refuse("slab " + std::to_string(s) + ": invalid coarse vertex ids");
+      edges.push_back((uint64_t(std::min(a, b)) << 32) | uint64_t(std::max(a, b)));
+    }
+  std::sort(edges.begin(), edges.end());
+  const auto E = static_cast<int64_t>(std::unique(edges.begin(), edges.end()) - edges.begin());
+  // Samples of a layout with k intervals per edge: corners, k-1 per edge, (k-1)(k-2)/2 per slab.
+  auto count = [&](int64_t k) { return C + E * (k - 1) + S * ((k - 1) * (k - 2) / 2); };
+  auto grid_points = [&](int64_t k) { return S * ((k + 1) * (k + 2) / 2); };
+  const int64_t ns = count(n), nt = count(big_n);
+  const int64_t limit = std::numeric_limits<int32_t>::max();
+  if (ns > limit || nt > limit || grid_points(big_n) > limit)
+    refuse(std::to_string(S) + " slabs at grid n = " + std::to_string(n) + " and " + std::to_string(m.texel_density) +
+           " texels per interval need more samples or texels than hdm's limit of 2,147,483,647");
+  if (static_cast<int64_t>(m.displacement.size()) != ns)
+    refuse("corrupt (DISP holds " + std::to_string(m.displacement.size()) + " displacements, but " + std::to_string(S) +
+           " slabs over " + std::to_string(C) + " coarse vertices at grid n = " + std::to_string(n) + " have " +
+           std::to_string(ns) + " samples)");
+  if (static_cast<int64_t>(m.colour.size()) != nt)
+    refuse("corrupt (COLR holds " + std::to_string(m.colour.size()) + " colours, but the texel grid (n·m = " +
+           std::to_string(big_n) + ") has " + std::to_string(nt) + " texels)");
 }
 
 }  // namespace
@@ -202,8 +236,14 @@ void save_model(const SlabModel& m, const std::string& path) {
   write_file_atomic(path, w.bytes.data(), w.bytes.size());
 }
 
-SlabModel load_model(const std::string& path) {
-  const std::vector<uint8_t> bytes = read_whole_file(path);
+SlabModel load_model(const std::string& path, const ModelLoadOptions& options) {
+  const std::string bytes = read_file(path, options.max_file_bytes);
+  return load_model_from_memory({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, path, options);
+}
+
+SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::string& path,
+                                 const ModelLoadOptions& options) {
+  check_input_size(bytes.size(), options.max_file_bytes, path);
   if (bytes.size() < 4) throw IoError(path + ": truncated (" + std::to_string(bytes.size()) + " bytes, no header)");
   if (std::memcmp(bytes.data(), kMagic, 4) != 0) throw IoError(path + ": not an hdm model file (bad magic)");
   Reader r(path, bytes);
@@ -245,6 +285,7 @@ SlabModel load_model(const std::string& path) {
   const uint64_t stored = r.get_bits<uint64_t>("the checksum");
   if (stored != fnv1a64(bytes.data(), end)) throw IoError(path + ": checksum mismatch (file corrupt)");
 
+  check_layout_sizes(m, path);
   try {
     rebuild_derived(m);
   } catch (const InvalidInput& e) {

@@ -1,28 +1,48 @@
 // SPDX-License-Identifier: MIT
+// read_mesh: the size limit, the choice of reader by extension, and the assimp fallback for the
+// formats hdm does not read itself.
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
+
+#include "polygon_soup.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <string_view>
 #include <exception>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 namespace hdm {
 namespace {
+
+enum class Format { Obj, Ply, Off, Stl, Other };
+
+std::string lower_extension(const std::string& name) {
+  std::string ext = std::filesystem::path(name).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+Format format_of(const std::string& name) {
+  const std::string ext = lower_extension(name);
+  if (ext == ".obj") return Format::Obj;
+  if (ext == ".ply") return Format::Ply;
+  if (ext == ".off") return Format::Off;
+  if (ext == ".stl") return Format::Stl;
+  return Format::Other;
+}
+
+// ---- the assimp fallback (formats other than OBJ, PLY, OFF, STL) ----
 
 // Exact-position key for welding across assimp meshes; +0.0 folds -0 into +0 like operator==.
 struct PositionKey {
@@ -40,132 +60,6 @@ struct PositionKeyHash {
 PositionKey key_of(const Vec3& p) {
   return {std::bit_cast<uint64_t>(p.x() + 0.0), std::bit_cast<uint64_t>(p.y() + 0.0),
           std::bit_cast<uint64_t>(p.z() + 0.0)};
-}
-
-// ---- PLY pre-check: assimp 5.2 loops forever on a PLY header without end_header and reads past
-// the end of a truncated binary body, so the sizes are checked here first ----
-
-struct PlyProperty {
-  int size = 0;       // bytes of a scalar property or of a list's items
-  int count_size = 0; // bytes of a list's count, 0 for a scalar
-  bool count_signed = false;
-};
-struct PlyElement {
-  std::string name;
-  uint64_t count = 0;
-  std::vector<PlyProperty> properties;
-};
-
-int ply_type_size(const std::string& t, bool* is_signed = nullptr) {
-  if (is_signed) *is_signed = t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
-  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
-  if (t == "double" || t == "float64") return 8;
-  return 0;
-}
-
-uint64_t read_ply_count(const unsigned char* p, const PlyProperty& prop, bool big_endian) {
-  uint64_t bits = 0;
-  for (int k = 0; k < prop.count_size; ++k)
-    bits |= static_cast<uint64_t>(p[big_endian ? prop.count_size - 1 - k : k]) << (8 * k);
-  if (prop.count_signed && (bits >> (8 * prop.count_size - 1)) != 0) return UINT64_MAX;  // negative
-  return bits;
-}
-
-void check_ply(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string data(4, '\0');
-  if (!in.read(data.data(), 4) || data.compare(0, 3, "ply") != 0 || (data[3] != '\n' && data[3] != '\r')) return;
-  data.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());  // only PLY files are read twice
-  const size_t end = data.find("end_header");
-  const size_t body = end == std::string::npos ? end : data.find('\n', end);
-  if (body == std::string::npos) throw IoError(path + ": truncated (the PLY header has no end_header line)");
-
-  std::istringstream header(data.substr(0, end));
-  std::string line, format;
-  std::vector<PlyElement> elements;
-  auto malformed = [&] { return IoError(path + ": malformed PLY header line \"" + line + "\""); };
-  while (std::getline(header, line)) {
-    std::istringstream words(line);
-    std::string key;
-    words >> key;
-    if (key == "format") {
-      words >> format;
-    } else if (key == "element") {
-      PlyElement e;
-      if (!(words >> e.name >> e.count)) throw malformed();
-      elements.push_back(e);
-    } else if (key == "property") {
-      std::string type, count_type, item_type;
-      if (!(words >> type) || elements.empty()) throw malformed();
-      PlyProperty prop;
-      if (type == "list") {
-        if (!(words >> count_type >> item_type)) throw malformed();
-        prop.count_size = ply_type_size(count_type, &prop.count_signed);
-        prop.size = ply_type_size(item_type);
-        if (prop.count_size == 0) throw malformed();
-      } else {
-        prop.size = ply_type_size(type);
-      }
-      if (prop.size == 0) throw malformed();
-      elements.back().properties.push_back(prop);
-    }
-  }
-
-  const std::string what = path + ": truncated (PLY data ends inside element ";
-  if (format == "ascii") {
-    size_t pos = body + 1;
-    auto next_token = [&](const PlyElement& e, uint64_t k) {
-      while (pos < data.size() && std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
-      if (pos >= data.size()) throw IoError(what + e.name + " " + std::to_string(k) + ")");
-      const size_t start = pos;
-      while (pos < data.size() && !std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
-      return std::string_view(data).substr(start, pos - start);
-    };
-    for (const PlyElement& e : elements) {
-      if (e.properties.empty()) continue;
-      for (uint64_t k = 0; k < e.count; ++k)  // every instance consumes a token: bounded by the file
-        for (const PlyProperty& prop : e.properties) {
-          const std::string_view t = next_token(e, k);
-          if (prop.count_size == 0) continue;
-          const long long n = std::strtoll(std::string(t).c_str(), nullptr, 10);
-          for (long long j = 0; j < n; ++j) next_token(e, k);
-        }
-    }
-  } else if (format == "binary_little_endian" || format == "binary_big_endian") {
-    const bool big = format == "binary_big_endian";
-    const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
-    uint64_t pos = body + 1;
-    const uint64_t size = data.size();
-    for (const PlyElement& e : elements) {
-      bool has_list = false;
-      uint64_t stride = 0;
-      for (const PlyProperty& prop : e.properties) {
-        has_list = has_list || prop.count_size > 0;
-        stride += prop.size;
-      }
-      if (!has_list) {
-        if (stride > 0 && e.count > (size - pos) / stride)
-          throw IoError(what + e.name + ": " + std::to_string(e.count) + " declared)");
-        pos += e.count * stride;
-        continue;
-      }
-      for (uint64_t k = 0; k < e.count; ++k)  // every instance consumes bytes: bounded by the file
-        for (const PlyProperty& prop : e.properties) {
-          uint64_t need = prop.count_size ? prop.count_size : prop.size;
-          if (need > size - pos) throw IoError(what + e.name + " " + std::to_string(k) + ")");
-          if (prop.count_size) {
-            const uint64_t n = read_ply_count(bytes + pos, prop, big);
-            if (n > (size - pos - need) / prop.size) throw IoError(what + e.name + " " + std::to_string(k) + ")");
-            need += n * prop.size;
-          }
-          pos += need;
-        }
-    }
-  } else {
-    throw IoError(path + ": unknown PLY format \"" + format + "\"");
-  }
 }
 
 // Checks the raw scene before post-processing: assimp's steps assert (abort) on faces without
@@ -194,14 +88,20 @@ void check_raw_scene(const aiScene& scene, const std::string& path) {
   }
 }
 
-const aiScene* import_scene(Assimp::Importer& importer, const std::string& path) {
+// Reads with assimp from @p path, or from @p bytes when it is not null (hint: the extension).
+const aiScene& import_scene(Assimp::Importer& importer, const std::string& path, const std::string_view* bytes) {
   // Drop every per-vertex attribute but the position, so JoinIdenticalVertices welds by position.
   importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
                               aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS | aiComponent_COLORS |
                                   aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS);
   const aiScene* scene = nullptr;
   try {
-    scene = importer.ReadFile(path, 0);
+    if (bytes) {
+      const std::string ext = lower_extension(path);
+      scene = importer.ReadFileFromMemory(bytes->data(), bytes->size(), 0, ext.empty() ? "" : ext.c_str() + 1);
+    } else {
+      scene = importer.ReadFile(path, 0);
+    }
     if (!scene) throw IoError(path + ": " + importer.GetErrorString());
     check_raw_scene(*scene, path);
     scene = importer.ApplyPostProcessing(aiProcess_RemoveComponent | aiProcess_Triangulate |
@@ -214,20 +114,10 @@ const aiScene* import_scene(Assimp::Importer& importer, const std::string& path)
   } catch (const std::exception& e) {  // assimp builds without its global catch let errors escape
     throw IoError(path + ": " + e.what());
   }
-  return scene;
+  return *scene;
 }
 
-}  // namespace
-
-TriangleMesh read_mesh(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": not a regular file");
-
-  check_ply(path);
-  Assimp::Importer importer;
-  const aiScene& scene = *import_scene(importer, path);
-
+TriangleMesh from_scene(const aiScene& scene, const std::string& path) {
   TriangleMesh mesh;
   std::unordered_map<PositionKey, int32_t, PositionKeyHash> welded;
   size_t other_faces = 0, total_faces = 0;
@@ -267,6 +157,39 @@ TriangleMesh read_mesh(const std::string& path) {
                        " faces are points or line segments, not triangles");
   if (mesh.faces.empty()) throw InvalidInput(path + ": holds no triangles");
   return mesh;
+}
+
+TriangleMesh read_with_assimp(const std::string& path, const std::string_view* bytes) {
+  Assimp::Importer importer;
+  return from_scene(import_scene(importer, path, bytes), path);
+}
+
+}  // namespace
+
+TriangleMesh read_mesh_from_memory(std::string_view bytes, const std::string& name, const MeshReadOptions& options) {
+  check_input_size(bytes.size(), options.max_file_bytes, name);
+  if (bytes.empty()) throw IoError(name + ": empty file");
+  switch (format_of(name)) {
+    case Format::Obj: return detail::to_triangle_mesh(detail::parse_obj(bytes, name), name);
+    case Format::Ply: return detail::to_triangle_mesh(detail::parse_ply(bytes, name), name);
+    case Format::Off: return detail::to_triangle_mesh(detail::parse_off(bytes, name), name);
+    case Format::Stl: return detail::to_triangle_mesh(detail::parse_stl(bytes, name), name);
+    case Format::Other: break;
+  }
+  return read_with_assimp(name, &bytes);
+}
+
+TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options) {
+  if (format_of(path) == Format::Other) {
+    // assimp reads the file itself, so formats that refer to other files (glTF buffers) work.
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
+    if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": not a regular file");
+    check_input_size(std::filesystem::file_size(path, ec), options.max_file_bytes, path);
+    return read_with_assimp(path, nullptr);
+  }
+  const std::string bytes = read_file(path, options.max_file_bytes);
+  return read_mesh_from_memory(bytes, path, options);
 }
 
 }  // namespace hdm

@@ -90,9 +90,16 @@ void SlabLocator::build_grid() {
   }
   std::nth_element(side.begin(), side.begin() + S / 2, side.end());
   double h = std::max(static_cast<double>(side[S / 2]), 1e-30) * 0.5;
-  double cells = 1;
-  for (int a = 0; a < 3; ++a) cells *= std::max(1.0, std::ceil((grid_hi_[a] - grid_lo_[a]) / h));
+  auto cells_for = [&](double width) {
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) cells *= std::max(1.0, std::ceil((grid_hi_[a] - grid_lo_[a]) / width));
+    return cells;
+  };
+  const double cells = cells_for(h);
   if (cells > 32.0 * S) h *= std::cbrt(cells / (32.0 * S));
+  // A flat or needle-like extent keeps too many cells after the cube-root step (one long slab
+  // beside small ones asked for 10^8 cells and 2.7 GB): widen until there are at most 64 per slab.
+  while (cells_for(h) > 64.0 * S) h *= 2;
   size_t total = 1;
   for (int a = 0; a < 3; ++a) {
     grid_dim_[a] = std::max(1, static_cast<int>(std::ceil((grid_hi_[a] - grid_lo_[a]) / h)));

@@ -81,3 +81,47 @@ TEST(Replay, RefusesBadRecordingsNamingFileAndLine) {
 
 }  // namespace
 }  // namespace hdm
+
+namespace hdm {
+namespace {
+
+// The CSV reader from memory: columns found by name in any order, CRLF line ends, blanks around
+// cells, a trailing comma, blank lines; every row read as written.
+TEST(Replay, ReadsCsvVariantsFromMemory) {
+  const std::string csv = "device_z_m, time_s ,device_x_m,device_y_m,extra\r\n"
+                          "0.03,0,+0.01,-0.02,7\r\n"
+                          "\r\n"
+                          " 0.031 , 0.001 , 0.011 , -0.021 , 8 ,\r\n";
+  ReplayDevice d = ReplayDevice::from_csv(csv, "memory.csv");
+  ASSERT_EQ(d.size(), 2u);
+  DeviceState s;
+  ASSERT_TRUE(d.begin_frame(s));
+  EXPECT_EQ(s.position, Vec3(0.01, -0.02, 0.03));
+  EXPECT_EQ(s.time_s, 0.0);
+  d.end_frame(Vec3::Zero());
+  ASSERT_TRUE(d.begin_frame(s));
+  EXPECT_EQ(s.position, Vec3(0.011, -0.021, 0.031));
+  EXPECT_EQ(s.time_s, 0.001);
+  d.end_frame(Vec3::Zero());
+  EXPECT_FALSE(d.begin_frame(s));
+  try {
+    ReplayDevice::from_csv("time_s,device_x_m,device_y_m,device_z_m\n0,0,0\n", "short.csv");
+    ADD_FAILURE() << "a short row was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("short.csv:2: too few columns"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Replay, SizeLimitIsCheckedBeforeReading) {
+  const std::string path = (std::filesystem::temp_directory_path() / "hdm_replay_limit.csv").string();
+  {
+    std::ofstream f(path);
+    f << "time_s,device_x_m,device_y_m,device_z_m\n0,0,0,0\n";
+  }
+  EXPECT_THROW(ReplayDevice(path, {}, 16), IoError);
+  EXPECT_EQ(ReplayDevice(path).size(), 1u);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace hdm

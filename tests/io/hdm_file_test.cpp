@@ -204,6 +204,43 @@ TEST_F(HdmFile, HugeCountFailsWithoutAllocating) {
     }
 }
 
+// grid_n and texel_density alone size the sample and texel layouts: a file whose grids do not
+// match its DISP and COLR counts is refused before any layout is built. The expected counts come
+// from the layout formula in hdm_file.h with the octahedron's 6 corners, 12 edges and 8 slabs.
+TEST_F(HdmFile, GridsThatDoNotMatchTheStoredSamplesFailWithoutAllocating) {
+  const std::vector<uint8_t> good = test::read_bytes(path);
+  const size_t grid = section_offsets(good).at("GRID") + 8;  // grid_n, then texel_density
+  auto samples = [](int64_t k) { return 6 + 12 * (k - 1) + 8 * ((k - 1) * (k - 2) / 2); };
+  struct Case {
+    int32_t n, m;
+    const char* message;
+  };
+  for (const Case& c : {Case{1024, 1, "DISP holds"}, Case{4, 1024, "COLR holds"}, Case{1, 4096, "DISP holds"},
+                        Case{4, 3, "COLR holds"}}) {
+    std::vector<uint8_t> b = good;
+    for (int k = 0; k < 4; ++k) b[grid + k] = uint8_t(uint32_t(c.n) >> (8 * k));
+    for (int k = 0; k < 4; ++k) b[grid + 4 + k] = uint8_t(uint32_t(c.m) >> (8 * k));
+    reseal(b);
+    test::write_bytes(path, b);
+    g_largest = 0;
+    g_track = true;
+    const std::string msg = expect_load_error<InvalidInput>(path);
+    g_track = false;
+    EXPECT_NE(msg.find(c.message), std::string::npos) << msg;
+    const bool disp = std::string(c.message) == "DISP holds";
+    EXPECT_NE(msg.find(std::to_string(disp ? samples(c.n) : samples(int64_t(c.n) * c.m))), std::string::npos) << msg;
+    EXPECT_LE(g_largest.load(), 4 * good.size()) << c.n << " x " << c.m << ": " << msg;
+  }
+}
+
+TEST_F(HdmFile, SizeLimitIsCheckedBeforeReading) {
+  ModelLoadOptions small;
+  small.max_file_bytes = 100;
+  EXPECT_THROW(load_model(path, small), IoError);
+  const std::vector<uint8_t> bytes = test::read_bytes(path);
+  EXPECT_TRUE(same_bits(load_model_from_memory(bytes, "memory.hdm").displacement, model.displacement));
+}
+
 TEST_F(HdmFile, InconsistentContentThrowsInvalidInput) {
   std::vector<uint8_t> b = test::read_bytes(path);
   const auto at = section_offsets(b);

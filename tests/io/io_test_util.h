@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -110,6 +112,15 @@ inline std::vector<uint8_t> read_bytes(const std::string& path) {
 inline void write_bytes(const std::string& path, const std::vector<uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary);
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// Appends the bytes of @p v to @p s, little-endian (this machine's order) or, with @p big, reversed.
+template <class T>
+void put(std::string& s, T v, bool big = false) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  if (big) std::reverse(b, b + sizeof(T));
+  s.append(b, sizeof(T));
 }
 
 inline void write_text(const std::string& path, const std::string& text) {

@@ -148,13 +148,7 @@ std::string to_ply_ascii(const TriangleMesh& m) {
   return s.str();
 }
 
-template <class T>
-void put(std::string& s, T v, bool big = false) {
-  char b[sizeof(T)];
-  std::memcpy(b, &v, sizeof(T));
-  if (big) std::reverse(b, b + sizeof(T));
-  s.append(b, sizeof(T));
-}
+using test::put;
 
 std::string to_ply_binary(const TriangleMesh& m, bool big) {
   std::string s = ply_header(big ? "binary_big_endian" : "binary_little_endian", m.vertices.size(), m.faces.size());

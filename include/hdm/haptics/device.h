@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hdm {
@@ -111,10 +112,18 @@ class SimulatedDevice final : public HapticDevice {
 class ReplayDevice final : public HapticDevice {
  public:
   /// @brief Loads @p csv_path (all rows read here, so frames never do I/O).
-  /// @throws IoError when the file cannot be read; InvalidInput when the header lacks the
-  /// position columns, a row is malformed, a time or position is not finite (NaN, inf) or the
-  /// time goes backwards (each naming the file and line).
-  explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {});
+  /// @param max_file_bytes  a larger file is refused before it is read (default 1 GiB, about
+  ///                        ten million rows as `hdm sculpt --forces` writes them).
+  /// @throws IoError when the file cannot be read or is larger than @p max_file_bytes;
+  /// InvalidInput when the header lacks the position columns, a row is malformed, a time or
+  /// position is not finite (NaN, inf) or the time goes backwards (each naming the file and line).
+  /// @note Accepts "\n" and "\r\n" line ends and blanks around cells; O(file size).
+  explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {},
+                        uint64_t max_file_bytes = uint64_t(1) << 30);
+  /// @brief Loads a recording from CSV text held in memory, as the constructor loads a file;
+  /// @p name starts every error message.
+  /// @throws InvalidInput as the constructor.
+  static ReplayDevice from_csv(std::string_view csv, const std::string& name, DeviceSpec spec = {});
   /// Next recorded row (velocity by backward difference); false after the last one. noexcept, O(1).
   bool begin_frame(DeviceState& state) noexcept override;
   /// Records @p force_n [N] (see last_force()) and advances to the next row. noexcept, O(1).
@@ -129,6 +138,9 @@ class ReplayDevice final : public HapticDevice {
   const Vec3& last_force() const noexcept { return last_force_; }
 
  private:
+  ReplayDevice() = default;
+  void parse(std::string_view csv, const std::string& name);
+
   DeviceSpec spec_;
   std::vector<double> time_;
   std::vector<Vec3> position_;

@@ -30,15 +30,25 @@
 /// | `SRCT` | 1 | int64 source_triangles |
 /// | `SRCD` | 1 | float64 source_diagonal [model units] |
 ///
-/// Derived members of SlabModel are not stored; load_model() rebuilds them.
+/// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels
+/// follow from the counts (#C + (k-1)·#E + (k-1)(k-2)/2·#S for k = grid_n and grid_n·texel_density,
+/// #E the distinct slab edges); `DISP` and `COLR` must hold exactly that many, and `FRST`, `FRDY`,
+/// `STIF` that many or none (defaults).
 
+#include <hdm/io/read_file.h>
 #include <hdm/slab/slab_model.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 
 namespace hdm {
+
+/// Largest coordinate magnitude load_model() accepts for a coarse vertex [model units]: sample
+/// positions, boxes and normals are float, and their differences and cross products must stay
+/// finite.
+inline constexpr double max_model_coordinate = 1e15;
 
 /// Version of the `.hdm` format that save_model() writes and load_model() reads.
 inline constexpr uint32_t hdm_format_version = 1;
@@ -53,17 +63,36 @@ inline constexpr uint32_t hdm_format_version = 1;
 /// @note O(stored bytes); builds the file in memory first.
 void save_model(const SlabModel& model, const std::string& path);
 
+/// Limits of load_model().
+struct ModelLoadOptions {
+  /// Largest file accepted [bytes]; a larger file is refused before it is read. Default 1 GiB;
+  /// the `hdm` program raises it with `--max-input-mb`.
+  uint64_t max_file_bytes = default_max_input_bytes;
+};
+
 /// @brief Reads a model written by save_model() and rebuilds its derived members.
-/// @param path  `.hdm` file.
+/// @param path     `.hdm` file.
+/// @param options  size limit.
 /// @return the model; every stored member equals the saved one bit for bit.
-/// @throws IoError "<path>: <reason>" when the file is missing or unreadable, is not an `.hdm`
-///         file, has another format version ("<path>: format version 7, this hdm reads
-///         version 1"), is truncated ("<path>: truncated ..."), has a count larger than the
-///         remaining bytes allow (checked before anything is allocated), or fails the checksum
-///         ("<path>: checksum mismatch (file corrupt)").
-/// @throws InvalidInput "<path>: ..." when the content is inconsistent (from rebuild_derived()).
-/// @note O(file size + rebuild_derived()); reads the whole file into memory.
-SlabModel load_model(const std::string& path);
+/// @throws IoError "<path>: <reason>" when the file is missing or unreadable, larger than
+///         options.max_file_bytes, is not an `.hdm` file, has another format version ("<path>:
+///         format version 7, this hdm reads version 1"), is truncated ("<path>: truncated ..."),
+///         has a count larger than the remaining bytes allow (checked before anything is
+///         allocated), or fails the checksum ("<path>: checksum mismatch (file corrupt)").
+/// @throws InvalidInput "<path>: ..." when the content is inconsistent: grid sizes out of range,
+///         invalid slab corners, a coarse vertex beyond ±max_model_coordinate, `DISP` or `COLR`
+///         not of the layout's size (checked before the
+///         layouts are built, so no allocation follows grid_n or texel_density alone), or what
+///         rebuild_derived() refuses.
+/// @note O(file size + rebuild_derived()); reads the whole file into memory; the derived arrays
+///       take a bounded multiple of the file's size.
+SlabModel load_model(const std::string& path, const ModelLoadOptions& options = {});
+
+/// @brief Reads a model from the bytes of an `.hdm` file held in memory, as load_model() reads a
+/// file; @p name starts every error message.
+/// @throws IoError, InvalidInput as load_model().
+SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::string& name,
+                                 const ModelLoadOptions& options = {});
 
 /// @brief Writes @p size bytes to @p path so that a failure never loses the previous file:
 /// writes "<path>.tmp", flushes it to disk (fsync), then renames it over @p path.

@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: MIT
+// Polygon soup → TriangleMesh: triangulation (fan or ear clipping), welding of identical
+// positions, unused vertices dropped. Shared by hdm's own OFF, PLY, OBJ and STL readers.
+#include "polygon_soup.h"
+#include "text_cursor.h"
+
+#include <hdm/core/error.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numeric>
+
+namespace hdm::detail {
+namespace {
+
+struct Vec2d {
+  double x, y;
+};
+
+double cross(const Vec2d& o, const Vec2d& a, const Vec2d& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+// Strictly inside or on the boundary of the counter-clockwise triangle (a, b, c).
+bool in_triangle(const Vec2d& p, const Vec2d& a, const Vec2d& b, const Vec2d& c) {
+  return cross(a, b, p) >= 0 && cross(b, c, p) >= 0 && cross(c, a, p) >= 0;
+}
+
+// Triangulates the polygon `ids` (k >= 4 corners) into `out`, keeping its winding. Convex
+// polygons are fanned; concave ones are ear-clipped in the plane of their Newell normal.
+// Returns false when the polygon is concave and has more than max_concave_polygon_corners corners.
+bool triangulate(const std::vector<Vec3>& positions, const int32_t* ids, size_t k, std::vector<Tri>& out,
+                 std::vector<Vec2d>& q, std::vector<size_t>& ring) {
+  auto fan = [&] {
+    for (size_t i = 1; i + 1 < k; ++i) out.push_back({ids[0], ids[i], ids[i + 1]});
+    return true;
+  };
+  // Newell normal about the centroid (less cancellation than about the origin).
+  Vec3 centre = Vec3::Zero();
+  for (size_t i = 0; i < k; ++i) centre += positions[ids[i]];
+  centre /= double(k);
+  Vec3 n = Vec3::Zero();
+  for (size_t i = 0; i < k; ++i) n += (positions[ids[i]] - centre).cross(positions[ids[(i + 1) % k]] - centre);
+  const double len = n.norm();
+  if (!(len > 0) || !std::isfinite(len)) return fan();  // degenerate: every triangle has zero area anyway
+  n /= len;
+  // A basis (e1, e2) of the plane with e1 × e2 = n, so the polygon runs counter-clockwise in it.
+  const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 e1 = n.cross(a).normalized(), e2 = n.cross(e1);
+  q.resize(k);
+  for (size_t i = 0; i < k; ++i) {
+    const Vec3 d = positions[ids[i]] - centre;
+    q[i] = {d.dot(e1), d.dot(e2)};
+  }
+  size_t reflex = k;
+  for (size_t i = 0; i < k; ++i)
+    if (cross(q[(i + k - 1) % k], q[i], q[(i + 1) % k]) < 0) {
+      if (reflex != k) {
+        reflex = k + 1;  // two or more reflex corners
+        break;
+      }
+      reflex = i;
+    }
+  if (reflex == k) return fan();
+  if (k == 4 && reflex < k) {  // one reflex corner: both triangles start there
+    const size_t r = reflex;
+    out.push_back({ids[r], ids[(r + 1) % 4], ids[(r + 2) % 4]});
+    out.push_back({ids[r], ids[(r + 2) % 4], ids[(r + 3) % 4]});
+    return true;
+  }
+  if (k > max_concave_polygon_corners) return false;
+  // Ear clipping: O(k²) candidate tests of O(k) each, k <= max_concave_polygon_corners.
+  ring.resize(k);
+  std::iota(ring.begin(), ring.end(), size_t{0});
+  while (ring.size() > 3) {
+    const size_t m = ring.size();
+    bool clipped = false;
+    for (size_t j = 0; j < m && !clipped; ++j) {
+      const size_t p = ring[(j + m - 1) % m], c = ring[j], nx = ring[(j + 1) % m];
+      if (!(cross(q[p], q[c], q[nx]) > 0)) continue;
+      bool ear = true;
+      for (size_t r = 0; r < m && ear; ++r) {
+        const size_t o = ring[r];
+        if (o == p || o == c || o == nx) continue;
+        ear = !in_triangle(q[o], q[p], q[c], q[nx]);
+      }
+      if (!ear) continue;
+      out.push_back({ids[p], ids[c], ids[nx]});
+      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(j));
+      clipped = true;
+    }
+    if (!clipped) {  // self-intersecting or numerically flat: fan what is left
+      for (size_t j = 1; j + 1 < ring.size(); ++j) out.push_back({ids[ring[0]], ids[ring[j]], ids[ring[j + 1]]});
+      return true;
+    }
+  }
+  out.push_back({ids[ring[0]], ids[ring[1]], ids[ring[2]]});
+  return true;
+}
+
+// Exact-position order for welding; +0.0 folds -0 into +0 like operator==.
+struct PositionBits {
+  uint64_t x, y, z;
+  auto operator<=>(const PositionBits&) const = default;
+};
+PositionBits bits_of(const Vec3& p) {
+  return {std::bit_cast<uint64_t>(p.x() + 0.0), std::bit_cast<uint64_t>(p.y() + 0.0),
+          std::bit_cast<uint64_t>(p.z() + 0.0)};
+}
+
+}  // namespace
+
+TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name) {
+  // Coordinates are rounded to float, as hdm has always read them (assimp's ai_real), so a mesh
+  // gives the same bake whatever its format; then widened exactly to double.
+  std::vector<Vec3>& positions = soup.positions;
+  for (size_t v = 0; v < positions.size(); ++v) {
+    positions[v] = positions[v].cast<float>().cast<double>();
+    if (!positions[v].allFinite())
+      throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
+  }
+
+  std::vector<Tri> triangles;
+  triangles.reserve(soup.corners.size() / 3 + 1);
+  std::vector<Vec2d> q;
+  std::vector<size_t> ring;
+  uint64_t other = soup.points_and_lines;
+  for (size_t p = 0; p < soup.polygon_count(); ++p) {
+    const int32_t* ids = soup.corners.data() + soup.polygon_end[p];
+    const size_t k = soup.polygon_end[p + 1] - soup.polygon_end[p];
+    if (k < 3) {
+      ++other;
+    } else if (k == 3) {
+      triangles.push_back({ids[0], ids[1], ids[2]});
+    } else if (!triangulate(positions, ids, k, triangles, q, ring)) {
+      throw InvalidInput(name + ": polygon " + std::to_string(p) + " has " + with_commas(k) +
+                         " corners and is not convex; hdm triangulates concave polygons of up to " +
+                         std::to_string(max_concave_polygon_corners) + " corners (triangulate it first)");
+    }
+  }
+  if (other > 0)
+    throw InvalidInput(name + ": " + with_commas(other) + " of " + with_commas(soup.polygon_count() + soup.points_and_lines) +
+                       " faces are points or line segments, not triangles");
+  if (triangles.empty()) throw InvalidInput(name + ": holds no triangles");
+
+  // Weld: sort the used vertices by exact position; each group maps to its first vertex in file order.
+  std::vector<int32_t> used;
+  {
+    std::vector<uint8_t> is_used(positions.size(), 0);
+    for (const Tri& t : triangles)
+      for (int32_t v : t) is_used[v] = 1;
+    for (size_t v = 0; v < positions.size(); ++v)
+      if (is_used[v]) used.push_back(static_cast<int32_t>(v));
+  }
+  std::vector<PositionBits> key(used.size());
+  for (size_t i = 0; i < used.size(); ++i) key[i] = bits_of(positions[used[i]]);
+  std::vector<int32_t> order(used.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
+  std::vector<int32_t> first(used.size());  // index (into used) of the first vertex with the same position
+  for (size_t i = 0; i < order.size(); ++i)
+    first[order[i]] = (i > 0 && key[order[i]] == key[order[i - 1]]) ? first[order[i - 1]] : order[i];
+
+  TriangleMesh mesh;
+  std::vector<int32_t> new_id(positions.size(), -1);
+  for (size_t i = 0; i < used.size(); ++i) {
+    if (first[i] == static_cast<int32_t>(i)) {
+      new_id[used[i]] = static_cast<int32_t>(mesh.vertices.size());
+      mesh.vertices.push_back(positions[used[i]]);
+    } else {
+      new_id[used[i]] = new_id[used[first[i]]];  // first[i] < i: already numbered
+    }
+  }
+  mesh.faces.resize(triangles.size());
+  for (size_t f = 0; f < triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) mesh.faces[f][k] = new_id[triangles[f][k]];
+  return mesh;
+}
+
+}  // namespace hdm::detail

@@ -1,0 +1,18 @@
+#!/bin/sh
+# expect_refusal.sh PATTERN COMMAND...: runs COMMAND with at most 1 GiB of address space and 60 s;
+# passes when it exits with status 1 (hdm's error exit, not a signal, a timeout or an
+# out-of-memory) and its standard error contains PATTERN (a fixed string: the clear message).
+pattern=$1
+shift
+err=$( (ulimit -v 1048576; timeout 60 "$@") 2>&1 >/dev/null)
+rc=$?
+printf '%s\n' "$err"
+if [ "$rc" -ne 1 ]; then
+  echo "expect_refusal: exit status $rc, expected 1 (124: timeout, >128: signal)" >&2
+  exit 1
+fi
+case "$err" in
+  *"$pattern"*) exit 0 ;;
+esac
+echo "expect_refusal: the message lacks: $pattern" >&2
+exit 1

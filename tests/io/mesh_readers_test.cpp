@@ -1,0 +1,341 @@
+// SPDX-License-Identifier: MIT
+// hdm's own OBJ, PLY, OFF and STL readers: the same sphere in three formats from CGAL's data,
+// format variants against meshes written by the test, triangulation against the shoelace area and
+// an independent point-in-polygon test, and the refusals (header claims, out-of-range ids, short
+// facets, size limit), each naming the file and, for text, the line.
+#include "io/io_test_util.h"
+
+#include <hdm/core/error.h>
+#include <hdm/io/read_mesh.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace hdm {
+namespace {
+
+using test::TempDir;
+
+// Triangles as position triples rotated to start at the smallest corner (keeps the winding),
+// sorted: equal for two meshes with the same triangles, whatever the vertex numbering.
+using PosTri = std::array<std::array<double, 3>, 3>;
+std::vector<PosTri> canonical(const TriangleMesh& m, bool as_float = false) {
+  std::vector<PosTri> out;
+  for (const Tri& f : m.faces) {
+    PosTri t;
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) t[k][c] = as_float ? double(float(m.vertices[f[k]][c])) : m.vertices[f[k]][c];
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    out.push_back(t);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The error read_mesh_from_memory throws for @p bytes, checked to be an E naming @p name.
+template <class E>
+std::string error_of(const std::string& bytes, const std::string& name, const MeshReadOptions& o = {}) {
+  try {
+    read_mesh_from_memory(bytes, name, o);
+  } catch (const E& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(name, 0), 0u) << "the message must start with the file name: " << msg;
+    return msg;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << name << ": wrong exception type: " << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << name << ": no exception";
+  return "";
+}
+
+bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+using test::put;
+
+// The regular tetrahedron's corners and faces (outward, counter-clockwise).
+const std::vector<Vec3> tet_v = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+const std::vector<Tri> tet_f = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+TriangleMesh tet() { return {tet_v, tet_f}; }
+
+// ---- the same sphere in three formats (CGAL's data, extracted by scripts/setup.sh) ----
+
+TEST(MeshReaders, CgalSphereIsTheSameInOffPlyAndStl) {
+  const std::string dir = HDM_DATA_DIR;
+  for (const char* f : {"sphere.off", "sphere.ply", "sphere.stl"})
+    ASSERT_TRUE(std::filesystem::exists(dir + "/" + f)) << f << " missing: run scripts/setup.sh";
+  const TriangleMesh off = read_mesh(dir + "/sphere.off"), ply = read_mesh(dir + "/sphere.ply"),
+                     stl = read_mesh(dir + "/sphere.stl");
+  EXPECT_EQ(off.faces.size(), 320u);  // the counts in the OFF and PLY headers
+  EXPECT_EQ(off.vertices.size(), 162u);
+  EXPECT_EQ(stl.vertices.size(), 162u) << "the STL's 960 corners weld to the sphere's 162 vertices";
+  EXPECT_EQ(canonical(off), canonical(ply));
+  EXPECT_EQ(canonical(off, true), canonical(stl)) << "binary STL stores float32";
+}
+
+TEST(MeshReaders, CgalFilesWithColoursCommentsAndExtraElements) {
+  const std::string dir = HDM_DATA_DIR;
+  auto area = [](const TriangleMesh& m) {
+    double a = 0;
+    for (const Tri& f : m.faces) a += 0.5 * (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]).norm();
+    return a;
+  };
+  // COFF with blank lines and '#' comments after the colours: three triangles and a pentagon
+  // (three triangles) tiling the square [-1, 1]² in the plane z = 0.
+  const TriangleMesh coff = read_mesh(dir + "/mesh_with_colors.off");
+  EXPECT_EQ(coff.faces.size(), 3u + 3u);
+  for (const Vec3& v : coff.vertices) EXPECT_EQ(v.z(), 0.0);
+  EXPECT_NEAR(area(coff), 4.0, 1e-12);
+  // A cube with two triangles and five quads: 12 triangles with the cube's area (6 faces of 2x2).
+  const TriangleMesh cube = read_mesh(dir + "/cube_poly.off");
+  ASSERT_EQ(cube.faces.size(), 2u + 5u * 2u);
+  EXPECT_NEAR(area(cube), 24.0, 1e-12);
+  // ASCII PLY with normals, colours, ids, per-face colours and labels, and an edge element after faces.
+  const TriangleMesh tetra = read_mesh(dir + "/colored_tetra.ply");
+  EXPECT_EQ(tetra.faces.size(), 4u);
+  EXPECT_EQ(tetra.vertices.size(), 4u);
+}
+
+// ---- format variants, against the tetrahedron written by the test ----
+
+TEST(MeshReaders, PlyVariants) {
+  const TriangleMesh t = tet();
+  for (bool big : {false, true}) {
+    // double coordinates in the order z y x, extra scalar and list properties, uint16 counts,
+    // the face list named vertex_index, an element after the faces.
+    std::string s = std::string("ply\r\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                    " 1.0\r\ncomment test\r\nobj_info x\r\nelement vertex 4\r\nproperty double z\r\nproperty uchar "
+                    "red\r\nproperty double y\r\nproperty list uchar float uv\r\nproperty double x\r\nelement face "
+                    "4\r\nproperty list ushort uint vertex_index\r\nproperty int label\r\nelement edge 2\r\nproperty "
+                    "int a\r\nproperty int b\r\nend_header\r\n";
+    for (const Vec3& v : tet_v) {
+      put(s, v.z(), big);
+      put(s, uint8_t{7});
+      put(s, v.y(), big);
+      put(s, uint8_t{2});
+      put(s, 0.5f, big);
+      put(s, 0.25f, big);
+      put(s, v.x(), big);
+    }
+    for (const Tri& f : tet_f) {
+      put(s, uint16_t{3}, big);
+      for (int32_t i : f) put(s, uint32_t(i), big);
+      put(s, int32_t{-1}, big);
+    }
+    for (int k = 0; k < 4; ++k) put(s, int32_t{k}, big);
+    const TriangleMesh r = read_mesh_from_memory(s, big ? "be.ply" : "le.ply");
+    EXPECT_EQ(canonical(r), canonical(t)) << (big ? "big" : "little") << " endian";
+  }
+  // ASCII with a quad split into two triangles of the right winding.
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+  const TriangleMesh q = read_mesh_from_memory(ascii, "quad.ply");
+  ASSERT_EQ(q.faces.size(), 2u);
+  for (const Tri& f : q.faces) EXPECT_GT((q.vertices[f[1]] - q.vertices[f[0]]).cross(q.vertices[f[2]] - q.vertices[f[0]]).z(), 0);
+}
+
+TEST(MeshReaders, OffVariants) {
+  const std::vector<PosTri> want = canonical(tet());
+  // counts on the keyword's line, comments, trailing face colours
+  EXPECT_EQ(canonical(read_mesh_from_memory("OFF 4 4 0 # counts\n0 0 0\n1 0 0 # a comment\n0 1 0#no space\n0 0 1\n"
+                                            "3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "a.off")), want);
+  // no keyword; NOFF normals; 4OFF homogeneous coordinates (x/w)
+  EXPECT_EQ(canonical(read_mesh_from_memory("4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "b.off")), want);
+  EXPECT_EQ(canonical(read_mesh_from_memory("NOFF\n4 4 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0 0 1 0 0 1\n"
+                                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "c.off")), want);
+  EXPECT_EQ(canonical(read_mesh_from_memory("4OFF\n4 4 0\n0 0 0 2\n2 0 0 2\n0 4 0 4\n0 0 0.5 0.5\n"
+                                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "d.off")), want);
+  // A face of ten corners (assimp 5.2 dropped faces of more than nine): a regular decagon, 8 triangles.
+  std::ostringstream s;
+  s << "OFF\n10 1 0\n";
+  for (int k = 0; k < 10; ++k) s << std::cos(2 * std::numbers::pi * k / 10) << ' ' << std::sin(2 * std::numbers::pi * k / 10) << " 0\n";
+  s << "10 0 1 2 3 4 5 6 7 8 9\n";
+  EXPECT_EQ(read_mesh_from_memory(s.str(), "decagon.off").faces.size(), 8u);
+}
+
+TEST(MeshReaders, ObjVariants) {
+  const std::vector<PosTri> want = canonical(tet());
+  // v/vt/vn corners, negative (relative) indices, a continued line, comments, groups and materials.
+  const std::string obj =
+      "# tetrahedron\nmtllib t.mtl\no t\nv 0 0 0\nv 1 0 0 1.0\nv 0 1 0 0.5 0.5 0.5\nv 0 0 1\nvt 0 0\nvn 0 0 1\n"
+      "g side\nusemtl red\ns 1\nf 1/1/1 3/1/1 2/1/1\nf 1//1 2//1 4//1\nf -4/1 -1/1 \\\n -2/1\nf 2 3 4 # last\n";
+  EXPECT_EQ(canonical(read_mesh_from_memory(obj, "t.obj")), want);
+  // Same vertex listed twice: welded.
+  const TriangleMesh w = read_mesh_from_memory("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nf 1 2 3\nf 1 3 4\n", "w.obj");
+  EXPECT_EQ(w.vertices.size(), 3u);
+}
+
+TEST(MeshReaders, StlVariants) {
+  const TriangleMesh t = tet();
+  // Binary STL whose header starts with "solid" (as some exporters write): the exact size decides.
+  std::string bin = "solid but binary";
+  bin.resize(80, ' ');
+  put(bin, uint32_t(4));
+  for (const Tri& f : tet_f) {
+    for (int c = 0; c < 3; ++c) put(bin, 0.0f);
+    for (int32_t i : f)
+      for (int c = 0; c < 3; ++c) put(bin, float(tet_v[i][c]));
+    put(bin, uint16_t{0});
+  }
+  EXPECT_EQ(canonical(read_mesh_from_memory(bin, "solid_header.stl")), canonical(t));
+  // ... with two bytes of padding after the records (still binary: it holds control bytes), and cut.
+  EXPECT_EQ(canonical(read_mesh_from_memory(bin + "\n\n", "padded.stl")), canonical(t));
+  EXPECT_TRUE(has(error_of<IoError>(bin.substr(0, bin.size() - 10), "cut.stl"), "cut.stl: the binary STL header claims 4 triangles"));
+  // Two ASCII solids, upper-case keywords in the second.
+  std::ostringstream s;
+  for (int solid = 0; solid < 2; ++solid) {
+    s << (solid ? "SOLID B\n" : "solid a\n");
+    for (int k = solid * 2; k < solid * 2 + 2; ++k) {
+      s << (solid ? "FACET NORMAL 0 0 0\nOUTER LOOP\n" : "facet normal 0 0 0\n  outer loop\n");
+      for (int32_t i : tet_f[k]) s << (solid ? "VERTEX " : "    vertex ") << tet_v[i].x() << ' ' << tet_v[i].y() << ' ' << tet_v[i].z() << '\n';
+      s << (solid ? "ENDLOOP\nENDFACET\n" : "  endloop\nendfacet\n");
+    }
+    s << (solid ? "ENDSOLID B\n" : "endsolid a\n");
+  }
+  EXPECT_EQ(canonical(read_mesh_from_memory(s.str(), "two.stl")), canonical(t));
+}
+
+// ---- triangulation ----
+
+double shoelace(const std::vector<Vec3>& p) {
+  double a = 0;
+  for (size_t k = 0; k < p.size(); ++k) a += p[k].x() * p[(k + 1) % p.size()].y() - p[(k + 1) % p.size()].x() * p[k].y();
+  return 0.5 * a;
+}
+// Ray-crossing point-in-polygon test in the z = 0 plane.
+bool inside(const std::vector<Vec3>& poly, const Vec3& q) {
+  bool in = false;
+  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+    if ((poly[i].y() > q.y()) != (poly[j].y() > q.y()) &&
+        q.x() < (poly[j].x() - poly[i].x()) * (q.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) + poly[i].x())
+      in = !in;
+  return in;
+}
+
+std::string polygon_obj(const std::vector<Vec3>& poly) {
+  std::ostringstream s;
+  s.precision(17);
+  for (const Vec3& v : poly) s << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+  s << 'f';
+  for (size_t k = 1; k <= poly.size(); ++k) s << ' ' << k;
+  s << '\n';
+  return s.str();
+}
+
+void expect_tiles(const std::vector<Vec3>& poly, const std::string& what) {
+  const TriangleMesh m = read_mesh_from_memory(polygon_obj(poly), what + ".obj");
+  EXPECT_EQ(m.faces.size(), poly.size() - 2) << what;
+  double area = 0;
+  for (const Tri& f : m.faces) {
+    const Vec3 a = m.vertices[f[0]], b = m.vertices[f[1]], c = m.vertices[f[2]];
+    const double z = (b - a).cross(c - a).z();
+    EXPECT_GT(z, 0) << what << ": a triangle is flipped or flat";
+    area += 0.5 * z;
+    EXPECT_TRUE(inside(poly, (a + b + c) / 3)) << what << ": a triangle lies outside the polygon";
+  }
+  EXPECT_NEAR(area, shoelace(poly), 1e-9 * std::abs(shoelace(poly))) << what;
+}
+
+TEST(MeshReaders, TriangulatesConcavePolygonsInsideTheirOutline) {
+  // An arrowhead quad (reflex corner at index 2; a fan from corner 0 would cover the notch).
+  expect_tiles({Vec3(0, 0, 0), Vec3(2, 1, 0), Vec3(0.5, 1, 0), Vec3(0, 2, 0)}, "dart");
+  expect_tiles({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0.5, 1, 0), Vec3(0, 2, 0)}, "notch");
+  // A U of 8 corners and a 12-pointed star (24 corners, 12 reflex).
+  expect_tiles({Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(3, 3, 0), Vec3(2, 3, 0), Vec3(2, 1, 0), Vec3(1, 1, 0),
+                Vec3(1, 3, 0), Vec3(0, 3, 0)}, "u");
+  std::vector<Vec3> star;
+  for (int k = 0; k < 24; ++k) {
+    const double r = k % 2 ? 0.4 : 1.0, a = 2 * std::numbers::pi * k / 24;
+    star.emplace_back(r * std::cos(a), r * std::sin(a), 0);
+  }
+  expect_tiles(star, "star");
+  // A convex 1000-gon is fanned in linear time.
+  std::vector<Vec3> circle;
+  for (int k = 0; k < 1000; ++k) circle.emplace_back(std::cos(2 * std::numbers::pi * k / 1000), std::sin(2 * std::numbers::pi * k / 1000), 0);
+  expect_tiles(circle, "circle");
+  // A concave polygon of more corners than ear clipping is given: refused, with the limit.
+  std::vector<Vec3> big_star;
+  for (int k = 0; k < 66; ++k) {
+    const double r = k % 2 ? 0.4 : 1.0, a = 2 * std::numbers::pi * k / 66;
+    big_star.emplace_back(r * std::cos(a), r * std::sin(a), 0);
+  }
+  EXPECT_TRUE(has(error_of<InvalidInput>(polygon_obj(big_star), "big_star.obj"), "up to 64 corners"));
+}
+
+// ---- refusals ----
+
+TEST(MeshReaders, HeadersClaimingMoreThanTheFileHoldsAreRefused) {
+  // The OFF header of issue 16: assimp 5.2 allocated 11 GB for it.
+  const std::string off = "OFF\n4 4999999999 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 0 2 3";
+  EXPECT_TRUE(has(error_of<IoError>(off, "claims.off"), "claims 4 vertices and 4,999,999,999 faces, but only 47 bytes"));
+  const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 2147483647\nproperty float x\n"
+                          "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                          "end_header\n" + std::string(40, '\0');
+  EXPECT_TRUE(has(error_of<IoError>(ply, "claims.ply"), "claims 2,147,483,647 vertex elements of at least 12 bytes"));
+  std::string stl(80, ' ');
+  put(stl, uint32_t(0xFFFFFFFF));
+  stl += std::string(50, '\0');
+  EXPECT_TRUE(has(error_of<IoError>(stl, "claims.stl"), "claims 4,294,967,295 triangles"));
+  // A list count beyond the end of the file.
+  std::string list = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  list += std::string(36, '\0');
+  put(list, int32_t(1) << 30);
+  put(list, int32_t{0});
+  EXPECT_TRUE(has(error_of<IoError>(list, "list.ply"), "more than the rest of the file can hold"));
+}
+
+TEST(MeshReaders, BadIndicesAndShortFacetsNameTheLine) {
+  // assimp 5.2 clamped an out-of-range OFF index to the last vertex.
+  EXPECT_TRUE(has(error_of<IoError>("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "range.off"),
+                  "range.off:6: face 0 refers to vertex 7, the file has 3 vertices"));
+  EXPECT_TRUE(has(error_of<IoError>("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", "range.obj"),
+                  "range.obj:5: face refers to vertex 9, the file has 3 vertices"));
+  EXPECT_TRUE(has(error_of<IoError>("v 0 0 0\nf 0 1 1\n", "zero.obj"), "zero.obj:2:"));
+  EXPECT_TRUE(has(error_of<IoError>("v 0 0 0\nf -2 1 1\n", "back.obj"), "back.obj:2:"));
+  EXPECT_TRUE(has(error_of<IoError>("v 0 0\n", "short.obj"), "short.obj:1: vertex 0 has 2 coordinates"));
+  // assimp 5.2 dropped the fourth vertex of this facet without a word.
+  const std::string stl = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+                          "vertex 9 9 9\nendloop\nendfacet\nendsolid t\n";
+  EXPECT_TRUE(has(error_of<IoError>(stl, "four.stl"), "four.stl:7: facet 0 has more than 3 vertices"));
+  EXPECT_TRUE(has(error_of<IoError>("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nendloop\n", "two.stl"),
+                  "two.stl:5: facet 0 has 1 vertices, expected 3"));
+  EXPECT_TRUE(has(error_of<IoError>("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n", "cut.stl"), "truncated"));
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
+  EXPECT_TRUE(has(error_of<IoError>(ply, "range.ply"), "face 0 refers to vertex 3, the file has 3 vertices"));
+  EXPECT_TRUE(has(error_of<IoError>("ply\nformat ascii 1.0\nelement vertex 3\n", "noend.ply"), "no end_header"));
+  EXPECT_TRUE(has(error_of<InvalidInput>("OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n", "nan.off"),
+                  "vertex 2 has a non-finite coordinate"));
+  EXPECT_TRUE(has(error_of<InvalidInput>("v 0 0 0\nv 1 0 0\nl 1 2\n", "lines.obj"), "1 of 1 faces are points or line segments"));
+}
+
+TEST(MeshReaders, SizeLimitIsCheckedBeforeReading) {
+  TempDir dir;
+  const std::string path = dir.file("big.off");
+  test::write_text(path, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  MeshReadOptions small;
+  small.max_file_bytes = 16;
+  try {
+    read_mesh(path, small);
+    ADD_FAILURE() << "no exception";
+  } catch (const IoError& e) {
+    EXPECT_TRUE(has(e.what(), path + ": 36 bytes, more than the input limit of 16 bytes")) << e.what();
+  }
+  EXPECT_EQ(read_mesh(path).faces.size(), 1u);  // the default limit (1 GiB) lets it through
+  const std::vector<uint8_t> bytes = test::read_bytes(path);
+  EXPECT_EQ(canonical(read_mesh_from_memory(std::string(bytes.begin(), bytes.end()), "big.off")), canonical(read_mesh(path)));
+}
+
+}  // namespace
+}  // namespace hdm
