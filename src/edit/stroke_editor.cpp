@@ -1,0 +1,295 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/edit/stroke_editor.h>
+
+#include "../query/surface_eval.h"
+#include "edit_job.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdm {
+
+namespace {
+
+struct Event {
+  enum Kind : uint8_t { Begin, Sample, End, Undo, Redo } kind = Sample;
+  Brush brush;        // Begin
+  ToolSample sample;  // Sample
+  Vec3 axis = Vec3::UnitZ();  // Sample: the tool's axis (low-passed contact normal)
+};
+
+}  // namespace
+
+struct StrokeEditor::Impl {
+  Impl(const SlabModel& m, const StrokeEditorOptions& o)
+      : options(o),
+        scratch(m),
+        memory(m),
+        history(o.undo_cap_bytes, o.undo_max_strokes),
+        queue(static_cast<size_t>(std::max(16, o.queue_capacity))) {
+    memory.history = &history;
+  }
+  StrokeEditorOptions options;
+  EditScratch scratch;
+  detail::StrokeMemory memory;
+  UndoHistory history;
+  detail::EditJob job;
+  std::vector<Event> queue;
+  size_t head = 0, count = 0;
+  bool producer_open = false;  // begin_stroke called and end_stroke not yet
+  bool axis_valid = false;     // the producer's low-passed contact normal
+  Vec3 axis = Vec3::UnitZ();
+  double axis_time = 0;
+  // The stroke being processed.
+  bool open = false;
+  Brush brush;
+  bool has_last = false;
+  Vec3 last_point = Vec3::Zero();
+  double last_time = 0;
+  int64_t changed_total = 0;
+  std::vector<BrushSweep>* log = nullptr;
+  bool flush_requested = false;
+  int64_t normals_ns = 0;     // clock of the last normal refresh
+  double normals_time = 0;    // stroke time of the last normal refresh
+
+  // The pending normals are refreshed on request, before a command (stroke end, undo, a new
+  // stroke), when the stroke is over, or once normals_interval_s has passed since the last refresh.
+  bool normals_due() const noexcept {
+    if (scratch.changed_count == 0) return false;
+    if (flush_requested || !open) return true;
+    if (count > 0 && queue[head].kind != Event::Sample) return true;
+    // Stroke time (the servo's clock in the samples) or, when samples stop coming, the wall clock.
+    return last_time - normals_time >= options.normals_interval_s ||
+           double(now_ns() - normals_ns) >= options.normals_interval_s * 1e9;
+  }
+
+  Event& at(size_t k) noexcept { return queue[(head + k) % queue.size()]; }
+  bool push(const Event& e, bool replace_sample_when_full) noexcept {
+    if (count == queue.size()) {
+      // Full (the sweeps lag far behind): the newest position is replaced, so the next sweep
+      // spans both; a stroke command replaces it too (the stroke ends one tick earlier).
+      Event& last = at(count - 1);
+      if (!replace_sample_when_full || last.kind != Event::Sample) return false;
+      last = e;
+      return true;
+    }
+    at(count++) = e;
+    return true;
+  }
+  void pop() noexcept {
+    head = (head + 1) % queue.size();
+    --count;
+  }
+
+  // Where the tool is for this sample: Carve the sphere's centre, Add the sphere whose top stands
+  // `height` above the stroke's starting surface, the others the surface contact point.
+  Vec3 tool_point(const SlabModel& m, const Event& e) const noexcept {
+    const ToolSample& t = e.sample;
+    const Contact& c = t.contact;
+    switch (brush.tool) {
+      case BrushTool::Carve: return t.hip + e.axis * (brush.radius + std::max(brush.resilience, 0.0));
+      case BrushTool::Add: {
+        // The starting surface under the contact: the stroke's first-touch displacements,
+        // interpolated over the grid cell evaluate_surface uses.
+        const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
+        auto base = [&](int32_t id) {
+          return memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta) : double(m.displacement[id]);
+        };
+        const double delta = cell.wa * base(cell.a) + cell.wb * base(cell.b) + cell.wd * base(cell.d);
+        const Vec3 point = c.surface_point + (delta - c.delta) * c.ray;  // same projection line
+        return point + e.axis * (brush.height - brush.radius);
+      }
+      default: return c.surface_point;
+    }
+  }
+
+  double pressure(const ToolSample& t) const noexcept {
+    const double full = brush.pressure_force_n > 0 ? brush.pressure_force_n : 1.0;
+    return paint_pressure(t.normal_force_n, 0.1 * full, full);
+  }
+
+  // Starts the sweep from the last point to the furthest queued sample that keeps every sample in
+  // between within the merge tolerance of the segment; pops the samples used.
+  void start_sweep(const SlabModel& m) noexcept {
+    const double tol = options.merge_tolerance * brush.radius;
+    const Vec3 first = tool_point(m, at(0));
+    const Vec3 from = has_last ? last_point : first;
+    size_t use = 1;
+    Vec3 to = first;
+    constexpr size_t kMaxMerge = 64;
+    for (size_t k = 1; k < count && k < kMaxMerge && at(k).kind == Event::Sample; ++k) {
+      const Vec3 cand = tool_point(m, at(k));
+      const Vec3 u = cand - from;
+      const double uu = u.squaredNorm();
+      bool ok = true;
+      for (size_t j = 0; j < k && ok; ++j) {
+        const Vec3 p = j == 0 ? first : tool_point(m, at(j));
+        const double s = uu > 0 ? std::clamp((p - from).dot(u) / uu, 0.0, 1.0) : 0.0;
+        ok = (p - from - s * u).norm() <= tol;
+      }
+      if (!ok) break;
+      use = k + 1;
+      to = cand;
+    }
+    const ToolSample& end = at(use - 1).sample;
+    BrushSweep sw;
+    sw.brush = brush;
+    sw.from = from;
+    sw.to = to;
+    sw.plane_point = end.contact.surface_point;
+    sw.plane_normal = at(use - 1).axis;
+    sw.seed_slab = end.contact.slab;
+    sw.seed_bary = end.contact.coords.bary;
+    sw.pressure = pressure(end);
+    sw.dt = has_last ? std::max(0.0, end.time_s - last_time) : 0.0;
+    has_last = true;
+    last_point = to;
+    last_time = end.time_s;
+    for (size_t k = 0; k < use; ++k) pop();
+    if (log && log->size() < log->capacity()) log->push_back(sw);
+    job.start_sweep(m, scratch, sw, &memory);
+  }
+
+  void close_stroke() noexcept {
+    if (!open) return;
+    history.end_stroke();
+    open = false;
+  }
+};
+
+StrokeEditor::StrokeEditor(const SlabModel& model, const StrokeEditorOptions& options)
+    : impl_(std::make_unique<Impl>(model, options)) {}
+StrokeEditor::~StrokeEditor() = default;
+
+void StrokeEditor::begin_stroke(const Brush& brush) noexcept {
+  Event e;
+  e.kind = Event::Begin;
+  e.brush = brush;
+  impl_->producer_open = impl_->push(e, true) || impl_->producer_open;
+  impl_->axis_valid = false;
+}
+
+void StrokeEditor::add_sample(const ToolSample& sample) noexcept {
+  if (!impl_->producer_open || !sample.contact.in_shell() || !sample.hip.allFinite() ||
+      !sample.contact.surface_point.allFinite() || !sample.contact.normal.allFinite())
+    return;
+  Impl& s = *impl_;
+  const Vec3& n = sample.contact.normal;
+  if (!s.axis_valid) {
+    s.axis = n;
+    s.axis_valid = true;
+  } else {
+    const double dt = std::max(0.0, sample.time_s - s.axis_time);
+    const double a = s.options.axis_time_s > 0 ? 1 - std::exp(-dt / s.options.axis_time_s) : 1.0;
+    const Vec3 next = s.axis + a * (n - s.axis);
+    if (next.squaredNorm() > 1e-24) s.axis = next.normalized();
+  }
+  s.axis_time = sample.time_s;
+  Event e;
+  e.kind = Event::Sample;
+  e.sample = sample;
+  e.axis = s.axis;
+  s.push(e, true);
+}
+
+void StrokeEditor::end_stroke() noexcept {
+  if (!impl_->producer_open) return;
+  Event e;
+  e.kind = Event::End;
+  if (impl_->push(e, true)) impl_->producer_open = false;
+}
+
+bool StrokeEditor::undo() noexcept {
+  Event e;
+  e.kind = Event::Undo;
+  return impl_->push(e, false);
+}
+
+bool StrokeEditor::redo() noexcept {
+  Event e;
+  e.kind = Event::Redo;
+  return impl_->push(e, false);
+}
+
+EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
+  Impl& s = *impl_;
+  EditWork w;
+  detail::Deadline d(deadline_ns);
+  for (;;) {
+    if (s.job.active()) {
+      if (!s.job.run(m, s.scratch, d)) {
+        w.idle = false;
+        return w;
+      }
+      ++w.sweeps;
+      w.visited += s.job.result.visited;
+      w.changed += s.job.result.changed;
+      s.changed_total += s.job.result.changed;
+      continue;
+    }
+    // Normals: in batches, and before anything but the next sweep of the stroke.
+    if (s.normals_due()) {
+      if (now_ns() >= deadline_ns) {
+        w.idle = false;
+        return w;
+      }
+      s.job.start_normals(s.scratch);
+      s.normals_ns = now_ns();
+      s.normals_time = s.last_time;
+      s.flush_requested = false;
+      continue;
+    }
+    if (s.count == 0) break;
+    if (now_ns() >= deadline_ns) {  // no new sweep past the deadline
+      w.idle = false;
+      return w;
+    }
+    Event& e = s.at(0);
+    switch (e.kind) {
+      case Event::Begin:
+        s.close_stroke();
+        s.brush = e.brush;
+        s.memory.next_stroke();
+        s.history.begin_stroke();
+        s.open = true;
+        s.has_last = false;
+        s.pop();
+        break;
+      case Event::End:
+        s.close_stroke();
+        s.pop();
+        break;
+      case Event::Undo:
+      case Event::Redo: {
+        const bool redo = e.kind == Event::Redo;
+        s.close_stroke();  // an undo while the button is held ends that stroke first
+        s.pop();
+        s.job.start_history(s.scratch, s.history, redo);
+        break;
+      }
+      case Event::Sample:
+        if (!s.open) {
+          s.pop();
+          break;
+        }
+        s.start_sweep(m);
+        break;
+    }
+  }
+  w.idle = !s.job.active() && s.count == 0 && s.scratch.changed_count == 0;
+  return w;
+}
+
+void StrokeEditor::record_sweeps(std::vector<BrushSweep>* log) noexcept { impl_->log = log; }
+bool StrokeEditor::between_sweeps() const noexcept { return !impl_->job.active() && impl_->scratch.changed_count == 0; }
+bool StrokeEditor::idle() const noexcept {
+  return !impl_->job.active() && impl_->count == 0 && impl_->scratch.changed_count == 0;
+}
+void StrokeEditor::flush() noexcept { impl_->flush_requested = true; }
+bool StrokeEditor::in_stroke() const noexcept { return impl_->open || impl_->producer_open; }
+EditScratch& StrokeEditor::scratch() noexcept { return impl_->scratch; }
+const UndoHistory& StrokeEditor::history() const noexcept { return impl_->history; }
+int64_t StrokeEditor::total_changed() const noexcept { return impl_->changed_total; }
+int64_t StrokeEditor::now_ns() noexcept { return detail::Deadline::now_ns(); }
+
+}  // namespace hdm
