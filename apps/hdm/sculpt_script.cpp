@@ -23,7 +23,42 @@ Tool tool_named(const std::string& s, const std::string& where) {
   if (s == "carve") return Tool::Carve;
   if (s == "add") return Tool::Add;
   if (s == "paint") return Tool::Paint;
-  throw InvalidInput(where + ": unknown tool '" + s + "' (probe, carve, add, paint)");
+  if (s == "smooth") return Tool::Smooth;
+  if (s == "flatten") return Tool::Flatten;
+  throw InvalidInput(where + ": unknown tool '" + s + "' (probe, carve, add, paint, smooth, flatten)");
+}
+
+// The brush fields of a stroke (strength, falloff, paint field and value, pressure).
+void read_brush_fields(const nlohmann::json& js, const std::string& where, Stroke& st) {
+  st.strength = js.value("strength", st.strength);
+  st.pressure_force_n = js.value("pressure_force_n", st.pressure_force_n);
+  const bool boolean = st.tool == Tool::Carve || st.tool == Tool::Add;
+  try {
+    st.falloff = parse_falloff(js.value("falloff", boolean ? "constant" : "linear"));
+    st.field = parse_brush_field(js.value("field", "colour"));
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(where + ": " + e.what());
+  }
+  st.value = js.value("value", st.value);
+  if (!(st.strength >= 0 && st.strength <= 1) || !(st.pressure_force_n > 0) || !std::isfinite(st.value))
+    throw InvalidInput(where + ": strength must be in [0, 1], pressure_force_n > 0 and value finite");
+}
+
+// The under-layer: {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness"}.
+ScriptLayer read_layer(const nlohmann::json& j, const std::string& where) {
+  ScriptLayer l;
+  l.present = true;
+  l.thickness_mm = j.value("thickness_mm", l.thickness_mm);
+  if (j.contains("colour")) l.material.colour = vec3(j["colour"], where + ".colour").cast<float>();
+  l.material.stiffness_scale = j.value("stiffness", l.material.stiffness_scale);
+  l.material.friction_static = j.value("friction_static", l.material.friction_static);
+  l.material.friction_dynamic = j.value("friction_dynamic", l.material.friction_dynamic);
+  l.material.roughness = j.value("roughness", l.material.roughness);
+  const UnderLayer& m = l.material;
+  if (!(l.thickness_mm >= 0) || !(m.stiffness_scale >= 0 && m.stiffness_scale <= 1) || !(m.friction_static >= 0) ||
+      !(m.friction_dynamic >= 0) || !(m.roughness >= 0 && m.roughness <= 1))
+    throw InvalidInput(where + ": thickness_mm and frictions must be >= 0, stiffness and roughness in [0, 1]");
+  return l;
 }
 
 // Surface point and normal under normalised box point u: march from the box point towards the box
@@ -69,12 +104,20 @@ Script read_script(const std::string& path) {
     s.force.stiffness = j.value("stiffness_n_per_m", s.force.stiffness);
     s.force.damping = j.value("damping_ns_per_m", s.force.damping);
     s.force.max_force = j.value("max_force_n", s.force.max_force);
+    if (j.contains("under_layer")) s.layer = read_layer(j["under_layer"], path + ": under_layer");
     if (!j.contains("strokes") || !j["strokes"].is_array() || j["strokes"].empty())
       throw InvalidInput(path + ": 'strokes' must be a non-empty array");
     for (size_t k = 0; k < j["strokes"].size(); ++k) {
       const auto& js = j["strokes"][k];
       const std::string where = path + ": strokes[" + std::to_string(k) + "]";
       Stroke st;
+      if (js.is_object() && (js.contains("undo") || js.contains("redo"))) {  // {"undo": n} / {"redo": n}
+        st.tool = js.contains("undo") ? Tool::Undo : Tool::Redo;
+        st.count = js.value(js.contains("undo") ? "undo" : "redo", 1);
+        if (st.count < 1 || st.count > 1000) throw InvalidInput(where + ": undo / redo count must be in [1, 1000]");
+        s.strokes.push_back(st);
+        continue;
+      }
       st.tool = tool_named(js.value("tool", "probe"), where + ".tool");
       st.from = vec3(js.at("from"), where + ".from");
       st.to = vec3(js.at("to"), where + ".to");
@@ -84,6 +127,7 @@ Script read_script(const std::string& path) {
       st.resilience_mm = js.value("resilience_mm", st.resilience_mm);
       st.height_mm = js.value("height_mm", st.height_mm);
       if (js.contains("colour")) st.colour = vec3(js["colour"], where + ".colour").cast<float>();
+      read_brush_fields(js, where, st);
       if (!(st.radius_mm > 0) || !(st.speed_mm_s > 0) || !(st.depth_mm >= 0))
         throw InvalidInput(where + ": radius_mm and speed_mm_s must be > 0, depth_mm >= 0");
       s.strokes.push_back(st);
@@ -94,6 +138,27 @@ Script read_script(const std::string& path) {
   if (!(s.workspace_m > 0) || !(s.force.stiffness > 0) || !(s.force.max_force > 0))
     throw InvalidInput(path + ": workspace_m, stiffness_n_per_m and max_force_n must be > 0");
   return s;
+}
+
+Brush stroke_brush(const Stroke& s, double mm) {
+  Brush b;
+  switch (s.tool) {
+    case Tool::Carve: b.tool = BrushTool::Carve; break;
+    case Tool::Add: b.tool = BrushTool::Add; break;
+    case Tool::Smooth: b.tool = BrushTool::Smooth; break;
+    case Tool::Flatten: b.tool = BrushTool::Flatten; break;
+    default: b.tool = BrushTool::Paint; break;
+  }
+  b.radius = s.radius_mm * mm;
+  b.strength = s.strength;
+  b.falloff = s.falloff;
+  b.resilience = s.resilience_mm * mm;
+  b.height = s.height_mm * mm;
+  b.field = s.field;
+  b.colour = s.colour;
+  b.value = s.field == BrushField::LayerThickness ? static_cast<float>(s.value * mm) : s.value;
+  b.pressure_force_n = s.pressure_force_n;
+  return b;
 }
 
 Trajectory build_trajectory(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
@@ -116,6 +181,13 @@ Trajectory build_trajectory(const Script& script, const SlabModel& m, const Slab
   tr.stroke.push_back(-1);
   for (size_t k = 0; k < script.strokes.size(); ++k) {
     const Stroke& st = script.strokes[k];
+    if (st.tool == Tool::Undo || st.tool == Tool::Redo) {  // a pause above the model, the command at its start
+      for (int c = 0; c < st.count; ++c) {
+        tr.commands.emplace_back(static_cast<int64_t>(tr.position.size()), static_cast<int16_t>(k));
+        move(here, here, 0.05, Tool::None, -1);
+      }
+      continue;
+    }
     const double len_u = (st.to - st.from).norm();
     // Sample the stroke about every 0.5 mm of device space.
     const double len_mm = len_u * (box.max - box.min).norm() / ws.scale * 1000;
