@@ -118,7 +118,7 @@ void stroke(benchmark::State& state, Tool tool) {
     t.hip = path.hip[k];
     t.normal_force_n = 0.55;  // half pressure
     t.time_s = 1e-3 * double(k);
-    editor.add_sample(t);
+    editor.add_sample(m, t);
     const EditWork w = editor.work(m, INT64_MAX);
     visited += w.visited, changed += w.changed;
     ++k;

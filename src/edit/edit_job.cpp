@@ -482,7 +482,7 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   DirtyMarker dirty_t{s, m.texels.n * m.texels.n};
   DirtyMarker dirty_s{s, m.samples.n * m.samples.n};
   while (rec_pos_ < rec_end_) {
-    if (d.expired()) return false;
+    if (d.expired(2)) return false;
     UndoRecord& r = history_->at(rec_pos_++);
     if (r.index >= 0) {
       const int32_t id = r.index;
@@ -525,7 +525,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   if (phase_ == Phase::Positions) {
     LineEvaluator line_of{m, s.grid_weights.data()};
     while (cursor_ < s.changed_count) {
-      if (d.expired()) return false;
+      if (d.expired(kChunk)) return false;
       const int32_t end = std::min(s.changed_count, cursor_ + kChunk);
       for (; cursor_ < end; ++cursor_) {
         // Positions first (Smooth and Flatten leave them to this refresh; the same bits as
@@ -542,7 +542,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   if (phase_ == Phase::Ring) {
     DirtyMarker dirty{s, L.n * L.n};
     while (cursor_ < s.changed_count) {
-      if (d.expired()) return false;
+      if (d.expired(kChunk)) return false;
       const int32_t end = std::min(s.changed_count, cursor_ + kChunk);
       for (; cursor_ < end; ++cursor_) {
         const int32_t before = ring_count_;
@@ -555,7 +555,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   }
   if (phase_ == Phase::Normals) {
     while (cursor_ < ring_count_) {
-      if (d.expired()) return false;
+      if (d.expired(8 * kChunk)) return false;  // a normal costs several flood visits
       const int32_t n = std::min(kChunk, ring_count_ - cursor_);
       update_normals(m, s.ring.data() + cursor_, static_cast<size_t>(n), s.faces, false);  // also the slab-major copy
       cursor_ += n;
@@ -568,7 +568,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     // The force-shading normals read the one-ring of normals: the ring and its neighbours change,
     // each listed once (the flood is done, so its queue is free to hold them).
     while (cursor_ < ring_count_) {
-      if (d.expired()) return false;
+      if (d.expired(kChunk)) return false;
       const int32_t end = std::min(ring_count_, cursor_ + kChunk);
       for (; cursor_ < end; ++cursor_)
         wide_count_ = add_with_neighbours(L, s.ring[cursor_], s.sample_stamp, stamp_, s.queue.data(), wide_count_);
@@ -577,7 +577,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     cursor_ = 0;
   }
   while (cursor_ < wide_count_) {
-    if (d.expired()) return false;
+    if (d.expired(4 * kChunk)) return false;
     const int32_t n = std::min(kChunk * 2, wide_count_ - cursor_);
     update_haptic_normals(m, s.queue.data() + cursor_, static_cast<size_t>(n), false);
     cursor_ += n;

@@ -42,9 +42,10 @@ class Deadline {
  public:
   explicit Deadline(int64_t end_ns) noexcept : end_ns_(end_ns) {}
   static Deadline never() noexcept { return Deadline(INT64_MAX); }
-  bool expired() noexcept {
+  // @p work: elements about to be processed (the clock is read once about every kEvery of them).
+  bool expired(int work = 1) noexcept {
     if (end_ns_ == INT64_MAX) return false;
-    if (--countdown_ > 0) return false;
+    if ((countdown_ -= work) > 0) return false;
     countdown_ = kEvery;
     return now_ns() >= end_ns_;
   }

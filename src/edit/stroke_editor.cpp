@@ -103,6 +103,29 @@ struct StrokeEditor::Impl {
     }
   }
 
+  // The starting surface's normal around contact c: the area-weighted normal of the grid triangles
+  // around the three corners of c's cell, at the displacements the stroke found there.
+  Vec3 base_normal(const SlabModel& m, const Contact& c) const noexcept {
+    const SampleLayout& L = m.samples;
+    const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
+    auto base_point = [&](int32_t id) {
+      const double delta = memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
+                                                                : double(m.displacement[id]);
+      Vec3 p0, p1;
+      projection_line(m, L.home_slab[id], L.home_index[id], p0, p1);
+      return Vec3(p0 + delta * (p1 - p0));
+    };
+    Vec3 sum = Vec3::Zero();
+    for (int32_t id : {cell.a, cell.b, cell.d})
+      for (int32_t e = L.triangle_offsets[id]; e < L.triangle_offsets[id + 1]; ++e) {
+        const Tri& t = L.triangles[L.incident_triangles[e]];
+        const Vec3 a = base_point(t[0]);
+        sum += (base_point(t[1]) - a).cross(base_point(t[2]) - a);
+      }
+    const double len = sum.norm();
+    return len > 0 ? Vec3(sum / len) : c.normal;
+  }
+
   double pressure(const ToolSample& t) const noexcept {
     const double full = brush.pressure_force_n > 0 ? brush.pressure_force_n : 1.0;
     return paint_pressure(t.normal_force_n, 0.1 * full, full);
@@ -169,12 +192,12 @@ void StrokeEditor::begin_stroke(const Brush& brush) noexcept {
   impl_->axis_valid = false;
 }
 
-void StrokeEditor::add_sample(const ToolSample& sample) noexcept {
+void StrokeEditor::add_sample(const SlabModel& model, const ToolSample& sample) noexcept {
   if (!impl_->producer_open || !sample.contact.in_shell() || !sample.hip.allFinite() ||
       !sample.contact.surface_point.allFinite() || !sample.contact.normal.allFinite())
     return;
   Impl& s = *impl_;
-  const Vec3& n = sample.contact.normal;
+  const Vec3 n = s.base_normal(model, sample.contact);
   if (!s.axis_valid) {
     s.axis = n;
     s.axis_valid = true;
@@ -219,6 +242,7 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
     if (s.job.active()) {
       if (!s.job.run(m, s.scratch, d)) {
         w.idle = false;
+        w.deadline = true;
         return w;
       }
       ++w.sweeps;
@@ -231,6 +255,7 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
     if (s.normals_due()) {
       if (now_ns() >= deadline_ns) {
         w.idle = false;
+        w.deadline = true;
         return w;
       }
       s.job.start_normals(s.scratch);
@@ -242,6 +267,7 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
     if (s.count == 0) break;
     if (now_ns() >= deadline_ns) {  // no new sweep past the deadline
       w.idle = false;
+      w.deadline = true;
       return w;
     }
     Event& e = s.at(0);

@@ -139,20 +139,22 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     ts.hip = s.ws.to_model(r.device.position);
     ts.normal_force_n = r.out.normal_force;
     ts.time_s = t.time_s;
-    s.editor.add_sample(ts);
+    s.editor.add_sample(s.model, ts);
   }
 
   // Edits and publication within the budget.
   const int64_t deadline = start_ns + static_cast<int64_t>(s.options.edit_budget_s * 1e9);
+  bool carried = false;
   if (!s.publishing) {
     const EditWork w = s.editor.work(s.model, deadline);
     r.sweeps = w.sweeps;
     r.changed = w.changed;
     s.stats.sweeps += w.sweeps;
     s.stats.changed += w.changed;
+    carried = w.deadline;
   }
   r.published = s.publish(deadline, t.time_s);
-  r.edit_pending = s.publishing || !s.editor.idle();
+  r.edit_pending = carried || s.publishing;
   s.stats.carried_ticks += r.edit_pending;
   s.stats.max_edit_ns = std::max(s.stats.max_edit_ns, double(StrokeEditor::now_ns() - start_ns));
   return r;

@@ -22,10 +22,7 @@ struct StrokeEditorOptions {
   /// Consecutive tool positions are merged into one sweep while none of them is farther than
   /// this fraction of the brush radius from the straight segment between the ends.
   double merge_tolerance = 0.02;
-  /// Time constant of the tool's axis [s]: the direction along which Carve and Add place their
-  /// sphere (and Flatten its plane) follows the contact normal through a first-order low-pass.
-  /// The raw normal swings whenever the proxy rides a wall the stroke itself cut; following it
-  /// made the tool dig sideways and the proxy stick and slip along the groove.
+  /// Time constant of an optional first-order low-pass on the tool's axis [s] (0: none).
   double axis_time_s = 0.0;
   /// Normals are refreshed once per this much stroke time [s] (and before any other command, and
   /// on flush()), not after every sweep: a sample under the moving tool changes on many
@@ -48,12 +45,19 @@ struct EditWork {
   int32_t visited = 0;      ///< samples or texels visited
   int32_t changed = 0;      ///< samples or texels changed
   bool idle = true;         ///< nothing queued and no sweep in progress after the call
+  bool deadline = false;    ///< stopped at the deadline with work left (it carries over to the next call)
 };
 
 /// Applies strokes to one model, from the thread that owns the model, within a time budget.
 ///
 /// A stroke is begin_stroke(brush) … add_sample() per tick … end_stroke() (button down to button
-/// up). Normals of the changed samples are refreshed in batches (StrokeEditorOptions::normals_interval_s). Each sweep covers the path from the last position swept to the newest one (positions that
+/// up). Normals of the changed samples are refreshed in batches (StrokeEditorOptions::normals_interval_s).
+/// The tool's axis (where Carve puts its sphere above the HIP, Add its sphere on the surface, Flatten
+/// its plane) is the normal of the stroke's starting surface around the contact: the area-weighted
+/// normal of the grid triangles around the contact's cell, at the displacements the stroke found
+/// there. The contact normal itself turns as soon as the proxy rides a wall the stroke cut, and a
+/// sphere placed along it digs sideways and deeper on every tick (the groove wandered and sank 3 mm
+/// over a 40 mm stroke in closed loop). Each sweep covers the path from the last position swept to the newest one (positions that
 /// arrived while the previous sweep was running are merged into one segment while they stay within
 /// StrokeEditorOptions::merge_tolerance of it, so the swept volume follows the hand). The tool's
 /// axis is the contact normal low-passed over StrokeEditorOptions::axis_time_s. Carve and
@@ -81,7 +85,10 @@ class StrokeEditor {
   /// @brief Adds the tool position of this tick to the open stroke. Queued: the sweep happens in
   /// work(). Ignored without an open stroke or when @p sample's contact is not in a slab. When the
   /// queue is full the newest position replaces the last queued one (the sweep then spans both).
-  void add_sample(const ToolSample& sample) noexcept;
+  /// Reads @p model (the one work() edits) for the tool's axis: the normal of the surface as it
+  /// was when the stroke began, around the contact (see ToolSample).
+  /// @note O(one-ring of the contact's grid cell): about 20 grid triangles.
+  void add_sample(const SlabModel& model, const ToolSample& sample) noexcept;
   /// @brief Ends the open stroke (its undo record closes once its sweeps are done). Queued.
   void end_stroke() noexcept;
   /// @brief Queues an undo of the last stroke (after any queued work). Returns false when the

@@ -54,7 +54,7 @@ struct SessionTick {
   int32_t sweeps = 0;                 ///< sweeps finished in this tick
   int32_t changed = 0;                ///< samples / texels changed in this tick
   int32_t published = 0;              ///< slabs published in this tick
-  bool edit_pending = false;          ///< work carried over to the next tick
+  bool edit_pending = false;          ///< the budget ran out with work left: it carries over to the next tick
 };
 
 /// Counters of a session.
@@ -63,7 +63,7 @@ struct SessionStats {
   int64_t publications = 0;           ///< epochs committed
   int64_t slabs_published = 0;        ///< slab versions copied
   int64_t publish_deferred = 0;       ///< ticks a publication waited for spare versions (readers held old epochs)
-  int64_t carried_ticks = 0;          ///< ticks that ended with work left for the next
+  int64_t carried_ticks = 0;          ///< ticks whose budget ran out with work left for the next
   double max_edit_ns = 0;             ///< longest edit + publish work in one tick [ns]
 };
 
