@@ -109,16 +109,19 @@ nlohmann::json stats_json(const LatencyStats& s) { return {{"median", s.median},
 // The carve (or add) sweeps of the session against the exact boolean of the input with them.
 nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact, const std::vector<BrushSweep>& log,
                              BrushTool tool, double spacing) {
+  // Every carve and add shapes the exact solid; the band measured is around this tool's sweeps.
   std::vector<ToolCapsule> tools;
   double radius = 0;
+  int64_t measured = 0;
   for (const BrushSweep& sw : log)
-    if (sw.brush.tool == tool) {
-      tools.push_back({sw.from, sw.to, sw.brush.radius, tool == BrushTool::Add});
-      radius = std::max(radius, sw.brush.radius);
+    if (sw.brush.tool == BrushTool::Carve || sw.brush.tool == BrushTool::Add) {
+      const bool mine = sw.brush.tool == tool;
+      tools.push_back({sw.from, sw.to, sw.brush.radius, sw.brush.tool == BrushTool::Add, mine});
+      if (mine) radius = std::max(radius, sw.brush.radius), ++measured;
     }
-  if (tools.empty()) return nullptr;
+  if (measured == 0) return nullptr;
   const EditFidelity f = measure_edit_fidelity(model, exact, tools, radius, spacing);
-  return {{"sweeps", tools.size()},         {"rms_pct", f.rms_pct},
+  return {{"sweeps", measured},             {"rms_pct", f.rms_pct},
           {"max_pct", f.max_pct},           {"rms_back_pct", f.rms_back_pct},
           {"max_back_pct", f.max_back_pct}, {"points", f.points},
           {"back_points", f.back_points}};
@@ -164,6 +167,8 @@ void run_sculpt(const SculptArgs& a) {
   SimulatedDeviceOptions dopt;
   dopt.rate_hz = a.rate;
   dopt.spec.max_force_n = script.force.max_force;
+  dopt.hand_stiffness = script.hand_stiffness;
+  dopt.hand_damping = script.hand_damping;
   SimulatedDevice device(dopt, path.position, path.position.front(), buttons);
 
   Run run;

@@ -101,6 +101,8 @@ Script read_script(const std::string& path) {
   try {
     s.name = j.value("name", path);
     s.workspace_m = j.value("workspace_m", 0.16);
+    s.hand_stiffness = j.value("hand_stiffness_n_per_m", s.hand_stiffness);
+    s.hand_damping = j.value("hand_damping_ns_per_m", s.hand_damping);
     s.force.stiffness = j.value("stiffness_n_per_m", s.force.stiffness);
     s.force.damping = j.value("damping_ns_per_m", s.force.damping);
     s.force.max_force = j.value("max_force_n", s.force.max_force);
@@ -135,8 +137,10 @@ Script read_script(const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw InvalidInput(path + ": " + e.what());
   }
-  if (!(s.workspace_m > 0) || !(s.force.stiffness > 0) || !(s.force.max_force > 0))
-    throw InvalidInput(path + ": workspace_m, stiffness_n_per_m and max_force_n must be > 0");
+  if (!(s.workspace_m > 0) || !(s.force.stiffness > 0) || !(s.force.max_force > 0) || !(s.hand_stiffness > 0) ||
+      !(s.hand_damping >= 0))
+    throw InvalidInput(path + ": workspace_m, stiffness_n_per_m, max_force_n and hand_stiffness_n_per_m must be > 0, "
+                              "hand_damping_ns_per_m >= 0");
   return s;
 }
 

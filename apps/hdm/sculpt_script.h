@@ -43,6 +43,8 @@ struct Script {
   std::string name;
   double workspace_m = 0.16;
   ForceParams force;
+  double hand_stiffness = 200;  ///< the simulated hand's grip [N/m] (SimulatedDeviceOptions::hand_stiffness)
+  double hand_damping = 2;      ///< [N·s/m]
   ScriptLayer layer;
   std::vector<Stroke> strokes;
 };

@@ -76,11 +76,11 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
   const double diag = f.diagonal, near_radius = 1e-2 * diag, on_surface = 1e-7 * diag;
   const ToolGrid grid(tools, margin);
 
-  // Within the measured band: some tool's segment is within radius + margin.
+  // Within the measured band: some measured tool's segment is within radius + margin.
   auto in_band = [&](const Vec3& p, const std::vector<int32_t>* list) {
     if (!list) return false;
     for (int32_t i : *list)
-      if (segment_distance(p, tools[i]) <= tools[i].radius + margin) return true;
+      if (tools[i].measured && segment_distance(p, tools[i]) <= tools[i].radius + margin) return true;
     return false;
   };
   // Signed distance of B: the input's (negative inside), then the tools in order.
@@ -139,6 +139,7 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
   double since = 0;  // path length since the last circle
   for (size_t i = 0; i < tools.size(); ++i) {
     const ToolCapsule& t = tools[i];
+    if (!t.measured) continue;
     const bool starts = i == 0 || (tools[i - 1].b - t.a).norm() > 1e-9 * diag || tools[i - 1].radius != t.radius;
     const bool ends = i + 1 == tools.size() || (tools[i + 1].a - t.b).norm() > 1e-9 * diag || tools[i + 1].radius != t.radius;
     if (starts) sphere(t.a, t.radius), since = 0;

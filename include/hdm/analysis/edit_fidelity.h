@@ -17,7 +17,8 @@ namespace hdm {
 struct ToolCapsule {
   Vec3 a = Vec3::Zero(), b = Vec3::Zero();
   double radius = 0;
-  bool add = false;  ///< false: material removed (carve); true: material added (union)
+  bool add = false;      ///< false: material removed (carve); true: material added (union)
+  bool measured = true;  ///< the band measured is around the measured tools (all tools shape the exact solid)
 };
 
 /// Distances between the edited model's surface and the exact edited solid, near the tools.
@@ -38,7 +39,7 @@ struct EditFidelity {
 /// ray parity) with the analytic capsule distances (max(d, −c) for carve, min(d, c) for add). It is
 /// the exact distance to B's surface wherever the nearest feature is a face of B and a lower bound
 /// near B's concave creases. Measured, in both directions, only within `margin` beyond the tools
-/// (where the edit could change anything):
+/// (where the edit could change anything), around the tools marked `measured`:
 /// - model → exact: every sample and grid-triangle centroid of the displaced surface within
 ///   radius + margin of a tool segment, |signed distance of B| there;
 /// - exact → model: points of B's surface there (the tools' walls inside the input for carve,

@@ -129,9 +129,10 @@ EditResult paint(SlabModel& model, EditScratch& scratch, const Contact& contact,
 /// The same ramp maps a normal force to pressure (hdm::StrokeEditor: d0 = 0.1·F1, d1 = F1).
 double paint_pressure(double depth, double d0, double d1) noexcept;
 
-/// @brief Puts the under-layer @p thickness below the current surface along every projection
-/// line (SlabModel::layer_displacement = clamp(δ − thickness/|P1 − P0|, 0, 1)) and sets its
-/// material: the two-layer set-up of paper §2 (e.g. enamel over dentin).
+/// @brief Puts the under-layer @p thickness below the current surface, measured along the surface
+/// normal (SlabModel::layer_displacement = clamp(δ − thickness/(|P1 − P0|·cos θ), 0, 1), θ the
+/// angle between the projection line and the normal, cos θ at least 0.2), and sets its material:
+/// the two-layer set-up of paper §2 (e.g. enamel over dentin).
 /// @param thickness  [model units], >= 0.
 /// @note noexcept, no allocation, O(#samples): a set-up step (not for the servo tick). Derived
 ///       data need no refresh (the layer is read directly by the proxy and the renderer).
