@@ -107,18 +107,20 @@ void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
 nlohmann::json stats_json(const LatencyStats& s) { return {{"median", s.median}, {"p99", s.p99}, {"max", s.max}}; }
 
 // The carve (or add) sweeps of the session against the exact boolean of the input with them.
-nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact, const std::vector<BrushSweep>& log,
-                             BrushTool tool, double spacing) {
+nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact,
+                             const std::vector<EditLogEntry>& log, BrushTool tool, double spacing) {
   // Every carve and add shapes the exact solid; the band measured is around this tool's sweeps.
   std::vector<ToolCapsule> tools;
   double radius = 0;
   int64_t measured = 0;
-  for (const BrushSweep& sw : log)
-    if (sw.brush.tool == BrushTool::Carve || sw.brush.tool == BrushTool::Add) {
+  for (const EditLogEntry& e : log) {
+    const BrushSweep& sw = e.sweep;
+    if (e.kind == EditLogEntry::Sweep && (sw.brush.tool == BrushTool::Carve || sw.brush.tool == BrushTool::Add)) {
       const bool mine = sw.brush.tool == tool;
       tools.push_back({sw.from, sw.to, sw.brush.radius, sw.brush.tool == BrushTool::Add, mine});
       if (mine) radius = std::max(radius, sw.brush.radius), ++measured;
     }
+  }
   if (measured == 0) return nullptr;
   const EditFidelity f = measure_edit_fidelity(model, exact, tools, radius, spacing);
   return {{"sweeps", measured},             {"rms_pct", f.rms_pct},
@@ -158,10 +160,10 @@ void run_sculpt(const SculptArgs& a) {
   so.edit_every = a.edit_rate > 0 ? std::max<int64_t>(1, std::llround(a.rate / a.edit_rate)) : 1;
   so.publish = a.save_every > 0;  // snapshots only when another thread reads them
   SculptSession session(std::move(model), ws, so);
-  std::vector<BrushSweep> sweep_log;
+  std::vector<EditLogEntry> sweep_log;
   if (!a.check_against.empty()) {
-    sweep_log.reserve(path.position.size() + 16);  // at most one sweep per tick
-    session.editor().record_sweeps(&sweep_log);
+    sweep_log.reserve(path.position.size() + 4 * script.strokes.size() + 16);  // at most one sweep per tick
+    session.editor().record_log(&sweep_log);
   }
 
   SimulatedDeviceOptions dopt;

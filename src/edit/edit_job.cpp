@@ -369,6 +369,8 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
         // 1 - exp(-e): its series while e is small (per tick e ~ 0.01; error < e⁴/24), else exp.
         const double lambda = e < 0.02 ? e * (1 - e * (0.5 - e * (1.0 / 6))) : 1 - std::exp(-e);
         const float cur = m.displacement[id];
+        Vec3 p0, p1;
+        line_of(id, p0, p1);
         double target;
         if (smooth) {  // mean of the grid neighbours' displacements (across seams)
           double sum = 0;
@@ -378,22 +380,13 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
           if (valence == 0) return true;
           target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
         } else {  // where the projection line meets the tool's plane
-          Vec3 p0, p1;
-          line_of(id, p0, p1);
           const Vec3 L = p1 - p0;
           const double ln = L.dot(n);
           if (!(std::abs(ln) > 1e-6 * L.norm())) return true;
           target = std::clamp((q - p0).dot(n) / ln, 0.0, 1.0);
         }
-        // The position follows in the normal refresh: these brushes move a sample by a tiny
-        // amount per tick, and their falloff reads positions only at the brush's scale.
         const float v = static_cast<float>(cur + lambda * (target - cur));
-        if (v != cur) {
-          touch_sample(id);
-          m.displacement[id] = v;
-          list_changed(m, s, id);
-          ++result.changed;
-        }
+        if (v != cur) set_delta(id, v, p0, p1 - p0);
         return true;
       });
       break;
@@ -473,9 +466,9 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
 
 void EditJob::start_normals(EditScratch& s) noexcept {
   result = {};
-  phase_ = s.changed_count > 0 ? Phase::Positions : Phase::Idle;
+  phase_ = s.changed_count > 0 ? Phase::Ring : Phase::Idle;
   cursor_ = ring_count_ = 0;
-  if (phase_ == Phase::Positions) stamp_ = next_stamp(s);
+  if (phase_ == Phase::Ring) stamp_ = next_stamp(s);
 }
 
 bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
@@ -522,23 +515,6 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
 bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   const SampleLayout& L = m.samples;
   constexpr int32_t kChunk = 16;
-  if (phase_ == Phase::Positions) {
-    LineEvaluator line_of{m, s.grid_weights.data()};
-    while (cursor_ < s.changed_count) {
-      if (d.expired(kChunk)) return false;
-      const int32_t end = std::min(s.changed_count, cursor_ + kChunk);
-      for (; cursor_ < end; ++cursor_) {
-        // Positions first (Smooth and Flatten leave them to this refresh; the same bits as
-        // sample_position(), so recomputing the others changes nothing).
-        const int32_t c = s.changed[cursor_];
-        Vec3 p0, p1;
-        line_of(c, p0, p1);
-        m.positions[c] = (p0 + static_cast<double>(m.displacement[c]) * (p1 - p0)).cast<float>();
-      }
-    }
-    phase_ = Phase::Ring;
-    cursor_ = 0;
-  }
   if (phase_ == Phase::Ring) {
     DirtyMarker dirty{s, L.n * L.n};
     while (cursor_ < s.changed_count) {

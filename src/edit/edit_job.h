@@ -80,7 +80,7 @@ class EditJob {
   EditResult result;
 
  private:
-  enum class Phase : uint8_t { Idle, Flood, History, Positions, Ring, Normals, Wide, Haptic };
+  enum class Phase : uint8_t { Idle, Flood, History, Ring, Normals, Wide, Haptic };
   template <class Visit>
   bool flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d, Visit visit) noexcept;
   bool run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept;

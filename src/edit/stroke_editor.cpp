@@ -12,10 +12,11 @@ namespace hdm {
 namespace {
 
 struct Event {
-  enum Kind : uint8_t { Begin, Sample, End, Undo, Redo } kind = Sample;
+  enum Kind : uint8_t { Begin, Sample, End, Undo, Redo, Sweep } kind = Sample;
   Brush brush;        // Begin
   ToolSample sample;  // Sample
-  Vec3 axis = Vec3::UnitZ();  // Sample: the tool's axis (low-passed contact normal)
+  Vec3 axis = Vec3::UnitZ();  // Sample: the tool's axis
+  BrushSweep sweep;   // Sweep: a logged sweep to apply as is
 };
 
 }  // namespace
@@ -47,7 +48,14 @@ struct StrokeEditor::Impl {
   Vec3 last_point = Vec3::Zero();
   double last_time = 0;
   int64_t changed_total = 0;
-  std::vector<BrushSweep>* log = nullptr;
+  std::vector<EditLogEntry>* log = nullptr;
+  void write_log(EditLogEntry::Kind kind, const BrushSweep* sweep = nullptr) noexcept {
+    if (!log || log->size() >= log->capacity()) return;
+    EditLogEntry e;
+    e.kind = kind;
+    if (sweep) e.sweep = *sweep;
+    log->push_back(e);
+  }
   bool flush_requested = false;
   int64_t normals_ns = 0;     // clock of the last normal refresh
   double normals_time = 0;    // stroke time of the last normal refresh
@@ -169,7 +177,7 @@ struct StrokeEditor::Impl {
     last_point = to;
     last_time = end.time_s;
     for (size_t k = 0; k < use; ++k) pop();
-    if (log && log->size() < log->capacity()) log->push_back(sw);
+    write_log(EditLogEntry::Sweep, &sw);
     job.start_sweep(m, scratch, sw, &memory);
   }
 
@@ -177,6 +185,7 @@ struct StrokeEditor::Impl {
     if (!open) return;
     history.end_stroke();
     open = false;
+    write_log(EditLogEntry::End);
   }
 };
 
@@ -272,15 +281,19 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
     }
     Event& e = s.at(0);
     switch (e.kind) {
-      case Event::Begin:
+      case Event::Begin: {
         s.close_stroke();
         s.brush = e.brush;
         s.memory.next_stroke();
         s.history.begin_stroke();
         s.open = true;
         s.has_last = false;
+        BrushSweep b;
+        b.brush = s.brush;
+        s.write_log(EditLogEntry::Begin, &b);
         s.pop();
         break;
+      }
       case Event::End:
         s.close_stroke();
         s.pop();
@@ -290,7 +303,18 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
         const bool redo = e.kind == Event::Redo;
         s.close_stroke();  // an undo while the button is held ends that stroke first
         s.pop();
+        s.write_log(redo ? EditLogEntry::Redo : EditLogEntry::Undo);
         s.job.start_history(s.scratch, s.history, redo);
+        break;
+      }
+      case Event::Sweep: {  // a logged sweep, applied as recorded
+        const BrushSweep sw = e.sweep;
+        s.pop();
+        if (!s.open) break;
+        s.has_last = true;
+        s.last_point = sw.to;
+        s.write_log(EditLogEntry::Sweep, &sw);
+        s.job.start_sweep(m, s.scratch, sw, &s.memory);
         break;
       }
       case Event::Sample:
@@ -306,7 +330,22 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
   return w;
 }
 
-void StrokeEditor::record_sweeps(std::vector<BrushSweep>* log) noexcept { impl_->log = log; }
+void StrokeEditor::record_log(std::vector<EditLogEntry>* log) noexcept { impl_->log = log; }
+
+bool StrokeEditor::replay(const EditLogEntry& entry) noexcept {
+  switch (entry.kind) {
+    case EditLogEntry::Begin: begin_stroke(entry.sweep.brush); return true;
+    case EditLogEntry::End: end_stroke(); return true;
+    case EditLogEntry::Undo: return undo();
+    case EditLogEntry::Redo: return redo();
+    default: {
+      Event e;
+      e.kind = Event::Sweep;
+      e.sweep = entry.sweep;
+      return impl_->push(e, false);
+    }
+  }
+}
 bool StrokeEditor::between_sweeps() const noexcept { return !impl_->job.active() && impl_->scratch.changed_count == 0; }
 bool StrokeEditor::idle() const noexcept {
   return !impl_->job.active() && impl_->count == 0 && impl_->scratch.changed_count == 0;

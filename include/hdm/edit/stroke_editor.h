@@ -39,6 +39,14 @@ struct ToolSample {
   double time_s = 0;      ///< servo time [s]
 };
 
+/// One entry of an edit log: what a StrokeEditor applied, in order (StrokeEditor::record_log()).
+/// Replaying a log on a copy of the model as it was (StrokeEditor::replay()) reproduces every
+/// stored value bit for bit.
+struct EditLogEntry {
+  enum Kind : uint8_t { Begin, Sweep, End, Undo, Redo } kind = Sweep;
+  BrushSweep sweep;  ///< Sweep: the sweep applied; Begin: sweep.brush is the stroke's brush
+};
+
 /// What StrokeEditor::work() did in one call.
 struct EditWork {
   int32_t sweeps = 0;       ///< sweeps (and undo / redo steps) finished
@@ -121,10 +129,14 @@ class StrokeEditor {
   /// Total samples / texels changed since construction.
   int64_t total_changed() const noexcept;
 
-  /// @brief Appends every sweep started from now on to @p log, up to its capacity (reserve it
-  /// first: nothing is allocated); nullptr stops. For measurements (the swept tools of a session
-  /// against the exact boolean, hdm::measure_edit_fidelity).
-  void record_sweeps(std::vector<BrushSweep>* log) noexcept;
+  /// @brief Appends what work() applies from now on (stroke begins and ends, sweeps, undo and
+  /// redo steps) to @p log, up to its capacity (reserve it first: nothing is allocated); nullptr
+  /// stops. For measurements (the swept tools against the exact boolean,
+  /// hdm::measure_edit_fidelity) and replays.
+  void record_log(std::vector<EditLogEntry>* log) noexcept;
+  /// @brief Queues a logged entry to be applied as recorded (a Sweep entry is applied as is, not
+  /// recomputed from tool samples). Returns false when the queue is full.
+  bool replay(const EditLogEntry& entry) noexcept;
 
   /// Steady-clock time now [ns since the clock's epoch], the unit of work()'s deadline.
   static int64_t now_ns() noexcept;
