@@ -59,6 +59,8 @@ struct SculptSession::Impl {
   int32_t publish_cursor = 0;
   double last_publish_s = -1e300;
   SessionStats stats;
+  std::vector<EditLogEntry>* edit_log = nullptr;
+  std::vector<size_t>* epoch_log = nullptr;
 
   // Copies the dirty slabs (all of them, over as many ticks as needed, the editor paused so the
   // model holds no half edit), then commits them as one epoch.
@@ -85,6 +87,7 @@ struct SculptSession::Impl {
       ++copied;
     }
     snapshots->publish_commit();
+    if (epoch_log && edit_log && epoch_log->size() < epoch_log->capacity()) epoch_log->push_back(edit_log->size());
     ++stats.publications;
     stats.slabs_published += s.dirty_count;
     clear_dirty(s);
@@ -169,6 +172,12 @@ const Workspace& SculptSession::workspace() const noexcept { return impl_->ws; }
 SlabModel& SculptSession::model() noexcept { return impl_->model; }
 StrokeEditor& SculptSession::editor() noexcept { return impl_->editor; }
 const SessionStats& SculptSession::stats() const noexcept { return impl_->stats; }
+
+void SculptSession::record_log(std::vector<EditLogEntry>* edits, std::vector<size_t>* epochs) noexcept {
+  impl_->editor.record_log(edits);
+  impl_->edit_log = edits;
+  impl_->epoch_log = epochs;
+}
 
 void SculptSession::finish() noexcept {
   Impl& s = *impl_;

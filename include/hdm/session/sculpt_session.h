@@ -112,6 +112,11 @@ class SculptSession {
   StrokeEditor& editor() noexcept;
   /// Counters. Only while no servo loop runs.
   const SessionStats& stats() const noexcept;
+  /// @brief Records what the editor applies (StrokeEditor::record_log) into @p edits and, at each
+  /// publication, the number of entries of @p edits it contains into @p epochs (entry k for epoch
+  /// k + 1), both up to their capacity (reserve them first). Replaying the first epochs[k] entries
+  /// on the model as it was reproduces what readers see at epoch k + 1 (tests). Before the loop.
+  void record_log(std::vector<EditLogEntry>* edits, std::vector<size_t>* epochs) noexcept;
   /// @brief Ends an open stroke, finishes every queued edit and publishes: call after the loop.
   /// @note Not real-time (no budget).
   void finish() noexcept;
