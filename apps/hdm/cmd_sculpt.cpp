@@ -244,6 +244,7 @@ void run_sculpt(const SculptArgs& a) {
                       {"tick_ns", stats_json(st.compute_ns)},
                       {"period_ns", stats_json(st.period_ns)},
                       {"overruns", st.overruns},
+                      {"long_ticks", st.long_ticks},
                       {"watchdog_trips", st.watchdog_trips},
                       {"contact_ticks", ss.contact_ticks},
                       {"edit_every_ticks", so.edit_every},
@@ -267,8 +268,10 @@ void run_sculpt(const SculptArgs& a) {
     return;
   }
   std::printf("sculpted %s with %s\n", a.model.c_str(), script_path.c_str());
-  std::printf("  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s), %lld overruns\n", (long long)st.ticks,
-              st.seconds, st.rate_hz, a.rate, a.fast ? ", --fast" : "", (long long)st.overruns);
+  std::printf("  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s), %lld overruns, %lld ticks longer than a "
+              "period\n",
+              (long long)st.ticks, st.seconds, st.rate_hz, a.rate, a.fast ? ", --fast" : "", (long long)st.overruns,
+              (long long)st.long_ticks);
   std::printf("  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (proxy, edits within %.0f µs, publication)\n",
               st.compute_ns.median, st.compute_ns.p99, st.compute_ns.max, a.budget_us);
   std::printf("  contact ticks    %lld\n", (long long)ss.contact_ticks);

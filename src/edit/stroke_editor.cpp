@@ -111,25 +111,44 @@ struct StrokeEditor::Impl {
     }
   }
 
-  // The starting surface's normal around contact c: the area-weighted normal of the grid triangles
-  // around the three corners of c's cell, at the displacements the stroke found there.
+  // The starting surface's normal at contact c: the normals of the three corners of c's grid cell
+  // (each the area-weighted sum of its grid triangles, at the displacements the stroke found
+  // there), interpolated with c's weights in the cell, so the axis turns continuously as the
+  // contact crosses cells.
   Vec3 base_normal(const SlabModel& m, const Contact& c) const noexcept {
     const SampleLayout& L = m.samples;
     const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
-    auto base_point = [&](int32_t id) {
+    // Base positions of the few samples around the cell, each computed once.
+    constexpr int kCache = 48;
+    int32_t ids[kCache];
+    Vec3 at[kCache];
+    int cached = 0;
+    auto base_point = [&](int32_t id) -> Vec3 {
+      for (int k = 0; k < cached; ++k)
+        if (ids[k] == id) return at[k];
       const double delta = memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
                                                                 : double(m.displacement[id]);
-      Vec3 p0, p1;
-      projection_line(m, L.home_slab[id], L.home_index[id], p0, p1);
-      return Vec3(p0 + delta * (p1 - p0));
+      const std::array<double, 3>& w = scratch.grid_weights[L.home_index[id]];
+      const Tri& t = m.slabs[L.home_slab[id]];
+      const Vec3 p0 = w[0] * m.inner[t[0]] + w[1] * m.inner[t[1]] + w[2] * m.inner[t[2]];
+      const Vec3 p1 = w[0] * m.outer[t[0]] + w[1] * m.outer[t[1]] + w[2] * m.outer[t[2]];
+      const Vec3 p = p0 + delta * (p1 - p0);
+      if (cached < kCache) ids[cached] = id, at[cached++] = p;
+      return p;
     };
     Vec3 sum = Vec3::Zero();
-    for (int32_t id : {cell.a, cell.b, cell.d})
-      for (int32_t e = L.triangle_offsets[id]; e < L.triangle_offsets[id + 1]; ++e) {
+    const int32_t corner[3] = {cell.a, cell.b, cell.d};
+    const double weight[3] = {cell.wa, cell.wb, cell.wd};
+    for (int i = 0; i < 3; ++i) {
+      Vec3 n = Vec3::Zero();
+      for (int32_t e = L.triangle_offsets[corner[i]]; e < L.triangle_offsets[corner[i] + 1]; ++e) {
         const Tri& t = L.triangles[L.incident_triangles[e]];
         const Vec3 a = base_point(t[0]);
-        sum += (base_point(t[1]) - a).cross(base_point(t[2]) - a);
+        n += (base_point(t[1]) - a).cross(base_point(t[2]) - a);
       }
+      const double len = n.norm();
+      if (len > 0) sum += weight[i] * (n / len);
+    }
     const double len = sum.norm();
     return len > 0 ? Vec3(sum / len) : c.normal;
   }

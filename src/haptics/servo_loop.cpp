@@ -94,6 +94,7 @@ ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, c
   }
   s.period_ns = latency_stats(std::move(period));
   compute_ns.resize(done);
+  for (double c : compute_ns) s.long_ticks += c > period_s * 1e9;
   s.compute_ns = latency_stats(std::move(compute_ns));
   return s;
 }

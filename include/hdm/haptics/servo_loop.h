@@ -61,6 +61,8 @@ struct ServoStats {
   LatencyStats period_ns;   ///< time between tick starts [ns]
   LatencyStats compute_ns;  ///< time inside the tick function [ns]
   int64_t overruns = 0;     ///< ticks that started more than one period late
+  int64_t long_ticks = 0;   ///< ticks whose own compute time exceeded the period (the others' overruns came
+                            ///< from the machine: preemption, a virtual machine's stolen time)
   int64_t watchdog_trips = 0;  ///< ticks that started more than watchdog_ticks periods late
 };
 
