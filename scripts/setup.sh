@@ -24,7 +24,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 archive=/usr/share/doc/libcgal-dev/data.tar.gz
-models=(bunny00.off armadillo.off refined_elephant.off lion-head.off)
+models=(bunny00.off armadillo.off refined_elephant.off lion-head.off blobby.off)
 mkdir -p "$here/data/meshes"
 need=()
 for m in "${models[@]}"; do [ -s "$here/data/meshes/$m" ] || need+=("data/meshes/$m"); done

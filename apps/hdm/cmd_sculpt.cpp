@@ -106,21 +106,38 @@ void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
 
 nlohmann::json stats_json(const LatencyStats& s) { return {{"median", s.median}, {"p99", s.p99}, {"max", s.max}}; }
 
-// The carve (or add) sweeps of the session against the exact boolean of the input with them.
-nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact,
-                             const std::vector<EditLogEntry>& log, BrushTool tool, double spacing) {
-  // Every carve and add shapes the exact solid; the band measured is around this tool's sweeps.
+// The sweeps of the strokes that are applied at the end (undone strokes dropped, redone ones kept).
+std::vector<const BrushSweep*> applied_sweeps(const std::vector<EditLogEntry>& log) {
+  std::vector<std::vector<const BrushSweep*>> strokes, undone;
+  for (const EditLogEntry& e : log) switch (e.kind) {
+      case EditLogEntry::Begin: strokes.emplace_back(); undone.clear(); break;
+      case EditLogEntry::Sweep: if (!strokes.empty()) strokes.back().push_back(&e.sweep); break;
+      case EditLogEntry::Undo:
+        if (!strokes.empty()) undone.push_back(std::move(strokes.back())), strokes.pop_back();
+        break;
+      case EditLogEntry::Redo:
+        if (!undone.empty()) strokes.push_back(std::move(undone.back())), undone.pop_back();
+        break;
+      default: break;
+    }
+  std::vector<const BrushSweep*> out;
+  for (const auto& s : strokes) out.insert(out.end(), s.begin(), s.end());
+  return out;
+}
+
+// The carve (or add) sweeps of the session against the exact boolean of the input with them
+// (every applied carve and add shapes the exact solid; the band measured is around this tool's).
+nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact, const std::vector<EditLogEntry>& log,
+                             BrushTool tool, double spacing) {
   std::vector<ToolCapsule> tools;
   double radius = 0;
   int64_t measured = 0;
-  for (const EditLogEntry& e : log) {
-    const BrushSweep& sw = e.sweep;
-    if (e.kind == EditLogEntry::Sweep && (sw.brush.tool == BrushTool::Carve || sw.brush.tool == BrushTool::Add)) {
-      const bool mine = sw.brush.tool == tool;
-      tools.push_back({sw.from, sw.to, sw.brush.radius, sw.brush.tool == BrushTool::Add, mine});
-      if (mine) radius = std::max(radius, sw.brush.radius), ++measured;
+  for (const BrushSweep* sw : applied_sweeps(log))
+    if (sw->brush.tool == BrushTool::Carve || sw->brush.tool == BrushTool::Add) {
+      const bool mine = sw->brush.tool == tool;
+      tools.push_back({sw->from, sw->to, sw->brush.radius, sw->brush.tool == BrushTool::Add, mine});
+      if (mine) radius = std::max(radius, sw->brush.radius), ++measured;
     }
-  }
   if (measured == 0) return nullptr;
   const EditFidelity f = measure_edit_fidelity(model, exact, tools, radius, spacing);
   return {{"sweeps", measured},             {"rms_pct", f.rms_pct},
@@ -138,6 +155,8 @@ void run_sculpt(const SculptArgs& a) {
   const Workspace ws = fit_workspace(box, script.workspace_m);
   const double mm = ws.scale / 1000;  // model units per device millimetre
   if (script.layer.present) set_under_layer(model, script.layer.thickness_mm * mm, script.layer.material);
+  if (script.surface.has_colour) std::fill(model.colour.begin(), model.colour.end(), script.surface.colour);
+  if (script.surface.has_roughness) std::fill(model.roughness.begin(), model.roughness.end(), script.surface.roughness);
   Trajectory path;
   {
     const SlabLocator locator(model);
@@ -322,7 +341,7 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_option("--forces", a->forces, "write one CSV row per tick here");
   cmd->add_option("--check-against", a->check_against,
                   "measure the carved and added strokes against the exact boolean of this input mesh with the "
-                  "swept tools (RMS and max, % of the diagonal)");
+                  "swept tools (RMS and max, % of the diagonal; smooth and flatten strokes near them count as error)");
   cmd->add_flag("--json", a->json, "print the summary as one JSON object");
   cmd->callback([a] { run_sculpt(*a); });
 }

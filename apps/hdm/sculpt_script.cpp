@@ -107,6 +107,19 @@ Script read_script(const std::string& path) {
     s.force.damping = j.value("damping_ns_per_m", s.force.damping);
     s.force.max_force = j.value("max_force_n", s.force.max_force);
     if (j.contains("under_layer")) s.layer = read_layer(j["under_layer"], path + ": under_layer");
+    if (j.contains("surface")) {  // {"colour": [r, g, b], "roughness": x}
+      const auto& js = j["surface"];
+      if (js.contains("colour")) {
+        s.surface.has_colour = true;
+        s.surface.colour = vec3(js["colour"], path + ": surface.colour").cast<float>();
+      }
+      if (js.contains("roughness")) {
+        s.surface.has_roughness = true;
+        s.surface.roughness = js["roughness"].get<float>();
+        if (!(s.surface.roughness >= 0 && s.surface.roughness <= 1))
+          throw InvalidInput(path + ": surface.roughness must be in [0, 1]");
+      }
+    }
     if (!j.contains("strokes") || !j["strokes"].is_array() || j["strokes"].empty())
       throw InvalidInput(path + ": 'strokes' must be a non-empty array");
     for (size_t k = 0; k < j["strokes"].size(); ++k) {

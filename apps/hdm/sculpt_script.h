@@ -39,6 +39,13 @@ struct ScriptLayer {
   UnderLayer material;
 };
 
+/// The top material's finish a script sets before its strokes (every texel).
+struct ScriptSurface {
+  bool has_colour = false, has_roughness = false;
+  Vec3f colour{0.82f, 0.8f, 0.76f};  ///< linear RGB
+  float roughness = 1.0f;            ///< [0,1]
+};
+
 struct Script {
   std::string name;
   double workspace_m = 0.16;
@@ -46,6 +53,7 @@ struct Script {
   double hand_stiffness = 200;  ///< the simulated hand's grip [N/m] (SimulatedDeviceOptions::hand_stiffness)
   double hand_damping = 2;      ///< [N·s/m]
   ScriptLayer layer;
+  ScriptSurface surface;
   std::vector<Stroke> strokes;
 };
 
