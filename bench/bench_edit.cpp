@@ -13,6 +13,7 @@
 #include "legacy_edit_tools.h"
 
 #include <hdm/edit/stroke_editor.h>
+#include <hdm/slab/slab_snapshots.h>
 
 #include <benchmark/benchmark.h>
 
@@ -199,6 +200,28 @@ void stamp_any(benchmark::State& state, Tool tool, bool legacy_code) {
   }
   report(state, visited, changed);
 }
+
+// Publication for readers: copying Arg slabs into spare versions and committing them as one epoch
+// (what SculptSession does between sweeps). Counter ns_per_slab. With an edit thread instead of
+// edits in the servo tick, the proxy would need such a copy of every slab an edit touched before
+// it could feel the edit.
+void publish(benchmark::State& state) {
+  const Fixture& f = fixture();
+  SlabSnapshots snaps(f.model);
+  const int count = static_cast<int>(state.range(0));
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> pick(0, f.model.slab_count() - count);
+  int64_t slabs = 0;
+  for (auto _ : state) {
+    snaps.publish_reserve(count);
+    const int first = pick(rng);
+    for (int s = first; s < first + count; ++s) snaps.publish_slab(s);
+    benchmark::DoNotOptimize(snaps.publish_commit());
+    slabs += count;
+  }
+  state.counters["ns_per_slab"] = benchmark::Counter(double(slabs), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(publish)->Arg(1)->Arg(8)->Arg(64);
 
 BENCHMARK_CAPTURE(stroke, carve, Tool::Carve)->Arg(10)->Arg(20);
 BENCHMARK_CAPTURE(stroke_legacy, carve, Tool::Carve)->Arg(10)->Arg(20);

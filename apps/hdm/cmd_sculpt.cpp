@@ -30,7 +30,7 @@ namespace {
 struct SculptArgs {
   std::string model, script, output, forces, mode = "proxy", solver = "newton", check_against;
   double rate = 1000, edit_rate = 0, budget_us = 25, save_every = 0;
-  bool fast = false, every_tick = false, json = false;
+  bool fast = false, every_tick = false, json = false, cpu_time = false;
 };
 
 // One CSV row, recorded in preallocated storage by the servo thread and written afterwards.
@@ -202,6 +202,7 @@ void run_sculpt(const SculptArgs& a) {
   opt.rate_hz = a.rate;
   opt.realtime = !a.fast;
   opt.ticks = static_cast<int64_t>(path.position.size());
+  opt.cpu_time = a.cpu_time;
 
   // Autosave from another thread while the servo edits: each file is a published epoch.
   std::atomic<bool> done{false};
@@ -264,6 +265,8 @@ void run_sculpt(const SculptArgs& a) {
                       {"period_ns", stats_json(st.period_ns)},
                       {"overruns", st.overruns},
                       {"long_ticks", st.long_ticks},
+                      {"cpu_long_ticks", st.cpu_long_ticks},
+                      {"tick_cpu_ns", stats_json(st.cpu_ns)},
                       {"watchdog_trips", st.watchdog_trips},
                       {"contact_ticks", ss.contact_ticks},
                       {"edit_every_ticks", so.edit_every},
@@ -299,6 +302,9 @@ void run_sculpt(const SculptArgs& a) {
               (long long)ss.sweeps, (long long)so.edit_every, (long long)ss.changed, (long long)ss.carried_ticks);
   std::printf("  undo history     %d strokes, %.1f MB of records\n", h.undo_count(),
               double(h.records_held() * sizeof(UndoRecord)) / 1e6);
+  if (a.cpu_time)
+    std::printf("  tick CPU time    median %.0f ns, p99 %.0f ns, max %.0f ns; %lld ticks computed longer than a period\n",
+                st.cpu_ns.median, st.cpu_ns.p99, st.cpu_ns.max, (long long)st.cpu_long_ticks);
   if (so.publish)
     std::printf("  published        %lld epochs, %lld slab versions; %d autosaves while sculpting\n",
                 (long long)ss.publications, (long long)ss.slabs_published, saves.load());
@@ -342,6 +348,8 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_option("--check-against", a->check_against,
                   "measure the carved and added strokes against the exact boolean of this input mesh with the "
                   "swept tools (RMS and max, % of the diagonal; smooth and flatten strokes near them count as error)");
+  cmd->add_flag("--cpu-time", a->cpu_time,
+                "also time each tick with the servo thread's CPU clock (tells long ticks from preempted ones)");
   cmd->add_flag("--json", a->json, "print the summary as one JSON object");
   cmd->callback([a] { run_sculpt(*a); });
 }

@@ -17,6 +17,8 @@ struct Event {
   ToolSample sample;  // Sample
   Vec3 axis = Vec3::UnitZ();  // Sample: the tool's axis
   BrushSweep sweep;   // Sweep: a logged sweep to apply as is
+  Vec3 point = Vec3::Zero();  // Sample: the tool's position, once computed
+  bool has_point = false;
 };
 
 }  // namespace
@@ -91,7 +93,11 @@ struct StrokeEditor::Impl {
 
   // Where the tool is for this sample: Carve the sphere's centre, Add the sphere whose top stands
   // `height` above the stroke's starting surface, the others the surface contact point.
-  Vec3 tool_point(const SlabModel& m, const Event& e) const noexcept {
+  Vec3 tool_point(const SlabModel& m, Event& e) const noexcept {
+    if (!e.has_point) e.point = compute_tool_point(m, e), e.has_point = true;
+    return e.point;
+  }
+  Vec3 compute_tool_point(const SlabModel& m, const Event& e) const noexcept {
     const ToolSample& t = e.sample;
     const Contact& c = t.contact;
     switch (brush.tool) {
@@ -166,7 +172,7 @@ struct StrokeEditor::Impl {
     const Vec3 from = has_last ? last_point : first;
     size_t use = 1;
     Vec3 to = first;
-    constexpr size_t kMaxMerge = 64;
+    constexpr size_t kMaxMerge = 16;  // the check below is quadratic in it
     for (size_t k = 1; k < count && k < kMaxMerge && at(k).kind == Event::Sample; ++k) {
       const Vec3 cand = tool_point(m, at(k));
       const Vec3 u = cand - from;

@@ -110,6 +110,7 @@ SculptSession::~SculptSession() = default;
 
 SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexcept {
   Impl& s = *impl_;
+  const int64_t start_ns = StrokeEditor::now_ns();
   SessionTick r;
   SessionCommand c;
   while (s.commands.pop(c)) {
@@ -126,7 +127,6 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
                       s.proxy);
   r.force = r.out.force * t.force_gain;
   device.end_frame(r.force);  // the force first: edits never delay it
-  const int64_t start_ns = StrokeEditor::now_ns();
   ++s.stats.ticks;
   const bool contact = r.out.contact.in_shell() && r.out.status != ProxyStatus::Free && r.out.status != ProxyStatus::BadInput;
   s.stats.contact_ticks += contact;
@@ -145,7 +145,8 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     s.editor.add_sample(s.model, ts);
   }
 
-  // Edits and publication within the budget.
+  // Edits and publication until the budget, counted from the tick's start: a slow proxy step
+  // leaves less time for edits, so the whole tick stays within about the budget.
   const int64_t deadline = start_ns + static_cast<int64_t>(s.options.edit_budget_s * 1e9);
   bool carried = false;
   if (!s.publishing) {

@@ -23,9 +23,9 @@ namespace hdm {
 struct SessionOptions {
   RenderMode mode = RenderMode::Proxy;  ///< force model
   ProxyParams proxy;                    ///< proxy and force parameters (SI at the device)
-  /// Edit and publication work allowed per tick [s], measured from the moment the force has been
-  /// sent: the tick's compute time is the proxy step plus at most about this (the rest of an edit
-  /// carries over to the next ticks).
+  /// Time a tick may take with its edit and publication work [s], counted from the tick's start:
+  /// after the force is sent, edits run until then (the rest carries over to the next ticks), so a
+  /// tick lasts the proxy step or about this, whichever is longer.
   double edit_budget_s = 25e-6;
   double publish_interval_s = 0.01;     ///< publish changed slabs at most this often [s] (100 Hz)
   bool publish = true;                  ///< keep SlabSnapshots for other threads (memory: see SlabSnapshots)
