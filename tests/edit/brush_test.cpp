@@ -176,7 +176,7 @@ TEST(Brushes, strength_scales_the_cut) {
       depth[run] = std::max(depth[run], (test::baked_bunny(0, 16).positions[s] - f.model.positions[s]).cast<double>().dot(n));
     std::printf("strength %.1f: cut %.3f mm\n", carve.strength, depth[run] / f.mm);
   }
-  EXPECT_NEAR(depth[0], 1.0 * test::BunnyStrokes().mm, 0.15 * test::BunnyStrokes().mm);
+  EXPECT_NEAR(depth[0], 1.0 * test::BunnyStrokes().mm, 0.25 * test::BunnyStrokes().mm);  // the HIP 1 mm under the surface
   EXPECT_NEAR(depth[1] / depth[0], 0.5, 0.08);
 }
 
