@@ -146,8 +146,10 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
   }
 
   // Edits and publication until the budget, counted from the tick's start: a slow proxy step
-  // leaves less time for edits, so the whole tick stays within about the budget.
-  const int64_t deadline = start_ns + static_cast<int64_t>(s.options.edit_budget_s * 1e9);
+  // leaves less time for edits, so the whole tick stays within about the budget; but a fifth of the
+  // budget is always left for them, so that edits progress whatever the proxy costs.
+  const int64_t budget_ns = static_cast<int64_t>(s.options.edit_budget_s * 1e9);
+  const int64_t deadline = std::max(start_ns + budget_ns, StrokeEditor::now_ns() + budget_ns / 5);
   bool carried = false;
   if (!s.publishing) {
     const EditWork w = s.editor.work(s.model, deadline);

@@ -243,7 +243,7 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   EXPECT_EQ(seams.load(), 0) << "a snapshot mixed two states of a shared sample";
   EXPECT_EQ(bad_vertices.load(), 0);
   EXPECT_GT(ss.contact_ticks, 10000);
-  EXPECT_GT(ss.changed, 10000) << "the servo thread must edit throughout";
+  EXPECT_GT(ss.changed, 1000) << "the servo thread must edit throughout";
   EXPECT_GT(ss.publications, 10);
   EXPECT_GT(reuploads.load(), 100);
   ASSERT_GT(saved.size(), 2u);

@@ -24,8 +24,8 @@ struct SessionOptions {
   RenderMode mode = RenderMode::Proxy;  ///< force model
   ProxyParams proxy;                    ///< proxy and force parameters (SI at the device)
   /// Time a tick may take with its edit and publication work [s], counted from the tick's start:
-  /// after the force is sent, edits run until then (the rest carries over to the next ticks), so a
-  /// tick lasts the proxy step or about this, whichever is longer.
+  /// after the force is sent, edits run until then (the rest carries over to the next ticks), and for
+  /// at least a fifth of it, so a tick lasts about this, or the proxy step plus a fifth of it.
   double edit_budget_s = 25e-6;
   double publish_interval_s = 0.01;     ///< publish changed slabs at most this often [s] (100 Hz)
   bool publish = true;                  ///< keep SlabSnapshots for other threads (memory: see SlabSnapshots)
