@@ -51,6 +51,25 @@ void dwell(test::BunnyStrokes& f, StrokeEditor& editor, const Brush& brush, cons
   f.stroke(editor, brush, points, normals, 0.5 * f.mm, 1e-3, force_n);
 }
 
+// A relaxing brush (smooth, flatten) at full strength with the smooth falloff, held for `seconds`.
+void relax(test::BunnyStrokes& f, BrushTool tool, const Vec3& c, const Vec3& n, double r, double seconds) {
+  StrokeEditor editor(f.model);
+  Brush b;
+  b.tool = tool;
+  b.radius = r;
+  b.strength = 1;
+  b.falloff = Falloff::Smooth;
+  dwell(f, editor, b, c, n, seconds, 1.0);  // at full pressure
+}
+
+// A point on the surface near the normalised box point u, and the model's normal there.
+Vec3 site(const test::BunnyStrokes& f, const Vec3& u, Vec3& normal) {
+  const Vec3 c = f.surface_point(u);
+  QueryCache cache;
+  normal = query(f.model, f.locator, c, cache).normal;
+  return c;
+}
+
 void expect_in_shell_and_untouched_outside(const SlabModel& after, const SlabModel& before, const Vec3& centre,
                                            double radius) {
   for (int s = 0; s < after.samples.count; ++s) {
@@ -66,18 +85,10 @@ void expect_in_shell_and_untouched_outside(const SlabModel& after, const SlabMod
 TEST(Brushes, smooth_reduces_roughness_and_stays_in_the_shell) {
   test::BunnyStrokes f;
   Vec3 n;
-  const Vec3 c = f.surface_point(Vec3(0.35, 0.3, 1.0), &n);  // the rough fur of the hind leg
-  QueryCache cache;
-  n = query(f.model, f.locator, c, cache).normal;
+  const Vec3 c = site(f, Vec3(0.35, 0.3, 1.0), n);  // the rough fur of the hind leg
   const double r = 4 * f.mm;
   const double before = roughness(f.model, c, 0.6 * r);
-  StrokeEditor editor(f.model);
-  Brush smooth;
-  smooth.tool = BrushTool::Smooth;
-  smooth.radius = r;
-  smooth.strength = 1;
-  smooth.falloff = Falloff::Smooth;
-  dwell(f, editor, smooth, c, n, 1.0, 1.0);  // a second at full pressure
+  relax(f, BrushTool::Smooth, c, n, r, 1.0);
   const double after = roughness(f.model, c, 0.6 * r);
   std::printf("smooth: roughness %.3g -> %.3g\n", before, after);
   EXPECT_LT(after, 0.6 * before);
@@ -86,9 +97,8 @@ TEST(Brushes, smooth_reduces_roughness_and_stays_in_the_shell) {
 
 TEST(Brushes, flatten_moves_the_surface_towards_the_tools_plane) {
   test::BunnyStrokes f;
-  const Vec3 c = f.surface_point(Vec3(0.6, 0.5, 1.0));
-  QueryCache cache;
-  const Vec3 n = query(f.model, f.locator, c, cache).normal;
+  Vec3 n;
+  const Vec3 c = site(f, Vec3(0.6, 0.5, 1.0), n);
   const double r = 5 * f.mm;
   auto plane_rms = [&](const SlabModel& m) {  // about the plane through c normal to n, within 0.5 r
     double sum = 0;
@@ -101,13 +111,7 @@ TEST(Brushes, flatten_moves_the_surface_towards_the_tools_plane) {
     return std::sqrt(sum / k);
   };
   const double before = plane_rms(f.model);
-  StrokeEditor editor(f.model);
-  Brush flatten;
-  flatten.tool = BrushTool::Flatten;
-  flatten.radius = r;
-  flatten.strength = 1;
-  flatten.falloff = Falloff::Smooth;
-  dwell(f, editor, flatten, c, n, 0.5, 1.0);
+  relax(f, BrushTool::Flatten, c, n, r, 0.5);
   const double after = plane_rms(f.model);
   std::printf("flatten: RMS distance to the plane %.3g -> %.3g mm\n", before / f.mm, after / f.mm);
   EXPECT_LT(after, 0.5 * before);
@@ -121,9 +125,8 @@ TEST(Brushes, paint_blends_once_per_stroke_whatever_the_dwell) {
   std::vector<float> results[2];
   for (int run = 0; run < 2; ++run) {
     test::BunnyStrokes f;
-    const Vec3 c = f.surface_point(Vec3(0.6, 0.5, 1.0));
-    QueryCache cache;
-    const Vec3 n = query(f.model, f.locator, c, cache).normal;
+    Vec3 n;
+    const Vec3 c = site(f, Vec3(0.6, 0.5, 1.0), n);
     StrokeEditor editor(f.model);
     std::vector<EditLogEntry> log;
     log.reserve(1000);
@@ -160,9 +163,8 @@ TEST(Brushes, strength_scales_the_cut) {
   double depth[2];
   for (int run = 0; run < 2; ++run) {
     test::BunnyStrokes f;
-    const Vec3 c = f.surface_point(Vec3(0.6, 0.5, 1.0));
-    QueryCache cache;
-    const Vec3 n = query(f.model, f.locator, c, cache).normal;
+    Vec3 n;
+    const Vec3 c = site(f, Vec3(0.6, 0.5, 1.0), n);
     StrokeEditor editor(f.model);
     Brush carve;
     carve.tool = BrushTool::Carve;
