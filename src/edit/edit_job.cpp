@@ -170,6 +170,7 @@ void list_changed(SlabModel& m, EditScratch& s, int32_t id) noexcept {
 
 void EditJob::start_sweep(const SlabModel& m, EditScratch& s, const BrushSweep& sw, StrokeMemory* stroke) noexcept {
   result = {};
+  motion2_ = 0;
   phase_ = Phase::Idle;
   const Brush& b = sw.brush;
   if (sw.seed_slab < 0 || sw.seed_slab >= m.slab_count() || !(b.radius > 0) || !sw.from.allFinite() ||
@@ -222,6 +223,7 @@ void EditJob::start_paper_cone(const SlabModel& m, EditScratch& s, const Contact
 
 void EditJob::start_history(EditScratch& s, UndoHistory& h, bool redo) noexcept {
   result = {};
+  motion2_ = 1e300;  // an undo moves samples by any amount: refresh normals promptly
   phase_ = Phase::Idle;
   if (redo ? !h.can_redo() : !h.can_undo()) return;
   history_ = &h;
@@ -297,6 +299,8 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   // Stores a new displacement and its position (= sample_position(), same arithmetic).
   auto set_delta = [&](int32_t id, float v, const Vec3& p0, const Vec3& L) noexcept {
     touch_sample(id);
+    const double step = double(v) - double(m.displacement[id]);
+    motion2_ = std::max(motion2_, step * step * L.squaredNorm());
     m.displacement[id] = v;
     m.positions[id] = (p0 + static_cast<double>(v) * L).cast<float>();
     list_changed(m, s, id);
@@ -322,7 +326,9 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
         const double t = std::clamp(w.dot(u) * inv_uu, 0.0, 1.0);
         const double dist2 = (w - t * u).squaredNorm();
         if (dist2 > reach2) return false;
-        if (dist2 >= r2_) return true;
+        // On the tool's boundary (within 1e-5 of the radius: where the previous sweep left the
+        // surface) nothing is cut: the new capsule would only move it by rounding.
+        if (dist2 >= r2_ * (1 - 2e-5)) return true;
         Vec3 p0, p1;
         line_of(id, p0, p1);
         const Vec3 L = p1 - p0;
@@ -370,7 +376,6 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
         const double lambda = e < 0.02 ? e * (1 - e * (0.5 - e * (1.0 / 6))) : 1 - std::exp(-e);
         const float cur = m.displacement[id];
         Vec3 p0, p1;
-        line_of(id, p0, p1);
         double target;
         if (smooth) {  // mean of the grid neighbours' displacements (across seams)
           double sum = 0;
@@ -379,7 +384,10 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
           const int32_t valence = last - first;
           if (valence == 0) return true;
           target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
+          if (static_cast<float>(cur + lambda * (target - cur)) == cur) return true;
+          line_of(id, p0, p1);
         } else {  // where the projection line meets the tool's plane
+          line_of(id, p0, p1);
           const Vec3 L = p1 - p0;
           const double ln = L.dot(n);
           if (!(std::abs(ln) > 1e-6 * L.norm())) return true;

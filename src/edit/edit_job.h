@@ -77,6 +77,8 @@ class EditJob {
   // Runs until done (returns true) or until the deadline.
   bool run(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
   bool active() const noexcept { return phase_ != Phase::Idle; }
+  /// The largest squared distance a sample moved in this job [model units²].
+  double motion2() const noexcept { return motion2_; }
   EditResult result;
 
  private:
@@ -103,6 +105,7 @@ class EditJob {
   bool soft_ = false;
   // normals state
   int32_t cursor_ = 0, ring_count_ = 0, wide_count_ = 0;
+  double motion2_ = 0;
 };
 
 }  // namespace hdm::detail

@@ -40,6 +40,7 @@ struct StrokeEditor::Impl {
   std::vector<Event> queue;
   size_t head = 0, count = 0;
   bool producer_open = false;  // begin_stroke called and end_stroke not yet
+  BrushTool producer_tool = BrushTool::Carve;  // the tool of the stroke being fed
   bool axis_valid = false;     // the producer's low-passed contact normal
   Vec3 axis = Vec3::UnitZ();
   double axis_time = 0;
@@ -63,14 +64,18 @@ struct StrokeEditor::Impl {
   double normals_time = 0;    // stroke time of the last normal refresh
 
   // The pending normals are refreshed on request, before a command (stroke end, undo, a new
-  // stroke), when the stroke is over, or once normals_interval_s has passed since the last refresh.
+  // stroke), when the stroke is over, or during a stroke once normals_interval_s has passed since
+  // the last refresh and the samples may have moved by a twentieth of the grid spacing (smooth and
+  // flatten move them by micrometres a tick: their normals wait up to 12 intervals).
+  double motion = 0;  // upper bound of any sample's motion since the last refresh [model units]
   bool normals_due() const noexcept {
     if (scratch.changed_count == 0) return false;
     if (flush_requested || !open) return true;
     if (count > 0 && queue[head].kind != Event::Sample) return true;
-    // Stroke time (the servo's clock in the samples) or, when samples stop coming, the wall clock.
-    return last_time - normals_time >= options.normals_interval_s ||
-           double(now_ns() - normals_ns) >= options.normals_interval_s * 1e9;
+    const double interval = options.normals_interval_s;
+    const double elapsed =
+        std::max(last_time - normals_time, double(now_ns() - normals_ns) * 1e-9);  // stroke time, or the clock
+    return elapsed >= 12 * interval || (elapsed >= interval && motion >= 0.05 * scratch.sample_spacing);
   }
 
   Event& at(size_t k) noexcept { return queue[(head + k) % queue.size()]; }
@@ -223,6 +228,7 @@ void StrokeEditor::begin_stroke(const Brush& brush) noexcept {
   e.kind = Event::Begin;
   e.brush = brush;
   impl_->producer_open = impl_->push(e, true) || impl_->producer_open;
+  impl_->producer_tool = brush.tool;
   impl_->axis_valid = false;
 }
 
@@ -231,7 +237,10 @@ void StrokeEditor::add_sample(const SlabModel& model, const ToolSample& sample) 
       !sample.contact.surface_point.allFinite() || !sample.contact.normal.allFinite())
     return;
   Impl& s = *impl_;
-  const Vec3 n = s.base_normal(model, sample.contact);
+  // Only carve, add and flatten place their tool along the axis.
+  const bool axis = s.producer_tool == BrushTool::Carve || s.producer_tool == BrushTool::Add ||
+                    s.producer_tool == BrushTool::Flatten;
+  const Vec3 n = axis ? s.base_normal(model, sample.contact) : sample.contact.normal;
   if (!s.axis_valid) {
     s.axis = n;
     s.axis_valid = true;
@@ -280,6 +289,7 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
         return w;
       }
       ++w.sweeps;
+      s.motion += std::sqrt(std::min(s.job.motion2(), 1e300));
       w.visited += s.job.result.visited;
       w.changed += s.job.result.changed;
       s.changed_total += s.job.result.changed;
@@ -295,6 +305,7 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
       s.job.start_normals(s.scratch);
       s.normals_ns = now_ns();
       s.normals_time = s.last_time;
+      s.motion = 0;
       s.flush_requested = false;
       continue;
     }

@@ -24,10 +24,11 @@ struct StrokeEditorOptions {
   double merge_tolerance = 0.02;
   /// Time constant of an optional first-order low-pass on the tool's axis [s] (0: none).
   double axis_time_s = 0.0;
-  /// Normals are refreshed once per this much stroke time [s] (and before any other command, and
-  /// on flush()), not after every sweep: a sample under the moving tool changes on many
+  /// Normals are refreshed once per this much stroke time [s] when the samples may have moved by a
+  /// twentieth of the grid spacing since, at the latest after 12 of it, and before any other
+  /// command and on flush(), not after every sweep: a sample under the moving tool changes on many
   /// consecutive ticks, and its normals are the larger part of an edit's cost. Displacements (what
-  /// the proxy stands on) change at once; normals (the force direction) follow within this time.
+  /// the proxy stands on) change at once; normals (the force direction) follow.
   double normals_interval_s = 0.004;
 };
 
