@@ -439,14 +439,14 @@ void run_bench(const BenchArgs& a) {
 
   // ---- (f) memory ----
   const SampleLayout& L = model.samples;
-  const size_t sample_bytes = bytes(model.displacement) + bytes(model.friction_static) +
+  const size_t sample_bytes = bytes(model.displacement) + bytes(model.layer_displacement) + bytes(model.friction_static) +
                               bytes(model.friction_dynamic) + bytes(model.stiffness_scale) +
                               bytes(model.positions) + bytes(model.normals) + bytes(model.haptic_normals) + bytes(L.ids) + bytes(L.triangles) +
                               bytes(L.home_slab) + bytes(L.home_index) + bytes(L.neighbour_offsets) +
                               bytes(L.neighbours) + bytes(L.triangle_offsets) + bytes(L.incident_triangles) +
                               bytes(L.shared_slot_offsets) + bytes(L.slot_of_shared) + bytes(model.slab_samples);
   const SampleLayout& T = model.texels;
-  const size_t texel_bytes = bytes(model.colour) + bytes(T.ids) + bytes(T.triangles) + bytes(T.home_slab) +
+  const size_t texel_bytes = bytes(model.colour) + bytes(model.roughness) + bytes(T.ids) + bytes(T.triangles) + bytes(T.home_slab) +
                              bytes(T.home_index) + bytes(T.neighbour_offsets) + bytes(T.neighbours) +
                              bytes(T.triangle_offsets) + bytes(T.incident_triangles) + bytes(T.shared_slot_offsets) +
                              bytes(T.slot_of_shared);
