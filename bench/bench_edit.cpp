@@ -1,30 +1,166 @@
 // SPDX-License-Identifier: MIT
-// Edits per touched sample: carve, add and paint with a tool radius of Arg/10 % of the diagonal.
-// Edits are timed one by one at 1024 random places, then the model is restored.
-// Counter ns_per_sample: time per sample (texel for paint) visited by the flood fill, including
-// position and normal updates and dirty-slab marking.
+// Edits per visited sample (texel for paint), two workloads, each against the code before issue 14
+// (bench/legacy_edit_tools.cpp) in the same run:
+// - stroke (warm): the tool slides along the surface at 20 mm/s of device motion (the model's
+//   diagonal on a 16 cm workspace), one tool position per 1 kHz tick. New: StrokeEditor sweeps
+//   the brush from the last position to this one (a capsule). Legacy: a stamp at every tick, as
+//   `hdm sculpt --edit-every-tick` did. Arg: tool radius in thousandths of the diagonal.
+// - stamp (cold): single edits at 1024 random places (what a 10 Hz edit meets), restored after.
+// Counters: ns_per_visited (the benchmark's target: 30 ns), ns_per_changed, visited and changed
+// per op. Edits include positions, normals of the changed samples' rings, force-shading normals,
+// dirty-slab marking and (strokes) undo recording.
 #include "bench_common.h"
+#include "legacy_edit_tools.h"
 
-#include <hdm/edit/edit_tools.h>
+#include <hdm/edit/stroke_editor.h>
+#include <hdm/slab/slab_snapshots.h>
 
 #include <benchmark/benchmark.h>
 
+#include <map>
 #include <random>
 
 namespace hdm::bench {
 namespace {
 
-enum class Tool { Carve, Add, Paint };
+enum class Tool { Carve, Add, Smooth, Flatten, Paint };
 
-void edit(benchmark::State& state, Tool tool) {
+// Restores the edited members from the fixture's model (paused: not timed).
+void restore(SlabModel& m, const SlabModel& from) {
+  m.displacement = from.displacement;
+  m.positions = from.positions;
+  m.normals = from.normals;
+  m.slab_samples = from.slab_samples;
+  m.haptic_normals = from.haptic_normals;
+  m.colour = from.colour;
+  m.roughness = from.roughness;
+}
+
+// A 1 kHz tool path at 20 mm/s (device scale) over the surface: surface points found by walking the
+// sample graph (bench_common's walk), the HIP `depth` under each along the normal, and the
+// contact of the HIP on the unedited model.
+struct Path {
+  std::vector<Vec3> hip;
+  std::vector<Contact> contact;
+};
+
+const Path& stroke_path(double depth_frac) {
+  static std::map<double, Path> cache;
+  Path& p = cache[depth_frac];
+  if (!p.hip.empty()) return p;
   const Fixture& f = fixture();
-  SlabModel m = f.model;  // edited copy, restored every kOps edits so the surface stays comparable
+  const double step = 0.02e-3 * f.diagonal / 0.16;  // 20 mm/s at 1 kHz, 16 cm workspace
+  const double depth = depth_frac * f.diagonal;
+  QueryCache qc;
+  for (size_t k = 0; k + 1 < f.path_points.size() && p.hip.size() < 4000; ++k) {
+    // path_points are ≤ diagonal/1600 apart (~0.1 mm): subdivide to the tick step.
+    const Vec3 a = f.path_points[k], b = f.path_points[k + 1];
+    const int n = std::max(1, static_cast<int>((b - a).norm() / step));
+    for (int i = 0; i < n; ++i) {
+      const Vec3 x = a + (b - a) * (double(i) / n);
+      Contact c = query(f.model, *f.locator, x, qc);
+      if (!c.in_shell()) continue;
+      // Put the HIP `depth` under the surface point of its projection line.
+      const Vec3 hip = c.surface_point - depth * c.normal;
+      c = query(f.model, *f.locator, hip, qc);
+      if (!c.in_shell()) continue;
+      p.hip.push_back(hip);
+      p.contact.push_back(c);
+    }
+  }
+  return p;
+}
+
+Brush brush_for(Tool tool, double radius) {
+  Brush b;
+  b.radius = radius;
+  switch (tool) {
+    case Tool::Carve: b.tool = BrushTool::Carve; break;
+    case Tool::Add: b.tool = BrushTool::Add, b.height = 0.2 * radius; break;
+    case Tool::Smooth: b.tool = BrushTool::Smooth, b.strength = 0.5, b.falloff = Falloff::Smooth; break;
+    case Tool::Flatten: b.tool = BrushTool::Flatten, b.strength = 0.5, b.falloff = Falloff::Smooth; break;
+    case Tool::Paint: b.tool = BrushTool::Paint, b.falloff = Falloff::Linear, b.colour = Vec3f(0.8f, 0.1f, 0.1f); break;
+  }
+  return b;
+}
+
+void report(benchmark::State& state, int64_t visited, int64_t changed) {
+  state.counters["visited_per_op"] = benchmark::Counter(double(visited) / state.iterations());
+  state.counters["changed_per_op"] = benchmark::Counter(double(changed) / state.iterations());
+  state.counters["ns_per_visited"] =
+      benchmark::Counter(double(visited), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_changed"] =
+      benchmark::Counter(double(changed), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+// One iteration = one servo tick of a stroke: StrokeEditor::add_sample + work to the end.
+void stroke(benchmark::State& state, Tool tool) {
+  const Fixture& f = fixture();
+  const double radius = state.range(0) / 1000.0 * f.diagonal;
+  const Path& path = stroke_path(0.2 * state.range(0) / 1000.0);
+  SlabModel m = f.model;
+  StrokeEditor editor(m);
+  const Brush brush = brush_for(tool, radius);
+  int64_t visited = 0, changed = 0;
+  size_t k = 0;
+  editor.begin_stroke(brush);
+  for (auto _ : state) {
+    if (k == path.hip.size()) {
+      state.PauseTiming();
+      editor.end_stroke();
+      editor.work(m, INT64_MAX);
+      restore(m, f.model);
+      editor.begin_stroke(brush);
+      k = 0;
+      state.ResumeTiming();
+    }
+    ToolSample t;
+    t.contact = path.contact[k];
+    t.hip = path.hip[k];
+    t.normal_force_n = 0.55;  // half pressure
+    t.time_s = 1e-3 * double(k);
+    editor.add_sample(m, t);
+    const EditWork w = editor.work(m, INT64_MAX);
+    visited += w.visited, changed += w.changed;
+    ++k;
+  }
+  report(state, visited, changed);
+}
+
+// The same path with a stamp per tick, as before issue 14.
+void stroke_legacy(benchmark::State& state, Tool tool) {
+  const Fixture& f = fixture();
+  const double radius = state.range(0) / 1000.0 * f.diagonal;
+  const Path& path = stroke_path(0.2 * state.range(0) / 1000.0);
+  SlabModel m = f.model;
+  EditScratch scratch(m);
+  int64_t visited = 0, changed = 0;
+  size_t k = 0;
+  for (auto _ : state) {
+    if (k == path.hip.size()) {
+      state.PauseTiming();
+      restore(m, f.model);
+      k = 0;
+      state.ResumeTiming();
+    }
+    EditResult r;
+    switch (tool) {
+      case Tool::Carve: r = legacy::carve(m, scratch, path.contact[k], path.hip[k], radius, 0.0); break;
+      case Tool::Add: r = legacy::add_material(m, scratch, path.contact[k], radius, 0.001 * radius); break;
+      default: r = legacy::paint(m, scratch, path.contact[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5); break;
+    }
+    visited += r.visited, changed += r.changed;
+    ++k;
+  }
+  report(state, visited, changed);
+}
+
+// Single edits at random places: the cold case (hip 0.2·radius below the surface).
+void stamp_any(benchmark::State& state, Tool tool, bool legacy_code) {
+  const Fixture& f = fixture();
+  SlabModel m = f.model;
   EditScratch scratch(m);
   const double radius = state.range(0) / 1000.0 * f.diagonal;
-  // Contacts precomputed on the unedited model: a hip 0.2·radius below the surface at random samples.
-  // 1024 places between restores: each edit lands where the previous ones did not warm the cache
-  // (an edit at 10 Hz finds the model cold), and the restore's own cache traffic, paused but not
-  // free, is spread over many edits.
   constexpr int kOps = 1024;
   std::mt19937_64 rng(3);
   std::uniform_int_distribution<int32_t> pick(0, m.samples.count - 1);
@@ -37,35 +173,73 @@ void edit(benchmark::State& state, Tool tool) {
     const Contact c = query(m, *f.locator, hip, qc);
     if (c.in_shell()) hips.push_back(hip), contacts.push_back(c);
   }
-  int64_t visited = 0, k = 0;
+  int64_t visited = 0, changed = 0, k = 0;
   for (auto _ : state) {
     if (k == kOps) {
       state.PauseTiming();
-      m.displacement = f.model.displacement;
-      m.positions = f.model.positions;
-      m.normals = f.model.normals;
-      m.slab_samples = f.model.slab_samples;
-      m.colour = f.model.colour;
+      restore(m, f.model);
       k = 0;
       state.ResumeTiming();
     }
     EditResult r;
-    switch (tool) {
-      case Tool::Carve: r = carve(m, scratch, contacts[k], hips[k], radius, 0.0); break;
-      case Tool::Add: r = add_material(m, scratch, contacts[k], radius, 0.1 * radius); break;
-      case Tool::Paint: r = paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5); break;
+    if (legacy_code) {
+      switch (tool) {
+        case Tool::Carve: r = legacy::carve(m, scratch, contacts[k], hips[k], radius, 0.0); break;
+        case Tool::Add: r = legacy::add_material(m, scratch, contacts[k], radius, 0.1 * radius); break;
+        default: r = legacy::paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5); break;
+      }
+    } else {
+      switch (tool) {
+        case Tool::Carve: r = carve(m, scratch, contacts[k], hips[k], radius, 0.0); break;
+        case Tool::Add: r = add_material(m, scratch, contacts[k], radius, 0.1 * radius); break;
+        default: r = paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5); break;
+      }
     }
-    visited += r.visited;
+    visited += r.visited, changed += r.changed;
     ++k;
   }
-  state.counters["visited_per_op"] = benchmark::Counter(double(visited) / state.iterations());
-  state.counters["ns_per_sample"] = benchmark::Counter(
-      double(visited), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  report(state, visited, changed);
 }
 
-BENCHMARK_CAPTURE(edit, carve, Tool::Carve)->Arg(5)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(edit, add, Tool::Add)->Arg(5)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(edit, paint, Tool::Paint)->Arg(5)->Arg(10)->Arg(20);
+// Publication for readers: copying Arg slabs into spare versions and committing them as one epoch
+// (what SculptSession does between sweeps). Counter ns_per_slab. With an edit thread instead of
+// edits in the servo tick, the proxy would need such a copy of every slab an edit touched before
+// it could feel the edit.
+void publish(benchmark::State& state) {
+  const Fixture& f = fixture();
+  SlabSnapshots snaps(f.model);
+  const int count = static_cast<int>(state.range(0));
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> pick(0, f.model.slab_count() - count);
+  int64_t slabs = 0;
+  for (auto _ : state) {
+    snaps.publish_reserve(count);
+    const int first = pick(rng);
+    for (int s = first; s < first + count; ++s) snaps.publish_slab(s);
+    benchmark::DoNotOptimize(snaps.publish_commit());
+    slabs += count;
+  }
+  state.counters["ns_per_slab"] = benchmark::Counter(double(slabs), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(publish)->Arg(1)->Arg(8)->Arg(64);
+
+BENCHMARK_CAPTURE(stroke, carve, Tool::Carve)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke_legacy, carve, Tool::Carve)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke, add, Tool::Add)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke_legacy, add, Tool::Add)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke, smooth, Tool::Smooth)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke, flatten, Tool::Flatten)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke, paint, Tool::Paint)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke_legacy, paint, Tool::Paint)->Arg(10)->Arg(20);
+void stamp(benchmark::State& state, Tool tool) { stamp_any(state, tool, false); }
+void stamp_legacy(benchmark::State& state, Tool tool) { stamp_any(state, tool, true); }
+
+BENCHMARK_CAPTURE(stamp, carve, Tool::Carve)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp_legacy, carve, Tool::Carve)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp, add, Tool::Add)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp_legacy, add, Tool::Add)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp, paint, Tool::Paint)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp_legacy, paint, Tool::Paint)->Arg(10)->Arg(20);
 
 }  // namespace
 }  // namespace hdm::bench

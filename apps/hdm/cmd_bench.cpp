@@ -15,6 +15,7 @@
 #include <hdm/analysis/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/edit/edit_tools.h>
+#include <hdm/edit/stroke_editor.h>
 #include <hdm/haptics/force.h>
 #if __has_include(<hdm/haptics/proxy.h>)
 #include <hdm/haptics/proxy.h>
@@ -229,6 +230,59 @@ struct EditRow {
   double ns = 0;
 };
 
+// Warm strokes: one tool sample per 1 kHz tick, the tool sliding at 20 mm/s of device motion over
+// the surface under `path` (StrokeEditor::add_sample + work, timed together per tick), the HIP 0.2
+// radius under the surface. Each stroke is undone afterwards, which restores the model bit for bit.
+std::vector<EditRow> warm_strokes(SlabModel& model, const SlabLocator& locator, const Workspace& ws,
+                                  const std::vector<Vec3>& path, double diag, int ticks) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<EditRow> rows;
+  StrokeEditor editor(model);
+  const double step = 0.02e-3 * ws.scale;  // 20 mm/s at 1 kHz
+  for (double pct : {1.0, 2.0}) {
+    const double radius = pct / 100 * diag;
+    std::vector<ToolSample> samples;
+    QueryCache qc;
+    for (size_t k = 0; k + 1 < path.size() && static_cast<int>(samples.size()) < ticks; ++k) {
+      const Contact a = query(model, locator, path[k], qc), b = query(model, locator, path[k + 1], qc);
+      if (!a.in_shell() || !b.in_shell()) continue;
+      const int n = std::max(1, static_cast<int>((b.surface_point - a.surface_point).norm() / step));
+      for (int i = 0; i < n; ++i) {
+        ToolSample t;
+        const Vec3 on = a.surface_point + (b.surface_point - a.surface_point) * (double(i) / n);
+        t.hip = on - 0.2 * radius * a.normal;
+        t.contact = query(model, locator, t.hip, qc);
+        t.normal_force_n = 0.55;  // half pressure
+        t.time_s = 1e-3 * double(samples.size());
+        if (t.contact.in_shell()) samples.push_back(t);
+      }
+    }
+    for (const char* tool : {"carve", "add", "smooth", "flatten", "paint"}) {
+      Brush b;
+      b.tool = parse_brush_tool(tool);
+      b.radius = radius;
+      b.height = 0.2 * radius;
+      if (b.tool == BrushTool::Smooth || b.tool == BrushTool::Flatten) b.strength = 0.5, b.falloff = Falloff::Smooth;
+      if (b.tool == BrushTool::Paint) b.falloff = Falloff::Linear;
+      EditRow row{tool, pct};
+      editor.begin_stroke(b);
+      for (const ToolSample& t : samples) {
+        const auto t0 = Clock::now();
+        editor.add_sample(model, t);
+        const EditWork w = editor.work(model, INT64_MAX);
+        row.ns += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
+        ++row.ops, row.visited += w.visited, row.changed += w.changed;
+      }
+      editor.end_stroke();
+      editor.work(model, INT64_MAX);
+      editor.undo();  // restores every changed value bit for bit
+      editor.work(model, INT64_MAX);
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
 void run_bench(const BenchArgs& a) {
   const std::string path = a.model.empty() ? default_model() : a.model;
   TriangleMesh mesh = read_mesh(path);
@@ -328,6 +382,13 @@ void run_bench(const BenchArgs& a) {
   const Summary s_proxy = have_proxy ? summarise(proxy_tick) : Summary{};
 
   // ---- (d) edits vs touched samples: last, on the model itself (a copy would double peak memory) ----
+  const std::vector<EditRow> warm = warm_strokes(model, locator, ws, path_pts, diag, 2000);
+  auto warm_per_visited = [&](const char* tool) {
+    double ns = 0, n = 0;
+    for (const EditRow& e : warm)
+      if (std::string(e.tool) == tool) ns += e.ns, n += e.visited;
+    return n > 0 ? ns / n : 0.0;
+  };
   std::vector<EditRow> edits;
   {
     SlabModel& work = model;
@@ -378,14 +439,14 @@ void run_bench(const BenchArgs& a) {
 
   // ---- (f) memory ----
   const SampleLayout& L = model.samples;
-  const size_t sample_bytes = bytes(model.displacement) + bytes(model.friction_static) +
+  const size_t sample_bytes = bytes(model.displacement) + bytes(model.layer_displacement) + bytes(model.friction_static) +
                               bytes(model.friction_dynamic) + bytes(model.stiffness_scale) +
                               bytes(model.positions) + bytes(model.normals) + bytes(model.haptic_normals) + bytes(L.ids) + bytes(L.triangles) +
                               bytes(L.home_slab) + bytes(L.home_index) + bytes(L.neighbour_offsets) +
                               bytes(L.neighbours) + bytes(L.triangle_offsets) + bytes(L.incident_triangles) +
                               bytes(L.shared_slot_offsets) + bytes(L.slot_of_shared) + bytes(model.slab_samples);
   const SampleLayout& T = model.texels;
-  const size_t texel_bytes = bytes(model.colour) + bytes(T.ids) + bytes(T.triangles) + bytes(T.home_slab) +
+  const size_t texel_bytes = bytes(model.colour) + bytes(model.roughness) + bytes(T.ids) + bytes(T.triangles) + bytes(T.home_slab) +
                              bytes(T.home_index) + bytes(T.neighbour_offsets) + bytes(T.neighbours) +
                              bytes(T.triangle_offsets) + bytes(T.incident_triangles) + bytes(T.shared_slot_offsets) +
                              bytes(T.slot_of_shared);
@@ -397,6 +458,12 @@ void run_bench(const BenchArgs& a) {
 
   const double ratio_coh = s_ecoh.s.median / s_coh.s.median, ratio_glo = s_eglo.s.median / s_glo.s.median;
   nlohmann::json edit_rows = nlohmann::json::array();
+  nlohmann::json warm_rows = nlohmann::json::array();
+  for (const EditRow& e : warm)
+    warm_rows.push_back({{"tool", e.tool}, {"radius_pct_diagonal", e.radius_pct}, {"ticks", e.ops},
+                         {"visited", e.visited}, {"changed", e.changed}, {"ns_per_tick", e.ops ? e.ns / e.ops : 0.0},
+                         {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0},
+                         {"ns_per_changed", e.changed ? e.ns / e.changed : 0.0}});
   for (const EditRow& e : edits)
     edit_rows.push_back({{"tool", e.tool}, {"radius_pct_diagonal", e.radius_pct}, {"ops", e.ops},
                          {"visited", e.visited}, {"changed", e.changed},
@@ -432,6 +499,10 @@ void run_bench(const BenchArgs& a) {
       {"edit_ns_per_visited", {{"carve", per_visited('c')}, {"add", per_visited('a')}, {"paint_per_texel", per_visited('p')}}},
       {"edit_ns_per_changed", {{"carve", per_changed('c')}, {"add", per_changed('a')}, {"paint_per_texel", per_changed('p')}}},
       {"edits", edit_rows},
+      {"edit_warm_ns_per_visited", {{"carve", warm_per_visited("carve")}, {"add", warm_per_visited("add")},
+                                    {"smooth", warm_per_visited("smooth")}, {"flatten", warm_per_visited("flatten")},
+                                    {"paint_per_texel", warm_per_visited("paint")}}},
+      {"edits_warm", warm_rows},
       {"bake_s", bake_s},
       {"bake_separate_slabs", !a.no_separate},
       {"bake_report_s", br.seconds},
@@ -471,9 +542,13 @@ void run_bench(const BenchArgs& a) {
   std::printf("  points in shell                   coherent %.1f%%, global %.1f%%; max path step %.3f mm\n",
               100.0 * in_shell_coh / path_pts.size(), 100.0 * in_shell_glo / global_pts.size(),
               max_step / ws.scale * 1000);
-  std::printf("  edits [ns per visited sample]     carve %.1f, add %.1f, paint %.1f per texel\n", per_visited('c'),
+  std::printf("  edits, warm strokes at 1 kHz      carve %.1f, add %.1f, smooth %.1f, flatten %.1f ns per visited sample, "
+              "paint %.1f per texel\n",
+              warm_per_visited("carve"), warm_per_visited("add"), warm_per_visited("smooth"),
+              warm_per_visited("flatten"), warm_per_visited("paint"));
+  std::printf("  edits, cold stamps [ns per visited] carve %.1f, add %.1f, paint %.1f per texel\n", per_visited('c'),
               per_visited('a'), per_visited('p'));
-  std::printf("  edits [ns per changed sample]     carve %.1f, add %.1f, paint %.1f per texel\n", per_changed('c'),
+  std::printf("  edits, cold stamps [ns per changed] carve %.1f, add %.1f, paint %.1f per texel\n", per_changed('c'),
               per_changed('a'), per_changed('p'));
   std::printf("  bake                              %.2f s (locator %.3f s)\n", bake_s, locator_s);
   std::printf("  memory                            %.1f B/sample, %.0f B/slab, %.1f B/texel, peak RSS %.0f MB\n",

@@ -30,7 +30,8 @@ size_t bytes_of(const std::vector<T>& v) {
 // Bytes of the stored arrays in memory (what a .hdm file holds, without derived data).
 size_t stored_bytes(const SlabModel& m) {
   return bytes_of(m.inner) + bytes_of(m.outer) + bytes_of(m.slabs) + bytes_of(m.displacement) + bytes_of(m.colour) +
-         bytes_of(m.friction_static) + bytes_of(m.friction_dynamic) + bytes_of(m.stiffness_scale) + m.source.size();
+         bytes_of(m.friction_static) + bytes_of(m.friction_dynamic) + bytes_of(m.stiffness_scale) +
+         bytes_of(m.roughness) + bytes_of(m.layer_displacement) + m.source.size();
 }
 
 void run_info(const InfoOptions& o) {
@@ -43,6 +44,9 @@ void run_info(const InfoOptions& o) {
     for (float d : m.displacement) sum += d;
   }
   const double mean = m.displacement.empty() ? 0.0 : sum / static_cast<double>(m.displacement.size());
+  int64_t exposed = 0;  // samples where the surface lies below the under-layer's top
+  for (size_t s = 0; s < m.displacement.size() && s < m.layer_displacement.size(); ++s)
+    exposed += m.displacement[s] < m.layer_displacement[s];
   const auto file_bytes = static_cast<uintmax_t>(std::filesystem::file_size(o.model));
   const size_t bytes = stored_bytes(m);
 
@@ -56,6 +60,7 @@ void run_info(const InfoOptions& o) {
                               {"source", m.source},
                               {"source_triangles", m.source_triangles},
                               {"displacement", {{"min", lo}, {"mean", mean}, {"max", hi}}},
+                              {"under_layer_exposed_samples", exposed},
                               {"bytes", bytes},
                               {"file_bytes", file_bytes}};
     std::printf("%s\n", j.dump().c_str());
@@ -71,6 +76,7 @@ void run_info(const InfoOptions& o) {
   std::printf("source            %s\n", m.source.empty() ? "(unknown)" : m.source.c_str());
   std::printf("source triangles  %lld\n", static_cast<long long>(m.source_triangles));
   std::printf("displacement      min %.6g  mean %.6g  max %.6g\n", lo, mean, hi);
+  std::printf("under-layer       exposed at %lld samples\n", static_cast<long long>(exposed));
   std::printf("file size         %ju bytes\n", file_bytes);
   std::printf("stored arrays     %zu bytes in memory\n", bytes);
 }

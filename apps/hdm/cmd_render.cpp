@@ -2,6 +2,7 @@
 // hdm render MODEL.hdm -o VIEW.png [--size WxH] [--view AZ,EL] [--edges]: headless PNG of a model.
 #include "commands.h"
 
+#include <hdm/core/error.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/query/slab_query.h>
 #include <hdm/render/render_png.h>
@@ -19,7 +20,8 @@ namespace hdm::app {
 namespace {
 
 struct RenderArgs {
-  std::string model, output, size = "1280x960", view = "0,15";
+  std::string model, output, size = "1280x960", view = "0,15", focus = "0.5,0.5,0.5";
+  double zoom = 1;
   std::string surface = "displaced", colour_by = "paint";
   bool edges = false;
   InputLimit limit;
@@ -95,6 +97,10 @@ void run_render(const RenderArgs& a) {
   parse_pair(a.size, 'x', o.width, o.height);  // validated by check_size
   parse_pair(a.view, ',', o.azimuth_deg, o.elevation_deg);
   o.show_slab_edges = a.edges;
+  o.zoom = a.zoom;
+  if (std::sscanf(a.focus.c_str(), "%lf,%lf,%lf", &o.focus.x(), &o.focus.y(), &o.focus.z()) != 3 || !o.focus.allFinite())
+    throw InvalidInput("--focus: expected X,Y,Z in normalised box coordinates, for example 0.6,0.45,1, got '" +
+                       a.focus + "'");
   SlabModel model = load_model(a.model, {a.limit.bytes()});
   restyle(model, a);
   render_png(model, a.output, o);
@@ -117,6 +123,11 @@ void add_render_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Validator(check_view, "AZ,EL", "view"));
   sub->add_flag("--edges", args->edges, "draw the coarse slab boundaries");
+  sub->add_option("--zoom", args->zoom, "close-up: move the camera this many times closer (1: the whole model)")
+      ->check(CLI::Range(0.01, 1000.0));
+  sub->add_option("--focus", args->focus,
+                  "close-up: the point looked at, in the model's bounding box normalised to [0,1] (X,Y,Z)")
+      ->capture_default_str();
   sub->add_option("--surface", args->surface, "what to draw: the displaced surface, or the inner or outer shell")
       ->capture_default_str()
       ->check(CLI::IsMember({"displaced", "inner", "outer"}));

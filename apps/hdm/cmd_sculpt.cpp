@@ -1,33 +1,36 @@
 // SPDX-License-Identifier: MIT
-// hdm sculpt MODEL.hdm: a servo loop drives a simulated device along a script's strokes; forces are
-// rendered, and carve/add/paint edits are applied at the edit rate.
+// hdm sculpt MODEL.hdm: the servo loop (hdm::SculptSession) drives a simulated hand along a
+// script's strokes in closed loop (the rendered force acts back on the handle); the tool button is
+// held during each stroke, and the strokes carve, add, smooth, flatten and paint at haptic rate.
 #include "commands.h"
 #include "sculpt_script.h"
 
+#include <hdm/analysis/edit_fidelity.h>
 #include <hdm/core/error.h>
 #include <hdm/edit/edit_tools.h>
-#include <hdm/haptics/force.h>
-#include <hdm/haptics/proxy.h>
-#include <hdm/haptics/servo_loop.h>
 #include <hdm/io/hdm_file.h>
+#include <hdm/io/read_mesh.h>
+#include <hdm/session/sculpt_session.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <thread>
 
 namespace hdm::app {
 namespace {
 
 struct SculptArgs {
-  std::string model, script, output, forces, mode = "proxy", solver = "newton";
-  double rate = 1000, edit_rate = 10;
-  bool fast = false, every_tick = false, json = false;
+  std::string model, script, output, forces, mode = "proxy", solver = "newton", check_against;
+  double rate = 1000, edit_rate = 0, budget_us = 25, save_every = 0;
+  bool fast = false, every_tick = false, json = false, cpu_time = false;
   InputLimit limit;
 };
 
@@ -38,73 +41,49 @@ struct TickRecord {
   int8_t contact;
   float depth_m;
   Vec3f force;
+  int8_t tool_on, carried;
+  int16_t sweeps;
 };
 
-// Everything the tick touches, set up before the loop so that the tick never allocates.
-struct TickState {
-  SlabModel* model;
-  const SlabLocator* locator;
-  const Script* script;
+// What the hooks touch, set up before the loop so that the tick never allocates.
+struct Run {
   const Trajectory* path;
-  Workspace ws;
-  double dt;
-  int64_t edit_every;
-  EditScratch* scratch;
-  QueryCache cache;
-  RenderMode mode = RenderMode::Proxy;
-  ProxyParams proxy;
-  ProxyState proxy_state;
+  const Script* script;
+  const std::vector<Brush>* brushes;  // one per script step
+  double scale;                       // model units per metre
+  size_t next_command = 0;
+  int16_t brush_set = -1;
   std::vector<TickRecord> records;
-  std::vector<double> query_ns;
-  int64_t contact_ticks = 0, edits = 0, samples_changed = 0, texels_painted = 0;
 };
 
-void tick(void* user, const ServoTick& servo) noexcept {
-  auto& s = *static_cast<TickState*>(user);
-  const int64_t k = servo.tick;
-  const double t = servo.time_s;
-  const Vec3 dev = s.path->position[k];
-  const Vec3 vel = k > 0 ? Vec3((dev - s.path->position[k - 1]) / s.dt) : Vec3::Zero();
-  const auto q0 = std::chrono::steady_clock::now();
-  Contact c;
-  Vec3 force;
-  if (s.mode == RenderMode::Proxy) {  // god-object: the proxy's contact drives the edits
-    const ProxyOutput out = proxy_step(*s.model, *s.locator, s.ws, dev, vel, s.proxy, s.proxy_state);
-    c = out.contact;
-    force = out.force;
-  } else {  // the paper's penalty force on the HIP's own query
-    c = query(*s.model, *s.locator, s.ws.to_model(dev), s.cache, s.proxy.solver);
-    force = penalty_force(c, vel, s.script->force, s.ws).force;
+void before_tick(void* user, SculptSession& session, const ServoTick& t) noexcept {
+  Run& r = *static_cast<Run*>(user);
+  const size_t k = std::min<size_t>(static_cast<size_t>(t.tick), r.path->stroke.size() - 1);
+  const int16_t stroke = r.path->stroke[k];
+  if (stroke >= 0 && stroke != r.brush_set) {  // set before the button goes down on this tick
+    session.set_brush((*r.brushes)[static_cast<size_t>(stroke)]);
+    r.brush_set = stroke;
   }
-  force *= servo.force_gain;  // ramp-in/out and the watchdog of the servo loop
-  s.query_ns[k] = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - q0).count();
-  s.records[k] = {static_cast<float>(t), dev.cast<float>(), static_cast<int8_t>(c.penetrating()),
-                  static_cast<float>(c.penetrating() ? c.depth / s.ws.scale : 0.0), force.cast<float>()};
-  if (!c.penetrating()) return;
-  ++s.contact_ticks;
-  const int16_t stroke = s.path->stroke[k];
-  if (stroke < 0 || k % s.edit_every != 0) return;
-  const Stroke& st = s.script->strokes[stroke];
-  const double mm = s.ws.scale / 1000;  // model units per device millimetre
-  EditResult r;
-  switch (st.tool) {
-    case Tool::Carve:
-      r = carve(*s.model, *s.scratch, c, s.ws.to_model(dev), st.radius_mm * mm, st.resilience_mm * mm);
-      s.samples_changed += r.changed;
-      break;
-    case Tool::Add:
-      r = add_material(*s.model, *s.scratch, c, st.radius_mm * mm, st.height_mm * mm);
-      s.samples_changed += r.changed;
-      break;
-    case Tool::Paint:
-      r = paint(*s.model, *s.scratch, c, st.radius_mm * mm, st.colour,
-                paint_pressure(c.depth, 0.1 * st.depth_mm * mm, st.depth_mm * mm));
-      s.texels_painted += r.changed;
-      break;
-    default:
-      return;
+  while (r.next_command < r.path->commands.size() && r.path->commands[r.next_command].first <= t.tick) {
+    const int16_t step = r.path->commands[r.next_command].second;
+    if (r.script->strokes[static_cast<size_t>(step)].tool == Tool::Undo) session.undo();
+    else session.redo();
+    ++r.next_command;
   }
-  ++s.edits;
+}
+
+void after_tick(void* user, const ServoTick& t, const SessionTick& out) noexcept {
+  Run& r = *static_cast<Run*>(user);
+  if (static_cast<size_t>(t.tick) >= r.records.size()) return;
+  const bool contact = out.out.contact.in_shell() && out.out.status != ProxyStatus::Free;
+  r.records[static_cast<size_t>(t.tick)] = {static_cast<float>(t.time_s),
+                                            out.device.position.cast<float>(),
+                                            static_cast<int8_t>(contact),
+                                            static_cast<float>(contact ? out.out.contact.depth / r.scale : 0.0),
+                                            out.force.cast<float>(),
+                                            static_cast<int8_t>(out.tool_on),
+                                            static_cast<int8_t>(out.edit_pending),
+                                            static_cast<int16_t>(std::min(out.sweeps, 32767))};
 }
 
 void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
@@ -112,11 +91,13 @@ void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
   {
     std::ofstream out(tmp);
     if (!out) throw IoError(path + ": cannot write");
-    out << "time_s,device_x_m,device_y_m,device_z_m,contact,depth_m,force_x_n,force_y_n,force_z_n\n";
+    out << "time_s,device_x_m,device_y_m,device_z_m,contact,depth_m,force_x_n,force_y_n,force_z_n,tool_on,sweeps,"
+           "carried\n";
     char line[256];
     for (const TickRecord& r : rows) {
-      std::snprintf(line, sizeof line, "%.4f,%.6f,%.6f,%.6f,%d,%.7f,%.5f,%.5f,%.5f\n", r.t, r.device.x(), r.device.y(),
-                    r.device.z(), r.contact, r.depth_m, r.force.x(), r.force.y(), r.force.z());
+      std::snprintf(line, sizeof line, "%.4f,%.6f,%.6f,%.6f,%d,%.7f,%.5f,%.5f,%.5f,%d,%d,%d\n", r.t, r.device.x(),
+                    r.device.y(), r.device.z(), r.contact, r.depth_m, r.force.x(), r.force.y(), r.force.z(), r.tool_on,
+                    r.sweeps, r.carried);
       out << line;
     }
     if (!out) throw IoError(path + ": write failed");
@@ -124,40 +105,154 @@ void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
   std::filesystem::rename(tmp, path);
 }
 
+nlohmann::json stats_json(const LatencyStats& s) { return {{"median", s.median}, {"p99", s.p99}, {"max", s.max}}; }
+
+// The sweeps of the strokes that are applied at the end (undone strokes dropped, redone ones kept).
+std::vector<const BrushSweep*> applied_sweeps(const std::vector<EditLogEntry>& log) {
+  std::vector<std::vector<const BrushSweep*>> strokes, undone;
+  for (const EditLogEntry& e : log) switch (e.kind) {
+      case EditLogEntry::Begin: strokes.emplace_back(); undone.clear(); break;
+      case EditLogEntry::Sweep: if (!strokes.empty()) strokes.back().push_back(&e.sweep); break;
+      case EditLogEntry::Undo:
+        if (!strokes.empty()) undone.push_back(std::move(strokes.back())), strokes.pop_back();
+        break;
+      case EditLogEntry::Redo:
+        if (!undone.empty()) strokes.push_back(std::move(undone.back())), undone.pop_back();
+        break;
+      default: break;
+    }
+  std::vector<const BrushSweep*> out;
+  for (const auto& s : strokes) out.insert(out.end(), s.begin(), s.end());
+  return out;
+}
+
+// The carve (or add) sweeps of the session against the exact boolean of the input with them
+// (every applied carve and add shapes the exact solid; the band measured is around this tool's).
+nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact, const std::vector<EditLogEntry>& log,
+                             BrushTool tool, double spacing) {
+  std::vector<ToolCapsule> tools;
+  double radius = 0;
+  int64_t measured = 0;
+  for (const BrushSweep* sw : applied_sweeps(log))
+    if (sw->brush.tool == BrushTool::Carve || sw->brush.tool == BrushTool::Add) {
+      const bool mine = sw->brush.tool == tool;
+      tools.push_back({sw->from, sw->to, sw->brush.radius, sw->brush.tool == BrushTool::Add, mine});
+      if (mine) radius = std::max(radius, sw->brush.radius), ++measured;
+    }
+  if (measured == 0) return nullptr;
+  const EditFidelity f = measure_edit_fidelity(model, exact, tools, radius, spacing);
+  return {{"sweeps", measured},             {"rms_pct", f.rms_pct},
+          {"max_pct", f.max_pct},           {"rms_back_pct", f.rms_back_pct},
+          {"max_back_pct", f.max_back_pct}, {"points", f.points},
+          {"back_points", f.back_points}};
+}
+
 void run_sculpt(const SculptArgs& a) {
   SlabModel model = load_model(a.model, {a.limit.bytes()});
   const std::string script_path = a.script.empty() ? HDM_DEFAULT_SCRIPT : a.script;
   const Script script = read_script(script_path, a.limit.bytes());
-  const SlabLocator locator(model);
   Aabb box;
   for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
-  TickState s;
-  s.ws = fit_workspace(box, script.workspace_m);
-  const Trajectory path = build_trajectory(script, model, locator, s.ws, a.rate);
-  EditScratch scratch(model);
-  s.model = &model;
-  s.locator = &locator;
-  s.script = &script;
-  s.path = &path;
-  s.dt = 1.0 / a.rate;
-  s.mode = parse_render_mode(a.mode);
-  s.proxy.force = script.force;
-  s.proxy.solver = parse_alpha_solver(a.solver);
-  s.edit_every = a.every_tick ? 1 : std::max<int64_t>(1, std::llround(a.rate / a.edit_rate));
-  s.scratch = &scratch;
-  s.records.resize(path.position.size());
-  s.query_ns.resize(path.position.size());
+  const Workspace ws = fit_workspace(box, script.workspace_m);
+  const double mm = ws.scale / 1000;  // model units per device millimetre
+  if (script.layer.present) set_under_layer(model, script.layer.thickness_mm * mm, script.layer.material);
+  if (script.surface.has_colour) std::fill(model.colour.begin(), model.colour.end(), script.surface.colour);
+  if (script.surface.has_roughness) std::fill(model.roughness.begin(), model.roughness.end(), script.surface.roughness);
+  Trajectory path;
+  {
+    const SlabLocator locator(model);
+    path = build_trajectory(script, model, locator, ws, a.rate);
+  }
+  std::vector<Brush> brushes;
+  for (const Stroke& st : script.strokes) brushes.push_back(stroke_brush(st, mm));
+  // The hand holds the tool button down during each editing stroke (not while probing or travelling).
+  std::vector<uint32_t> buttons(path.position.size(), 0);
+  for (size_t k = 0; k < buttons.size(); ++k) {
+    const Tool t = path.tool[k];
+    buttons[k] = (t == Tool::Carve || t == Tool::Add || t == Tool::Paint || t == Tool::Smooth || t == Tool::Flatten);
+  }
 
-  ServoOptions so;
-  so.rate_hz = a.rate;
-  so.realtime = !a.fast;
-  so.ticks = static_cast<int64_t>(path.position.size());
+  SessionOptions so;
+  so.mode = parse_render_mode(a.mode);
+  so.proxy.force = script.force;
+  so.proxy.solver = parse_alpha_solver(a.solver);
+  so.edit_budget_s = a.budget_us * 1e-6;
+  so.edit_every = a.edit_rate > 0 ? std::max<int64_t>(1, std::llround(a.rate / a.edit_rate)) : 1;
+  so.publish = a.save_every > 0;  // snapshots only when another thread reads them
+  SculptSession session(std::move(model), ws, so);
+  std::vector<EditLogEntry> sweep_log;
+  if (!a.check_against.empty()) {
+    sweep_log.reserve(path.position.size() + 4 * script.strokes.size() + 16);  // at most one sweep per tick
+    session.editor().record_log(&sweep_log);
+  }
+
+  SimulatedDeviceOptions dopt;
+  dopt.rate_hz = a.rate;
+  dopt.spec.max_force_n = script.force.max_force;
+  dopt.hand_stiffness = script.hand_stiffness;
+  dopt.hand_damping = script.hand_damping;
+  SimulatedDevice device(dopt, path.position, path.position.front(), buttons);
+
+  Run run;
+  run.path = &path;
+  run.script = &script;
+  run.brushes = &brushes;
+  run.scale = ws.scale;
+  run.records.resize(path.position.size());
+  ServoOptions opt;
+  opt.rate_hz = a.rate;
+  opt.realtime = !a.fast;
+  opt.ticks = static_cast<int64_t>(path.position.size());
+  opt.cpu_time = a.cpu_time;
+
+  // Autosave from another thread while the servo edits: each file is a published epoch.
+  std::atomic<bool> done{false};
+  std::atomic<int> saves{0};
+  std::thread saver;
+  if (a.save_every > 0 && !a.output.empty()) {
+    saver = std::thread([&] {
+      auto next = std::chrono::steady_clock::now();
+      while (!done.load()) {
+        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(a.save_every));
+        while (!done.load() && std::chrono::steady_clock::now() < next) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (done.load()) break;
+        SlabModel copy;
+        {
+          SnapshotReader reader(*session.snapshots());
+          copy = reader.stored_model();
+        }
+        save_model(copy, a.output);
+        saves.fetch_add(1);
+      }
+    });
+  }
   const char* note = nullptr;
-  const ServoStats st = run_servo_loop(so, tick, &s, &note);
+  ServoStats st;
+  try {
+    st = run_session(session, device, opt, SessionHooks{before_tick, after_tick, &run}, &note);
+  } catch (...) {
+    done = true;
+    if (saver.joinable()) saver.join();
+    throw;
+  }
+  done = true;
+  if (saver.joinable()) saver.join();
+  session.finish();  // sweeps still queued when the loop ended
 
-  if (!a.forces.empty()) write_csv(a.forces, s.records);
-  if (!a.output.empty()) save_model(model, a.output);
-  const LatencyStats q = latency_stats(s.query_ns);
+  if (!a.forces.empty()) write_csv(a.forces, run.records);
+  if (!a.output.empty()) save_model(session.model(), a.output);
+  nlohmann::json check;
+  if (!a.check_against.empty()) {
+    const TriangleMesh input = read_mesh(a.check_against, {a.limit.bytes()});
+    const ExactMeshQuery exact(input);
+    const double spacing = 0.5 * session.editor().scratch().sample_spacing;
+    for (BrushTool t : {BrushTool::Carve, BrushTool::Add}) {
+      nlohmann::json c = check_strokes(session.model(), exact, sweep_log, t, spacing);
+      if (!c.is_null()) check[brush_tool_name(t)] = c;
+    }
+  }
+  const SessionStats& ss = session.stats();
+  const UndoHistory& h = session.editor().history();
   nlohmann::json j = {{"model", a.model},
                       {"script", script_path},
                       {"ticks", st.ticks},
@@ -167,33 +262,60 @@ void run_sculpt(const SculptArgs& a) {
                       {"realtime", !a.fast},
                       {"mode", a.mode},
                       {"solver", a.solver},
-                      {"query_ns", {{"median", q.median}, {"p99", q.p99}, {"max", q.max}}},
-                      {"tick_ns", {{"median", st.compute_ns.median}, {"p99", st.compute_ns.p99}, {"max", st.compute_ns.max}}},
-                      {"period_ns", {{"median", st.period_ns.median}, {"p99", st.period_ns.p99}, {"max", st.period_ns.max}}},
+                      {"tick_ns", stats_json(st.compute_ns)},
+                      {"period_ns", stats_json(st.period_ns)},
                       {"overruns", st.overruns},
-                      {"contact_ticks", s.contact_ticks},
-                      {"edits", s.edits},
-                      {"edit_every_ticks", s.edit_every},
-                      {"samples_changed", s.samples_changed},
-                      {"texels_painted", s.texels_painted},
+                      {"long_ticks", st.long_ticks},
+                      {"cpu_long_ticks", st.cpu_long_ticks},
+                      {"tick_cpu_ns", stats_json(st.cpu_ns)},
+                      {"watchdog_trips", st.watchdog_trips},
+                      {"contact_ticks", ss.contact_ticks},
+                      {"edit_every_ticks", so.edit_every},
+                      {"edit_budget_us", a.budget_us},
+                      {"sweeps", ss.sweeps},
+                      {"changed", ss.changed},
+                      {"carried_ticks", ss.carried_ticks},
+                      {"max_edit_ns", ss.max_edit_ns},
+                      {"publications", ss.publications},
+                      {"slabs_published", ss.slabs_published},
+                      {"publish_deferred", ss.publish_deferred},
+                      {"autosaves", saves.load()},
+                      {"undo_strokes", h.undo_count()},
+                      {"undo_records_bytes", h.records_held() * sizeof(UndoRecord)},
                       {"output", a.output},
                       {"forces", a.forces}};
+  if (!check.is_null()) j["against_exact_boolean"] = check;
   if (note) j["realtime_note"] = note;
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
   std::printf("sculpted %s with %s\n", a.model.c_str(), script_path.c_str());
-  std::printf("  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s)\n", (long long)st.ticks, st.seconds,
-              st.rate_hz, a.rate, a.fast ? ", --fast" : "");
-  // In proxy mode the timed section is the whole proxy step (its slab queries included).
-  std::printf("  %s median %.0f ns, p99 %.0f ns, max %.0f ns\n",
-              s.mode == RenderMode::Proxy ? "query + proxy   " : "query latency   ", q.median, q.p99, q.max);
-  std::printf("  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns\n", st.compute_ns.median,
-              st.compute_ns.p99, st.compute_ns.max);
-  std::printf("  contact ticks    %lld\n", (long long)s.contact_ticks);
-  std::printf("  edits            %lld (every %lld ticks), samples changed %lld, texels painted %lld\n",
-              (long long)s.edits, (long long)s.edit_every, (long long)s.samples_changed, (long long)s.texels_painted);
+  std::printf("  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s), %lld overruns, %lld ticks longer than a "
+              "period\n",
+              (long long)st.ticks, st.seconds, st.rate_hz, a.rate, a.fast ? ", --fast" : "", (long long)st.overruns,
+              (long long)st.long_ticks);
+  std::printf("  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (proxy, edits within %.0f µs, publication)\n",
+              st.compute_ns.median, st.compute_ns.p99, st.compute_ns.max, a.budget_us);
+  std::printf("  contact ticks    %lld\n", (long long)ss.contact_ticks);
+  std::printf("  edits            %lld sweeps (tool position every %lld ticks), %lld samples/texels changed, "
+              "%lld ticks carried work over\n",
+              (long long)ss.sweeps, (long long)so.edit_every, (long long)ss.changed, (long long)ss.carried_ticks);
+  std::printf("  undo history     %d strokes, %.1f MB of records\n", h.undo_count(),
+              double(h.records_held() * sizeof(UndoRecord)) / 1e6);
+  if (a.cpu_time)
+    std::printf("  tick CPU time    median %.0f ns, p99 %.0f ns, max %.0f ns; %lld ticks computed longer than a period\n",
+                st.cpu_ns.median, st.cpu_ns.p99, st.cpu_ns.max, (long long)st.cpu_long_ticks);
+  if (so.publish)
+    std::printf("  published        %lld epochs, %lld slab versions; %d autosaves while sculpting\n",
+                (long long)ss.publications, (long long)ss.slabs_published, saves.load());
+  for (const char* t : {"carve", "add"})
+    if (check.contains(t))
+      std::printf("  %-5s vs exact   model->exact RMS %.4f%% max %.4f%%, exact->model RMS %.4f%% max %.4f%% of the "
+                  "diagonal (%lld sweeps, against %s)\n",
+                  t, check[t]["rms_pct"].get<double>(), check[t]["max_pct"].get<double>(),
+                  check[t]["rms_back_pct"].get<double>(), check[t]["max_back_pct"].get<double>(),
+                  (long long)check[t]["sweeps"].get<int64_t>(), a.check_against.c_str());
   if (note) std::printf("  note             %s\n", note);
   if (!a.output.empty()) std::printf("  wrote            %s\n", a.output.c_str());
   if (!a.forces.empty()) std::printf("  wrote            %s\n", a.forces.c_str());
@@ -203,19 +325,32 @@ void run_sculpt(const SculptArgs& a) {
 
 void add_sculpt_command(CLI::App& app) {
   auto a = std::make_shared<SculptArgs>();
-  CLI::App* cmd = app.add_subcommand("sculpt", "Run the servo loop with a simulated device that follows a sculpting script");
+  CLI::App* cmd = app.add_subcommand(
+      "sculpt", "Run the servo loop with a simulated hand that follows a sculpting script (closed loop)");
   cmd->add_option("model", a->model, "slab model (.hdm)")->required();
   cmd->add_option("--script", a->script, "sculpting script (JSON); default: the shipped bunny script");
   cmd->add_option("-o,--output", a->output, "write the edited model here (.hdm)");
   auto* rate = cmd->add_option("--rate", a->rate, "servo rate [Hz]")->check(CLI::Range(1.0, 1e6));
   cmd->add_flag("--fast", a->fast, "run ticks back to back instead of in real time")->excludes(rate);
-  cmd->add_option("--edit-rate", a->edit_rate, "edit rate [Hz] (paper: 10)")->check(CLI::Range(0.1, 1e6));
-  cmd->add_flag("--edit-every-tick", a->every_tick, "apply edits on every tick");
+  auto* every = cmd->add_flag("--edit-every-tick", a->every_tick, "feed a tool position on every tick (the default)");
+  cmd->add_option("--edit-rate", a->edit_rate, "feed tool positions at this rate [Hz] instead (paper: 10)")
+      ->check(CLI::Range(0.1, 1e6))
+      ->excludes(every);
+  cmd->add_option("--budget-us", a->budget_us, "edit and publication work per tick [µs] (the rest carries over)")
+      ->check(CLI::Range(1.0, 1e6));
+  cmd->add_option("--save-every", a->save_every,
+                  "save the model to -o from another thread every S seconds while sculpting")
+      ->check(CLI::Range(0.01, 1e6));
   cmd->add_option("--mode", a->mode, "force model: proxy (god-object, default) or penalty (the paper's)")
       ->check(CLI::IsMember({"proxy", "penalty"}));
   cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)")
       ->check(CLI::IsMember({"newton", "bisection"}));
   cmd->add_option("--forces", a->forces, "write one CSV row per tick here");
+  cmd->add_option("--check-against", a->check_against,
+                  "measure the carved and added strokes against the exact boolean of this input mesh with the "
+                  "swept tools (RMS and max, % of the diagonal; smooth and flatten strokes near them count as error)");
+  cmd->add_flag("--cpu-time", a->cpu_time,
+                "also time each tick with the servo thread's CPU clock (tells long ticks from preempted ones)");
   cmd->add_flag("--json", a->json, "print the summary as one JSON object");
   add_input_limit(cmd, a->limit);
   cmd->callback([a] { run_sculpt(*a); });

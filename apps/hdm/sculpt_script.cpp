@@ -42,7 +42,47 @@ Tool tool_named(const std::string& s, const std::string& where) {
   if (s == "carve") return Tool::Carve;
   if (s == "add") return Tool::Add;
   if (s == "paint") return Tool::Paint;
-  throw InvalidInput(where + ": unknown tool '" + s + "' (probe, carve, add, paint)");
+  if (s == "smooth") return Tool::Smooth;
+  if (s == "flatten") return Tool::Flatten;
+  throw InvalidInput(where + ": unknown tool '" + s + "' (probe, carve, add, paint, smooth, flatten)");
+}
+
+// A string field with its default; @p prefix names the object.
+std::string text(const nlohmann::json& j, const char* key, const std::string& fallback, const std::string& prefix) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_string()) throw InvalidInput(prefix + key + ": expected a string");
+  return j[key].get<std::string>();
+}
+
+// The brush fields of a stroke (strength, falloff, paint field and value, pressure).
+void read_brush_fields(const nlohmann::json& js, const std::string& where, Stroke& st) {
+  const std::string field = where + ".";
+  st.strength = number(js, "strength", st.strength, 0.0, 1.0, field);
+  st.pressure_force_n = number(js, "pressure_force_n", st.pressure_force_n, 1e-3, 1e4, field);
+  const bool boolean = st.tool == Tool::Carve || st.tool == Tool::Add;
+  try {
+    st.falloff = parse_falloff(text(js, "falloff", boolean ? "constant" : "linear", field));
+    st.field = parse_brush_field(text(js, "field", "colour", field));
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(where + ": " + e.what());
+  }
+  st.value = static_cast<float>(number(js, "value", st.value, -1e4, 1e4, field));
+}
+
+// The under-layer: {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness"}.
+ScriptLayer read_layer(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_object()) throw InvalidInput(where + ": expected an object");
+  ScriptLayer l;
+  l.present = true;
+  const std::string field = where + ".";
+  UnderLayer& m = l.material;
+  l.thickness_mm = number(j, "thickness_mm", l.thickness_mm, 0.0, 1e4, field);
+  if (j.contains("colour")) m.colour = vec3(j["colour"], where + ".colour", 0.0, 1.0).cast<float>();
+  m.stiffness_scale = static_cast<float>(number(j, "stiffness", m.stiffness_scale, 0.0, 1.0, field));
+  m.friction_static = static_cast<float>(number(j, "friction_static", m.friction_static, 0.0, 10.0, field));
+  m.friction_dynamic = static_cast<float>(number(j, "friction_dynamic", m.friction_dynamic, 0.0, 10.0, field));
+  m.roughness = static_cast<float>(number(j, "roughness", m.roughness, 0.0, 1.0, field));
+  return l;
 }
 
 // Surface point and normal under normalised box point u: march from the box point towards the box
@@ -86,16 +126,42 @@ Script parse_script(std::string_view text, const std::string& path) {
     s.name = j.value("name", path);
     const std::string top = path + ": ";
     s.workspace_m = number(j, "workspace_m", 0.16, 1e-3, 10.0, top);
+    s.hand_stiffness = number(j, "hand_stiffness_n_per_m", s.hand_stiffness, 1e-3, 1e7, top);
+    s.hand_damping = number(j, "hand_damping_ns_per_m", s.hand_damping, 0.0, 1e5, top);
     s.force.stiffness = number(j, "stiffness_n_per_m", s.force.stiffness, 1e-3, 1e7, top);
     s.force.damping = number(j, "damping_ns_per_m", s.force.damping, 0.0, 1e5, top);
     s.force.max_force = number(j, "max_force_n", s.force.max_force, 1e-3, 1e4, top);
+    if (j.contains("under_layer")) s.layer = read_layer(j["under_layer"], path + ": under_layer");
+    if (j.contains("surface")) {  // {"colour": [r, g, b], "roughness": x}
+      const auto& js = j["surface"];
+      if (!js.is_object()) throw InvalidInput(path + ": surface: expected an object");
+      if (js.contains("colour")) {
+        s.surface.has_colour = true;
+        s.surface.colour = vec3(js["colour"], path + ": surface.colour", 0.0, 1.0).cast<float>();
+      }
+      if (js.contains("roughness")) {
+        s.surface.has_roughness = true;
+        s.surface.roughness = static_cast<float>(number(js, "roughness", 1.0, 0.0, 1.0, path + ": surface."));
+      }
+    }
     if (!j.contains("strokes") || !j["strokes"].is_array() || j["strokes"].empty())
       throw InvalidInput(path + ": 'strokes' must be a non-empty array");
+    if (j["strokes"].size() > max_script_strokes)
+      throw InvalidInput(path + ": " + std::to_string(j["strokes"].size()) + " strokes, more than the " +
+                         std::to_string(max_script_strokes) + " a script may hold");
     for (size_t k = 0; k < j["strokes"].size(); ++k) {
       const auto& js = j["strokes"][k];
       const std::string where = path + ": strokes[" + std::to_string(k) + "]";
       if (!js.is_object()) throw InvalidInput(where + ": expected an object");
       Stroke st;
+      if (js.contains("undo") || js.contains("redo")) {  // {"undo": n} / {"redo": n}
+        const char* key = js.contains("undo") ? "undo" : "redo";
+        st.tool = js.contains("undo") ? Tool::Undo : Tool::Redo;
+        if (!js[key].is_number_integer()) throw InvalidInput(where + "." + key + ": expected a whole number");
+        st.count = static_cast<int>(number(js, key, 1, 1, 1000, where + "."));
+        s.strokes.push_back(st);
+        continue;
+      }
       if (js.contains("tool") && !js["tool"].is_string()) throw InvalidInput(where + ".tool: expected a string");
       st.tool = tool_named(js.value("tool", "probe"), where + ".tool");
       if (!js.contains("from") || !js.contains("to")) throw InvalidInput(where + ": needs 'from' and 'to'");
@@ -110,6 +176,7 @@ Script parse_script(std::string_view text, const std::string& path) {
       st.resilience_mm = number(js, "resilience_mm", st.resilience_mm, 0.0, 1e4, field);
       st.height_mm = number(js, "height_mm", st.height_mm, 0.0, 1e4, field);
       if (js.contains("colour")) st.colour = vec3(js["colour"], where + ".colour", 0.0, 1.0).cast<float>();
+      read_brush_fields(js, where, st);
       s.strokes.push_back(st);
     }
   } catch (const nlohmann::json::exception& e) {
@@ -124,6 +191,26 @@ Script read_script(const std::string& path, uint64_t max_bytes) {
   } catch (const IoError& e) {
     throw InvalidInput(e.what());  // read_script's documented error type
   }
+}
+Brush stroke_brush(const Stroke& s, double mm) {
+  Brush b;
+  switch (s.tool) {
+    case Tool::Carve: b.tool = BrushTool::Carve; break;
+    case Tool::Add: b.tool = BrushTool::Add; break;
+    case Tool::Smooth: b.tool = BrushTool::Smooth; break;
+    case Tool::Flatten: b.tool = BrushTool::Flatten; break;
+    default: b.tool = BrushTool::Paint; break;
+  }
+  b.radius = s.radius_mm * mm;
+  b.strength = s.strength;
+  b.falloff = s.falloff;
+  b.resilience = s.resilience_mm * mm;
+  b.height = s.height_mm * mm;
+  b.field = s.field;
+  b.colour = s.colour;
+  b.value = s.field == BrushField::LayerThickness ? static_cast<float>(s.value * mm) : s.value;
+  b.pressure_force_n = s.pressure_force_n;
+  return b;
 }
 
 Trajectory build_trajectory(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
@@ -151,6 +238,13 @@ Trajectory build_trajectory(const Script& script, const SlabModel& m, const Slab
   tr.stroke.push_back(-1);
   for (size_t k = 0; k < script.strokes.size(); ++k) {
     const Stroke& st = script.strokes[k];
+    if (st.tool == Tool::Undo || st.tool == Tool::Redo) {  // a pause above the model, the command at its start
+      for (int c = 0; c < st.count; ++c) {
+        tr.commands.emplace_back(static_cast<int64_t>(tr.position.size()), static_cast<int16_t>(k));
+        move(here, here, 0.05, Tool::None, -1);
+      }
+      continue;
+    }
     const double len_u = (st.to - st.from).norm();
     // Sample the stroke about every 0.5 mm of device space.
     const double len_mm = len_u * (box.max - box.min).norm() / ws.scale * 1000;

@@ -11,8 +11,9 @@
 
 namespace hdm {
 
-SimulatedDevice::SimulatedDevice(const SimulatedDeviceOptions& o, std::span<const Vec3> targets, const Vec3& start)
-    : options_(o), targets_(targets), x_(start), v_(Vec3::Zero()), x_prev_(start) {
+SimulatedDevice::SimulatedDevice(const SimulatedDeviceOptions& o, std::span<const Vec3> targets, const Vec3& start,
+                                 std::span<const uint32_t> buttons)
+    : options_(o), targets_(targets), buttons_(buttons), x_(start), v_(Vec3::Zero()), x_prev_(start) {
   if (!(o.mass_kg > 0) || !(o.rate_hz > 0) || o.substeps < 1)
     throw InvalidInput("SimulatedDevice: mass_kg and rate_hz must be > 0 and substeps >= 1");
 }
@@ -21,7 +22,7 @@ bool SimulatedDevice::begin_frame(DeviceState& s) noexcept {
   const double dt = 1.0 / options_.rate_hz;
   s.position = x_;
   s.velocity = tick_ > 0 ? Vec3((x_ - x_prev_) / dt) : Vec3::Zero();
-  s.buttons = 0;
+  s.buttons = buttons_.empty() ? 0u : buttons_[std::min<size_t>(static_cast<size_t>(tick_), buttons_.size() - 1)];
   s.time_s = tick_ * dt;
   return true;
 }

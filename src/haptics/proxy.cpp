@@ -210,16 +210,27 @@ ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const
     s.coords.alpha = at.delta;
   }
 
-  // The three surface fields share one grid cell (the same one interpolate_field would find).
+  // The surface fields share one grid cell (the same one interpolate_field would find).
   const detail::GridCell cell = detail::grid_cell(model, s.slab, s.coords.bary[1], s.coords.bary[2]);
   auto field = [&](const std::vector<float>& f, double fallback) {
     if (f.empty()) return fallback;
     const double v = cell.wa * f[cell.a] + cell.wb * f[cell.b] + cell.wd * f[cell.d];
     return std::isfinite(v) ? v : fallback;
   };
-  const double k = p.force.stiffness * field(model.stiffness_scale, 1.0);
-  const double mu_s = p.friction_scale * field(model.friction_static, 0.0);
-  const double mu_d = std::min(mu_s, p.friction_scale * field(model.friction_dynamic, 0.0));
+  // Where carving went below the under-layer's top, its material is felt (paper §2).
+  double exposure = 0;
+  if (!model.layer_displacement.empty()) {
+    const SlabGeometry& g = model.geometry[s.slab];
+    const double ray = (g.dR + s.coords.bary[1] * g.d1 + s.coords.bary[2] * g.d2).norm();
+    const double band = p.layer_band > 0 ? p.layer_band : 5e-4 * model_diagonal(model);
+    exposure = layer_exposure((field(model.layer_displacement, 0.0) - s.coords.alpha) * ray, band);
+  }
+  const UnderLayer& under = model.under_layer;
+  auto blend = [exposure](double top, double below) { return top + exposure * (below - top); };
+  const double k = p.force.stiffness * blend(field(model.stiffness_scale, 1.0), under.stiffness_scale);
+  const double mu_s = p.friction_scale * blend(field(model.friction_static, 0.0), under.friction_static);
+  const double mu_d =
+      std::min(mu_s, p.friction_scale * blend(field(model.friction_dynamic, 0.0), under.friction_dynamic));
   out.mu_static = mu_s;
   out.mu_dynamic = mu_d;
 

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <thread>
 
+#include <time.h>
+
 namespace hdm {
 
 LatencyStats latency_stats(std::vector<double> v) {
@@ -37,7 +39,12 @@ double ForceEnvelope::update(double period_s, int64_t missed, bool stopping) noe
 ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, const char** realtime_note) {
   using clock = std::chrono::steady_clock;
   const int64_t n = std::max<int64_t>(o.ticks, 0);
-  std::vector<double> start_ns(n), compute_ns(n);
+  std::vector<double> start_ns(n), compute_ns(n), cpu_ns(o.cpu_time ? n : 0);
+  auto thread_cpu_ns = []() noexcept {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e9 + double(t.tv_nsec);
+  };
   const double period_s = 1.0 / o.rate_hz;
   // Spin for the last part of each period: sleep_until wakes 50-100 µs late on a stock kernel,
   // which is a whole period at 10 kHz.
@@ -68,8 +75,10 @@ ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, c
       if (o.stop && stop_at == n && o.stop->load(std::memory_order_relaxed)) stop_at = std::min(n, k + ramp_out_ticks + 1);
       st.stopping = k + ramp_out_ticks >= stop_at;
       st.force_gain = env.update(period_s, st.missed, st.stopping);
+      const double cpu0 = o.cpu_time ? thread_cpu_ns() : 0.0;
       tick(user, st);
       const auto b = clock::now();
+      if (o.cpu_time) cpu_ns[k] = thread_cpu_ns() - cpu0;
       start_ns[k] = std::chrono::duration<double, std::nano>(a - t0).count();
       compute_ns[k] = std::chrono::duration<double, std::nano>(b - a).count();
       done = k + 1;
@@ -94,6 +103,13 @@ ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, c
   }
   s.period_ns = latency_stats(std::move(period));
   compute_ns.resize(done);
+  for (double c : compute_ns) s.long_ticks += c > period_s * 1e9;
+  if (o.cpu_time) {
+    cpu_ns.resize(done);
+    s.cpu_long_ticks = 0;
+    for (double c : cpu_ns) s.cpu_long_ticks += c > period_s * 1e9;
+    s.cpu_ns = latency_stats(std::move(cpu_ns));
+  }
   s.compute_ns = latency_stats(std::move(compute_ns));
   return s;
 }

@@ -232,6 +232,14 @@ void save_model(const SlabModel& m, const std::string& path) {
   w.put(static_cast<int64_t>(m.source_triangles));
   w.tag("SRCD", 1);
   w.put(m.source_diagonal);
+  // Version 2: rendering roughness, the under-layer's depth and material.
+  put_scalars(w, "RUFF", m.roughness);
+  put_scalars(w, "LAYD", m.layer_displacement);
+  const UnderLayer& u = m.under_layer;
+  w.tag("LAYM", 1);
+  for (float v : {u.colour.x(), u.colour.y(), u.colour.z(), u.stiffness_scale, u.friction_static, u.friction_dynamic,
+                  u.roughness})
+    w.put(v);
   w.put(fnv1a64(w.bytes.data(), w.bytes.size()));
   write_file_atomic(path, w.bytes.data(), w.bytes.size());
 }
@@ -249,8 +257,8 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
   Reader r(path, bytes);
   r.get_bits<uint32_t>("magic");
   const uint32_t version = r.get_bits<uint32_t>("the version");
-  if (version != hdm_format_version)
-    throw IoError(path + ": format version " + std::to_string(version) + ", this hdm reads version " +
+  if (version < 1 || version > hdm_format_version)
+    throw IoError(path + ": format version " + std::to_string(version) + ", this hdm reads versions 1 to " +
                   std::to_string(hdm_format_version));
 
   SlabModel m;
@@ -276,6 +284,14 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
   m.source_triangles = triangles;
   r.fixed_section("SRCD", 8, 1);
   r.get(m.source_diagonal, "SRCD");
+  if (version >= 2) {
+    get_scalars(r, "RUFF", m.roughness);
+    get_scalars(r, "LAYD", m.layer_displacement);
+    r.fixed_section("LAYM", 28, 1);
+    float v[7];
+    for (float& x : v) r.get(x, "LAYM");
+    m.under_layer = UnderLayer{Vec3f(v[0], v[1], v[2]), v[3], v[4], v[5], v[6]};
+  }
 
   const size_t end = r.position();
   if (bytes.size() < end + kChecksumBytes) throw IoError(path + ": truncated (the checksum is missing)");

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
 #include <hdm/io/texture_atlas.h>
+#include <hdm/query/slab_query.h>
 #include <hdm/slab/triangle_grid.h>
+
+#include "../query/surface_eval.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +12,17 @@
 #include <string>
 
 namespace hdm {
+namespace {
+
+// The under-layer's top δ at barycentrics (·, wS, wT) of a slab, over the grid triangle that
+// evaluate_surface() interpolates δ on.
+double interpolate_layer(const SlabModel& m, int slab, double wS, double wT) noexcept {
+  const detail::GridCell c = detail::grid_cell(m, slab, wS, wT);
+  const std::vector<float>& L = m.layer_displacement;
+  return c.wa * L[c.a] + c.wb * L[c.b] + c.wd * L[c.d];
+}
+
+}  // namespace
 
 uint8_t linear_to_srgb8(float linear) noexcept {
   if (!(linear > 0.0f)) return 0;  // also NaN
@@ -18,7 +32,21 @@ uint8_t linear_to_srgb8(float linear) noexcept {
   return static_cast<uint8_t>(std::lround(s * 255.0));
 }
 
-void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, uint8_t* out, int stride) noexcept {
+Vec3f surface_colour(const SlabModel& m, int texel) noexcept {
+  const SampleLayout& T = m.texels;
+  if (m.layer_displacement.size() != static_cast<size_t>(m.samples.count)) return m.colour[texel];
+  const int local = T.home_index[texel], slab = T.home_slab[texel];
+  const double wS = double(T.point_j[local]) / T.n, wT = double(T.point_i[local]) / T.n;
+  SlabCoordinates c;
+  c.bary = Vec3(1 - wS - wT, wS, wT);
+  Contact at;
+  evaluate_surface(m, slab, c, at);
+  const double layer = interpolate_layer(m, slab, wS, wT);
+  return layer > at.delta ? m.under_layer.colour : m.colour[texel];
+}
+
+void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, uint8_t* out, int stride,
+                     AtlasContent content) noexcept {
   const int N = a.texel_n;
   const int32_t* ids = &model.texels.ids[static_cast<size_t>(slab) * model.texels.per_slab];
   for (int b = -1; b <= N + 1; ++b)
@@ -34,16 +62,20 @@ void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, ui
           if (d < best) best = d, i = q, j = r;
         }
       }
-      const Vec3f& colour = model.colour[ids[grid::index(N, i, j)]];
+      const int32_t texel = ids[grid::index(N, i, j)];
+      const bool paint = content == AtlasContent::PaintAndRoughness;
+      const Vec3f colour = paint ? model.colour[texel] : surface_colour(model, texel);
       uint8_t* px = out + (static_cast<size_t>(b + 1) * stride + (c + 1)) * 4;
       px[0] = linear_to_srgb8(colour.x());
       px[1] = linear_to_srgb8(colour.y());
       px[2] = linear_to_srgb8(colour.z());
-      px[3] = 255;
+      px[3] = paint && texel < static_cast<int32_t>(model.roughness.size())
+                  ? static_cast<uint8_t>(std::lround(std::clamp(model.roughness[texel], 0.0f, 1.0f) * 255))
+                  : 255;
     }
 }
 
-TextureAtlas build_texture_atlas(const SlabModel& model) {
+TextureAtlas build_texture_atlas(const SlabModel& model, AtlasContent content) {
   const int S = model.slab_count();
   const int N = model.grid_n * model.texel_density;
   const SampleLayout& L = model.texels;
@@ -62,7 +94,8 @@ TextureAtlas build_texture_atlas(const SlabModel& model) {
 
   for (int s = 0; s < S; ++s) {
     const Eigen::Vector2i o = a.origin(s);
-    fill_atlas_tile(model, a, s, &a.rgba[(static_cast<size_t>(o.y() - 1) * a.width + (o.x() - 1)) * 4], a.width);
+    fill_atlas_tile(model, a, s, &a.rgba[(static_cast<size_t>(o.y() - 1) * a.width + (o.x() - 1)) * 4], a.width,
+                    content);
   }
   return a;
 }

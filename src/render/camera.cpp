@@ -89,6 +89,26 @@ RenderCamera fit_camera(const std::vector<Vec3f>& points, int width, int height,
   return cam;
 }
 
+RenderCamera zoom_camera(const RenderCamera& f, const Vec3& target, double zoom) {
+  if (!(zoom > 0) || !std::isfinite(zoom) || !target.allFinite())
+    throw InvalidInput("zoom " + std::to_string(zoom) + " must be positive and the focus point finite");
+  RenderCamera cam = f;
+  const Vec3 towards_eye = (f.eye - f.target).normalized();
+  const double distance = (f.eye - f.target).norm() / zoom;
+  const Eigen::Matrix3d rotation = f.view.block<3, 3>(0, 0).cast<double>();
+  const Vec3 up = rotation.row(1).transpose();
+  cam.target = target;
+  cam.eye = target + distance * towards_eye;
+  cam.radius = f.radius / zoom;
+  const double reach = f.radius + (target - f.target).norm();  // everything fitted lies within it
+  cam.near_plane = std::max((distance - reach) * 0.9, distance * 1e-3);
+  cam.far_plane = (distance + reach) * 1.1;
+  cam.view = look_at(cam.eye, -towards_eye, up);
+  const double aspect = static_cast<double>(f.width) / f.height;
+  cam.projection = perspective(f.fov_y_deg * kDegree, aspect, cam.near_plane, cam.far_plane);
+  return cam;
+}
+
 RenderCamera fit_camera(const SlabModel& model, int width, int height, double azimuth_deg, double elevation_deg) {
   render_detail::check_renderable(model);
   // The points drawn (sample_position), not the `positions` cache, which an editor may not have refreshed.

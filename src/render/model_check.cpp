@@ -15,7 +15,8 @@ void check_renderable(const SlabModel& m) {
                      m.samples.home_slab.size() == samples && m.samples.home_index.size() == samples &&
                      m.normals.size() == samples && m.displacement.size() == samples &&
                      m.texels.n == m.grid_n * m.texel_density && m.texels.ids.size() == S * m.texels.per_slab &&
-                     m.colour.size() == texels;
+                     m.colour.size() == texels && m.roughness.size() == texels &&
+                     m.layer_displacement.size() == samples;
   if (!fresh)
     throw InvalidInput("render: the model's derived data are missing or stale (call rebuild_derived(model) first)");
 }

@@ -21,7 +21,12 @@ void render_png(const SlabModel& model, const std::string& path, const RenderOpt
   if (!opt.background.allFinite()) throw InvalidInput("render: the background colour is not finite");
   if (path.empty()) throw InvalidInput("render: empty output path");
   // Camera first: it validates the view without touching EGL.
-  const RenderCamera camera = fit_camera(model, opt.width, opt.height, opt.azimuth_deg, opt.elevation_deg);
+  RenderCamera camera = fit_camera(model, opt.width, opt.height, opt.azimuth_deg, opt.elevation_deg);
+  if (opt.zoom != 1 || opt.focus != Vec3::Constant(0.5)) {
+    Aabb box;
+    for (int s = 0; s < model.samples.count; ++s) box.extend(sample_position(model, s));
+    camera = zoom_camera(camera, box.min + opt.focus.cwiseProduct(box.max - box.min), opt.zoom);
+  }
 
   std::vector<uint8_t> rgb;
   {

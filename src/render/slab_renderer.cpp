@@ -18,12 +18,13 @@
 namespace hdm {
 namespace {
 
-// One vertex per (slab, grid point). 40 bytes.
+// One vertex per (slab, grid point). 44 bytes.
 struct Vertex {
   float position[3];  // world [model units]
   float normal[3];    // world, unit
   float uv[2];        // atlas coordinates
   float bary[2];      // (wT, wS) within the slab, for the slab-edge overlay
+  float layer;        // depth of the surface below the under-layer's top [model units]: > 0 where exposed
 };
 
 // Shading happens in linear RGB; the atlas is an sRGB texture, so sampling decodes it, and the
@@ -33,24 +34,33 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
 layout(location = 3) in vec2 a_bary;
+layout(location = 4) in float a_layer;
 layout(location = 0) uniform mat4 u_view;
 layout(location = 1) uniform mat4 u_projection;
 out vec3 v_normal;
+out vec3 v_view;
 out vec2 v_uv;
 out vec2 v_bary;
+out float v_layer;
 void main() {
   v_normal = mat3(u_view) * a_normal;  // the view matrix is rigid
   v_uv = a_uv;
   v_bary = a_bary;
-  gl_Position = u_projection * (u_view * vec4(a_position, 1.0));
+  v_layer = a_layer;
+  vec4 p = u_view * vec4(a_position, 1.0);
+  v_view = -p.xyz;
+  gl_Position = u_projection * p;
 }
 )";
 
 const char* const kFragmentShader = R"(#version 450 core
 in vec3 v_normal;
+in vec3 v_view;
 in vec2 v_uv;
 in vec2 v_bary;
+in float v_layer;
 layout(location = 2) uniform int u_edges;
+layout(location = 3) uniform vec4 u_layer;  // the under-layer's linear colour and roughness
 layout(binding = 0) uniform sampler2D u_atlas;
 out vec4 o_colour;
 // View space: +Z points at the viewer.
@@ -65,7 +75,17 @@ void main() {
   if (!gl_FrontFacing) n = -n;  // open models show their inside
   // At most about 0.88, so white albedo never saturates into a white background.
   float light = 0.2 + 0.6 * max(dot(n, kKey), 0.0) + 0.25 * max(dot(n, kFill), 0.0);
-  vec3 colour = texture(u_atlas, v_uv).rgb * light;
+  // The under-layer where the surface lies below its top: the boundary is the zero line of the
+  // interpolated depth, anti-aliased over one pixel.
+  vec4 paint = texture(u_atlas, v_uv);  // rgb: colour, a: roughness
+  float exposed = clamp(v_layer / max(fwidth(v_layer), 1e-12), 0.0, 1.0);
+  vec3 albedo = mix(paint.rgb, u_layer.rgb, exposed);
+  float rough = mix(paint.a, u_layer.a, exposed);
+  vec3 colour = albedo * light;
+  // Blinn-Phong highlight of the key light, strong and tight on smooth surfaces, none at roughness 1.
+  vec3 h = normalize(kKey + normalize(v_view));
+  float gloss = 1.0 - rough;
+  colour += vec3(0.5 * gloss * gloss * pow(max(dot(n, h), 0.0), mix(8.0, 96.0, gloss)));
   if (u_edges != 0) {
     vec3 w = vec3(v_bary, 1.0 - v_bary.x - v_bary.y);
     vec3 pixels = w / max(fwidth(w), vec3(1e-7));  // distance to each slab edge [pixels]
@@ -81,6 +101,7 @@ void main() {
 struct SlabRenderer::State {
   GLuint program = 0, vao = 0, vbo = 0, ebo = 0, atlas = 0;
   int slabs = 0, n = 0, texel_density = 0, per_slab = 0;
+  float layer[4] = {0, 0, 0, 1};  // the under-layer's colour and roughness
   GLsizei index_count = 0;
   TextureAtlas layout;          // sizes and tile placement; rgba is dropped after upload
   std::vector<Vertex> vertices; // staging for upload_slab
@@ -99,13 +120,18 @@ struct SlabRenderer::State {
     const int32_t* ids = &L.ids[static_cast<size_t>(s) * per_slab];
     for (int k = 0; k < per_slab; ++k) {
       const double wT = static_cast<double>(L.point_i[k]) / n, wS = static_cast<double>(L.point_j[k]) / n;
-      const Vec3f p = sample_position(m, ids[k]).cast<float>();
+      Vec3 p0, p1;
+      projection_line(m, L.home_slab[ids[k]], L.home_index[ids[k]], p0, p1);
+      const double delta = m.displacement[ids[k]];
+      const Vec3f p = (p0 + delta * (p1 - p0)).cast<float>();  // = sample_position()
       const Vec3f& nrm = m.normals[ids[k]];
       const Eigen::Vector2f uv = layout.uv(s, wT, wS);
+      const float layer = static_cast<float>((m.layer_displacement[ids[k]] - delta) * (p1 - p0).norm());
       out[k] = Vertex{{p.x(), p.y(), p.z()},
                       {nrm.x(), nrm.y(), nrm.z()},
                       {uv.x(), uv.y()},
-                      {static_cast<float>(wT), static_cast<float>(wS)}};
+                      {static_cast<float>(wT), static_cast<float>(wS)},
+                      layer};
     }
   }
 };
@@ -121,7 +147,8 @@ SlabRenderer::SlabRenderer() : state_(std::make_unique<State>()) {
   } attributes[] = {{0, 3, offsetof(Vertex, position)},
                     {1, 3, offsetof(Vertex, normal)},
                     {2, 2, offsetof(Vertex, uv)},
-                    {3, 2, offsetof(Vertex, bary)}};
+                    {3, 2, offsetof(Vertex, bary)},
+                    {4, 1, offsetof(Vertex, layer)}};
   for (const auto& a : attributes) {
     glEnableVertexArrayAttrib(vao, a.location);
     glVertexArrayAttribFormat(vao, a.location, a.size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(a.offset));
@@ -139,7 +166,7 @@ SlabRenderer::~SlabRenderer() {
 void SlabRenderer::upload_all(const SlabModel& model) {
   render_detail::check_renderable(model);
   State& st = *state_;
-  TextureAtlas atlas = build_texture_atlas(model);
+  TextureAtlas atlas = build_texture_atlas(model, AtlasContent::PaintAndRoughness);
   GLint max_texture = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
   if (atlas.width > max_texture || atlas.height > max_texture)
@@ -160,6 +187,8 @@ void SlabRenderer::upload_all(const SlabModel& model) {
   st.per_slab = P;
   st.index_count = static_cast<GLsizei>(indices);
   st.layout = std::move(atlas);
+  const UnderLayer& u = model.under_layer;
+  st.layer[0] = u.colour.x(), st.layer[1] = u.colour.y(), st.layer[2] = u.colour.z(), st.layer[3] = u.roughness;
 
   // Atlas texture: immutable sRGB storage, no mipmaps (they would mix neighbouring tiles).
   glCreateTextures(GL_TEXTURE_2D, 1, &st.atlas);
@@ -219,7 +248,7 @@ void SlabRenderer::upload_slab(const SlabModel& model, int slab) {
                        static_cast<GLsizeiptr>(st.per_slab * sizeof(Vertex)), st.vertices.data());
 
   st.tile.resize(static_cast<size_t>(st.layout.tile) * st.layout.tile * 4);
-  fill_atlas_tile(model, st.layout, slab, st.tile.data(), st.layout.tile);
+  fill_atlas_tile(model, st.layout, slab, st.tile.data(), st.layout.tile, AtlasContent::PaintAndRoughness);
   const Eigen::Vector2i origin = st.layout.origin(slab);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(st.atlas, 0, origin.x() - 1, origin.y() - 1, st.layout.tile, st.layout.tile, GL_RGBA,
@@ -237,6 +266,7 @@ void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges) const 
   glProgramUniformMatrix4fv(st.program, 0, 1, GL_FALSE, camera.view.data());  // Eigen is column-major too
   glProgramUniformMatrix4fv(st.program, 1, 1, GL_FALSE, camera.projection.data());
   glProgramUniform1i(st.program, 2, show_slab_edges ? 1 : 0);
+  glProgramUniform4f(st.program, 3, st.layer[0], st.layer[1], st.layer[2], st.layer[3]);
   glBindTextureUnit(0, st.atlas);
   glBindVertexArray(st.vao);
   glDrawElements(GL_TRIANGLES, st.index_count, GL_UNSIGNED_INT, nullptr);

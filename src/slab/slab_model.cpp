@@ -251,11 +251,25 @@ void rebuild_derived(SlabModel& m) {
   fill_default(m.friction_static, ns, 0.3f, "friction_static");
   fill_default(m.friction_dynamic, ns, 0.2f, "friction_dynamic");
   fill_default(m.stiffness_scale, ns, 1.0f, "stiffness_scale");
+  fill_default(m.roughness, nt, 1.0f, "roughness");
+  fill_default(m.layer_displacement, ns, 0.0f, "layer_displacement");
   for (size_t t = 0; t < nt; ++t)
     if (!m.colour[t].allFinite()) check(false, "colour of texel " + std::to_string(t) + " is not finite");
   for (size_t s = 0; s < ns; ++s)
     if (!(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) && std::isfinite(m.stiffness_scale[s])))
       check(false, "surface field of sample " + std::to_string(s) + " is not finite");
+  for (size_t s = 0; s < ns; ++s)
+    if (!(m.layer_displacement[s] >= 0.0f && m.layer_displacement[s] <= 1.0f))
+      check(false, "layer displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
+  for (size_t t = 0; t < nt; ++t)
+    if (!(m.roughness[t] >= 0.0f && m.roughness[t] <= 1.0f))
+      check(false, "roughness of texel " + std::to_string(t) + " is outside [0, 1] or not finite");
+  {
+    const UnderLayer& u = m.under_layer;
+    if (!(u.colour.allFinite() && std::isfinite(u.stiffness_scale) && std::isfinite(u.friction_static) &&
+          std::isfinite(u.friction_dynamic) && u.roughness >= 0.0f && u.roughness <= 1.0f))
+      check(false, "under-layer material has a non-finite value or a roughness outside [0, 1]");
+  }
 
   m.geometry.resize(m.slabs.size());
   for (size_t s = 0; s < m.slabs.size(); ++s) {

@@ -6,6 +6,7 @@
 #include <hdm/core/error.h>
 #include <hdm/haptics/device.h>
 #include <hdm/haptics/servo_loop.h>
+#include <hdm/session/sculpt_session.h>
 
 #include <gtest/gtest.h>
 
@@ -16,9 +17,11 @@
 #include <filesystem>
 #include <fstream>
 #include <new>
+#include <thread>
 
 namespace {
 std::atomic<long> g_news{0};
+thread_local long t_news = 0;  // this thread's allocations (other threads may allocate meanwhile)
 }  // namespace
 
 // Counting replacements of the global allocation functions (program-wide). GCC cannot see that
@@ -28,16 +31,19 @@ std::atomic<long> g_news{0};
 #endif
 void* operator new(std::size_t n) {
   g_news.fetch_add(1, std::memory_order_relaxed);
+  ++t_news;
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
 void* operator new[](std::size_t n) {
   g_news.fetch_add(1, std::memory_order_relaxed);
+  ++t_news;
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
 void* operator new(std::size_t n, std::align_val_t a) {
   g_news.fetch_add(1, std::memory_order_relaxed);
+  ++t_news;
   const std::size_t al = static_cast<std::size_t>(a);
   if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
   throw std::bad_alloc();
@@ -89,6 +95,122 @@ TEST(Realtime, ProxyTickDoesNotAllocate) {
     EXPECT_EQ(allocations, 0) << (mode == RenderMode::Proxy ? "proxy" : "penalty");
     EXPECT_GT(contact, n / 2) << "the run must exercise contact";
   }
+}
+
+// The whole servo loop with edits: device → proxy → envelope → device, strokes of every kind from
+// the tool button (carve, add, smooth, paint), undo and redo from another thread, publication of
+// changed slabs for a reader thread that takes snapshots meanwhile. The servo thread allocates
+// nothing (counted per thread: the reader allocates).
+namespace {
+struct SessionRig {
+  std::vector<Vec3> targets;
+  std::vector<uint32_t> buttons;
+  std::vector<Brush> brushes;  // the brush of each stroke, switched by the tick's hook
+  std::vector<int> stroke;     // stroke index per tick (-1: none)
+  SessionRig() {
+    const Vec3 up = sphere().ws.to_device(Vec3(0, 0, 1.1));
+    auto add = [&](const Vec3& to, int n, int s) {
+      const Vec3 from = targets.empty() ? up : targets.back();
+      for (int k = 1; k <= n; ++k) {
+        targets.push_back(from + (to - from) * (double(k) / n));
+        buttons.push_back(s >= 0);
+        stroke.push_back(s);
+      }
+    };
+    const double mm = sphere().ws.scale / 1000;
+    for (int s = 0; s < 4; ++s) {
+      Brush b;
+      b.radius = 8 * mm;
+      b.tool = s == 0 ? BrushTool::Carve : s == 1 ? BrushTool::Add : s == 2 ? BrushTool::Smooth : BrushTool::Paint;
+      b.height = 1 * mm, b.strength = 1, b.falloff = s < 2 ? Falloff::Constant : Falloff::Smooth;
+      brushes.push_back(b);
+      const double a = 0.3 + 0.5 * s;
+      const Vec3 start = sphere().ws.to_device(Vec3(std::sin(0.4) * std::cos(a), std::sin(0.4) * std::sin(a), std::cos(0.4)) * 0.97);
+      const Vec3 end = sphere().ws.to_device(Vec3(std::sin(0.7) * std::cos(a), std::sin(0.7) * std::sin(a), std::cos(0.7)) * 0.97);
+      add(start * 1.2, 800, -1);
+      add(start, 800, s);
+      add(end, 3000, s);
+      add(end * 1.2, 800, -1);
+    }
+  }
+};
+}  // namespace
+
+TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
+  const SessionRig rig;
+  SessionOptions o;
+  o.proxy = sphere_params(true);
+  o.publish_interval_s = 0.002;
+  SculptSession session(sphere().model, sphere().ws, o);
+  SimulatedDeviceOptions d;
+  d.rate_hz = 10000;
+  SimulatedDevice device(d, rig.targets, rig.targets.front(), rig.buttons);
+  std::atomic<bool> done{false};
+  std::atomic<int> snapshots{0};
+  std::thread reader([&] {  // a renderer's reads: allocations here do not count
+    while (!done.load()) {
+      SnapshotReader r(*session.snapshots());
+      for (int s = 0; s < session.snapshots()->model().slab_count(); s += 7) (void)r.slab(s).points[0].delta;
+      snapshots.fetch_add(1);
+      std::this_thread::yield();
+    }
+  });
+  int64_t sweeps = 0, published = 0, contact = 0;
+  int current = -1;
+  const long before = t_news;
+  for (size_t k = 0; k < rig.targets.size(); ++k) {
+    ServoTick t;
+    t.tick = static_cast<int64_t>(k);
+    t.time_s = 1e-4 * double(k);
+    if (rig.stroke[k] >= 0 && rig.stroke[k] != current) session.set_brush(rig.brushes[current = rig.stroke[k]]);
+    if (k == rig.targets.size() / 2) session.post(SessionCommand{SessionCommand::Undo, {}});
+    if (k == rig.targets.size() / 2 + 100) session.post(SessionCommand{SessionCommand::Redo, {}});
+    const SessionTick out = session.tick(device, t);
+    sweeps += out.sweeps, published += out.published, contact += out.out.status != ProxyStatus::Free;
+  }
+  const long allocations = t_news - before;
+  done = true;
+  reader.join();
+  EXPECT_EQ(allocations, 0);
+  EXPECT_GT(contact, 8000) << "the run must exercise contact";
+  EXPECT_GT(sweeps, 5000) << "and edit on most ticks";
+  EXPECT_GT(published, 20);
+  EXPECT_GT(snapshots.load(), 10);
+  EXPECT_GT(session.editor().history().undo_count(), 2);
+}
+
+// The same through run_session (the servo thread of run_servo_loop): no allocation inside a tick.
+namespace {
+struct Count {
+  long before = 0, inside = 0;
+};
+void count_before(void* user, SculptSession&, const ServoTick&) noexcept { static_cast<Count*>(user)->before = t_news; }
+void count_after(void* user, const ServoTick&, const SessionTick&) noexcept {
+  auto& c = *static_cast<Count*>(user);
+  c.inside += t_news - c.before;
+}
+}  // namespace
+
+TEST(Realtime, RunSessionTicksDoNotAllocate) {
+  const SessionRig rig;
+  SessionOptions o;
+  o.proxy = sphere_params(true);
+  SculptSession session(sphere().model, sphere().ws, o);
+  Brush carve;
+  carve.radius = 8 * sphere().ws.scale / 1000;
+  session.set_brush(carve);
+  SimulatedDeviceOptions d;
+  d.rate_hz = 10000;
+  SimulatedDevice device(d, rig.targets, rig.targets.front(), rig.buttons);
+  ServoOptions so;
+  so.rate_hz = 10000;
+  so.realtime = false;
+  so.ticks = static_cast<int64_t>(rig.targets.size());
+  Count c;
+  const ServoStats st = run_session(session, device, so, SessionHooks{count_before, count_after, &c});
+  EXPECT_EQ(st.ticks, so.ticks);
+  EXPECT_EQ(c.inside, 0);
+  EXPECT_GT(session.stats().sweeps, 1000);
 }
 
 TEST(Servo, EnvelopeRampsInAndOutAndTheWatchdogCutsForce) {

@@ -65,10 +65,12 @@ void reseal(std::vector<uint8_t>& b) { set_u64(b, b.size() - 8, reference_fnv1a(
 std::map<std::string, size_t> section_offsets(const std::vector<uint8_t>& b) {
   const std::map<std::string, size_t> element_bytes = {{"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12},
                                                        {"DISP", 4}, {"COLR", 12}, {"FRST", 4},  {"FRDY", 4},
-                                                       {"STIF", 4}, {"SRCN", 1},  {"SRCT", 8},  {"SRCD", 8}};
+                                                       {"STIF", 4}, {"SRCN", 1},  {"SRCT", 8},  {"SRCD", 8},
+                                                       {"RUFF", 4}, {"LAYD", 4},  {"LAYM", 28}};
   std::map<std::string, size_t> at;
   size_t pos = 8;
-  for (const char* tag : {"GRID", "INNR", "OUTR", "SLAB", "DISP", "COLR", "FRST", "FRDY", "STIF", "SRCN", "SRCT", "SRCD"}) {
+  for (const char* tag : {"GRID", "INNR", "OUTR", "SLAB", "DISP", "COLR", "FRST", "FRDY", "STIF", "SRCN", "SRCT", "SRCD",
+                          "RUFF", "LAYD", "LAYM"}) {
     EXPECT_EQ(std::string(reinterpret_cast<const char*>(&b[pos]), 4), tag);
     at[tag] = pos + 4;
     pos += 12 + get_u64(b, pos + 4) * element_bytes.at(tag);
@@ -116,6 +118,13 @@ TEST_F(HdmFile, RoundTripIsBitForBit) {
   EXPECT_TRUE(same_bits(loaded.friction_static, model.friction_static));
   EXPECT_TRUE(same_bits(loaded.friction_dynamic, model.friction_dynamic));
   EXPECT_TRUE(same_bits(loaded.stiffness_scale, model.stiffness_scale));
+  EXPECT_TRUE(same_bits(loaded.roughness, model.roughness));
+  EXPECT_TRUE(same_bits(loaded.layer_displacement, model.layer_displacement));
+  EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
+  EXPECT_EQ(loaded.under_layer.stiffness_scale, model.under_layer.stiffness_scale);
+  EXPECT_EQ(loaded.under_layer.friction_static, model.under_layer.friction_static);
+  EXPECT_EQ(loaded.under_layer.friction_dynamic, model.under_layer.friction_dynamic);
+  EXPECT_EQ(loaded.under_layer.roughness, model.under_layer.roughness);
   EXPECT_EQ(loaded.source, model.source);
   EXPECT_EQ(loaded.source_triangles, model.source_triangles);
   EXPECT_EQ(std::memcmp(&loaded.source_diagonal, &model.source_diagonal, sizeof(double)), 0);
@@ -132,13 +141,16 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   const std::vector<uint8_t> b = test::read_bytes(path);
   ASSERT_GT(b.size(), 16u);
   EXPECT_EQ(std::memcmp(b.data(), "HDM\0", 4), 0);
-  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 1);
+  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 2);
   EXPECT_EQ(get_u64(b, b.size() - 8), reference_fnv1a(b.data(), b.size() - 8));
   const auto at = section_offsets(b);
   EXPECT_EQ(get_u64(b, at.at("DISP")), model.displacement.size());
   EXPECT_EQ(get_u64(b, at.at("COLR")), model.colour.size());
   EXPECT_EQ(get_u64(b, at.at("SLAB")), 8u);
   EXPECT_EQ(get_u64(b, at.at("INNR")), 6u);
+  EXPECT_EQ(get_u64(b, at.at("RUFF")), model.roughness.size());
+  EXPECT_EQ(get_u64(b, at.at("LAYD")), model.layer_displacement.size());
+  EXPECT_EQ(get_u64(b, at.at("LAYM")), 1u);
   // Displacements as little-endian float32, inner positions as float64.
   for (size_t s = 0; s < model.displacement.size(); ++s) {
     uint32_t bits = 0;
@@ -177,7 +189,26 @@ TEST_F(HdmFile, WrongVersionFails) {
   reseal(b);
   test::write_bytes(path, b);
   const std::string msg = expect_load_error<IoError>(path);
-  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads version 1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 2"), std::string::npos) << msg;
+}
+
+// A version-1 file (no roughness, under-layer sections) still loads, with those fields' defaults.
+TEST_F(HdmFile, Version1FileLoadsWithDefaults) {
+  std::vector<uint8_t> b = test::read_bytes(path);
+  const auto at = section_offsets(b);
+  b.resize(at.at("RUFF") - 4);  // drop the version-2 sections (and the checksum after them)
+  b[4] = 1;
+  b.resize(b.size() + 8);
+  reseal(b);
+  test::write_bytes(path, b);
+  const SlabModel loaded = load_model(path);
+  EXPECT_TRUE(same_bits(loaded.displacement, model.displacement));
+  EXPECT_TRUE(same_bits(loaded.colour, model.colour));
+  ASSERT_EQ(loaded.roughness.size(), model.roughness.size());
+  for (float r : loaded.roughness) ASSERT_EQ(r, 1.0f);
+  ASSERT_EQ(loaded.layer_displacement.size(), model.layer_displacement.size());
+  for (float d : loaded.layer_displacement) ASSERT_EQ(d, 0.0f);
+  EXPECT_EQ(loaded.under_layer.colour, UnderLayer{}.colour);
 }
 
 TEST_F(HdmFile, BadMagicFails) {

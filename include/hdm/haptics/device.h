@@ -84,11 +84,15 @@ struct SimulatedDeviceOptions {
 class SimulatedDevice final : public HapticDevice {
  public:
   /// @brief Creates the device; @p targets holds one hand target [m] per tick (the last one is held
-  /// after the end). The span must outlive the device.
-  /// @param start  initial handle position [m] (at rest).
+  /// after the end). The spans must outlive the device.
+  /// @param start    initial handle position [m] (at rest).
+  /// @param buttons  optional button mask per tick (the hand pressing the tool button; the last
+  ///                 one is held after the end); empty: no button pressed.
   /// @throws InvalidInput when mass_kg or rate_hz is not positive or substeps < 1.
-  SimulatedDevice(const SimulatedDeviceOptions& options, std::span<const Vec3> targets, const Vec3& start);
-  /// Handle position [m] and backward-difference velocity [m/s]; always true. noexcept, O(1).
+  SimulatedDevice(const SimulatedDeviceOptions& options, std::span<const Vec3> targets, const Vec3& start,
+                  std::span<const uint32_t> buttons = {});
+  /// Handle position [m], backward-difference velocity [m/s] and the tick's buttons; always
+  /// true. noexcept, O(1).
   bool begin_frame(DeviceState& state) noexcept override;
   /// Holds @p force_n [N] (clamped to spec().max_force_n, NaN → 0) over one period and integrates
   /// the handle. noexcept, O(substeps), no allocation.
@@ -103,6 +107,7 @@ class SimulatedDevice final : public HapticDevice {
  private:
   SimulatedDeviceOptions options_;
   std::span<const Vec3> targets_;
+  std::span<const uint32_t> buttons_;
   Vec3 x_, v_, x_prev_, hand_force_ = Vec3::Zero();
   int64_t tick_ = 0;
 };

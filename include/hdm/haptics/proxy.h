@@ -35,6 +35,10 @@ struct ProxyParams {
                                      ///< thin part in one tick; 0: 0.002 × the model's source diagonal
   int max_tunnel_steps = 16;         ///< cap on free-space sub-steps per tick
   AlphaSolver solver = AlphaSolver::Newton;  ///< alpha-plane root finder of every slab lookup (paper: Bisection)
+  /// Depth below the under-layer's top over which its stiffness and friction replace the surface's
+  /// [model units] (layer_exposure()); 0: 0.0005 × the model's source diagonal (0.08 mm on a 16 cm
+  /// workspace), narrow enough to feel the boundary, wide enough that the force never steps.
+  double layer_band = 0.0;
 };
 
 /// Status of one proxy tick.
@@ -88,7 +92,10 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
 /// SlabLocator::find + evaluate_surface (params.iterations rounds, crossing slab edges and
 /// corners; a step is halved when it leaves the shell, lands on a surface facing away, turns the
 /// normal by more than max_turn_deg, or does not reduce the tangential residual); static friction holds it while |F_t| <= μs·F_n, otherwise it slides so that
-/// |F_t| = μd·F_n. Contact lasts while (HIP - proxy)·n_proxy < 0, whatever the HIP's own query
+/// |F_t| = μd·F_n. Stiffness scale and friction are the per-sample fields interpolated at the
+/// proxy, or the under-layer's (SlabModel::under_layer) where the proxy is below the layer's top
+/// (blended over ProxyParams::layer_band); they are read on every tick, so painting them is felt
+/// on the next. Contact lasts while (HIP - proxy)·n_proxy < 0, whatever the HIP's own query
 /// says, so it holds past the inner face and through thin parts. Force
 /// F = k·s·(proxy - HIP)/scale - b'·(v·n)·n with b' = b·min(1, k·depth/damping_force_n) (Hunt &
 /// Crossley 1975) and |b'·(v·n)| <= k·depth, normal part never pulling, clamped to max_force.

@@ -20,6 +20,9 @@ struct ServoOptions {
   int watchdog_ticks = 3;   ///< a tick starting more than this many periods late counts as missed ticks:
                             ///< the gain ramps to zero (over ramp_out_s) until ticks are on time again
   std::atomic<bool>* stop = nullptr;  ///< optional: set from another thread to ramp out and end early
+  /// Also read the servo thread's CPU clock around each tick (two system calls a tick): tells a tick
+  /// that computed longer than a period from one that was preempted (ServoStats::cpu_long_ticks).
+  bool cpu_time = false;
 };
 
 /// What the servo loop tells the tick function on every tick.
@@ -61,6 +64,10 @@ struct ServoStats {
   LatencyStats period_ns;   ///< time between tick starts [ns]
   LatencyStats compute_ns;  ///< time inside the tick function [ns]
   int64_t overruns = 0;     ///< ticks that started more than one period late
+  int64_t long_ticks = 0;   ///< ticks whose wall time from start to end exceeded the period
+  int64_t cpu_long_ticks = -1;  ///< with ServoOptions::cpu_time: ticks whose CPU time exceeded the period (a long
+                                ///< tick that is not one was preempted); -1 when not measured
+  LatencyStats cpu_ns;      ///< with ServoOptions::cpu_time: the servo thread's CPU time per tick [ns]
   int64_t watchdog_trips = 0;  ///< ticks that started more than watchdog_ticks periods late
 };
 

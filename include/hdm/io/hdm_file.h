@@ -4,13 +4,13 @@
 /// The `.hdm` file: a slab model's stored data in a versioned little-endian binary format
 /// (design notes §9-Q18).
 ///
-/// Format version 1, all integers and floats little-endian, IEEE-754:
+/// Format version 2, all integers and floats little-endian, IEEE-754:
 ///
 /// | bytes | content |
 /// | --- | --- |
 /// | 4 | magic `"HDM\0"` |
-/// | 4 | uint32 format version (= 1) |
-/// | ... | 12 sections, in the order below |
+/// | 4 | uint32 format version (= 2) |
+/// | ... | 15 sections, in the order below (version 1: the first 12) |
 /// | 8 | uint64 FNV-1a (64-bit) hash of every byte before it |
 ///
 /// Each section is a 4-byte tag, a uint64 element count `k`, then `k` elements:
@@ -29,11 +29,15 @@
 /// | `SRCN` | bytes | uint8: source name (no terminator) |
 /// | `SRCT` | 1 | int64 source_triangles |
 /// | `SRCD` | 1 | float64 source_diagonal [model units] |
+/// | `RUFF` | #texels | float32 roughness (version 2) |
+/// | `LAYD` | #samples | float32 layer_displacement (version 2) |
+/// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness (version 2) |
 ///
+/// Version 1 files (without the last three sections) load with the defaults of those fields.
 /// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels
 /// follow from the counts (#C + (k-1)·#E + (k-1)(k-2)/2·#S for k = grid_n and grid_n·texel_density,
 /// #E the distinct slab edges); `DISP` and `COLR` must hold exactly that many, and `FRST`, `FRDY`,
-/// `STIF` that many or none (defaults).
+/// `STIF` that many or none (defaults); `RUFF`, `LAYD` and `LAYM` likewise.
 
 #include <hdm/io/read_file.h>
 #include <hdm/slab/slab_model.h>
@@ -51,7 +55,7 @@ namespace hdm {
 inline constexpr double max_model_coordinate = 1e15;
 
 /// Version of the `.hdm` format that save_model() writes and load_model() reads.
-inline constexpr uint32_t hdm_format_version = 1;
+inline constexpr uint32_t hdm_format_version = 2;
 
 /// @brief Writes the stored members of @p model to @p path (format in this file's header).
 /// @param model  slab model; its stored arrays have the sizes rebuild_derived() checks.
@@ -76,7 +80,8 @@ struct ModelLoadOptions {
 /// @return the model; every stored member equals the saved one bit for bit.
 /// @throws IoError "<path>: <reason>" when the file is missing or unreadable, larger than
 ///         options.max_file_bytes, is not an `.hdm` file, has another format version ("<path>:
-///         format version 7, this hdm reads version 1"), is truncated ("<path>: truncated ..."),
+///         format version 7, this hdm reads
+///         versions 1 to 2"), is truncated ("<path>: truncated ..."),
 ///         has a count larger than the remaining bytes allow (checked before anything is
 ///         allocated), or fails the checksum ("<path>: checksum mismatch (file corrupt)").
 /// @throws InvalidInput "<path>: ..." when the content is inconsistent: grid sizes out of range,

@@ -52,12 +52,29 @@ struct TextureAtlas {
   }
 };
 
+/// What the pixels of an atlas hold.
+enum class AtlasContent : uint8_t {
+  /// The colour the surface shows: the painted colour, or the under-layer's where carving
+  /// exposed it at the texel (SlabModel::layer_displacement above the surface); alpha 255.
+  /// For exports.
+  Surface,
+  /// The painted colour whatever lies under it, and the roughness in alpha (0 → 0, 1 → 255):
+  /// for a renderer that shows the under-layer per fragment (SlabRenderer).
+  PaintAndRoughness,
+};
+
 /// @brief Packs the colour texels of @p model into a texture atlas (layout: see TextureAtlas).
 /// @param model  slab model with derived data (rebuild_derived()); `colour` holds linear RGB.
 /// @return the atlas; colours are clamped to [0,1] and encoded with the sRGB transfer function.
 /// @throws InvalidInput if the model has no slabs or its texel layout is missing.
 /// @note O(#S·N²) time and memory.
-TextureAtlas build_texture_atlas(const SlabModel& model);
+TextureAtlas build_texture_atlas(const SlabModel& model, AtlasContent content = AtlasContent::Surface);
+
+/// @brief The colour the surface shows at texel @p texel: its painted colour, or the under-layer's
+/// where the surface lies below the layer's top there (δ and the layer's δ interpolated at the
+/// texel like evaluate_surface() does). Linear RGB.
+/// @note noexcept, O(1).
+Vec3f surface_colour(const SlabModel& model, int texel) noexcept;
 
 /// @brief Encodes a linear colour channel in [0,1] as an 8-bit sRGB value (IEC 61966-2-1);
 /// values outside [0,1] are clamped, NaN gives 0.
@@ -68,6 +85,7 @@ uint8_t linear_to_srgb8(float linear) noexcept;
 /// uses it for every slab; a renderer uses it to re-upload one edited slab's colours.
 /// @param layout  an atlas of @p model (only its layout fields are read).
 /// @note O(tile²) plus O(N) per padding pixel; no allocation.
-void fill_atlas_tile(const SlabModel& model, const TextureAtlas& layout, int slab, uint8_t* out, int stride) noexcept;
+void fill_atlas_tile(const SlabModel& model, const TextureAtlas& layout, int slab, uint8_t* out, int stride,
+                     AtlasContent content = AtlasContent::Surface) noexcept;
 
 }  // namespace hdm

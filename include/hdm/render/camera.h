@@ -64,4 +64,11 @@ RenderCamera fit_camera(const std::vector<Vec3f>& points, int width, int height,
 RenderCamera fit_camera(const SlabModel& model, int width, int height, double azimuth_deg,
                         double elevation_deg);
 
+/// @brief The camera @p fitted moved to look at @p target from @p zoom times closer, along the
+/// same view direction with the same up vector; the clip planes still hold everything @p fitted
+/// framed.
+/// @param zoom  > 0 (1: the fitted distance).
+/// @throws InvalidInput when @p zoom is not positive or @p target is not finite.
+RenderCamera zoom_camera(const RenderCamera& fitted, const Vec3& target, double zoom);
+
 }  // namespace hdm

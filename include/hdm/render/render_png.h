@@ -24,6 +24,10 @@ struct RenderOptions {
   /// background pixel is linear_to_srgb8() of each channel.
   Vec3f background{1, 1, 1};
   bool show_slab_edges = false;  ///< overlay the coarse slab boundaries as dark lines
+  /// Close-up: the camera looks at this point, in coordinates normalised to the surface's bounding
+  /// box ([0,1]³; the centre is (0.5, 0.5, 0.5)), from `zoom` times closer (zoom_camera()).
+  Vec3 focus = Vec3::Constant(0.5);
+  double zoom = 1;               ///< > 0; 1: the whole surface fits
   int msaa_samples = 4;          ///< multisample anti-aliasing (1 = off; clamped to GL_MAX_SAMPLES)
 };
 

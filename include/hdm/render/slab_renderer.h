@@ -15,7 +15,10 @@ struct RenderCamera;
 /// Draws the reconstructed surface of a SlabModel: one vertex per (slab, grid point) at
 /// sample_position() with the sample's normal, the slab's n² grid triangles (triangle_grid.h
 /// split), colour from a texture atlas (build_texture_atlas(), sRGB texels decoded to linear),
-/// and two-light Lambert + ambient shading; output is sRGB-encoded.
+/// the under-layer's colour where the surface lies below its top (SlabModel::layer_displacement;
+/// the boundary is the zero line of the interpolated depth, per fragment), two-light Lambert +
+/// ambient shading and a Blinn-Phong highlight scaled by 1 − roughness (SlabModel::roughness);
+/// output is sRGB-encoded.
 ///
 /// GPU layout: one vertex buffer where slab s owns vertices [s·P, (s+1)·P) with
 /// P = (n+1)(n+2)/2, one static index buffer, and one atlas texture where slab s owns its tile.

@@ -33,12 +33,25 @@ struct SlabSample {
   float n[3];   ///< unit normal (copy of SlabModel::normals)
 };
 
+/// The material under the surface layer (paper §2: "the depth of various materials underneath or
+/// above the visible surface — materials that may be exposed or added by an edit operation").
+/// Where the surface lies below SlabModel::layer_displacement it is this material: the renderer
+/// shows its colour and roughness, the proxy renders its stiffness and friction (design: docs/editing.md).
+struct UnderLayer {
+  Vec3f colour{0.85f, 0.62f, 0.3f};  ///< linear RGB shown where the under-layer is exposed
+  float stiffness_scale = 0.5f;      ///< factor on the rendered stiffness where exposed, in [0,1]
+  float friction_static = 0.3f;      ///< μs where exposed
+  float friction_dynamic = 0.2f;     ///< μd where exposed
+  float roughness = 1.0f;            ///< rendering roughness where exposed, in [0,1] (1: matte)
+};
+
 /// A baked slab model.
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
-/// Threading: readers may share a const model; edits (hdm/edit) mutate `displacement`, `colour`,
-/// `positions`, `normals`, `slab_samples` and `haptic_normals` and must not run concurrently with
-/// readers of the same samples. Code that changes `displacement` outside the edit tools must call
+/// Threading: readers may share a const model; edits (hdm/edit) mutate the stored per-sample and
+/// per-texel fields, `positions`, `normals`, `slab_samples` and `haptic_normals` and must not run
+/// concurrently with readers of the same samples (hdm::SlabSnapshots gives other threads
+/// consistent copies while one thread edits; docs/editing.md). Code that changes `displacement` outside the edit tools must call
 /// update_positions() and update_normals() on the changed samples and their one-ring (or
 /// rebuild_derived()), or the query will read stale values from `slab_samples` (and the proxy from
 /// `haptic_normals`).
@@ -54,6 +67,12 @@ struct SlabModel {
   std::vector<float> friction_static;   ///< #samples static friction coefficient μs
   std::vector<float> friction_dynamic;  ///< #samples dynamic friction coefficient μd
   std::vector<float> stiffness_scale;   ///< #samples factor on the rendered stiffness, in [0,1]
+  std::vector<float> roughness;         ///< #texels rendering roughness in [0,1] (0 glossy, 1 matte; default 1)
+  /// #samples: displacement of the top of the under-layer on each projection line, in [0,1]
+  /// (default 0: no under-layer above the inner face). The surface is the under-layer where
+  /// δ < this value (exposed by carving); see UnderLayer and layer_exposure().
+  std::vector<float> layer_displacement;
+  UnderLayer under_layer;         ///< the under-layer's material
   std::string source;             ///< name of the input mesh the model was baked from
   int64_t source_triangles = 0;   ///< triangles of that input
   double source_diagonal = 0;     ///< bounding-box diagonal of that input [model units]
@@ -86,10 +105,23 @@ struct SlabModel {
   int coarse_vertex_count() const noexcept { return static_cast<int>(inner.size()); }
 };
 
+/// @brief How far the under-layer shows at a point whose surface lies @p depth_below_layer below
+/// the top of the under-layer [model units] (negative above it): clamp(depth / band, 0, 1).
+/// @param band  depth over which the exposure ramps from 0 to 1 [model units], > 0; a narrow ramp
+///              instead of a step keeps the force continuous when the proxy crosses the boundary.
+/// @note noexcept, O(1); NaN gives 0.
+inline double layer_exposure(double depth_below_layer, double band) noexcept {
+  const double e = depth_below_layer / band;
+  return e > 0 ? (e < 1 ? e : 1.0) : 0.0;
+}
+
 /// @brief Recomputes every derived member of @p model from its stored data: sample and texel
 /// layouts, slab constants, adjacency and normals.
+/// Optional stored arrays that are empty (colour, friction, stiffness, roughness,
+/// layer_displacement) are filled with their defaults.
 /// @throws InvalidInput when the stored data are inconsistent (sizes, ids, non-finite values,
-///         displacements outside [0,1], grid_n < 1 or texel_density < 1), naming the member.
+///         displacements or layer displacements outside [0,1], roughness outside [0,1],
+///         grid_n < 1 or texel_density < 1), naming the member.
 /// @note O(#S·n²·m²); allocates; positions, normals and the layouts' CSR rows in parallel (TBB).
 void rebuild_derived(SlabModel& model);
 

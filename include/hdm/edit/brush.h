@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// Brushes: the tools a sculptor strokes over a slab model (carve, add, smooth, flatten, paint),
+/// each with a radius, a strength and a falloff, and the field a paint brush writes.
+/// How each tool acts is documented on BrushTool; the stroke semantics (a stroke is the swept
+/// tool, applied once per stroke whatever the servo rate) in hdm/edit/stroke_editor.h and
+/// docs/editing.md.
+
+#include <hdm/core/types.h>
+
+#include <cstdint>
+#include <string>
+
+namespace hdm {
+
+/// What a brush does.
+enum class BrushTool : uint8_t {
+  /// Removes material inside the swept sphere of radius r centred at HIP + n·(r + resilience)
+  /// (paper §4.1; a capsule between consecutive tool positions): the surface is cut to the
+  /// tool's entry point on each projection line. Strength 1 with Falloff::Constant is the exact
+  /// boolean difference; lower strength or another falloff cuts a fraction s·f(x) of the way
+  /// from the stroke's starting surface to the tool. Never raises the surface.
+  Carve,
+  /// Adds material inside the swept sphere of radius r whose top stands `height` above the
+  /// stroke's starting surface at the contact (paper §4.2's deposit as a boolean union, so a
+  /// stroke is a ridge of that height however long the tool dwells; a second stroke adds on top).
+  /// Never lowers the surface; no overhangs (δ ≤ 1, and a tool floating above a column adds nothing).
+  Add,
+  /// Relaxes each displacement towards the mean of its grid neighbours' at the rate
+  /// strength·pressure·f(x)·20 s⁻¹ (so strength 1 at full pressure relaxes 63 % in 50 ms of contact).
+  Smooth,
+  /// Moves each displacement towards the tool's plane (through the surface contact point, normal
+  /// to the contact normal) at the same rate as Smooth.
+  Flatten,
+  /// Blends the chosen field towards the brush value with intensity k = pressure·strength·f(x)
+  /// (paper §5), once per stroke: a texel or sample ends at base + k_max·(value − base), k_max the
+  /// largest intensity the stroke reached there.
+  Paint,
+};
+
+/// Weight of a brush at normalised distance x = d / r from its centre (or its swept path).
+enum class Falloff : uint8_t {
+  Constant,  ///< 1 inside the radius: the exact boolean for carve and add (their default)
+  Linear,    ///< 1 − x: the paper's cone (paint, §5)
+  Smooth,    ///< 1 − 3x² + 2x³ (smoothstep): no crease at the rim
+};
+
+/// The field a Paint brush writes.
+enum class BrushField : uint8_t {
+  Colour,           ///< per-texel linear RGB (SlabModel::colour)
+  Roughness,        ///< per-texel rendering roughness in [0,1] (SlabModel::roughness)
+  FrictionStatic,   ///< per-sample μs (SlabModel::friction_static)
+  FrictionDynamic,  ///< per-sample μd (SlabModel::friction_dynamic)
+  Stiffness,        ///< per-sample stiffness scale in [0,1] (SlabModel::stiffness_scale)
+  /// Thickness of the top material over the under-layer [model units]: the layer's top is put
+  /// that far below the stroke's starting surface along each projection line
+  /// (SlabModel::layer_displacement).
+  LayerThickness,
+};
+
+/// A brush. Lengths in model units (hdm::Workspace::scale converts device metres).
+struct Brush {
+  BrushTool tool = BrushTool::Carve;  ///< what it does
+  double radius = 0;                  ///< tool radius [model units], > 0
+  double strength = 1;                ///< in [0,1]; see BrushTool for its meaning per tool
+  Falloff falloff = Falloff::Constant;  ///< weight across the radius
+  double resilience = 0;              ///< carve: resilient band k [model units] (paper §4.1), >= 0
+  double height = 0;                  ///< add: height of the added ridge above the stroke's start surface [model units]
+  BrushField field = BrushField::Colour;  ///< paint: the field written
+  Vec3f colour{0.8f, 0.1f, 0.1f};     ///< paint Colour: linear RGB
+  float value = 0;                    ///< paint of a scalar field: the value painted (layer thickness in model units)
+  double pressure_force_n = 1.0;      ///< normal force [N] that gives full pressure (paint, smooth, flatten);
+                                      ///< pressure ramps from 0 at 10 % of it (paint_pressure)
+};
+
+/// @brief Weight of falloff @p f at normalised distance @p x (clamped to [0,1]); 0 for x >= 1.
+/// @note noexcept, O(1).
+inline double falloff_weight(Falloff f, double x) noexcept {
+  if (!(x < 1)) return 0.0;
+  if (x < 0) x = 0;
+  switch (f) {
+    case Falloff::Linear: return 1 - x;
+    case Falloff::Smooth: return 1 - x * x * (3 - 2 * x);
+    default: return 1.0;
+  }
+}
+
+/// @brief Parses a tool name: carve, add, smooth, flatten, paint.
+/// @throws InvalidInput naming @p name otherwise.
+BrushTool parse_brush_tool(const std::string& name);
+/// @brief Parses a falloff name: constant, linear, smooth. @throws InvalidInput otherwise.
+Falloff parse_falloff(const std::string& name);
+/// @brief Parses a field name: colour, roughness, friction_static, friction_dynamic, stiffness,
+/// layer_thickness. @throws InvalidInput otherwise.
+BrushField parse_brush_field(const std::string& name);
+/// Name of @p tool as parse_brush_tool() reads it.
+const char* brush_tool_name(BrushTool tool) noexcept;
+
+}  // namespace hdm

@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// The servo loop assembled: device → proxy / force → force envelope → device on the servo
+/// thread, which also owns the model and edits it with strokes within a work budget per tick,
+/// and publishes the changed slabs for renderer and saver threads (hdm::SlabSnapshots).
+/// Used by `hdm sculpt` and meant for an interactive studio. Design, guarantees and measured
+/// figures: docs/editing.md.
+
+#include <hdm/edit/stroke_editor.h>
+#include <hdm/haptics/device.h>
+#include <hdm/haptics/proxy.h>
+#include <hdm/haptics/servo_loop.h>
+#include <hdm/slab/slab_snapshots.h>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+namespace hdm {
+
+/// Settings of a SculptSession.
+struct SessionOptions {
+  RenderMode mode = RenderMode::Proxy;  ///< force model
+  ProxyParams proxy;                    ///< proxy and force parameters (SI at the device)
+  /// Time a tick may take with its edit and publication work [s], counted from the tick's start:
+  /// after the force is sent, edits run until then (the rest carries over to the next ticks), and for
+  /// at least a fifth of it, so a tick lasts about this, or the proxy step plus a fifth of it.
+  double edit_budget_s = 25e-6;
+  double publish_interval_s = 0.01;     ///< publish changed slabs at most this often [s] (100 Hz)
+  bool publish = true;                  ///< keep SlabSnapshots for other threads (memory: see SlabSnapshots)
+  SnapshotOptions snapshots;            ///< reader slots, spare versions
+  StrokeEditorOptions editor;           ///< undo cap, queue
+  uint32_t tool_button = 1;             ///< device button mask that holds the tool on (a stroke while held)
+  /// Feed a tool position every this many ticks (1: every tick, the default; the paper's 10 Hz
+  /// at 1 kHz is 100). The sweep joins consecutive positions either way.
+  int64_t edit_every = 1;
+  int command_capacity = 256;           ///< commands (post()) waiting for the servo thread
+};
+
+/// A command for the servo thread from another thread (post()).
+struct SessionCommand {
+  enum Kind : uint8_t { SetBrush, Undo, Redo } kind = SetBrush;
+  Brush brush;  ///< SetBrush: used from the next stroke on
+};
+
+/// What one tick did (for the caller's records).
+struct SessionTick {
+  DeviceState device;                 ///< the device reading of the tick (device frame)
+  Vec3 force = Vec3::Zero();          ///< force sent [N], after the envelope's gain
+  ProxyOutput out;                    ///< the renderer's output (contact, forces, friction)
+  bool ended = false;                 ///< the device had nothing more (begin_frame returned false)
+  bool tool_on = false;               ///< the tool button is held
+  int32_t sweeps = 0;                 ///< sweeps finished in this tick
+  int32_t changed = 0;                ///< samples / texels changed in this tick
+  int32_t published = 0;              ///< slabs published in this tick
+  bool edit_pending = false;          ///< the budget ran out with work left: it carries over to the next tick
+};
+
+/// Counters of a session.
+struct SessionStats {
+  int64_t ticks = 0, contact_ticks = 0, sweeps = 0, changed = 0;
+  int64_t publications = 0;           ///< epochs committed
+  int64_t slabs_published = 0;        ///< slab versions copied
+  int64_t publish_deferred = 0;       ///< ticks a publication waited for spare versions (readers held old epochs)
+  int64_t carried_ticks = 0;          ///< ticks whose budget ran out with work left for the next
+  double max_edit_ns = 0;             ///< longest edit + publish work in one tick [ns]
+};
+
+/// One haptic sculpting session: the live model, its locator, the proxy, a StrokeEditor and
+/// (optionally) SlabSnapshots.
+///
+/// Threading: tick(), set_brush(), undo() and redo() are for the servo thread only (or any one
+/// thread while no servo runs); post() for one control thread at a time (lock-free SPSC queue);
+/// snapshots() for any reader thread. model(), editor(), stats() and finish() only while no
+/// servo loop runs. The tick never allocates, locks or does I/O.
+class SculptSession {
+ public:
+  /// @brief Takes @p model (derived data built), builds its locator, editor and snapshots.
+  /// @param ws  device ↔ model mapping.
+  /// @throws InvalidInput on a model without derived data or bad options.
+  /// @note Allocates everything the ticks need: editor buffers (~60 B per sample, ~30 per texel,
+  ///       plus the undo cap), snapshot versions (see SlabSnapshots) and the locator.
+  SculptSession(SlabModel model, const Workspace& ws, const SessionOptions& options = {});
+  ~SculptSession();
+  SculptSession(const SculptSession&) = delete;
+  SculptSession& operator=(const SculptSession&) = delete;
+
+  /// @brief One servo tick: commands, device reading, force, device command (first, so edits
+  /// never delay the force), stroke bookkeeping from the tool button, then edits and publication
+  /// within SessionOptions::edit_budget_s.
+  /// @param tick  from the servo loop (its force_gain scales the force).
+  /// @note noexcept; no allocation, no lock, no I/O; servo thread only.
+  SessionTick tick(HapticDevice& device, const ServoTick& tick) noexcept;
+
+  /// @brief The brush used from the next stroke on (servo thread). noexcept.
+  void set_brush(const Brush& brush) noexcept;
+  /// @brief Queues an undo / redo of the last stroke (servo thread). noexcept.
+  void undo() noexcept;
+  void redo() noexcept;
+  /// @brief Sends a command to the servo thread from one other thread; false when the queue is
+  /// full. noexcept, wait-free.
+  bool post(const SessionCommand& command) noexcept;
+
+  /// Snapshots for reader threads (null when SessionOptions::publish is false).
+  const SlabSnapshots* snapshots() const noexcept;
+  /// The device ↔ model mapping.
+  const Workspace& workspace() const noexcept;
+  /// The live model. Only while no servo loop runs.
+  SlabModel& model() noexcept;
+  /// The editor (undo history, dirty slabs). Only while no servo loop runs.
+  StrokeEditor& editor() noexcept;
+  /// Counters. Only while no servo loop runs.
+  const SessionStats& stats() const noexcept;
+  /// @brief Records what the editor applies (StrokeEditor::record_log) into @p edits and, at each
+  /// publication, the number of entries of @p edits it contains into @p epochs (entry k for epoch
+  /// k + 1), both up to their capacity (reserve them first). Replaying the first epochs[k] entries
+  /// on the model as it was reproduces what readers see at epoch k + 1 (tests). Before the loop.
+  void record_log(std::vector<EditLogEntry>* edits, std::vector<size_t>* epochs) noexcept;
+  /// @brief Ends an open stroke, finishes every queued edit and publishes: call after the loop.
+  /// @note Not real-time (no budget).
+  void finish() noexcept;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Calls around each tick of run_session(), on the servo thread (same real-time rules).
+struct SessionHooks {
+  /// Before the tick (e.g. a script switching brushes or pressing undo at a given time).
+  void (*before)(void* user, SculptSession& session, const ServoTick& tick) noexcept = nullptr;
+  /// After the tick, with what it did (e.g. recording into preallocated storage).
+  void (*after)(void* user, const ServoTick& tick, const SessionTick& result) noexcept = nullptr;
+  void* user = nullptr;
+};
+
+/// @brief Runs the servo loop (run_servo_loop: rate, envelope, watchdog, SCHED_FIFO when
+/// permitted) with @p session's tick on @p device until options.ticks, options.stop, or the
+/// device's end (a replay), then waits for it.
+/// @param[out] realtime_note  as run_servo_loop.
+/// @note Allocates only before the loop starts.
+ServoStats run_session(SculptSession& session, HapticDevice& device, const ServoOptions& options,
+                       const SessionHooks& hooks = {}, const char** realtime_note = nullptr);
+
+}  // namespace hdm

@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/analysis/edit_fidelity.h>
+#include <hdm/core/error.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace hdm {
+namespace {
+
+struct Sum {
+  double sq = 0, max = 0;
+  int64_t n = 0;
+  Sum operator+(const Sum& o) const { return {sq + o.sq, std::max(max, o.max), n + o.n}; }
+};
+
+double segment_distance(const Vec3& p, const ToolCapsule& t, Vec3* closest = nullptr) {
+  const Vec3 u = t.b - t.a;
+  const double uu = u.squaredNorm();
+  const double s = uu > 0 ? std::clamp((p - t.a).dot(u) / uu, 0.0, 1.0) : 0.0;
+  const Vec3 c = t.a + s * u;
+  if (closest) *closest = c;
+  return (p - c).norm();
+}
+
+// The tools in a uniform grid of cells `cell` wide; a cell lists (in application order) every tool
+// whose segment comes within radius + margin of it.
+class ToolGrid {
+ public:
+  ToolGrid(const std::vector<ToolCapsule>& tools, double margin) : tools_(tools) {
+    double reach = 0;
+    for (const ToolCapsule& t : tools) reach = std::max(reach, t.radius + margin);
+    cell_ = std::max(reach, 1e-12);
+    for (size_t i = 0; i < tools.size(); ++i) {
+      const ToolCapsule& t = tools[i];
+      const Vec3 lo = t.a.cwiseMin(t.b).array() - (t.radius + margin), hi = t.a.cwiseMax(t.b).array() + (t.radius + margin);
+      const Eigen::Vector3i c0 = key(lo), c1 = key(hi);
+      for (int x = c0.x(); x <= c1.x(); ++x)
+        for (int y = c0.y(); y <= c1.y(); ++y)
+          for (int z = c0.z(); z <= c1.z(); ++z) cells_[pack({x, y, z})].push_back(static_cast<int32_t>(i));
+    }
+  }
+  const std::vector<int32_t>* near(const Vec3& p) const {
+    const auto it = cells_.find(pack(key(p)));
+    return it == cells_.end() ? nullptr : &it->second;
+  }
+  const std::vector<ToolCapsule>& tools() const { return tools_; }
+
+ private:
+  Eigen::Vector3i key(const Vec3& p) const {
+    return {static_cast<int>(std::floor(p.x() / cell_)), static_cast<int>(std::floor(p.y() / cell_)),
+            static_cast<int>(std::floor(p.z() / cell_))};
+  }
+  static uint64_t pack(const Eigen::Vector3i& k) {
+    return (uint64_t(uint32_t(k.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(k.y()) & 0x1fffff) << 21) |
+           uint64_t(uint32_t(k.z()) & 0x1fffff);
+  }
+  const std::vector<ToolCapsule>& tools_;
+  double cell_ = 1;
+  std::unordered_map<uint64_t, std::vector<int32_t>> cells_;
+};
+
+}  // namespace
+
+EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery& input,
+                                   const std::vector<ToolCapsule>& tools, double margin, double spacing) {
+  if (tools.empty()) throw InvalidInput("measure_edit_fidelity: no tools");
+  if (!(margin > 0) || !(spacing > 0)) throw InvalidInput("measure_edit_fidelity: margin and spacing must be > 0");
+  const TriangleMesh& in = input.mesh();
+  EditFidelity f;
+  f.diagonal = bounds(in).diagonal();
+  const double diag = f.diagonal, near_radius = 1e-2 * diag, on_surface = 1e-7 * diag;
+  const ToolGrid grid(tools, margin);
+
+  // Within the measured band: some measured tool's segment is within radius + margin.
+  auto in_band = [&](const Vec3& p, const std::vector<int32_t>* list) {
+    if (!list) return false;
+    for (int32_t i : *list)
+      if (tools[i].measured && segment_distance(p, tools[i]) <= tools[i].radius + margin) return true;
+    return false;
+  };
+  // Signed distance of B: the input's (negative inside), then the tools in order.
+  auto compose = [&](double sd, const Vec3& p, const std::vector<int32_t>* list) {
+    if (list)
+      for (int32_t i : *list) {
+        const double c = segment_distance(p, tools[i]) - tools[i].radius;
+        sd = tools[i].add ? std::min(sd, c) : std::max(sd, -c);
+      }
+    return sd;
+  };
+  auto input_sd = [&](const Vec3& p) {
+    ClosestPoint c = input.closest_point(p, near_radius);
+    if (c.face < 0) c = input.closest_point(p);
+    return input.inside(p) ? -c.distance : c.distance;
+  };
+
+  // ---- model → exact ----
+  TriangleMesh surface;
+  displaced_surface(model, surface.vertices, surface.faces);
+  const int64_t ns = static_cast<int64_t>(surface.vertices.size()), nt = static_cast<int64_t>(surface.faces.size());
+  auto model_point = [&](int64_t k) {
+    if (k < ns) return surface.vertices[k];
+    const Tri& t = surface.faces[k - ns];
+    return Vec3((surface.vertices[t[0]] + surface.vertices[t[1]] + surface.vertices[t[2]]) / 3.0);
+  };
+  const Sum fwd = tbb::parallel_reduce(
+      tbb::blocked_range<int64_t>(0, ns + nt, 4096), Sum{},
+      [&](const tbb::blocked_range<int64_t>& r, Sum s) {
+        for (int64_t k = r.begin(); k < r.end(); ++k) {
+          const Vec3 p = model_point(k);
+          const std::vector<int32_t>* list = grid.near(p);
+          if (!in_band(p, list)) continue;
+          const double d = std::abs(compose(input_sd(p), p, list));
+          s.sq += d * d, s.max = std::max(s.max, d), ++s.n;
+        }
+        return s;
+      },
+      [](const Sum& a, const Sum& b) { return a + b; });
+
+  // ---- exact → model: points of B's surface in the band ----
+  std::vector<Vec3> candidates;
+  // (a) the input's vertices and face centroids in the band (kept if no tool moved them).
+  for (const Vec3& v : in.vertices) candidates.push_back(v);
+  for (const Tri& t : in.faces) candidates.push_back((in.vertices[t[0]] + in.vertices[t[1]] + in.vertices[t[2]]) / 3.0);
+  const size_t input_candidates = candidates.size();
+  // (b) the swept envelope: circles normal to the path every `spacing` of path length, and whole
+  // spheres where a chain of consecutive tools starts or ends.
+  auto sphere = [&](const Vec3& c, double r) {
+    const int n = std::max(8, static_cast<int>(4 * M_PI * r * r / (spacing * spacing)));
+    for (int i = 0; i < n; ++i) {  // Fibonacci sphere
+      const double z = 1 - 2 * (i + 0.5) / n, rho = std::sqrt(std::max(0.0, 1 - z * z)), phi = i * 2.399963229728653;
+      candidates.push_back(c + r * Vec3(rho * std::cos(phi), rho * std::sin(phi), z));
+    }
+  };
+  double since = 0;  // path length since the last circle
+  for (size_t i = 0; i < tools.size(); ++i) {
+    const ToolCapsule& t = tools[i];
+    if (!t.measured) continue;
+    const bool starts = i == 0 || (tools[i - 1].b - t.a).norm() > 1e-9 * diag || tools[i - 1].radius != t.radius;
+    const bool ends = i + 1 == tools.size() || (tools[i + 1].a - t.b).norm() > 1e-9 * diag || tools[i + 1].radius != t.radius;
+    if (starts) sphere(t.a, t.radius), since = 0;
+    const Vec3 u = t.b - t.a;
+    const double len = u.norm();
+    if (len > 0) {
+      const Vec3 dir = u / len;
+      const Vec3 e1 = (std::abs(dir.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(dir).normalized(), e2 = dir.cross(e1);
+      const int around = std::max(8, static_cast<int>(2 * M_PI * t.radius / spacing));
+      double last = -1;
+      for (double s = spacing - since; s <= len; s += spacing) {
+        for (int k = 0; k < around; ++k) {
+          const double a = 2 * M_PI * k / around;
+          candidates.push_back(t.a + s * dir + t.radius * (std::cos(a) * e1 + std::sin(a) * e2));
+        }
+        last = s;
+      }
+      since = last >= 0 ? len - last : since + len;
+    }
+    if (ends) sphere(t.b, t.radius);
+  }
+  const ExactMeshQuery recon(surface, BvhQuality::medium);
+  const int64_t nc = static_cast<int64_t>(candidates.size());
+  const Sum back = tbb::parallel_reduce(
+      tbb::blocked_range<int64_t>(0, nc, 1024), Sum{},
+      [&](const tbb::blocked_range<int64_t>& r, Sum s) {
+        for (int64_t k = r.begin(); k < r.end(); ++k) {
+          Vec3 y = candidates[k];
+          const std::vector<int32_t>* list = grid.near(y);
+          if (!list) continue;
+          double sd;
+          if (static_cast<size_t>(k) < input_candidates) {
+            if (!in_band(y, list)) continue;
+            sd = compose(0.0, y, list);  // on the input: stays on B's surface unless a tool moved it
+          } else {
+            // Onto the nearest tool's surface (the envelope sample is within rounding of it).
+            double best = 1e300;
+            Vec3 axis = Vec3::Zero();
+            int32_t nearest = -1;
+            for (int32_t i : *list) {
+              Vec3 c;
+              const double d = segment_distance(y, tools[i], &c) - tools[i].radius;
+              if (d < best) best = d, axis = c, nearest = i;
+            }
+            if (nearest < 0 || (y - axis).norm() <= 0) continue;
+            y = axis + tools[nearest].radius * (y - axis).normalized();
+            list = grid.near(y);
+            if (!in_band(y, list)) continue;
+            sd = compose(input_sd(y), y, list);
+          }
+          if (std::abs(sd) > on_surface) continue;  // not on B's surface (inside another tool, or in the air)
+          ClosestPoint c = recon.closest_point(y, near_radius);
+          if (c.face < 0) c = recon.closest_point(y);
+          s.sq += c.distance * c.distance, s.max = std::max(s.max, c.distance), ++s.n;
+        }
+        return s;
+      },
+      [](const Sum& a, const Sum& b) { return a + b; });
+
+  f.points = fwd.n;
+  f.back_points = back.n;
+  f.rms_pct = fwd.n ? 100 * std::sqrt(fwd.sq / fwd.n) / diag : 0;
+  f.max_pct = 100 * fwd.max / diag;
+  f.rms_back_pct = back.n ? 100 * std::sqrt(back.sq / back.n) / diag : 0;
+  f.max_back_pct = 100 * back.max / diag;
+  return f;
+}
+
+}  // namespace hdm

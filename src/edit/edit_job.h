@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Internal: the resumable edit job shared by the one-shot tools (edit_tools.cpp) and the stroke
+// editor (stroke_editor.cpp). A job is one sweep of a brush, or one undo / redo step; it runs in
+// phases (flood fill, then positions → normals → force-shading normals of the changed samples'
+// rings), each of which can stop at a deadline and resume on the next call with the same result
+// bit for bit: the flood visits the same samples in the same order however it is cut.
+
+#include <hdm/edit/edit_tools.h>
+#include <hdm/edit/undo_history.h>
+
+#include <chrono>
+#include <cstdint>
+#include <vector>
+
+namespace hdm::detail {
+
+// Per-stroke memory: the values each sample and texel had when the stroke first touched it, and the
+// largest paint intensity the stroke reached there. Lets Add measure from the stroke's starting
+// surface, Paint blend once per stroke, and undo record each value once.
+struct StrokeMemory {
+  explicit StrokeMemory(const SlabModel& m);
+  uint32_t id = 0;  // current stroke (0: none); marks equal to id are valid
+  std::vector<uint32_t> sample_mark, texel_mark;
+  std::vector<SampleValues> sample_base;
+  std::vector<TexelValues> texel_base;
+  std::vector<float> sample_k, texel_k;
+  UndoHistory* history = nullptr;  // receives a record at each first touch (optional)
+  void next_stroke() noexcept;
+};
+
+inline SampleValues sample_values(const SlabModel& m, int32_t s) noexcept {
+  return {m.displacement[s], m.friction_static[s], m.friction_dynamic[s], m.stiffness_scale[s], m.layer_displacement[s]};
+}
+inline TexelValues texel_values(const SlabModel& m, int32_t t) noexcept {
+  const Vec3f& c = m.colour[t];
+  return {c.x(), c.y(), c.z(), m.roughness[t]};
+}
+
+// Deadline on steady_clock, read once every `kEvery` checks (a clock read costs ~25 ns).
+class Deadline {
+ public:
+  explicit Deadline(int64_t end_ns) noexcept : end_ns_(end_ns) {}
+  static Deadline never() noexcept { return Deadline(INT64_MAX); }
+  // @p work: elements about to be processed (the clock is read once about every kEvery of them).
+  bool expired(int work = 1) noexcept {
+    if (end_ns_ == INT64_MAX) return false;
+    if ((countdown_ -= work) > 0) return false;
+    countdown_ = kEvery;
+    return now_ns() >= end_ns_;
+  }
+  static int64_t now_ns() noexcept {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+
+ private:
+  static constexpr int kEvery = 24;
+  int64_t end_ns_;
+  int countdown_ = 1;
+};
+
+// What a sweep does per visited element (internal refinement of BrushTool).
+enum class Kernel : uint8_t { None, Carve, Add, Smooth, Flatten, PaintSample, PaintTexel, PaperCone };
+
+class EditJob {
+ public:
+  // A sweep (nothing happens when the seed is not in a slab). `stroke` may be null: the stroke's
+  // starting values are then the current ones and nothing is recorded.
+  void start_sweep(const SlabModel& m, EditScratch& s, const BrushSweep& sweep, StrokeMemory* stroke) noexcept;
+  // The paper's cumulative cone deposit (add_material).
+  void start_paper_cone(const SlabModel& m, EditScratch& s, const Contact& c, double radius, double height) noexcept;
+  // Swaps the records of the last applied (undo) or first undone (redo) stroke into the model.
+  void start_history(EditScratch& s, UndoHistory& h, bool redo) noexcept;
+  // Refreshes the normals of the rings of the samples listed in s.changed, then empties the list.
+  void start_normals(EditScratch& s) noexcept;
+  // Runs until done (returns true) or until the deadline.
+  bool run(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  bool active() const noexcept { return phase_ != Phase::Idle; }
+  /// The largest squared distance a sample moved in this job [model units²].
+  double motion2() const noexcept { return motion2_; }
+  EditResult result;
+
+ private:
+  enum class Phase : uint8_t { Idle, Flood, History, Ring, Normals, Wide, Haptic };
+  template <class Visit>
+  bool flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d, Visit visit) noexcept;
+  bool run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  bool run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  bool run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+
+  Phase phase_ = Phase::Idle;
+  Kernel kernel_ = Kernel::None;
+  BrushSweep sweep_;
+  StrokeMemory* stroke_ = nullptr;
+  UndoHistory* history_ = nullptr;
+  bool redo_ = false;
+  uint64_t rec_pos_ = 0, rec_end_ = 0;
+  // flood state
+  size_t head_ = 0, tail_ = 0;
+  uint32_t stamp_ = 0;
+  // derived sweep constants
+  Vec3 u_ = Vec3::Zero();
+  double r2_ = 0, coef_ = 0;
+  bool soft_ = false;
+  // normals state
+  int32_t cursor_ = 0, ring_count_ = 0, wide_count_ = 0;
+  double motion2_ = 0;
+};
+
+}  // namespace hdm::detail

@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/core/error.h>
+#include <hdm/session/sculpt_session.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace hdm {
+
+namespace {
+
+// Single-producer single-consumer ring of commands (control thread → servo thread): wait-free.
+class CommandQueue {
+ public:
+  explicit CommandQueue(int capacity) : ring_(static_cast<size_t>(std::max(2, capacity))) {}
+  bool push(const SessionCommand& c) noexcept {
+    const size_t t = tail_.load(std::memory_order_relaxed);
+    if (t - head_.load(std::memory_order_acquire) == ring_.size()) return false;
+    ring_[t % ring_.size()] = c;
+    tail_.store(t + 1, std::memory_order_release);
+    return true;
+  }
+  bool pop(SessionCommand& c) noexcept {
+    const size_t h = head_.load(std::memory_order_relaxed);
+    if (h == tail_.load(std::memory_order_acquire)) return false;
+    c = ring_[h % ring_.size()];
+    head_.store(h + 1, std::memory_order_release);
+    return true;
+  }
+
+ private:
+  std::vector<SessionCommand> ring_;
+  std::atomic<size_t> head_{0}, tail_{0};
+};
+
+}  // namespace
+
+struct SculptSession::Impl {
+  Impl(SlabModel m, const Workspace& w, const SessionOptions& o)
+      : options(o), model(std::move(m)), locator(model), ws(w), editor(model, o.editor), commands(o.command_capacity) {
+    if (o.publish) snapshots = std::make_unique<SlabSnapshots>(model, o.snapshots);
+    brush.radius = 0.01 * std::max(model.source_diagonal, 1e-12);
+  }
+  SessionOptions options;
+  SlabModel model;
+  SlabLocator locator;
+  Workspace ws;
+  StrokeEditor editor;
+  std::unique_ptr<SlabSnapshots> snapshots;
+  CommandQueue commands;
+  ProxyState proxy;
+  Brush brush;
+  bool tool_on = false;
+  bool publishing = false;
+  int32_t publish_cursor = 0;
+  double last_publish_s = -1e300;
+  SessionStats stats;
+  std::vector<EditLogEntry>* edit_log = nullptr;
+  std::vector<size_t>* epoch_log = nullptr;
+
+  // Copies the dirty slabs (all of them, over as many ticks as needed, the editor paused so the
+  // model holds no half edit), then commits them as one epoch.
+  int32_t publish(int64_t deadline_ns, double now_s) noexcept {
+    EditScratch& s = editor.scratch();
+    if (!snapshots || s.dirty_count == 0) return 0;
+    if (!publishing) {
+      if (now_s - last_publish_s < options.publish_interval_s) return 0;
+      if (!editor.between_sweeps()) {  // due: have the editor finish its normals first
+        editor.flush();
+        return 0;
+      }
+      if (!snapshots->publish_reserve(s.dirty_count)) {  // readers hold old epochs: try later
+        ++stats.publish_deferred;
+        return 0;
+      }
+      publishing = true;
+      publish_cursor = 0;
+    }
+    int32_t copied = 0;
+    while (publish_cursor < s.dirty_count) {
+      if (copied > 0 && StrokeEditor::now_ns() >= deadline_ns) return copied;
+      snapshots->publish_slab(s.dirty_list[publish_cursor++]);
+      ++copied;
+    }
+    snapshots->publish_commit();
+    if (epoch_log && edit_log && epoch_log->size() < epoch_log->capacity()) epoch_log->push_back(edit_log->size());
+    ++stats.publications;
+    stats.slabs_published += s.dirty_count;
+    clear_dirty(s);
+    publishing = false;
+    last_publish_s = now_s;
+    return copied;
+  }
+};
+
+SculptSession::SculptSession(SlabModel model, const Workspace& ws, const SessionOptions& options) {
+  if (model.slab_samples.size() != model.samples.ids.size() || model.slab_count() == 0)
+    throw InvalidInput("sculpt session: the model's derived data are missing (call rebuild_derived first)");
+  if (!(options.edit_budget_s > 0) || !(options.publish_interval_s >= 0) || options.edit_every < 1)
+    throw InvalidInput("sculpt session: edit_budget_s must be > 0, publish_interval_s >= 0 and edit_every >= 1");
+  if (!(ws.scale > 0) || !ws.origin.allFinite()) throw InvalidInput("sculpt session: invalid workspace");
+  impl_ = std::make_unique<Impl>(std::move(model), ws, options);
+}
+
+SculptSession::~SculptSession() = default;
+
+SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexcept {
+  Impl& s = *impl_;
+  const int64_t start_ns = StrokeEditor::now_ns();
+  SessionTick r;
+  SessionCommand c;
+  while (s.commands.pop(c)) {
+    if (c.kind == SessionCommand::SetBrush) s.brush = c.brush;
+    else if (c.kind == SessionCommand::Undo) s.editor.undo();
+    else s.editor.redo();
+  }
+  if (!device.begin_frame(r.device)) {
+    r.ended = true;
+    device.end_frame(Vec3::Zero());
+    return r;
+  }
+  r.out = render_step(s.options.mode, s.model, s.locator, s.ws, r.device.position, r.device.velocity, s.options.proxy,
+                      s.proxy);
+  r.force = r.out.force * t.force_gain;
+  device.end_frame(r.force);  // the force first: edits never delay it
+  ++s.stats.ticks;
+  const bool contact = r.out.contact.in_shell() && r.out.status != ProxyStatus::Free && r.out.status != ProxyStatus::BadInput;
+  s.stats.contact_ticks += contact;
+
+  // The tool button makes strokes.
+  r.tool_on = (r.device.buttons & s.options.tool_button) != 0;
+  if (r.tool_on && !s.tool_on) s.editor.begin_stroke(s.brush);
+  if (!r.tool_on && s.tool_on) s.editor.end_stroke();
+  s.tool_on = r.tool_on;
+  if (r.tool_on && contact && t.tick % s.options.edit_every == 0) {
+    ToolSample ts;
+    ts.contact = r.out.contact;
+    ts.hip = s.ws.to_model(r.device.position);
+    ts.normal_force_n = r.out.normal_force;
+    ts.time_s = t.time_s;
+    s.editor.add_sample(s.model, ts);
+  }
+
+  // Edits and publication until the budget, counted from the tick's start: a slow proxy step
+  // leaves less time for edits, so the whole tick stays within about the budget; but a fifth of the
+  // budget is always left for them, so that edits progress whatever the proxy costs.
+  const int64_t budget_ns = static_cast<int64_t>(s.options.edit_budget_s * 1e9);
+  const int64_t deadline = std::max(start_ns + budget_ns, StrokeEditor::now_ns() + budget_ns / 5);
+  bool carried = false;
+  if (!s.publishing) {
+    const EditWork w = s.editor.work(s.model, deadline);
+    r.sweeps = w.sweeps;
+    r.changed = w.changed;
+    s.stats.sweeps += w.sweeps;
+    s.stats.changed += w.changed;
+    carried = w.deadline;
+  }
+  r.published = s.publish(deadline, t.time_s);
+  r.edit_pending = carried || s.publishing;
+  s.stats.carried_ticks += r.edit_pending;
+  s.stats.max_edit_ns = std::max(s.stats.max_edit_ns, double(StrokeEditor::now_ns() - start_ns));
+  return r;
+}
+
+void SculptSession::set_brush(const Brush& brush) noexcept { impl_->brush = brush; }
+void SculptSession::undo() noexcept { impl_->editor.undo(); }
+void SculptSession::redo() noexcept { impl_->editor.redo(); }
+bool SculptSession::post(const SessionCommand& command) noexcept { return impl_->commands.push(command); }
+const SlabSnapshots* SculptSession::snapshots() const noexcept { return impl_->snapshots.get(); }
+const Workspace& SculptSession::workspace() const noexcept { return impl_->ws; }
+SlabModel& SculptSession::model() noexcept { return impl_->model; }
+StrokeEditor& SculptSession::editor() noexcept { return impl_->editor; }
+const SessionStats& SculptSession::stats() const noexcept { return impl_->stats; }
+
+void SculptSession::record_log(std::vector<EditLogEntry>* edits, std::vector<size_t>* epochs) noexcept {
+  impl_->editor.record_log(edits);
+  impl_->edit_log = edits;
+  impl_->epoch_log = epochs;
+}
+
+void SculptSession::finish() noexcept {
+  Impl& s = *impl_;
+  if (s.tool_on) s.editor.end_stroke();
+  s.tool_on = false;
+  for (;;) {
+    if (!s.publishing) {
+      const EditWork w = s.editor.work(s.model, INT64_MAX);
+      s.stats.sweeps += w.sweeps;
+      s.stats.changed += w.changed;
+    }
+    s.last_publish_s = -1e300;
+    s.publish(INT64_MAX, 0.0);
+    if (s.publishing || !s.editor.idle()) continue;
+    if (!s.snapshots || s.editor.scratch().dirty_count == 0) break;
+    std::this_thread::yield();  // readers hold the versions a publication needs: let them finish
+  }
+}
+
+namespace {
+
+struct Runner {
+  SculptSession* session;
+  HapticDevice* device;
+  SessionHooks hooks;
+  std::atomic<bool>* stop;
+};
+
+void run_tick(void* user, const ServoTick& t) noexcept {
+  Runner& r = *static_cast<Runner*>(user);
+  if (r.hooks.before) r.hooks.before(r.hooks.user, *r.session, t);
+  const SessionTick out = r.session->tick(*r.device, t);
+  if (r.hooks.after) r.hooks.after(r.hooks.user, t, out);
+  if (out.ended) r.stop->store(true, std::memory_order_relaxed);
+}
+
+}  // namespace
+
+ServoStats run_session(SculptSession& session, HapticDevice& device, const ServoOptions& options,
+                       const SessionHooks& hooks, const char** realtime_note) {
+  std::atomic<bool> own_stop{false};
+  ServoOptions o = options;
+  Runner r{&session, &device, hooks, options.stop ? options.stop : &own_stop};
+  o.stop = r.stop;
+  return run_servo_loop(o, run_tick, &r, realtime_note);
+}
+
+}  // namespace hdm

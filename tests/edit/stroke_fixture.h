@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Strokes on the bunny for the edit tests: paths on the surface (found with the exact input, not
+// the slab model), open-loop tool samples for StrokeEditor, and snapshots of every array an edit
+// may change.
+#include "support/test_models.h"
+
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/edit/stroke_editor.h>
+
+#include <cstring>
+#include <vector>
+
+namespace hdm::test {
+
+/// A private copy of the default-density bunny bake with its locator; lengths are given in
+/// "device millimetres" (the diagonal fitted to 160 mm, as `hdm sculpt` does).
+struct BunnyStrokes {
+  BunnyStrokes();
+  SlabModel model;
+  SlabLocator locator;
+  double diag = 0, mm = 0;
+  /// Points on the input surface and their normals along the straight line from @p a to @p b
+  /// (model units), every @p step: each point projected to the closest point of the input.
+  void surface_path(const Vec3& a, const Vec3& b, double step, std::vector<Vec3>& points,
+                    std::vector<Vec3>& normals) const;
+  /// A point on the model's surface near the box point with normalised coordinates @p u (the
+  /// closest input point to it).
+  Vec3 surface_point(const Vec3& u, Vec3* normal = nullptr) const;
+  /// Drives @p editor through one stroke with @p brush: a tool sample every @p dt seconds at the
+  /// HIP @p depth below each path point (along the input normal), contacts from the slab query at
+  /// that HIP, normal force @p force_n; work() to the end after each sample.
+  void stroke(StrokeEditor& editor, const Brush& brush, const std::vector<Vec3>& points,
+              const std::vector<Vec3>& normals, double depth, double dt = 1e-3, double force_n = 1.0);
+};
+
+/// Every array an edit may change, stored and derived.
+struct ModelState {
+  explicit ModelState(const SlabModel& m)
+      : displacement(m.displacement), friction_static(m.friction_static), friction_dynamic(m.friction_dynamic),
+        stiffness_scale(m.stiffness_scale), layer_displacement(m.layer_displacement), roughness(m.roughness),
+        colour(m.colour), positions(m.positions), normals(m.normals), haptic_normals(m.haptic_normals),
+        slab_samples(m.slab_samples) {}
+  std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement, roughness;
+  std::vector<Vec3f> colour, positions, normals, haptic_normals;
+  std::vector<SlabSample> slab_samples;
+};
+
+/// Names the first array of @p a that differs from @p b bit for bit, or returns "".
+std::string first_difference(const ModelState& a, const ModelState& b);
+
+}  // namespace hdm::test
