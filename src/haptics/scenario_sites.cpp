@@ -262,9 +262,15 @@ ThinSite ScenarioSites::thin_site(const SlabModel& model, const SlabLocator& loc
       const double a = kPi * k / 4;
       const SurfacePoint q = project(s.point + r * (std::cos(a) * u + std::sin(a) * w));
       const double tn = thickness(q);
-      agree += tn >= 0.5 * t && tn <= 3 * t && q.normal.dot(s.normal) > cos_flat;
+      // The model must render the sides as the input has them too, or the proxy slides off a bump
+      // of the bake that the input does not have.
+      agree += tn >= 0.5 * t && tn <= 3 * t && q.normal.dot(s.normal) > cos_flat &&
+               represented(model, locator, q.point, q.normal, tn);
     }
-    if (agree < 6 || !represented(model, locator, s.point, s.normal, t)) continue;
+    // Both faces: the scenario pushes the sheet from each side.
+    if (agree < 6 || !represented(model, locator, s.point, s.normal, t) ||
+        !represented(model, locator, e.point, e.normal, t))
+      continue;
     cands.push_back({{s, exit, t}, agree});
   }
   // The thinnest of the flattest: all eight sides agreeing if any sample has that, else seven, else six.
