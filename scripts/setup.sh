@@ -26,7 +26,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 archive=/usr/share/doc/libcgal-dev/data.tar.gz
-models=(bunny00.off armadillo.off refined_elephant.off lion-head.off
+models=(bunny00.off armadillo.off refined_elephant.off lion-head.off cheese.off knot1.off
   sphere.off sphere.ply sphere.stl colored_tetra.ply mesh_with_colors.off cube_poly.off
   tetrahedron.off cube_quad.off icosahedron.off triangle.off blobby.off)
 mkdir -p "$here/data/meshes"

@@ -4,7 +4,11 @@
 #include "support/test_models.h"
 
 #include <hdm/analysis/bake_to_tolerance.h>
+#include <hdm/analysis/fidelity.h>
+#include <hdm/analysis/shell_check.h>
 #include <hdm/core/error.h>
+#include <hdm/io/read_mesh.h>
+#include <hdm/mesh/orient_mesh.h>
 
 #include <gtest/gtest.h>
 
@@ -128,4 +132,26 @@ TEST(BakeToToleranceTest, refuses_bounds_that_are_not_positive) {
   EXPECT_THROW(bake_to_tolerance(ExactMeshQuery(input), "sphere", BakeOptions{}, t), InvalidInput);
   t.max_pct = NAN;
   EXPECT_THROW(bake_to_tolerance(ExactMeshQuery(input), "sphere", BakeOptions{}, t), InvalidInput);
+}
+
+// Issue 13: a thin-tubed knot (knot1.off of the libcgal-demo archive, tube radius about 3% of its
+// diagonal) bakes at default settings within the default bound, with valid, disjoint slabs and the
+// contact test agreeing with the input; measured by Embree on the input, apart from the bake.
+TEST(BakeToToleranceTest, thin_tubed_knot_bakes_at_default_settings) {
+  TriangleMesh input = read_mesh(test::data_path("knot1.off"));
+  orient_outward(input);
+  const ExactMeshQuery exact(input);
+  Tolerance t;  // hdm bake's default bound
+  t.max_pct = 0.2;
+  t.rms_pct = 0.02;
+  std::vector<ToleranceRound> rounds;
+  const SlabModel m = bake_to_tolerance(exact, "knot1.off", BakeOptions{}, t, &rounds);
+  EXPECT_TRUE(rounds.back().met);
+  EXPECT_GE(rounds.size(), 2u) << "the first round's slab count follows the triangle count only";
+  EXPECT_EQ(count_invalid_slabs(m), 0);
+  EXPECT_EQ(count_overlapping_pairs(m), 0);
+  const Fidelity f = measure_fidelity(m, exact);
+  EXPECT_LE(std::max(f.max_pct, f.max_back_pct), t.max_pct);
+  EXPECT_LE(std::max(f.rms_pct, f.rms_back_pct), t.rms_pct);
+  EXPECT_GE(measure_contact(m, exact, 20000, 1, 1.0).agreement, 0.995);
 }

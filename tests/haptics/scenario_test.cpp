@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Scenario pass/fail figures on the paper's bunny configuration (150 slabs, 16 intervals per edge),
+// Scenario pass/fail figures on the paper's bunny configuration (150 slabs, 16 intervals per edge; the thin sheet on the default 1,178 slabs),
 // scored against the exact input mesh (Embree), and the stiffness limit against sampled-data
 // passivity theory. Energy bounds allow a few per cent above 1 where the hand slides: force
 // shading (interpolated normals) is not a conservative field (Ruspini et al. 1997), so a stroke can
@@ -48,9 +48,20 @@ TEST(Scenario, PressReachesMaxForceWithoutPopThrough) {
   EXPECT_LE(p.pop_throughs, q.pop_throughs);
 }
 
+// On the default bunny (1,178 slabs): at the paper's 150 slabs the ear is not resolved since the
+// issue-13 bake (92 sample rays miss it, 1.9% maximum error, a bound hdm bake never returns), and
+// on the thinnest site the rendered ear bulges, so that a frictionless proxy pushed there drifts
+// round the rim and lets go, a 2 N step.
 TEST(Scenario, ThinSheetHoldsWithProxyOnly) {
-  const ScenarioReport p = run(Scenario::Thin, RenderMode::Proxy);
-  const ScenarioReport q = run(Scenario::Thin, RenderMode::Penalty);
+  static const test::BakedMesh bunny(test::bunny(), "bunny00.off", 0, 16);
+  auto run_thin = [](RenderMode mode) {
+    ScenarioOptions o;
+    o.scenario = Scenario::Thin;
+    o.mode = mode;
+    return run_scenario(bunny.model, bunny.locator, bunny.reference, o);
+  };
+  const ScenarioReport p = run_thin(RenderMode::Proxy);
+  const ScenarioReport q = run_thin(RenderMode::Penalty);
   EXPECT_EQ(p.pop_throughs, 0) << p.note;
   EXPECT_LE(p.energy_ratio, 1.01) << "the proxy contact stays (nearly) passive";
   // The paper's memoryless force flips as the hand crosses the sheet's midline: abruptly (a

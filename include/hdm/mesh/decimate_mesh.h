@@ -31,7 +31,8 @@ struct DecimateOptions {
   /// larger the margin, the thicker a valid shell can grow).
   double min_visibility = 0.2;
   /// true: each collapse keeps the end of least quadric error (a half-edge collapse), so coarse
-  /// vertices are input vertices and lie on the surface; false: the quadric's minimiser, which
+  /// vertices are input vertices and lie on the surface (but for an input's folded star, which
+  /// an unfolding collapse may resolve at the edge's midpoint); false: the quadric's minimiser, which
   /// follows the input more closely between vertices but puts vertices off the surface.
   bool on_input = true;
 };
@@ -50,9 +51,10 @@ struct DecimateReport {
 /// Quadrics: area-weighted face planes, plus, for each feature edge (boundary, or a crease sharper
 /// than DecimateOptions::feature_angle_deg), the planes through the edge perpendicular to its
 /// faces (Garland & Heckbert, "Surface Simplification Using Quadric Error Metrics", SIGGRAPH 1997,
-/// §6, extended from boundaries to creases). The new vertex goes to the quadric's minimiser,
-/// regularised towards the edge midpoint (Lindstrom 2000), so it is not on the input in general:
-/// the bake's rays record the input. A collapse is made only when:
+/// §6, extended from boundaries to creases). By default (DecimateOptions::on_input) each collapse
+/// keeps the end of least quadric error, so coarse vertices are input vertices; otherwise the new
+/// vertex goes to the quadric's minimiser, regularised towards the edge midpoint (Lindstrom 2000).
+/// A collapse is made only when:
 /// - the link condition holds (Dey, Edelsbrunner, Guha, Nekhayev, "Topology preserving edge
 ///   contraction", 1999): the common neighbours of the two ends are exactly the apexes of the
 ///   edge's faces, an interior edge does not join two boundary vertices, and no two faces would
