@@ -11,6 +11,7 @@ packages=(cmake ninja-build g++ pkg-config
   libgtest-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri
   libcgal-dev libcgal-demo gnuplot-nox
+  libglfw3-dev libimgui-dev xvfb xauth
   clang libclang-rt-14-dev)
 
 missing=()

@@ -27,4 +27,5 @@ void add_check_command(CLI::App& app);
 void add_feel_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_subdivide_command(CLI::App& app);
+void add_studio_command(CLI::App& app);
 }  // namespace hdm::app

@@ -39,7 +39,8 @@ double ForceEnvelope::update(double period_s, int64_t missed, bool stopping) noe
 ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, const char** realtime_note) {
   using clock = std::chrono::steady_clock;
   const int64_t n = std::max<int64_t>(o.ticks, 0);
-  std::vector<double> start_ns(n), compute_ns(n), cpu_ns(o.cpu_time ? n : 0);
+  const int64_t keep = std::max<int64_t>(1, o.keep_ticks > 0 ? std::min(n, o.keep_ticks) : n);
+  std::vector<double> start_ns(keep), compute_ns(keep), cpu_ns(o.cpu_time ? keep : 0);
   auto thread_cpu_ns = []() noexcept {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
@@ -50,7 +51,7 @@ ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, c
   // which is a whole period at 10 kHz.
   const auto spin = std::chrono::microseconds(o.rate_hz >= 2000 ? 60 : 0);
   bool got_fifo = false;
-  int64_t done = 0, trips = 0;
+  int64_t done = 0, trips = 0, overruns = 0, long_ticks = 0, cpu_long_ticks = 0;
   clock::time_point t0, t_end;
   std::thread servo([&] {
     sched_param sp{};
@@ -78,9 +79,15 @@ ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, c
       const double cpu0 = o.cpu_time ? thread_cpu_ns() : 0.0;
       tick(user, st);
       const auto b = clock::now();
-      if (o.cpu_time) cpu_ns[k] = thread_cpu_ns() - cpu0;
-      start_ns[k] = std::chrono::duration<double, std::nano>(a - t0).count();
-      compute_ns[k] = std::chrono::duration<double, std::nano>(b - a).count();
+      const size_t slot = static_cast<size_t>(k % keep);
+      if (o.cpu_time) {
+        cpu_ns[slot] = thread_cpu_ns() - cpu0;
+        cpu_long_ticks += cpu_ns[slot] > period_s * 1e9;
+      }
+      start_ns[slot] = std::chrono::duration<double, std::nano>(a - t0).count();
+      compute_ns[slot] = std::chrono::duration<double, std::nano>(b - a).count();
+      if (o.realtime && k > 0 && start_ns[slot] > (k + 1) * period_s * 1e9) ++overruns;
+      long_ticks += compute_ns[slot] > period_s * 1e9;
       done = k + 1;
     }
     t_end = clock::now();
@@ -95,19 +102,18 @@ ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, c
   s.seconds = std::chrono::duration<double>(t_end - t0).count();
   s.rate_hz = s.seconds > 0 ? done / s.seconds : 0;
   s.watchdog_trips = trips;
+  s.overruns = overruns;
+  s.long_ticks = long_ticks;
+  // The kept window: ticks [done - kept, done) in the ring.
+  const int64_t kept = std::min(done, keep);
   std::vector<double> period;
-  period.reserve(done);
-  for (int64_t k = 1; k < done; ++k) {
-    period.push_back(start_ns[k] - start_ns[k - 1]);
-    if (o.realtime && start_ns[k] > (k + 1) * period_s * 1e9) ++s.overruns;
-  }
+  period.reserve(static_cast<size_t>(kept));
+  for (int64_t k = done - kept + 1; k < done; ++k) period.push_back(start_ns[k % keep] - start_ns[(k - 1) % keep]);
   s.period_ns = latency_stats(std::move(period));
-  compute_ns.resize(done);
-  for (double c : compute_ns) s.long_ticks += c > period_s * 1e9;
+  compute_ns.resize(static_cast<size_t>(kept));
   if (o.cpu_time) {
-    cpu_ns.resize(done);
-    s.cpu_long_ticks = 0;
-    for (double c : cpu_ns) s.cpu_long_ticks += c > period_s * 1e9;
+    cpu_ns.resize(static_cast<size_t>(kept));
+    s.cpu_long_ticks = cpu_long_ticks;
     s.cpu_ns = latency_stats(std::move(cpu_ns));
   }
   s.compute_ns = latency_stats(std::move(compute_ns));

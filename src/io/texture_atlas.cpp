@@ -45,14 +45,17 @@ Vec3f surface_colour(const SlabModel& m, int texel) noexcept {
   return layer > at.delta ? m.under_layer.colour : m.colour[texel];
 }
 
-void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, uint8_t* out, int stride,
-                     AtlasContent content) noexcept {
-  const int N = a.texel_n;
-  const int32_t* ids = &model.texels.ids[static_cast<size_t>(slab) * model.texels.per_slab];
+namespace {
+
+// Walks the tile's pixels (padding included) and writes pixel (c, b) from texel (i, j) of the slab
+// (grid::index(N, i, j)) with rgba(index, px): the pixel itself inside the triangle, the nearest
+// valid texel (Euclidean) beyond the hypotenuse and in the padding.
+template <class Rgba>
+void walk_tile(int N, uint8_t* out, int stride, Rgba&& rgba) noexcept {
   for (int b = -1; b <= N + 1; ++b)
     for (int c = -1; c <= N + 1; ++c) {
-      // Nearest valid texel of local pixel (c, b) (Euclidean): for each row j the best column is
-      // c clamped to [0, N-j]; scan the rows only for pixels outside the triangle.
+      // For each row j the best column is c clamped to [0, N-j]; scan the rows only for pixels
+      // outside the triangle.
       int i = c, j = b;
       if (c < 0 || b < 0 || c + b > N) {
         long best = std::numeric_limits<long>::max();
@@ -62,17 +65,36 @@ void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, ui
           if (d < best) best = d, i = q, j = r;
         }
       }
-      const int32_t texel = ids[grid::index(N, i, j)];
-      const bool paint = content == AtlasContent::PaintAndRoughness;
-      const Vec3f colour = paint ? model.colour[texel] : surface_colour(model, texel);
-      uint8_t* px = out + (static_cast<size_t>(b + 1) * stride + (c + 1)) * 4;
-      px[0] = linear_to_srgb8(colour.x());
-      px[1] = linear_to_srgb8(colour.y());
-      px[2] = linear_to_srgb8(colour.z());
-      px[3] = paint && texel < static_cast<int32_t>(model.roughness.size())
-                  ? static_cast<uint8_t>(std::lround(std::clamp(model.roughness[texel], 0.0f, 1.0f) * 255))
-                  : 255;
+      rgba(grid::index(N, i, j), out + (static_cast<size_t>(b + 1) * stride + (c + 1)) * 4);
     }
+}
+
+uint8_t unit_to_byte(float v) noexcept { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255)); }
+
+}  // namespace
+
+void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, uint8_t* out, int stride,
+                     AtlasContent content) noexcept {
+  const int32_t* ids = &model.texels.ids[static_cast<size_t>(slab) * model.texels.per_slab];
+  const bool paint = content == AtlasContent::PaintAndRoughness;
+  walk_tile(a.texel_n, out, stride, [&](int local, uint8_t* px) {
+    const int32_t texel = ids[local];
+    const Vec3f colour = paint ? model.colour[texel] : surface_colour(model, texel);
+    px[0] = linear_to_srgb8(colour.x());
+    px[1] = linear_to_srgb8(colour.y());
+    px[2] = linear_to_srgb8(colour.z());
+    px[3] = paint && texel < static_cast<int32_t>(model.roughness.size()) ? unit_to_byte(model.roughness[texel]) : 255;
+  });
+}
+
+void fill_atlas_tile(const TextureAtlas& a, const float* texels, uint8_t* out, int stride) noexcept {
+  walk_tile(a.texel_n, out, stride, [&](int local, uint8_t* px) {
+    const float* t = texels + static_cast<size_t>(local) * 4;
+    px[0] = linear_to_srgb8(t[0]);
+    px[1] = linear_to_srgb8(t[1]);
+    px[2] = linear_to_srgb8(t[2]);
+    px[3] = unit_to_byte(t[3]);
+  });
 }
 
 TextureAtlas build_texture_atlas(const SlabModel& model, AtlasContent content) {

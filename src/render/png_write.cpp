@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "png_write.h"
 
+#include <hdm/render/png.h>
+
 #include <hdm/core/error.h>
 #include <hdm/io/hdm_file.h>
 
@@ -34,3 +36,10 @@ void write_png_rgb(const std::string& path, int width, int height, const std::ve
 }
 
 }  // namespace hdm::render_detail
+
+void hdm::write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * height * 3)
+    throw InvalidInput(path + ": an image of " + std::to_string(width) + "x" + std::to_string(height) +
+                       " pixels needs width·height·3 bytes, got " + std::to_string(rgb.size()));
+  render_detail::write_png_rgb(path, width, height, rgb);
+}

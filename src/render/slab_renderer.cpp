@@ -4,6 +4,7 @@
 #include <hdm/render/camera.h>
 #include <hdm/render/slab_renderer.h>
 #include <hdm/slab/slab_model.h>
+#include <hdm/slab/slab_snapshots.h>
 #include <hdm/slab/triangle_grid.h>
 
 #include "gl.h"
@@ -114,25 +115,54 @@ struct SlabRenderer::State {
     vbo = ebo = atlas = 0;
   }
 
-  // Vertices of slab s into out[0 .. per_slab).
-  void fill_vertices(const SlabModel& m, int s, Vertex* out) const {
+  // Vertices of slab s into out[0 .. per_slab). at(k) gives grid point k's displacement, normal
+  // and under-layer top (from the live model or a snapshot); positions are evaluated on the
+  // sample's home projection line, so shared samples land on the same point in every slab.
+  template <class At>
+  void fill_vertices(const SlabModel& m, int s, Vertex* out, At&& at) const {
     const SampleLayout& L = m.samples;
     const int32_t* ids = &L.ids[static_cast<size_t>(s) * per_slab];
     for (int k = 0; k < per_slab; ++k) {
       const double wT = static_cast<double>(L.point_i[k]) / n, wS = static_cast<double>(L.point_j[k]) / n;
       Vec3 p0, p1;
       projection_line(m, L.home_slab[ids[k]], L.home_index[ids[k]], p0, p1);
-      const double delta = m.displacement[ids[k]];
+      float delta_f, layer_delta;
+      Vec3f nrm;
+      at(k, ids[k], delta_f, nrm, layer_delta);
+      const double delta = delta_f;
       const Vec3f p = (p0 + delta * (p1 - p0)).cast<float>();  // = sample_position()
-      const Vec3f& nrm = m.normals[ids[k]];
       const Eigen::Vector2f uv = layout.uv(s, wT, wS);
-      const float layer = static_cast<float>((m.layer_displacement[ids[k]] - delta) * (p1 - p0).norm());
+      const float layer = static_cast<float>((layer_delta - delta) * (p1 - p0).norm());
       out[k] = Vertex{{p.x(), p.y(), p.z()},
                       {nrm.x(), nrm.y(), nrm.z()},
                       {uv.x(), uv.y()},
                       {static_cast<float>(wT), static_cast<float>(wS)},
                       layer};
     }
+  }
+  void fill_vertices(const SlabModel& m, int s, Vertex* out) const {
+    fill_vertices(m, s, out, [&m](int, int32_t id, float& delta, Vec3f& nrm, float& layer) {
+      delta = m.displacement[id], nrm = m.normals[id], layer = m.layer_displacement[id];
+    });
+  }
+
+  void check_layout(const SlabModel& model, int slab, const char* what) const {
+    if (slab < 0 || slab >= slabs)
+      throw InvalidInput(std::string(what) + ": slab " + std::to_string(slab) + " is outside [0, " +
+                         std::to_string(slabs) + ") (call upload_all first)");
+    if (model.slab_count() != slabs || model.grid_n != n || model.texel_density != texel_density ||
+        model.samples.per_slab != per_slab)
+      throw InvalidInput(std::string(what) + ": the model's slabs or grid changed since upload_all");
+  }
+
+  void upload(int slab) {
+    glNamedBufferSubData(vbo, static_cast<GLintptr>(static_cast<size_t>(slab) * per_slab * sizeof(Vertex)),
+                         static_cast<GLsizeiptr>(per_slab * sizeof(Vertex)), vertices.data());
+    const Eigen::Vector2i origin = layout.origin(slab);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(atlas, 0, origin.x() - 1, origin.y() - 1, layout.tile, layout.tile, GL_RGBA,
+                        GL_UNSIGNED_BYTE, tile.data());
+    render_detail::check_gl("re-uploading a slab");
   }
 };
 
@@ -234,26 +264,29 @@ void SlabRenderer::upload_all(const SlabModel& model) {
 
 void SlabRenderer::upload_slab(const SlabModel& model, int slab) {
   State& st = *state_;
-  if (slab < 0 || slab >= st.slabs)
-    throw InvalidInput("upload_slab: slab " + std::to_string(slab) + " is outside [0, " + std::to_string(st.slabs) +
-                       ") (call upload_all first)");
-  if (model.slab_count() != st.slabs || model.grid_n != st.n || model.texel_density != st.texel_density ||
-      model.samples.per_slab != st.per_slab)
-    throw InvalidInput("upload_slab: the model's slabs or grid changed since upload_all");
+  st.check_layout(model, slab, "upload_slab");
   render_detail::check_renderable(model);
-
   st.vertices.resize(st.per_slab);
   st.fill_vertices(model, slab, st.vertices.data());
-  glNamedBufferSubData(st.vbo, static_cast<GLintptr>(static_cast<size_t>(slab) * st.per_slab * sizeof(Vertex)),
-                       static_cast<GLsizeiptr>(st.per_slab * sizeof(Vertex)), st.vertices.data());
-
   st.tile.resize(static_cast<size_t>(st.layout.tile) * st.layout.tile * 4);
   fill_atlas_tile(model, st.layout, slab, st.tile.data(), st.layout.tile, AtlasContent::PaintAndRoughness);
-  const Eigen::Vector2i origin = st.layout.origin(slab);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(st.atlas, 0, origin.x() - 1, origin.y() - 1, st.layout.tile, st.layout.tile, GL_RGBA,
-                      GL_UNSIGNED_BYTE, st.tile.data());
-  render_detail::check_gl("re-uploading a slab");
+  st.upload(slab);
+}
+
+void SlabRenderer::upload_slab(const SlabModel& model, const SlabView& view, int slab) {
+  State& st = *state_;
+  st.check_layout(model, slab, "upload_slab");
+  if (view.points == nullptr || view.per_slab != st.per_slab ||
+      view.texels_per_slab != static_cast<int>(model.texels.per_slab) || view.texels == nullptr)
+    throw InvalidInput("upload_slab: the snapshot's slab view does not match the uploaded model's grids");
+  st.vertices.resize(st.per_slab);
+  st.fill_vertices(model, slab, st.vertices.data(), [&view](int k, int32_t, float& delta, Vec3f& nrm, float& layer) {
+    const SlabSample& p = view.points[k];
+    delta = p.delta, nrm = Vec3f(p.n[0], p.n[1], p.n[2]), layer = view.layer_displacement[k];
+  });
+  st.tile.resize(static_cast<size_t>(st.layout.tile) * st.layout.tile * 4);
+  fill_atlas_tile(st.layout, view.texels, st.tile.data(), st.layout.tile);
+  st.upload(slab);
 }
 
 void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges) const {

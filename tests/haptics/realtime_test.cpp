@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -269,6 +271,33 @@ TEST(Servo, LoopAt10kHzAppliesTheEnvelopeAndStops) {
   const ServoStats s2 = run_servo_loop(o, log_tick, &log);
   EXPECT_EQ(s2.ticks, 101) << "ramp_out 0.01 s at 10 kHz: 100 ticks + the current one";
   EXPECT_EQ(log.gain[s2.ticks - 1], 0.0);
+}
+
+// keep_ticks bounds the per-tick records of a long run: the medians and maxima cover the last
+// keep_ticks ticks, the counts every tick. One slow tick (20 ms) early in the run is out of the window's
+// maximum but still counted as a long tick.
+TEST(Servo, KeptWindowBoundsTheStatisticsButNotTheCounts) {
+  struct Slow {
+    static void tick(void*, const ServoTick& t) noexcept {
+      if (t.tick != 10) return;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(20);
+      while (std::chrono::steady_clock::now() < until) {
+      }
+    }
+  };
+  ServoOptions o;
+  o.rate_hz = 1000;
+  o.realtime = false;
+  o.ticks = 500;
+  o.keep_ticks = 100;
+  const ServoStats st = run_servo_loop(o, Slow::tick, nullptr);
+  EXPECT_EQ(st.ticks, 500);
+  EXPECT_GE(st.long_ticks, 1) << "the 20 ms tick is counted although it left the window";
+  EXPECT_LT(st.compute_ns.max, 19e6) << "the window's maximum leaves out tick 10";
+  o.keep_ticks = 0;
+  const ServoStats all = run_servo_loop(o, Slow::tick, nullptr);
+  EXPECT_GE(all.long_ticks, 1);
+  EXPECT_GE(all.compute_ns.max, 20e6) << "every tick kept";
 }
 
 // Physics of the simulated handle, checked against statics: a constant force F against the hand

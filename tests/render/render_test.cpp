@@ -9,6 +9,7 @@
 #include <hdm/render/render_png.h>
 #include <hdm/render/slab_renderer.h>
 #include <hdm/slab/slab_model.h>
+#include <hdm/slab/slab_snapshots.h>
 
 #include <gtest/gtest.h>
 
@@ -338,6 +339,42 @@ TEST(SlabRenderer, ReuploadingUnchangedSlabsLeavesTheImageIdentical) {
   for (int s = 0; s < model.slab_count(); ++s) scene.renderer.upload_slab(model, s);
   const Image second = scene.frame(true);
   EXPECT_TRUE(first.rgb == second.rgb);
+}
+
+TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
+  // The studio's render thread uploads from snapshots while the servo edits the live model: the
+  // snapshot path must give the model path's pixels, for an edit the snapshot published.
+  SlabModel model = make_model(subdivide(icosahedron()), 3, 2);
+  SlabSnapshots snapshots(model);
+  Scene scene(model, 160, 120, 30, 20);
+  const Image unedited = scene.frame(true);
+  // Edit: paint every third slab, push one slab's samples in, thicken the under-layer under another.
+  for (int s = 0; s < model.slab_count(); s += 3) paint_slab(model, s, {0.9f, 0.2f * (s % 5), 0.1f});
+  const int P = model.samples.per_slab;
+  std::vector<int32_t> moved(model.samples.ids.begin() + 5 * P, model.samples.ids.begin() + 6 * P);
+  for (int32_t id : moved) model.displacement[id] *= 0.5f;
+  update_positions(model, moved.data(), moved.size());
+  update_normals(model, moved.data(), moved.size());
+  for (int k = 0; k < P; ++k) model.layer_displacement[model.samples.ids[static_cast<size_t>(7) * P + k]] = 1.0f;
+  ASSERT_TRUE(snapshots.publish_reserve(model.slab_count()));
+  for (int s = 0; s < model.slab_count(); ++s) snapshots.publish_slab(s);
+  snapshots.publish_commit();
+
+  for (int s = 0; s < model.slab_count(); ++s) scene.renderer.upload_slab(model, s);
+  const Image from_model = scene.frame(true);
+  EXPECT_FALSE(from_model.rgb == unedited.rgb) << "the edit shows";
+  scene.renderer.upload_all(make_model(subdivide(icosahedron()), 3, 2));  // back to the unedited data
+  {
+    SnapshotReader reader(snapshots);
+    for (int s = 0; s < model.slab_count(); ++s) scene.renderer.upload_slab(model, reader.slab(s), s);
+  }
+  const Image from_snapshot = scene.frame(true);
+  EXPECT_TRUE(from_snapshot.rgb == from_model.rgb);
+
+  SnapshotReader reader(snapshots);
+  SlabView wrong = reader.slab(0);
+  wrong.per_slab += 1;
+  EXPECT_THROW(scene.renderer.upload_slab(model, wrong, 0), InvalidInput);
 }
 
 TEST(SlabRenderer, SlabEdgeOverlayDarkensBoundariesOnly) {

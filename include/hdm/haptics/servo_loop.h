@@ -23,6 +23,11 @@ struct ServoOptions {
   /// Also read the servo thread's CPU clock around each tick (two system calls a tick): tells a tick
   /// that computed longer than a period from one that was preempted (ServoStats::cpu_long_ticks).
   bool cpu_time = false;
+  /// Per-tick timing kept for ServoStats' medians and percentiles: the last this many ticks
+  /// (0: every tick, 24 bytes a tick allocated before the loop). A long-running loop (an
+  /// interactive session with `ticks` = INT64_MAX) keeps a window; the counts (overruns, long
+  /// ticks, watchdog trips) always cover every tick.
+  int64_t keep_ticks = 0;
 };
 
 /// What the servo loop tells the tick function on every tick.

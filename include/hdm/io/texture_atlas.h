@@ -88,4 +88,13 @@ uint8_t linear_to_srgb8(float linear) noexcept;
 void fill_atlas_tile(const SlabModel& model, const TextureAtlas& layout, int slab, uint8_t* out, int stride,
                      AtlasContent content = AtlasContent::Surface) noexcept;
 
+/// @brief fill_atlas_tile() with AtlasContent::PaintAndRoughness from one slab's texels as a
+/// snapshot holds them (hdm::SlabView::texels): @p texels has texels_per_slab × 4 floats, linear
+/// RGB and roughness in grid::index order of the slab's texel grid. Lets a renderer thread
+/// re-upload a slab from a snapshot while another thread edits the live model.
+/// @param layout  an atlas of the model (only its layout fields are read).
+/// @note O(tile²) plus O(N) per padding pixel; no allocation. Same pixels as the model overload
+///       for the same data.
+void fill_atlas_tile(const TextureAtlas& layout, const float* texels, uint8_t* out, int stride) noexcept;
+
 }  // namespace hdm

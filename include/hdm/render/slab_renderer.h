@@ -10,6 +10,7 @@
 namespace hdm {
 
 struct SlabModel;
+struct SlabView;
 struct RenderCamera;
 
 /// Draws the reconstructed surface of a SlabModel: one vertex per (slab, grid point) at
@@ -57,6 +58,17 @@ class SlabRenderer {
   /// @throws InvalidInput if @p slab is out of range or the layout changed since upload_all().
   /// @note O(n² + N²); no allocation after the first call.
   void upload_slab(const SlabModel& model, int slab);
+
+  /// @brief Re-uploads slab @p slab from a snapshot of it (SnapshotReader::slab()): the same
+  /// vertices and atlas tile the model overload gives for the same data, while another thread
+  /// edits the live model (the studio's render thread; paper §6, only flagged slabs re-sent).
+  /// @param model  the model the snapshots were made of: only its static members are read
+  ///               (layouts, coarse vertices), which edits never change.
+  /// @param view   the slab's data (displacements, normals, under-layer top, texels).
+  /// @throws InvalidInput if @p slab is out of range, the layout changed since upload_all() or
+  ///         @p view does not match the model's grids.
+  /// @note O(n² + N²); no allocation after the first call.
+  void upload_slab(const SlabModel& model, const SlabView& view, int slab);
 
   /// @brief Draws every uploaded slab into the currently bound framebuffer with depth testing.
   /// @param camera           view and projection; its size should match the viewport.

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+#include "glyphs.h"
+
+#include <imgui.h>
+
+#include <array>
+#include <cmath>
+
+namespace hdm::studio {
+namespace {
+
+constexpr int kSegments = 48;
+
+bool in_front(const RenderCamera& cam, const Vec3& p) {
+  const Eigen::Vector4f v = cam.view * Eigen::Vector4f(float(p.x()), float(p.y()), float(p.z()), 1.0f);
+  return v.z() < -cam.near_plane;
+}
+
+ImVec2 to_screen(const RenderCamera& cam, const Vec3& p) {
+  const Eigen::Vector2d q = cam.project(p);
+  return ImVec2(static_cast<float>(q.x()), static_cast<float>(q.y()));
+}
+
+// A circle of radius r about c in the plane spanned by unit vectors u, v.
+void circle(ImDrawList* list, const RenderCamera& cam, const Vec3& c, const Vec3& u, const Vec3& v, double r,
+            ImU32 colour, float thickness) {
+  std::array<ImVec2, kSegments> pts;
+  for (int k = 0; k < kSegments; ++k) {
+    const double a = 2 * M_PI * k / kSegments;
+    const Vec3 p = c + r * (std::cos(a) * u + std::sin(a) * v);
+    if (!in_front(cam, p)) return;
+    pts[k] = to_screen(cam, p);
+  }
+  list->AddPolyline(pts.data(), kSegments, colour, ImDrawFlags_Closed, thickness);
+}
+
+void basis(const Vec3& n, Vec3& u, Vec3& v) {
+  u = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+  v = n.cross(u);
+}
+
+}  // namespace
+
+void draw_tool_glyphs(ImDrawList* list, const RenderCamera& cam, const ToolState& t, const GlyphOptions& o) {
+  if (!t.hip.allFinite()) return;
+  const ImU32 tool_colour = t.tool_on ? IM_COL32(255, 140, 0, 230) : IM_COL32(40, 120, 255, 210);
+  // The tool sphere: three great circles about the HIP.
+  const Vec3 axes[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+  for (int k = 0; k < 3; ++k)
+    circle(list, cam, t.hip, axes[k], axes[(k + 1) % 3], o.brush_radius, tool_colour, 1.0f);
+  if (!t.contact || !t.proxy.allFinite()) return;
+  // The footprint in the tangent plane at the proxy, the proxy, the HIP–proxy link and the force.
+  Vec3 u, v;
+  basis(t.normal, u, v);
+  circle(list, cam, t.proxy, u, v, o.brush_radius, IM_COL32(255, 255, 255, 220), 2.0f);
+  if (!in_front(cam, t.proxy) || !in_front(cam, t.hip)) return;
+  const ImVec2 proxy = to_screen(cam, t.proxy);
+  list->AddCircleFilled(proxy, 4.0f, IM_COL32(255, 230, 0, 255));
+  list->AddLine(proxy, to_screen(cam, t.hip), IM_COL32(255, 230, 0, 160), 1.0f);
+  const double f = t.force.norm();
+  if (f > 1e-6 && std::isfinite(f)) {
+    const Vec3 tip = t.proxy + o.newton_length * t.force;
+    if (!in_front(cam, tip)) return;
+    const ImVec2 a = proxy, b = to_screen(cam, tip);
+    list->AddLine(a, b, IM_COL32(255, 60, 60, 255), 3.0f);
+    const float dx = b.x - a.x, dy = b.y - a.y, len = std::sqrt(dx * dx + dy * dy);
+    if (len > 1) {
+      const float ux = dx / len, uy = dy / len, h = std::min(10.0f, 0.4f * len);
+      list->AddTriangleFilled(b, ImVec2(b.x - h * ux - 0.5f * h * uy, b.y - h * uy + 0.5f * h * ux),
+                              ImVec2(b.x - h * ux + 0.5f * h * uy, b.y - h * uy - 0.5f * h * ux),
+                              IM_COL32(255, 60, 60, 255));
+    }
+  }
+}
+
+}  // namespace hdm::studio

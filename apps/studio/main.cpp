@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+// hdm-studio MODEL.hdm: sculpt and paint a slab model in a window, with the mouse as a 3-DOF
+// haptic device and the servo loop on its own thread; or run a scripted session and exit.
+#include "studio.h"
+
+#include <hdm/core/error.h>
+#include <hdm/io/hdm_file.h>
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+
+int main(int argc, char** argv) {
+  CLI::App app{"hdm studio: sculpt and paint a slab model interactively (GLFW window, OpenGL 4.5 core)"};
+  hdm::studio::StudioOptions o;
+  std::string model, size = "1280x720";
+  app.add_option("model", model, "slab model (.hdm); bake a mesh first with `hdm bake MESH -o MODEL.hdm`")->required();
+  app.add_option("--size", size, "window size WxH [pixels]");
+  app.add_option("--rate", o.rate_hz, "servo rate [Hz]: 1000 (default) or 10000")->check(CLI::IsMember({1000.0, 10000.0}));
+  app.add_option("--stiffness", o.stiffness, "proxy stiffness as felt at the device [N/m]")->check(CLI::Range(1.0, 1e5));
+  app.add_option("--friction", o.friction_scale, "factor on the model's friction coefficients")->check(CLI::Range(0.0, 10.0));
+  app.add_option("--script", o.script, "scripted session (JSON, docs/studio.md): device and UI actions, then exit");
+  app.add_option("--frames", o.frames, "stop after this many frames")->check(CLI::Range(1L, 100000000L));
+  app.add_option("--screenshot", o.screenshot, "write the model view of the last frame here (PNG)");
+  app.add_option("--report", o.report, "write the session's figures here (JSON): frame times, uploads, servo timing");
+  app.add_flag("--verify-uploads", o.verify_uploads,
+               "compare every slab's data each frame and count the slabs that really changed (tests; costs a copy of the model)");
+  app.add_flag("!--no-vsync", o.vsync, "draw frames as fast as possible in an interactive session");
+  try {
+    app.parse(argc, argv);
+    int w = 0, h = 0;
+    char x = 0;
+    if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || (x != 'x' && x != 'X'))
+      throw hdm::InvalidInput("--size " + size + ": expected WxH, e.g. 1280x720");
+    o.width = w, o.height = h;
+    o.model_name = std::filesystem::path(model).filename().string();
+    hdm::SlabModel m = hdm::load_model(model);
+    return hdm::studio::run_studio(std::move(m), o);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hdm-studio: error: %s\n", e.what());
+    return 1;
+  }
+}

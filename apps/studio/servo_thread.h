@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The servo loop of the studio on its own thread: a SculptSession ticking at 1 or 10 kHz whatever
+// the frame rate, with live statistics and the tool's state for the render thread, which never
+// blocks it (everything it reads is written wait-free, the model only through SlabSnapshots).
+#include "latest_value.h"
+
+#include <hdm/haptics/device.h>
+#include <hdm/session/sculpt_session.h>
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <thread>
+
+namespace hdm::studio {
+
+/// The tool as the last tick left it, model frame.
+struct ToolState {
+  Vec3 hip = Vec3::Zero();        ///< haptic interaction point [model units]
+  Vec3 proxy = Vec3::Zero();      ///< surface contact point of the proxy [model units] (contact only)
+  Vec3 normal = Vec3::UnitZ();    ///< surface normal at the proxy (contact only)
+  Vec3 force = Vec3::Zero();      ///< force rendered [N] (device axes = model axes)
+  bool contact = false;           ///< the proxy is on the surface
+  bool tool_on = false;           ///< the tool button is held
+  bool edit_pending = false;      ///< edit work carried over to the next tick
+  int64_t tick = 0;               ///< tick index
+};
+
+/// Live servo figures over the last second, read by the render thread.
+struct ServoFigures {
+  double rate_hz = 0;        ///< ticks in the last second
+  double tick_p99_ns = 0;    ///< 99th percentile of the tick's work (session tick) [ns]
+  int64_t late_ticks = 0;    ///< ticks that started a period or more late, since the start
+  int64_t ticks = 0;         ///< ticks since the start
+  int64_t sweeps = 0;        ///< edit sweeps since the start
+};
+
+/// Runs run_session() on a thread of its own until stop().
+class ServoThread {
+ public:
+  /// @brief Starts the loop at @p rate_hz with @p session and @p device, which must outlive it.
+  ServoThread(SculptSession& session, HapticDevice& device, double rate_hz);
+  /// Stops the loop (ramping the force out) and joins.
+  ~ServoThread();
+  /// Requests the end, waits for it and returns the run's statistics (the kept window's
+  /// medians; every tick's counts). Idempotent.
+  const ServoStats& stop();
+  /// The newest tool state. Render thread only (one reader).
+  const ToolState& tool() noexcept { return tool_.read(); }
+  /// Figures over the last second. Any one thread; O(ring).
+  ServoFigures figures() const;
+  /// Ticks run so far.
+  int64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
+  double rate_hz() const noexcept { return rate_hz_; }
+
+ private:
+  static void before(void* user, SculptSession&, const ServoTick& tick) noexcept;
+  static void after(void* user, const ServoTick& tick, const SessionTick& result) noexcept;
+
+  static constexpr int kRing = 16384;  // ≥ one second at 10 kHz
+  SculptSession& session_;
+  double rate_hz_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+  ServoStats stats_;
+  bool joined_ = false;
+  // servo thread only
+  int64_t tick_start_ns_ = 0;
+  // written by the servo thread, read by others
+  LatestValue<ToolState> tool_;
+  std::array<std::atomic<uint32_t>, kRing> work_ns_{};
+  std::array<std::atomic<int64_t>, kRing> start_ns_{};  // tick start, steady clock [ns]
+  std::atomic<int64_t> ticks_{0}, late_{0}, sweeps_{0};
+};
+
+}  // namespace hdm::studio

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// hdm studio: a window where a person sculpts and paints a slab model with the mouse (or, later,
+// a device through the bridge) while the servo loop runs on its own thread. The render thread
+// reads the model only through SlabSnapshots and re-uploads only the slabs published since the
+// last frame (paper §6-7).
+#include <hdm/edit/brush.h>
+#include <hdm/slab/slab_model.h>
+
+#include <string>
+
+namespace hdm::studio {
+
+/// How the studio starts.
+struct StudioOptions {
+  std::string model_name;        ///< shown in the title and the report
+  int width = 1280, height = 720;  ///< window size [pixels]
+  double rate_hz = 1000;         ///< servo rate: 1000 or 10000 [Hz]
+  double stiffness = 1000;       ///< proxy stiffness as felt at the device [N/m]
+  double friction_scale = 1;     ///< factor on the model's friction coefficients
+  std::string script;            ///< scripted session (JSON); empty: interactive
+  long frames = -1;              ///< stop after this many frames (-1: when the script ends or the window closes)
+  std::string screenshot;        ///< write the last frame's model view here (PNG)
+  std::string report;            ///< write the session's figures here (JSON)
+  bool verify_uploads = false;   ///< compare every slab's data each frame to count the really changed ones
+  bool vsync = true;             ///< interactive sessions wait for the display; scripted ones never
+};
+
+/// The tool settings of the panel (and of scripts). Lengths in device millimetres.
+struct ToolSettings {
+  enum Kind : int { Probe, Carve, Add, Smooth, Flatten, Paint } kind = Probe;
+  float radius_mm = 3;        ///< tool radius
+  float strength = 1;         ///< see hdm::BrushTool
+  float depth_mm = 0.8f;      ///< how far the mouse pushes the tool in below the surface under the cursor
+  float height_mm = 1;        ///< add: ridge height
+  float resilience_mm = 0;    ///< carve: resilient band (paper §4.1)
+  int field = 0;              ///< paint: hdm::BrushField
+  float colour[3] = {0.8f, 0.1f, 0.1f};  ///< paint colour: linear RGB
+  float value = 0.5f;         ///< paint of a scalar field (layer thickness in mm)
+};
+
+/// @brief The brush of @p t for a model with @p mm model units per device millimetre
+/// (carve and add: constant falloff, the exact boolean; smooth and flatten: smoothstep; paint:
+/// the paper's linear cone).
+Brush tool_brush(const ToolSettings& t, double mm);
+/// @brief Name of a tool kind (probe, carve, add, smooth, flatten, paint); parse_tool_kind()
+/// reads it back and throws InvalidInput naming @p name for anything else.
+const char* tool_kind_name(ToolSettings::Kind kind) noexcept;
+ToolSettings::Kind parse_tool_kind(const std::string& name);
+
+/// @brief Opens the window and runs the studio on @p model until the window closes, the script
+/// ends or options.frames frames are drawn.
+/// @throws InvalidInput on bad options or script; RenderError when no window or OpenGL 4.5 core
+///         context can be made (no display: run under Xvfb); IoError from saves and screenshots.
+/// @return the process exit code (0: the session ran; 1: the script could not finish).
+int run_studio(SlabModel model, const StudioOptions& options);
+
+}  // namespace hdm::studio

@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+#include "panels.h"
+
+#include <hdm/core/error.h>
+#include <hdm/edit/brush.h>
+
+#include <imgui.h>
+
+namespace hdm::studio {
+
+const char* tool_kind_name(ToolSettings::Kind kind) noexcept {
+  static const char* const names[] = {"probe", "carve", "add", "smooth", "flatten", "paint"};
+  return names[static_cast<int>(kind)];
+}
+
+ToolSettings::Kind parse_tool_kind(const std::string& name) {
+  for (int k = ToolSettings::Probe; k <= ToolSettings::Paint; ++k)
+    if (name == tool_kind_name(static_cast<ToolSettings::Kind>(k))) return static_cast<ToolSettings::Kind>(k);
+  throw InvalidInput("tool \"" + name + "\": expected probe, carve, add, smooth, flatten or paint");
+}
+
+Brush tool_brush(const ToolSettings& t, double mm) {
+  Brush b;
+  switch (t.kind) {
+    case ToolSettings::Add: b.tool = BrushTool::Add; break;
+    case ToolSettings::Smooth: b.tool = BrushTool::Smooth; b.falloff = Falloff::Smooth; break;
+    case ToolSettings::Flatten: b.tool = BrushTool::Flatten; b.falloff = Falloff::Smooth; break;
+    case ToolSettings::Paint: b.tool = BrushTool::Paint; b.falloff = Falloff::Linear; break;
+    default: b.tool = BrushTool::Carve; break;
+  }
+  b.radius = t.radius_mm * mm;
+  b.strength = t.strength;
+  b.resilience = t.resilience_mm * mm;
+  b.height = t.height_mm * mm;
+  b.field = static_cast<BrushField>(t.field);
+  b.colour = Vec3f(t.colour[0], t.colour[1], t.colour[2]);
+  b.value = b.field == BrushField::LayerThickness ? static_cast<float>(t.value * mm) : t.value;
+  return b;
+}
+
+PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::string& message) {
+  PanelActions a;
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Tools");
+  static const char* const tools[] = {"probe", "carve", "add", "smooth", "flatten", "paint"};
+  int kind = t.kind;
+  ImGui::Combo("tool", &kind, tools, IM_ARRAYSIZE(tools));
+  t.kind = static_cast<ToolSettings::Kind>(kind);
+  ImGui::SliderFloat("radius [mm]", &t.radius_mm, 0.2f, 20.0f, "%.1f");
+  ImGui::SliderFloat("depth [mm]", &t.depth_mm, 0.0f, 5.0f, "%.2f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("how far the tool goes in below the surface under the cursor (shift+wheel)");
+  ImGui::SliderFloat("strength", &t.strength, 0.0f, 1.0f, "%.2f");
+  if (t.kind == ToolSettings::Add) ImGui::SliderFloat("height [mm]", &t.height_mm, 0.0f, 5.0f, "%.2f");
+  if (t.kind == ToolSettings::Carve) ImGui::SliderFloat("resilience [mm]", &t.resilience_mm, 0.0f, 2.0f, "%.2f");
+  if (t.kind == ToolSettings::Paint) {
+    static const char* const fields[] = {"colour", "roughness", "friction_static", "friction_dynamic", "stiffness",
+                                         "layer_thickness"};
+    ImGui::Combo("field", &t.field, fields, IM_ARRAYSIZE(fields));
+    if (t.field == static_cast<int>(BrushField::Colour)) ImGui::ColorEdit3("colour", t.colour, ImGuiColorEditFlags_Float);
+    else ImGui::InputFloat(t.field == static_cast<int>(BrushField::LayerThickness) ? "thickness [mm]" : "value", &t.value);
+  }
+  ImGui::Separator();
+  a.undo = ImGui::Button("undo");
+  ImGui::SameLine();
+  a.redo = ImGui::Button("redo");
+  ImGui::SameLine();
+  a.fit = ImGui::Button("fit view");
+  ImGui::InputText("##save", files.save, sizeof files.save);
+  ImGui::SameLine();
+  a.save = ImGui::Button("save .hdm");
+  ImGui::InputText("##export", files.export_path, sizeof files.export_path);
+  ImGui::SameLine();
+  a.export_model = ImGui::Button("export");
+  ImGui::InputText("##shot", files.screenshot, sizeof files.screenshot);
+  ImGui::SameLine();
+  a.screenshot = ImGui::Button("screenshot");
+  if (!message.empty()) ImGui::TextWrapped("%s", message.c_str());
+  ImGui::TextDisabled("left: tool   right: orbit   middle / shift+right: pan\nwheel: zoom   shift+wheel: depth   F: fit\n"
+                      "ctrl+Z: undo   ctrl+shift+Z: redo");
+  ImGui::End();
+  return a;
+}
+
+void draw_status_overlay(const StatusFigures& s, float width) {
+  ImGui::SetNextWindowPos(ImVec2(width - 10, 10), ImGuiCond_Always, ImVec2(1, 0));
+  ImGui::SetNextWindowBgAlpha(0.6f);
+  ImGui::Begin("status", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
+  ImGui::Text("servo      %6.0f Hz (target %.0f)", s.servo_rate_hz, s.target_rate_hz);
+  ImGui::Text("tick p99   %6.1f us, %lld late", s.tick_p99_us, static_cast<long long>(s.late_ticks));
+  ImGui::Text("frame      %6.1f ms median, %.1f ms p99", s.frame_ms_median, s.frame_ms_p99);
+  ImGui::Text("uploaded   %6d slabs this frame (%lld total of %d)", s.uploaded, static_cast<long long>(s.uploaded_total),
+              s.slabs);
+  ImGui::Text("edits      %6.0f sweeps/s, epoch %llu", s.edits_per_s, static_cast<unsigned long long>(s.epoch));
+  ImGui::Text("contact    %s, force %.2f N", s.contact ? "yes" : "no ", s.force_n);
+  ImGui::End();
+}
+
+}  // namespace hdm::studio

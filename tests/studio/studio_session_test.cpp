@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: MIT
+// Checks of a scripted studio session (run by studio_session.sh under Xvfb): the screenshots
+// before and after a carve and a paint stroke differ along the strokes and nowhere else, undo
+// restores the first screenshot's pixels, the slabs uploaded are exactly the slabs whose data
+// changed, and the servo kept its rate while the window rendered and the strokes edited.
+//
+// The strokes' pixels come from the script (cursor paths in window coordinates) and the camera
+// convention of fit_camera (the model's bounding sphere fills 0.9 of the half-height at zoom 1),
+// not from anything the studio reports.
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#endif
+#include <stb/stb_image.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::string g_dir, g_script;  // set by main: the session's directory and its script
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<uint8_t> rgb;
+  int diff(const Image& o, int x, int y) const {
+    int d = 0;
+    for (int c = 0; c < 3; ++c) {
+      const size_t k = (static_cast<size_t>(y) * w + x) * 3 + c;
+      d = std::max(d, std::abs(int(rgb[k]) - int(o.rgb[k])));
+    }
+    return d;
+  }
+};
+
+Image load(const std::string& name) {
+  Image im;
+  int n = 0;
+  stbi_uc* p = stbi_load((g_dir + "/" + name).c_str(), &im.w, &im.h, &n, 3);
+  if (!p) return im;
+  im.rgb.assign(p, p + static_cast<size_t>(im.w) * im.h * 3);
+  stbi_image_free(p);
+  return im;
+}
+
+nlohmann::json load_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+// Distance from p to the segment ab.
+double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+// The script's strokes in pixels, each with its tool radius [mm].
+struct StrokePath {
+  std::vector<Eigen::Vector2d> points;
+  double radius_mm = 3;
+  std::string tool;
+};
+
+std::vector<StrokePath> strokes(const nlohmann::json& script, int w, int h) {
+  std::vector<StrokePath> out;
+  double radius = 3;
+  std::string tool = "probe";
+  for (const auto& s : script["steps"]) {
+    if (s["do"] == "tool") {
+      radius = s.value("radius_mm", radius);
+      tool = s.value("tool", tool);
+    }
+    if (s["do"] == "stroke") {
+      StrokePath p;
+      for (const auto& q : s["points"]) p.points.emplace_back(q[0].get<double>() * w, q[1].get<double>() * h);
+      p.radius_mm = radius;
+      p.tool = tool;
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+double path_distance(const StrokePath& s, const Eigen::Vector2d& p) {
+  double d = 1e30;
+  for (size_t k = 1; k < s.points.size(); ++k) d = std::min(d, segment_distance(p, s.points[k - 1], s.points[k]));
+  return d;
+}
+
+class StudioSession : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_FALSE(g_dir.empty()) << "usage: studio_session_tests DIR SCRIPT (run by studio_session.sh)";
+    report = load_json(g_dir + "/report.json");
+    script = load_json(g_script);
+    before = load("before.png");
+    after = load("after.png");
+    undone = load("undone.png");
+    ASSERT_GT(before.w, 0) << "before.png missing";
+    ASSERT_EQ(before.w, after.w);
+    ASSERT_EQ(before.w, undone.w);
+    ASSERT_EQ(before.h, after.h);
+    ASSERT_EQ(before.h, undone.h);
+  }
+  nlohmann::json report, script;
+  Image before, after, undone;
+};
+
+// A changed pixel is one whose largest channel moved more than this (8-bit levels).
+constexpr int kChanged = 8;
+
+TEST_F(StudioSession, StrokesChangeTheirPixelsAndNothingElse) {
+  const int w = before.w, h = before.h;
+  // Pixels per device millimetre: the bounding sphere (radius at most the half diagonal, which
+  // the workspace fits to 80 mm) fills 0.9 of the half-height at the sphere's centre; the near
+  // side is at most 1.31 times closer (fit_camera's distance is 4.27 radii). So a stroke's
+  // pixels lie within radius · 1.31 · (0.9 h/2) / (80 mm · 0.8) of its path, allowing the
+  // sphere down to 0.8 of the half diagonal, plus a ring of shading.
+  const double px_per_mm_max = 1.31 * (0.9 * h / 2) / (80 * 0.8);
+  const std::vector<StrokePath> paths = strokes(script, w, h);
+  ASSERT_EQ(paths.size(), 2u);
+  std::vector<int64_t> inside(paths.size(), 0);
+  int64_t outside = 0, outside_pixels = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Eigen::Vector2d p(x + 0.5, y + 0.5);
+      int near = -1;
+      for (size_t k = 0; k < paths.size(); ++k)
+        if (path_distance(paths[k], p) <= paths[k].radius_mm * px_per_mm_max + 4) near = static_cast<int>(k);
+      const bool changed = before.diff(after, x, y) > kChanged;
+      if (near >= 0) inside[static_cast<size_t>(near)] += changed;
+      else outside += changed, ++outside_pixels;
+    }
+  for (size_t k = 0; k < paths.size(); ++k) {
+    // At least one changed pixel per pixel of the stroke's length (a groove 1.5 mm deep or a
+    // stripe of paint is several pixels wide; a stroke that edited nothing changes none).
+    const double length = (paths[k].points.back() - paths[k].points.front()).norm();
+    EXPECT_GT(inside[k], static_cast<int64_t>(length))
+        << paths[k].tool << " stroke " << k << ": only " << inside[k] << " pixels changed along it";
+  }
+  EXPECT_EQ(outside, 0) << outside << " of " << outside_pixels << " pixels away from the strokes changed";
+}
+
+TEST_F(StudioSession, UndoRestoresTheFirstScreenshot) {
+  int64_t differ = 0;
+  for (int y = 0; y < before.h; ++y)
+    for (int x = 0; x < before.w; ++x) differ += before.diff(undone, x, y) != 0;
+  EXPECT_EQ(differ, 0) << differ << " pixels differ after undoing both strokes";
+}
+
+TEST_F(StudioSession, UploadsAreExactlyTheChangedSlabs) {
+  const auto& u = report["uploads"];
+  ASSERT_TRUE(u.contains("dirty_total")) << "the session ran without --verify-uploads";
+  EXPECT_GT(u["total"].get<int64_t>(), 0);
+  // Every frame: the slabs uploaded are the slabs whose snapshot data differ from what was drawn.
+  EXPECT_EQ(u["mismatched"].get<int64_t>(), 0);
+  EXPECT_EQ(u["total"].get<int64_t>(), u["dirty_total"].get<int64_t>());
+  // Only a small part of the model is sent for a stroke (paper §6).
+  EXPECT_LT(u["max_per_frame"].get<int64_t>(), report["slabs"].get<int64_t>() / 4);
+}
+
+TEST_F(StudioSession, ServoKeptItsRateWhileRenderingAndEditing) {
+  const auto& s = report["servo"];
+  const double target = s["target_rate_hz"].get<double>();
+  EXPECT_NEAR(s["rate_hz"].get<double>(), target, 0.02 * target);
+  EXPECT_EQ(s["watchdog_trips"].get<int64_t>(), 0) << "ticks started more than 3 periods late";
+  EXPECT_GT(report["session"]["sweeps"].get<int64_t>(), 0) << "the strokes edited nothing";
+  std::printf("servo: %.1f Hz over %lld ticks, %lld late ticks, tick p99 %.0f ns; frames: median %.1f ms\n",
+              s["rate_hz"].get<double>(), static_cast<long long>(s["ticks"].get<int64_t>()),
+              static_cast<long long>(s["late_ticks"].get<int64_t>()), s["tick_ns"]["p99"].get<double>(),
+              report["frame_ms"]["median"].get<double>());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  if (argc >= 3) g_dir = argv[1], g_script = argv[2];
+  return RUN_ALL_TESTS();
+}
