@@ -24,7 +24,7 @@ ServoThread::ServoThread(SculptSession& session, HapticDevice& device, double ra
     o.ticks = std::numeric_limits<int64_t>::max();
     o.keep_ticks = static_cast<int64_t>(rate_hz_ * 120);  // medians over the last two minutes
     o.stop = &stop_;
-    stats_ = run_session(session_, device, o, SessionHooks{before, after, this});
+    stats_ = run_session(session_, device, o, SessionHooks{before, after, this}, &note_);
   });
 }
 

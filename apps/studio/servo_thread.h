@@ -53,6 +53,8 @@ class ServoThread {
   /// Ticks run so far.
   int64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
   double rate_hz() const noexcept { return rate_hz_; }
+  /// After stop(): why the servo thread ran without real-time scheduling (null: it had SCHED_FIFO).
+  const char* realtime_note() const noexcept { return note_; }
 
  private:
   static void before(void* user, SculptSession&, const ServoTick& tick) noexcept;
@@ -64,6 +66,7 @@ class ServoThread {
   std::atomic<bool> stop_{false};
   std::thread thread_;
   ServoStats stats_;
+  const char* note_ = nullptr;
   bool joined_ = false;
   // servo thread only
   int64_t tick_start_ns_ = 0;

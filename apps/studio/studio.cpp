@@ -196,6 +196,8 @@ class Studio final : public ScriptHost {
       if (!player_) apply_panel(a);
       ImGui::Render();
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      for (const std::string& path : ui_screenshots_) write_screenshot(path, w, h);
+      ui_screenshots_.clear();
       glfwSwapBuffers(window_.handle);
       ++frames_;
     }
@@ -224,7 +226,7 @@ class Studio final : public ScriptHost {
     return !button_ && !t.tool_on && !t.edit_pending && t.tick >= quiet_after_tick_ &&
            session_->snapshots()->epoch() == drawn_epoch_ && seconds_now() - epoch_changed_at_ > 0.05;
   }
-  void screenshot(const std::string& path) override { screenshots_.push_back(path); }
+  void screenshot(const std::string& path, bool ui) override { (ui ? ui_screenshots_ : screenshots_).push_back(path); }
   void undo() override { command(SessionCommand::Undo); }
   void redo() override { command(SessionCommand::Redo); }
   void save(const std::string& path) override {
@@ -307,7 +309,7 @@ class Studio final : public ScriptHost {
       if (a.fit) camera_.fit();
       if (a.save) save(files_.save);
       if (a.export_model) export_model(files_.export_path);
-      if (a.screenshot) screenshot(files_.screenshot), message_ = std::string("screenshot ") + files_.screenshot;
+      if (a.screenshot) screenshot(files_.screenshot, false), message_ = std::string("screenshot ") + files_.screenshot;
     } catch (const std::exception& e) {
       message_ = e.what();  // a failed save keeps the previous file (save_model is atomic)
     }
@@ -371,7 +373,7 @@ class Studio final : public ScriptHost {
     return reader.stored_model();
   }
 
-  // The model view as drawn (no panels or glyphs: they are drawn later in the frame).
+  // The back buffer as drawn so far: the model view before the panels and glyphs, the window after.
   void write_screenshot(const std::string& path, int w, int h) {
     std::vector<uint8_t> rgb(static_cast<size_t>(w) * h * 3), flipped(rgb.size());
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -417,6 +419,7 @@ class Studio final : public ScriptHost {
           {"late_ticks", st.overruns},
           {"long_ticks", st.long_ticks},
           {"watchdog_trips", st.watchdog_trips},
+          {"realtime", servo_->realtime_note() ? servo_->realtime_note() : "SCHED_FIFO"},
           {"tick_ns", {{"median", st.compute_ns.median}, {"p99", st.compute_ns.p99}, {"max", st.compute_ns.max}}},
           {"period_ns", {{"median", st.period_ns.median}, {"p99", st.period_ns.p99}, {"max", st.period_ns.max}}}}},
         {"session",
@@ -465,7 +468,7 @@ class Studio final : public ScriptHost {
   uint64_t drawn_epoch_ = 0;
   double epoch_changed_at_ = 0, edits_per_s_ = 0;
   ServoFigures figures_;
-  std::vector<std::string> screenshots_, screenshot_files_;
+  std::vector<std::string> screenshots_, ui_screenshots_, screenshot_files_;
 };
 
 }  // namespace

@@ -114,6 +114,7 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
       s.kind = action == "screenshot" ? ScriptStep::Screenshot : action == "save" ? ScriptStep::Save : ScriptStep::Export;
       if (!j.contains("path") || !j["path"].is_string()) throw InvalidInput(where + ": \"" + action + "\" needs \"path\"");
       s.path = j["path"].get<std::string>();
+      s.ui = j.value("ui", false);
     } else if (action == "view") {
       s.kind = ScriptStep::View;
       s.azimuth_deg = number(j.value("azimuth", nlohmann::json(0)), where + ": \"azimuth\"", -360, 360);
@@ -134,7 +135,7 @@ bool ScriptPlayer::frame(ScriptHost& host) {
     switch (s.kind) {
       case ScriptStep::Tool: apply_tool_json(s.tool, host.tool_settings(), "script"); break;
       case ScriptStep::Cursor: host.set_cursor(s.points[0].x(), s.points[0].y(), false); break;
-      case ScriptStep::Screenshot: host.screenshot(s.path); break;
+      case ScriptStep::Screenshot: host.screenshot(s.path, s.ui); break;
       case ScriptStep::Undo: host.undo(); break;
       case ScriptStep::Redo: host.redo(); break;
       case ScriptStep::Save: host.save(s.path); break;

@@ -19,6 +19,7 @@ struct ScriptStep {
   std::vector<Eigen::Vector2d> points;   ///< Cursor (one) / Stroke (two or more): window coordinates in [0,1], y down
   int frames = 0;                        ///< Stroke: frames the cursor takes along the points; Wait: frames
   std::string path;                      ///< Screenshot, Save, Export: output file
+  bool ui = false;                       ///< Screenshot: the whole window, panels and tool glyphs included
   double azimuth_deg = 0, elevation_deg = 15, zoom = 1;  ///< View
 };
 
@@ -41,7 +42,8 @@ class ScriptHost {
   virtual void set_cursor(double x, double y, bool button) = 0;
   /// True when the tool is off, the servo has no edit work left and the newest epoch is drawn.
   virtual bool settled() = 0;
-  virtual void screenshot(const std::string& path) = 0;
+  /// A PNG of this frame's model view (@p ui: of the whole window, panels and glyphs included).
+  virtual void screenshot(const std::string& path, bool ui) = 0;
   virtual void undo() = 0;
   virtual void redo() = 0;
   virtual void save(const std::string& path) = 0;

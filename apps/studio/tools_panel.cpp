@@ -41,8 +41,8 @@ Brush tool_brush(const ToolSettings& t, double mm) {
 PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::string& message) {
   PanelActions a;
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
-  ImGui::Begin("Tools");
+  ImGui::Begin("Tools", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::PushItemWidth(170);
   static const char* const tools[] = {"probe", "carve", "add", "smooth", "flatten", "paint"};
   int kind = t.kind;
   ImGui::Combo("tool", &kind, tools, IM_ARRAYSIZE(tools));
@@ -75,7 +75,8 @@ PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::str
   ImGui::InputText("##shot", files.screenshot, sizeof files.screenshot);
   ImGui::SameLine();
   a.screenshot = ImGui::Button("screenshot");
-  if (!message.empty()) ImGui::TextWrapped("%s", message.c_str());
+  ImGui::PopItemWidth();
+  if (!message.empty()) ImGui::TextUnformatted(message.c_str());
   ImGui::TextDisabled("left: tool   right: orbit   middle / shift+right: pan\nwheel: zoom   shift+wheel: depth   F: fit\n"
                       "ctrl+Z: undo   ctrl+shift+Z: redo");
   ImGui::End();

@@ -10,6 +10,9 @@
 #include <hdm/io/hdm_file.h>
 #include <hdm/session/sculpt_session.h>
 #include <hdm/slab/triangle_grid.h>
+
+#include "mouse_device.h"
+#include "servo_thread.h"
 #ifdef HDM_TEST_EXPORT
 #include <hdm/io/export_mesh.h>
 #endif
@@ -18,6 +21,7 @@
 #include <tbb/global_control.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -267,6 +271,61 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   }
   EXPECT_GE(checked, 3);
   std::filesystem::remove_all(dir);
+}
+
+// The studio's threads without a window: the servo thread (ServoThread: run_session at 10 kHz)
+// reads the mouse device the "render thread" (this one) feeds through a triple buffer, edits,
+// publishes; this thread reads the tool state and the timing ring, posts brushes and undos, and
+// reads snapshots. Under ThreadSanitizer (scripts/test_tsan.sh) it must run clean.
+TEST(Concurrency, StudioServoThreadAndRenderThread) {
+  tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+  SessionOptions o;
+  o.publish_interval_s = 0.002;
+  o.snapshots.checksums = true;
+  SculptSession session(sphere_shell(), Workspace{Vec3::Zero(), 10.0}, o);
+  studio::MouseDevice mouse(10000);
+  int64_t last_tick = -1, torn = 0, backwards = 0, read_epochs = 0;
+  {
+    studio::ServoThread servo(session, mouse, 10000);
+    const SlabSnapshots& snaps = *session.snapshots();
+    const auto start = std::chrono::steady_clock::now();
+    for (int frame = 0; std::chrono::steady_clock::now() - start < std::chrono::milliseconds(1500); ++frame) {
+      if (frame % 20 == 0) {
+        SessionCommand c;
+        c.brush = brush(frame / 20);
+        session.post(c);
+      }
+      if (frame % 45 == 44) {
+        SessionCommand c;
+        c.kind = SessionCommand::Undo;
+        session.post(c);
+      }
+      // The cursor sweeps over the sphere 0.04 model units deep, the button held in strokes.
+      const double a = 0.05 * frame;
+      studio::MouseHandle h;
+      h.position = Vec3(std::cos(a), std::sin(a), 0.3).normalized() * 0.096;
+      h.buttons = (frame / 10) % 2;
+      mouse.set(h);
+      const studio::ToolState& t = servo.tool();
+      if (t.tick < last_tick) ++backwards;
+      last_tick = t.tick;
+      ASSERT_TRUE(t.hip.allFinite());
+      (void)servo.figures();
+      SnapshotReader r(snaps);
+      read_epochs += r.epoch() > 0;
+      for (int s = 0; s < snaps.model().slab_count(); s += 7) torn += !r.verify(s);
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    const ServoStats& st = servo.stop();
+    EXPECT_GT(st.ticks, 1000);
+    const studio::ServoFigures f = servo.figures();
+    EXPECT_EQ(f.ticks, st.ticks);
+    EXPECT_GT(f.sweeps, 0) << "the strokes the mouse device made edited nothing";
+  }
+  EXPECT_EQ(backwards, 0) << "the tool state went back in time";
+  EXPECT_EQ(torn, 0);
+  EXPECT_GT(read_epochs, 0) << "nothing was published";
+  EXPECT_GT(session.stats().sweeps, 0);
 }
 
 }  // namespace hdm
