@@ -28,6 +28,11 @@ int main(int argc, char** argv) {
   app.add_flag("--verify-uploads", o.verify_uploads,
                "compare every slab's data each frame and count the slabs that really changed (tests; costs a copy of the model)");
   app.add_flag("!--no-vsync", o.vsync, "draw frames as fast as possible in an interactive session");
+  std::string lod = "auto";
+  app.add_option("--lod", lod, "level of detail: auto (from the frame time) or 0 (every grid triangle), 1, 2, ... "
+                               "(the grid of every 2^k-th point)");
+  app.add_option("--frame-budget-ms", o.frame_budget_ms, "frame time the automatic level of detail aims under [ms]")
+      ->check(CLI::Range(1.0, 10000.0));
   try {
     app.parse(argc, argv);
     int w = 0, h = 0;
@@ -36,6 +41,11 @@ int main(int argc, char** argv) {
       throw hdm::InvalidInput("--size " + size + ": expected WxH, e.g. 1280x720");
     o.width = w, o.height = h;
     o.model_name = std::filesystem::path(model).filename().string();
+    if (lod != "auto") {
+      if (lod.empty() || lod.find_first_not_of("0123456789") != std::string::npos || lod.size() > 2)
+        throw hdm::InvalidInput("--lod " + lod + ": expected auto or a level 0, 1, 2, ...");
+      o.lod = std::stoi(lod);
+    }
     hdm::SlabModel m = hdm::load_model(model);
     return hdm::studio::run_studio(std::move(m), o);
   } catch (const CLI::ParseError& e) {

@@ -34,6 +34,7 @@ struct StatusFigures {
   bool contact = false;                          ///< the proxy is on the surface
   double force_n = 0;                            ///< force rendered [N] (not sent to a mouse)
   int slabs = 0;                                 ///< slabs of the model
+  int level = 0, grid = 0;                       ///< level of detail drawn and its grid intervals per slab edge
 };
 
 /// @brief Draws the tools panel; @p message is shown under it (the last save or error).

@@ -175,8 +175,14 @@ class Studio final : public ScriptHost {
       glViewport(0, 0, w, h);
       glClearColor(1, 1, 1, 1);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      renderer_->draw(cam);
+      choose_level();
+      renderer_->draw(cam, false, level_);
+      levels_.push_back(level_);
       drive_device(cam);
+      if (!screenshots_.empty() && level_ > 0) {  // screenshots at full detail
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        renderer_->draw(cam);
+      }
       for (const std::string& path : screenshots_) write_screenshot(path, w, h);
       screenshots_.clear();
 
@@ -346,6 +352,24 @@ class Studio final : public ScriptHost {
     device_->set(m);
   }
 
+  // The level of detail: fixed, or coarser while the last 8 frames' median is over the budget and
+  // finer again under 40 % of it, with 8 frames between changes so that each is measured.
+  void choose_level() {
+    const int levels = renderer_->level_count();
+    if (o_.lod >= 0) {
+      level_ = std::min(o_.lod, levels - 1);
+      return;
+    }
+    if (frame_ms_.size() < 8 || static_cast<long>(frame_ms_.size()) - level_changed_at_ < 8) return;
+    std::vector<double> last(frame_ms_.end() - 8, frame_ms_.end());
+    std::nth_element(last.begin(), last.begin() + 4, last.end());
+    const double median = last[4];
+    const int before = level_;
+    if (median > o_.frame_budget_ms && level_ + 1 < levels) ++level_;
+    else if (median < 0.4 * o_.frame_budget_ms && level_ > 0) --level_;
+    if (level_ != before) level_changed_at_ = static_cast<long>(frame_ms_.size());
+  }
+
   void status_panel(const UploadFrame& up, const ToolState& tool, float width) {
     StatusFigures s;
     s.servo_rate_hz = figures_.rate_hz;
@@ -365,6 +389,8 @@ class Studio final : public ScriptHost {
     s.contact = tool.contact;
     s.force_n = tool.force.norm();
     s.slabs = slabs_;
+    s.level = level_;
+    s.grid = session_->snapshots()->model().grid_n >> level_;
     draw_status_overlay(s, width);
   }
 
@@ -398,6 +424,12 @@ class Studio final : public ScriptHost {
     write_screenshot(o_.screenshot, w, h);
   }
 
+  std::vector<long> frames_per_level() const {
+    std::vector<long> n(static_cast<size_t>(std::max(renderer_->level_count(), 1)), 0);
+    for (int l : levels_) ++n[static_cast<size_t>(l)];
+    return n;
+  }
+
   void write_report(const ServoStats& st) {
     if (o_.report.empty()) return;
     const SessionStats& ss = session_->stats();  // the servo has stopped
@@ -410,6 +442,9 @@ class Studio final : public ScriptHost {
         {"frames", frames_},
         {"frame_ms", percentiles(skip_first)},
         {"slabs", slabs_},
+        {"lod", {{"mode", o_.lod < 0 ? nlohmann::json("auto") : nlohmann::json(o_.lod)},
+                 {"frame_budget_ms", o_.frame_budget_ms},
+                 {"frames_per_level", frames_per_level()}}},
         {"uploads", {{"total", total}, {"frames_with_uploads", frames_with}, {"max_per_frame", most}, {"per_frame", uploads_}}},
         {"servo",
          {{"target_rate_hz", o_.rate_hz},
@@ -464,6 +499,9 @@ class Studio final : public ScriptHost {
   std::vector<double> frame_ms_;
   std::vector<int> uploads_;
   int64_t dirty_total_ = 0, mismatched_total_ = 0;
+  int level_ = 0;
+  long level_changed_at_ = 0;
+  std::vector<int> levels_;
   long frames_ = 0;
   uint64_t drawn_epoch_ = 0;
   double epoch_changed_at_ = 0, edits_per_s_ = 0;

@@ -24,6 +24,11 @@ struct StudioOptions {
   std::string report;            ///< write the session's figures here (JSON)
   bool verify_uploads = false;   ///< compare every slab's data each frame to count the really changed ones
   bool vsync = true;             ///< interactive sessions wait for the display; scripted ones never
+  /// Level of detail (paper §6): -1 chooses it from the frame time (coarser while the median of the
+  /// last 8 frames is over frame_budget_ms, finer again under 40 % of it); k >= 0 draws level k
+  /// (SlabRenderer::draw). Screenshots are always drawn at full detail.
+  int lod = -1;
+  double frame_budget_ms = 50;   ///< frame time the automatic level of detail aims under [ms]
 };
 
 /// The tool settings of the panel (and of scripts). Lengths in device millimetres.

@@ -91,7 +91,8 @@ void draw_status_overlay(const StatusFigures& s, float width) {
                    ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
   ImGui::Text("servo      %6.0f Hz (target %.0f)", s.servo_rate_hz, s.target_rate_hz);
   ImGui::Text("tick p99   %6.1f us, %lld late", s.tick_p99_us, static_cast<long long>(s.late_ticks));
-  ImGui::Text("frame      %6.1f ms median, %.1f ms p99", s.frame_ms_median, s.frame_ms_p99);
+  ImGui::Text("frame      %6.1f ms median, %.1f ms p99, level %d (grid %d)", s.frame_ms_median, s.frame_ms_p99,
+              s.level, s.grid);
   ImGui::Text("uploaded   %6d slabs this frame (%lld total of %d)", s.uploaded, static_cast<long long>(s.uploaded_total),
               s.slabs);
   ImGui::Text("edits      %6.0f sweeps/s, epoch %llu", s.edits_per_s, static_cast<unsigned long long>(s.epoch));

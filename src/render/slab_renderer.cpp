@@ -10,6 +10,7 @@
 #include "gl.h"
 #include "model_check.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -103,7 +104,11 @@ struct SlabRenderer::State {
   GLuint program = 0, vao = 0, vbo = 0, ebo = 0, atlas = 0;
   int slabs = 0, n = 0, texel_density = 0, per_slab = 0;
   float layer[4] = {0, 0, 0, 1};  // the under-layer's colour and roughness
-  GLsizei index_count = 0;
+  struct Level {
+    size_t first;   // first index in the element buffer
+    GLsizei count;  // indices
+  };
+  std::vector<Level> levels;  // level k: every 2^k-th grid point
   TextureAtlas layout;          // sizes and tile placement; rgba is dropped after upload
   std::vector<Vertex> vertices; // staging for upload_slab
   std::vector<uint8_t> tile;    // staging for upload_slab
@@ -215,7 +220,6 @@ void SlabRenderer::upload_all(const SlabModel& model) {
   st.n = n;
   st.texel_density = model.texel_density;
   st.per_slab = P;
-  st.index_count = static_cast<GLsizei>(indices);
   st.layout = std::move(atlas);
   const UnderLayer& u = model.under_layer;
   st.layer[0] = u.colour.x(), st.layer[1] = u.colour.y(), st.layer[2] = u.colour.z(), st.layer[3] = u.roughness;
@@ -239,21 +243,26 @@ void SlabRenderer::upload_all(const SlabModel& model) {
   glNamedBufferStorage(st.vbo, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(),
                        GL_DYNAMIC_STORAGE_BIT);
 
-  // Indices: the grid split of triangle_grid.h, in the order build_sample_layout() emits it.
-  std::vector<uint32_t> local;
-  local.reserve(3 * static_cast<size_t>(grid::triangle_count(n)));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i + j < n; ++i) {
-      local.insert(local.end(), {static_cast<uint32_t>(grid::index(n, i, j)), static_cast<uint32_t>(grid::index(n, i, j + 1)),
-                                 static_cast<uint32_t>(grid::index(n, i + 1, j))});
-      if (i + j <= n - 2)
-        local.insert(local.end(), {static_cast<uint32_t>(grid::index(n, i + 1, j)),
-                                   static_cast<uint32_t>(grid::index(n, i, j + 1)),
-                                   static_cast<uint32_t>(grid::index(n, i + 1, j + 1))});
-    }
-  std::vector<uint32_t> all(static_cast<size_t>(indices));
-  for (int s = 0; s < S; ++s)
-    for (size_t k = 0; k < local.size(); ++k) all[s * local.size() + k] = static_cast<uint32_t>(s) * P + local[k];
+  // Indices: the grid split of triangle_grid.h, in the order build_sample_layout() emits it; then,
+  // for each coarser level, the same split of the grid of every step-th point (paper §6: level of
+  // detail from coarse subsets of each slab's grid), appended to the same buffer.
+  std::vector<uint32_t> all;
+  all.reserve(static_cast<size_t>(indices) * 4 / 3 + 16);
+  st.levels.clear();
+  for (int step = 1; step <= n && n % step == 0; step *= 2) {
+    const int m = n / step;
+    auto at = [&](int i, int j) { return static_cast<uint32_t>(grid::index(n, step * i, step * j)); };
+    std::vector<uint32_t> local;
+    local.reserve(3 * static_cast<size_t>(grid::triangle_count(m)));
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i + j < m; ++i) {
+        local.insert(local.end(), {at(i, j), at(i, j + 1), at(i + 1, j)});
+        if (i + j <= m - 2) local.insert(local.end(), {at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)});
+      }
+    st.levels.push_back({all.size(), static_cast<GLsizei>(local.size() * S)});
+    for (int s = 0; s < S; ++s)
+      for (uint32_t k : local) all.push_back(static_cast<uint32_t>(s) * P + k);
+  }
   glCreateBuffers(1, &st.ebo);
   glNamedBufferStorage(st.ebo, static_cast<GLsizeiptr>(all.size() * sizeof(uint32_t)), all.data(), 0);
 
@@ -289,7 +298,7 @@ void SlabRenderer::upload_slab(const SlabModel& model, const SlabView& view, int
   st.upload(slab);
 }
 
-void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges) const {
+void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges, int level) const {
   const State& st = *state_;
   if (st.slabs == 0) return;
   glEnable(GL_DEPTH_TEST);
@@ -302,13 +311,16 @@ void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges) const 
   glProgramUniform4f(st.program, 3, st.layer[0], st.layer[1], st.layer[2], st.layer[3]);
   glBindTextureUnit(0, st.atlas);
   glBindVertexArray(st.vao);
-  glDrawElements(GL_TRIANGLES, st.index_count, GL_UNSIGNED_INT, nullptr);
+  const State::Level& l = st.levels[static_cast<size_t>(std::clamp(level, 0, static_cast<int>(st.levels.size()) - 1))];
+  glDrawElements(GL_TRIANGLES, l.count, GL_UNSIGNED_INT, reinterpret_cast<const void*>(l.first * sizeof(uint32_t)));
   glBindVertexArray(0);
   glUseProgram(0);
   render_detail::check_gl("drawing the slab model");
 }
 
 int SlabRenderer::slab_count() const noexcept { return state_->slabs; }
+
+int SlabRenderer::level_count() const noexcept { return static_cast<int>(state_->levels.size()); }
 
 long long SlabRenderer::triangle_count() const noexcept {
   return static_cast<long long>(state_->slabs) * grid::triangle_count(state_->n);

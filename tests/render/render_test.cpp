@@ -181,10 +181,10 @@ struct Scene {
       : target(w, h, 4), camera(fit_camera(model, w, h, az, el)) {
     renderer.upload_all(model);
   }
-  Image frame(bool edges = false) {
+  Image frame(bool edges = false, int level = 0) {
     const float white[3] = {1, 1, 1};
     target.begin(white);
-    renderer.draw(camera, edges);
+    renderer.draw(camera, edges, level);
     return Image{target.width(), target.height(), target.read_rgb()};
   }
 };
@@ -375,6 +375,30 @@ TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   SlabView wrong = reader.slab(0);
   wrong.per_slab += 1;
   EXPECT_THROW(scene.renderer.upload_slab(model, wrong, 0), InvalidInput);
+}
+
+TEST(SlabRenderer, CoarserLevelsDrawTheSameFlatSurface) {
+  // Flat slabs (δ = 0.5 everywhere: each slab's surface is the coarse triangle): every level of
+  // detail is a triangulation of the same triangles, so the model covers the same pixels.
+  const SlabModel model = make_model(icosahedron(), 4, 2);
+  Scene scene(model, 200, 200, 20, 10);
+  ASSERT_EQ(scene.renderer.level_count(), 3);  // n = 4: grids of 4, 2 and 1 intervals
+  auto covered = [](const Image& im) {
+    std::vector<bool> mask(static_cast<size_t>(im.width) * im.height);
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) mask[static_cast<size_t>(y) * im.width + x] = im.at(x, y)[0] < 250 || im.at(x, y)[2] < 250;
+    return mask;
+  };
+  const std::vector<bool> fine = covered(scene.frame(false, 0));
+  const long area = std::count(fine.begin(), fine.end(), true);
+  ASSERT_GT(area, 5000);
+  for (int level = 1; level < 3; ++level) {
+    const std::vector<bool> coarse = covered(scene.frame(false, level));
+    long differ = 0;
+    for (size_t k = 0; k < fine.size(); ++k) differ += fine[k] != coarse[k];
+    EXPECT_LE(differ, area / 500) << "level " << level;
+  }
+  EXPECT_TRUE(scene.frame(false, 7).rgb == scene.frame(false, 2).rgb) << "levels beyond the coarsest are clamped";
 }
 
 TEST(SlabRenderer, SlabEdgeOverlayDarkensBoundariesOnly) {

@@ -74,8 +74,15 @@ class SlabRenderer {
   /// @param camera           view and projection; its size should match the viewport.
   /// @param show_slab_edges  darken a line about 2 pixels wide along every slab boundary.
   /// @pre the target framebuffer is bound with a depth buffer and cleared (Framebuffer::begin()).
+  /// @param level            level of detail (paper §6): 0 draws every grid triangle (#S·n²), level
+  ///                          k the grid of every 2^k-th point (#S·(n/2^k)² triangles, same
+  ///                          vertices, normals and colours); clamped to [0, level_count()).
   /// @throws RenderError if OpenGL reports an error. Draws nothing before upload_all().
-  void draw(const RenderCamera& camera, bool show_slab_edges = false) const;
+  void draw(const RenderCamera& camera, bool show_slab_edges = false, int level = 0) const;
+
+  /// Levels of detail available: 1 + the number of times n halves evenly (n = 16: 5 levels,
+  /// the coarsest one triangle per slab); 0 before upload_all().
+  int level_count() const noexcept;
 
   /// Number of slabs uploaded (0 before upload_all()).
   int slab_count() const noexcept;
