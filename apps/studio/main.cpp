@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--stiffness", o.stiffness, "proxy stiffness as felt at the device [N/m]")->check(CLI::Range(1.0, 1e5));
   app.add_option("--friction", o.friction_scale, "factor on the model's friction coefficients")->check(CLI::Range(0.0, 10.0));
   app.add_option("--script", o.script, "scripted session (JSON, docs/studio.md): device and UI actions, then exit");
+  app.add_option("--replay", o.replay, "play this recorded trajectory (hdm sculpt --forces CSV) as the device instead of the mouse");
   app.add_option("--frames", o.frames, "stop after this many frames")->check(CLI::Range(1L, 100000000L));
   app.add_option("--screenshot", o.screenshot, "write the model view of the last frame here (PNG)");
   app.add_option("--report", o.report, "write the session's figures here (JSON): frame times, uploads, servo timing");

@@ -122,7 +122,15 @@ class Studio final : public ScriptHost {
     camera_.centre = camera_.target = fitted.target;
     camera_.radius = fitted.radius;
     last_distance_ = (fitted.eye - fitted.target).norm();
-    device_ = std::make_unique<MouseDevice>(o.rate_hz);
+    if (o.replay.empty()) {
+      auto mouse = std::make_unique<MouseDevice>(o.rate_hz);
+      mouse_ = mouse.get();
+      device_ = std::move(mouse);
+    } else {
+      device_ = std::make_unique<ReplayDevice>(o.replay);
+      settings_.kind = ToolSettings::Carve;  // the recording's tool button strokes with the panel's brush
+      post_brush_if_changed();
+    }
     servo_ = std::make_unique<ServoThread>(*session_, *device_, o.rate_hz);
   }
 
@@ -325,7 +333,7 @@ class Studio final : public ScriptHost {
   // by the tool depth. While a stroke lasts, the surface as it was when the stroke began is used,
   // so the tool does not dig into its own groove frame after frame.
   void drive_device(const RenderCamera& cam) {
-    if (!cursor_valid_) return;
+    if (!cursor_valid_ || !mouse_) return;
     const int w = cam.width, h = cam.height;
     const int px = std::clamp(static_cast<int>(cursor_.x()), 0, w - 1);
     const int py = std::clamp(static_cast<int>(cursor_.y()), 0, h - 1);
@@ -349,7 +357,7 @@ class Studio final : public ScriptHost {
     MouseHandle m;
     m.position = session_->workspace().to_device(hip);
     m.buttons = editing ? 1u : 0u;
-    device_->set(m);
+    mouse_->set(m);
   }
 
   // The level of detail: fixed, or coarser while the last 8 frames' median is over the budget and
@@ -478,7 +486,8 @@ class Studio final : public ScriptHost {
   std::unique_ptr<SculptSession> session_;
   std::unique_ptr<SlabRenderer> renderer_;
   std::unique_ptr<SnapshotUploader> uploader_;
-  std::unique_ptr<MouseDevice> device_;
+  std::unique_ptr<HapticDevice> device_;
+  MouseDevice* mouse_ = nullptr;  // the device when it is the mouse
   std::unique_ptr<ServoThread> servo_;
   OrbitCamera camera_;
   ToolSettings settings_;

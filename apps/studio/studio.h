@@ -19,6 +19,9 @@ struct StudioOptions {
   double stiffness = 1000;       ///< proxy stiffness as felt at the device [N/m]
   double friction_scale = 1;     ///< factor on the model's friction coefficients
   std::string script;            ///< scripted session (JSON); empty: interactive
+  /// Replay this recording (`hdm sculpt --forces` CSV: positions and the tool button) as the
+  /// device instead of the mouse; the strokes use the panel's brush (carve unless changed).
+  std::string replay;
   long frames = -1;              ///< stop after this many frames (-1: when the script ends or the window closes)
   std::string screenshot;        ///< write the last frame's model view here (PNG)
   std::string report;            ///< write the session's figures here (JSON)

@@ -101,6 +101,10 @@ void ReplayDevice::parse(std::string_view text, const std::string& path) {
     return static_cast<size_t>(it - cols.begin());
   };
   const size_t ct = col("time_s"), cx = col("device_x_m"), cy = col("device_y_m"), cz = col("device_z_m");
+  // Optional: the tool button as `hdm sculpt --forces` records it (0 or 1).
+  const auto tool_it = std::find(cols.begin(), cols.end(), "tool_on");
+  const bool has_tool = tool_it != cols.end();
+  const size_t ctool = static_cast<size_t>(tool_it - cols.begin());
   std::vector<double> v;
   for (int64_t no = 2; next_line(line); ++no) {
     if (trim(line).empty()) continue;
@@ -122,8 +126,10 @@ void ReplayDevice::parse(std::string_view text, const std::string& path) {
     if (!std::isfinite(v[ct]) || !std::isfinite(v[cx]) || !std::isfinite(v[cy]) || !std::isfinite(v[cz]))
       throw InvalidInput(where + "time or position is not a finite number");
     if (!time_.empty() && v[ct] < time_.back()) throw InvalidInput(where + "time goes backwards");
+    if (has_tool && v[ctool] != 0 && v[ctool] != 1) throw InvalidInput(where + "tool_on is neither 0 nor 1");
     time_.push_back(v[ct]);
     position_.emplace_back(v[cx], v[cy], v[cz]);
+    if (has_tool) buttons_.push_back(static_cast<uint32_t>(v[ctool]));
   }
   if (position_.empty()) throw InvalidInput(path + ": no rows");
 }
@@ -139,7 +145,7 @@ bool ReplayDevice::begin_frame(DeviceState& s) noexcept {
   s.time_s = time_[next_];
   const double dt = next_ > 0 ? time_[next_] - time_[next_ - 1] : 0;
   s.velocity = dt > 0 ? Vec3((position_[next_] - position_[next_ - 1]) / dt) : Vec3::Zero();
-  s.buttons = 0;
+  s.buttons = buttons_.empty() ? 0u : buttons_[next_];
   return true;
 }
 

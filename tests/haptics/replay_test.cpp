@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -109,6 +111,23 @@ TEST(Replay, ReadsCsvVariantsFromMemory) {
     ADD_FAILURE() << "a short row was accepted";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("short.csv:2: too few columns"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Replay, ToolOnColumnIsTheToolButton) {
+  // The columns `hdm sculpt --forces` writes: the tool button comes back as bit 0.
+  const std::string csv = "time_s,device_x_m,device_y_m,device_z_m,contact,tool_on\n"
+                          "0,0,0,0,0,0\n0.001,0,0,0,1,1\n0.002,0,0,0,1,1\n0.003,0,0,0,0,0\n";
+  ReplayDevice d = ReplayDevice::from_csv(csv, "tool.csv");
+  std::vector<uint32_t> buttons;
+  DeviceState s;
+  while (d.begin_frame(s)) buttons.push_back(s.buttons), d.end_frame(Vec3::Zero());
+  EXPECT_EQ(buttons, (std::vector<uint32_t>{0, 1, 1, 0}));
+  try {
+    ReplayDevice::from_csv("time_s,device_x_m,device_y_m,device_z_m,tool_on\n0,0,0,0,2\n", "bad.csv");
+    ADD_FAILURE() << "tool_on = 2 was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.csv:2: tool_on"), std::string::npos) << e.what();
   }
 }
 

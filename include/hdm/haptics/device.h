@@ -113,7 +113,9 @@ class SimulatedDevice final : public HapticDevice {
 };
 
 /// Plays back a CSV trajectory written by `hdm sculpt --forces` (header
-/// `time_s,device_x_m,device_y_m,device_z_m,...`): one row per tick; forces are ignored.
+/// `time_s,device_x_m,device_y_m,device_z_m,...`): one row per tick; forces are ignored. An
+/// optional `tool_on` column (0 or 1) is the tool button (bit 0 of DeviceState::buttons), so a
+/// replayed sculpting session strokes where the recorded one did.
 class ReplayDevice final : public HapticDevice {
  public:
   /// @brief Loads @p csv_path (all rows read here, so frames never do I/O).
@@ -121,7 +123,8 @@ class ReplayDevice final : public HapticDevice {
   ///                        ten million rows as `hdm sculpt --forces` writes them).
   /// @throws IoError when the file cannot be read or is larger than @p max_file_bytes;
   /// InvalidInput when the header lacks the position columns, a row is malformed, a time or
-  /// position is not finite (NaN, inf) or the time goes backwards (each naming the file and line).
+  /// position is not finite (NaN, inf), the time goes backwards or tool_on is not 0 or 1 (each
+  /// naming the file and line).
   /// @note Accepts "\n" and "\r\n" line ends and blanks around cells; O(file size).
   explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {},
                         uint64_t max_file_bytes = uint64_t(1) << 30);
@@ -149,6 +152,7 @@ class ReplayDevice final : public HapticDevice {
   DeviceSpec spec_;
   std::vector<double> time_;
   std::vector<Vec3> position_;
+  std::vector<uint32_t> buttons_;  // empty without a tool_on column
   size_t next_ = 0;
   Vec3 last_force_ = Vec3::Zero();
 };
