@@ -11,7 +11,8 @@ packages=(cmake ninja-build g++ pkg-config
   libgtest-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri
   libcgal-dev libcgal-demo gnuplot-nox
-  clang libclang-rt-14-dev)
+  clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest)
 
 missing=()
 for p in "${packages[@]}"; do
