@@ -4,7 +4,7 @@
 with matplotlib when installed) the penetration depth and the rendered force a 1000 N/m spring
 would give, F = k * depth along the normal, against the path parameter.
 
-    PYTHONPATH=build/python python3 examples/python/query_path.py [data/meshes/bunny00.off]
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/query_path.py [data/meshes/bunny00.off]
 """
 import sys
 
