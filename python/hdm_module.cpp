@@ -23,12 +23,15 @@
 #include <pybind11/stl.h>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <utility>
 #include <variant>
+#include <vector>
 
 namespace py = pybind11;
 using namespace hdm;
@@ -42,8 +45,11 @@ struct Model {
   std::unique_ptr<SlabLocator> locator;
   std::unique_ptr<ExactMeshQuery> core;
   std::once_flag core_once;
+  Aabb box;  // of the slab vertices, for the query's spatial order
 
-  explicit Model(SlabModel m) : model(std::move(m)), locator(std::make_unique<SlabLocator>(model)) {}
+  explicit Model(SlabModel m) : model(std::move(m)), locator(std::make_unique<SlabLocator>(model)) {
+    for (size_t v = 0; v < model.inner.size(); ++v) box.extend(model.inner[v]), box.extend(model.outer[v]);
+  }
   const ExactMeshQuery& inner_shell() {
     std::call_once(core_once, [&] { core = std::make_unique<ExactMeshQuery>(TriangleMesh{model.inner, model.slabs}); });
     return *core;
@@ -150,6 +156,7 @@ py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& i
 py::dict query_points(Model& m, const Points& points) {
   if (points.ndim() != 2 || points.shape(1) != 3) throw InvalidInput("points: expected an (N, 3) array");
   const py::ssize_t n = points.shape(0);
+  if (n > py::ssize_t(std::numeric_limits<uint32_t>::max())) throw InvalidInput("points: more than 2^32 rows");
   py::array_t<bool> inside(n);
   py::array_t<double> depth(n), surface({n, py::ssize_t(3)}), normal({n, py::ssize_t(3)});
   py::array_t<int32_t> slab(n);
@@ -161,9 +168,34 @@ py::dict query_points(Model& m, const Points& points) {
   {
     py::gil_scoped_release release;
     const double nan = std::numeric_limits<double>::quiet_NaN();
+    // Points in Morton order of a 1024³ grid over the model's box: neighbours in a chunk share
+    // slabs, so the query's coherence cache (previous slab, its neighbours) answers most of them,
+    // as it does along a servo path. Points in random order would each need the global lookup.
+    const Aabb box = m.box;
+    const Vec3 scale = (box.max - box.min).cwiseMax(1e-300).cwiseInverse() * 1023.0;
+    std::vector<std::pair<uint32_t, uint32_t>> order(static_cast<size_t>(n));
+    auto spread = [](uint32_t v) {  // 10 bits -> every third bit
+      v &= 0x3ff;
+      v = (v | (v << 16)) & 0x030000ff;
+      v = (v | (v << 8)) & 0x0300f00f;
+      v = (v | (v << 4)) & 0x030c30c3;
+      return (v | (v << 2)) & 0x09249249;
+    };
+    tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, n, 65536), [&](const tbb::blocked_range<py::ssize_t>& r) {
+      for (py::ssize_t i = r.begin(); i < r.end(); ++i) {
+        uint32_t c[3];
+        for (int k = 0; k < 3; ++k) {
+          const double u = (p[3 * i + k] - box.min[k]) * scale[k];
+          c[k] = u >= 0 ? uint32_t(std::min(u, 1023.0)) : 0;  // NaN -> 0
+        }
+        order[i] = {spread(c[0]) | (spread(c[1]) << 1) | (spread(c[2]) << 2), uint32_t(i)};
+      }
+    });
+    tbb::parallel_sort(order.begin(), order.end());
     tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, n, 4096), [&](const tbb::blocked_range<py::ssize_t>& r) {
       QueryCache cache;  // coherence within a chunk, as the servo loop has along a path
-      for (py::ssize_t i = r.begin(); i < r.end(); ++i) {
+      for (py::ssize_t j = r.begin(); j < r.end(); ++j) {
+        const py::ssize_t i = order[j].second;
         const Vec3 x(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
         const Contact c = query(m.model, *m.locator, x, cache);
         sl[i] = c.slab;
