@@ -46,7 +46,7 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     // (faces that cross or fold at any resolution), not from a coarse mesh too coarse for a part:
     // further rounds only cost time (pig.stl: 285, 919, 1878, ... faults over six rounds).
     const int64_t faults = int64_t(r.invalid_slabs) + r.overlapping_pairs;
-    const bool stuck = round > 0 && faults > 0 && faults >= previous_faults;
+    const bool stuck = round > 0 && previous_faults > 0 && faults >= previous_faults;
     previous_faults = faults;
     if (t.met || stuck || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
       if (rounds) *rounds = std::move(tried);
