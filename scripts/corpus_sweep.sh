@@ -46,7 +46,9 @@ if row["rc"] == 0 and b and c:
                  and max(row["rms"], row["rms_back"]) <= 0.02 and row["agreement"] >= 99.5)
 else:
     lines = [l.strip() for l in open(err, errors="replace") if l.strip()]
-    row["reason"] = (lines[-1] if lines else "exit %d" % row["rc"])[:300]
+    reason = lines[-1] if lines else "exit %d" % row["rc"]
+    reason = reason.replace("hdm: error: ", "").replace(bake.rsplit("/", 1)[0] + "/meshes/", "")
+    row["reason"] = reason[:300]
     if row["rc"] == 124:
         row["reason"] = "timed out"
 print(json.dumps(row))

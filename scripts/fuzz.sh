@@ -18,7 +18,7 @@ out="$here/build-fuzz"
 start=$(date +%s)
 
 cmake -S "$here" -B "$out" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DHDM_BUILD_FUZZERS=ON -DHDM_BUILD_APPS=OFF -DHDM_BUILD_TESTS=OFF -DHDM_BUILD_BENCH=OFF >/dev/null
+  -DHDM_BUILD_FUZZERS=ON -DHDM_BUILD_APPS=OFF -DHDM_BUILD_TESTS=OFF -DHDM_BUILD_BENCH=OFF -DHDM_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$out" -j "$(nproc)" --target $(printf 'fuzz_%s ' "${fuzzers[@]}")
 built=$(date +%s)
 

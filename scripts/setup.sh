@@ -12,7 +12,8 @@ packages=(cmake ninja-build g++ pkg-config
   libegl-dev libgl-dev libgl1-mesa-dri
   libcgal-dev libcgal-demo gnuplot-nox
   libglfw3-dev libimgui-dev xvfb xauth
-  clang libclang-rt-14-dev)
+  clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest)
 
 missing=()
 for p in "${packages[@]}"; do

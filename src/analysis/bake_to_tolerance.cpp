@@ -18,7 +18,8 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(input.mesh().faces.size())));
   BakeOptions o = options;
   std::vector<ToleranceRound> tried;
-  double budget = 0;  // submesh triangles (slabs·n²) the next round may use when the grid adapts
+  double budget = 0;
+  int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round  // submesh triangles (slabs·n²) the next round may use when the grid adapts
   for (int round = 0;; ++round) {
     BakeReport r;
     SlabModel model = bake_slabs(input, name, o, &r);
@@ -41,7 +42,13 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     // next count grows from the larger of target and result.
     const int base = std::max(r.slabs, o.slabs);
     const int next = static_cast<int>(std::min<double>(cap, std::ceil(base * std::clamp(worst, 1.5, 3.0))));
-    if (t.met || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
+    // Invalid or overlapping slabs that more slabs did not reduce come from the input itself
+    // (faces that cross or fold at any resolution), not from a coarse mesh too coarse for a part:
+    // further rounds only cost time (pig.stl: 285, 919, 1878, ... faults over six rounds).
+    const int64_t faults = int64_t(r.invalid_slabs) + r.overlapping_pairs;
+    const bool stuck = round > 0 && previous_faults > 0 && faults >= previous_faults;
+    previous_faults = faults;
+    if (t.met || stuck || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
       if (rounds) *rounds = std::move(tried);
       if (report) *report = r;
       return model;

@@ -13,7 +13,9 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/stitch_borders.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <array>
 #include <string>
@@ -41,6 +43,9 @@ Mesh to_surface_mesh(const TriangleMesh& mesh) {
   PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
   return sm;
 }
+
+// Longest crack (boundary cycle left after stitching the union) that resolve_self_intersections() closes.
+constexpr int kMaxCrackEdges = 12;
 
 }  // namespace
 
@@ -90,6 +95,22 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
   sm.collect_garbage();
   PMP::stitch_borders(sm);
   sm.collect_garbage();
+  // Where the union meets itself along an edge or a vertex (parts that touch, slivers of the
+  // refinement), stitching leaves a few cracks of a handful of edges: close them flat, as
+  // repair_mesh() closes small holes. Anything larger means the classification failed.
+  {
+    std::vector<Mesh::Halfedge_index> cycles;
+    PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
+    for (Mesh::Halfedge_index h : cycles) {
+      int edges = 0;
+      for (Mesh::Halfedge_index e : CGAL::halfedges_around_face(h, sm)) (void)e, ++edges;
+      if (edges > kMaxCrackEdges) return keep();
+    }
+    for (Mesh::Halfedge_index h : cycles)
+      if (sm.is_border(h)) PMP::triangulate_hole(sm, h, CGAL::Emptyset_iterator());
+    sm.collect_garbage();
+    rep.closed_cracks = static_cast<int64_t>(cycles.size());
+  }
   if (!CGAL::is_closed(sm) || sm.number_of_faces() == 0) return keep();
   rep.pairs_after = count(sm);
   rep.buried_faces = static_cast<int64_t>(buried.size());

@@ -125,6 +125,47 @@ TEST(BakeToToleranceTest, lowers_the_grid_when_only_the_maximum_error_is_missed)
             1.5 * double(rounds[0].slabs) * rounds[0].grid_n * rounds[0].grid_n);
 }
 
+// Two open sheets crossing each other (a T of plates modelled apart, as in CAD exports): slabs on
+// both sides of the crossing line overlap at every resolution, so refining cannot remove the
+// fault. The loop stops at the first round that does not reduce it instead of running to the cap.
+TEST(BakeToToleranceTest, stops_when_more_slabs_do_not_reduce_the_faults) {
+  TriangleMesh sheets;
+  constexpr int k = 16;
+  for (int plane = 0; plane < 2; ++plane) {
+    const auto base = static_cast<int32_t>(sheets.vertices.size());
+    for (int i = 0; i <= k; ++i)
+      for (int j = 0; j <= k; ++j) {
+        const double u = -1 + 2.0 * i / k, w = -1 + 2.0 * j / k;
+        sheets.vertices.push_back(plane ? Vec3(0.013, u, w) : Vec3(u, w, 0.017));  // x = c crosses z = c
+      }
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) {
+        const int32_t a = base + i * (k + 1) + j, b = a + k + 1;
+        sheets.faces.push_back({a, b, b + 1});
+        sheets.faces.push_back({a, b + 1, a + 1});
+      }
+  }
+  const ExactMeshQuery exact(sheets);
+  BakeOptions o;
+  o.slabs = 32;
+  o.grid_n = 4;
+  Tolerance t;
+  t.max_pct = 0.2;
+  t.max_rounds = 6;
+  std::vector<ToleranceRound> rounds;
+  const SlabModel m = bake_to_tolerance(exact, "sheets", o, t, &rounds);
+  // Independent of the bake's own report: the exact boundary test of the shell check.
+  const int64_t faults = count_overlapping_pairs(m) + count_invalid_slabs(m);
+  EXPECT_GT(faults, 0);
+  ASSERT_GE(rounds.size(), 2u);
+  EXPECT_LT(int(rounds.size()), t.max_rounds);
+  const ToleranceRound &last = rounds.back(), &before = rounds[rounds.size() - 2];
+  EXPECT_FALSE(last.met);
+  EXPECT_GE(last.invalid_slabs + last.overlapping_pairs, before.invalid_slabs + before.overlapping_pairs);
+  EXPECT_GT(before.invalid_slabs + before.overlapping_pairs, 0);
+  EXPECT_EQ(last.overlapping_pairs + last.invalid_slabs, faults);
+}
+
 TEST(BakeToToleranceTest, refuses_bounds_that_are_not_positive) {
   const TriangleMesh input = test::icosphere(2, 1.0);
   Tolerance t;

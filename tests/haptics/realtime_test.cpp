@@ -259,9 +259,7 @@ TEST(Servo, LoopAt10kHzAppliesTheEnvelopeAndStops) {
   EXPECT_EQ(log.gain[1500], 1.0);
   EXPECT_EQ(log.gain[o.ticks - 1], 0.0) << "ramped out at the end";
   EXPECT_TRUE(log.stopping[o.ticks - 50]);
-  EXPECT_GT(st.rate_hz, 2000) << "10 kHz target; loose bound for a shared machine";
-  std::printf("10 kHz servo loop: achieved %.0f Hz, period p99 %.0f ns, overruns %lld\n", st.rate_hz,
-              st.period_ns.p99, static_cast<long long>(st.overruns));
+  // The achieved rate is a benchmark's figure (build/bin/bench_servo): tests do not time.
 
   // An early stop request ramps out and ends the run.
   std::atomic<bool> stop{true};

@@ -54,8 +54,10 @@ struct ToleranceRound {
 /// missed the RMS bound. A missed maximum error is a coarse-geometry fault (undercut columns, a part
 /// the coarse mesh cuts off) that more slabs fix; sampling that part four times as densely only
 /// costs memory, and it sharpens the force-shading field the proxy follows (docs/haptics.md). Every
-/// other option stays as given. Stops at the first model that meets the bounds, at the cap, or after
-/// Tolerance::max_rounds bakes; the model returned is the last one baked (the finest).
+/// other option stays as given. Stops at the first model that meets the bounds, at the cap, after
+/// Tolerance::max_rounds bakes, or when the round before had invalid or overlapping slabs and this
+/// round has no fewer of them (faults that more slabs do not reduce come from the input: faces
+/// that cross or fold at every resolution); the model returned is the last one baked (the finest).
 ///
 /// The decimation that places the coarse vertices is already error-driven (edge collapses of
 /// least quadric error first, meshoptimizer), so this chooses how far it goes, measured on the

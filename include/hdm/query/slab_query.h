@@ -46,7 +46,9 @@ void evaluate_surface(const SlabModel& model, int slab, const SlabCoordinates& c
 /// @param solver   alpha-plane root finder (Newton by default, Bisection as in the paper).
 /// @return the contact; `slab == -1` when @p p is in no slab or not finite (never NaN fields).
 /// @note noexcept, no allocation, no locks: safe in the servo loop. Cost: one slab test when the
-///       point stays in the cached slab, a few more across slab edges, O(log #S) otherwise.
+///       point stays in the cached slab, a few more across slab edges, otherwise one cell of the
+///       locator's uniform grid and the slabs it lists (a short list: O(1) for slabs of similar
+///       size).
 Contact query(const SlabModel& model, const SlabLocator& locator, const Vec3& p, QueryCache& cache,
               AlphaSolver solver = AlphaSolver::Newton) noexcept;
 

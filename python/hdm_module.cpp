@@ -1,0 +1,286 @@
+// SPDX-License-Identifier: MIT
+// The Python module `hdm` (pybind11, NumPy arrays): bake, load and save slab models, vectorised
+// haptic queries, export. A first slice of issue 16's module; docstrings give shapes, dtypes and
+// units. Errors are Python exceptions carrying the C++ message: ValueError for InvalidInput,
+// OSError for IoError, RuntimeError otherwise.
+#include <hdm/analysis/bake_to_tolerance.h>
+#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/analysis/fidelity.h>
+#include <hdm/analysis/shell_check.h>
+#include <hdm/core/error.h>
+#include <hdm/io/export_mesh.h>
+#include <hdm/io/hdm_file.h>
+#include <hdm/io/read_mesh.h>
+#include <hdm/mesh/orient_mesh.h>
+#include <hdm/mesh/repair_mesh.h>
+#include <hdm/mesh/self_intersections.h>
+#include <hdm/query/slab_locator.h>
+#include <hdm/query/slab_query.h>
+#include <hdm/slab/bake.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace py = pybind11;
+using namespace hdm;
+
+namespace {
+
+// A loaded or baked model with what queries need: the locator, and (built on first use) the
+// exact inside test over the inner shell for points in no slab, as `hdm check` classifies them.
+struct Model {
+  SlabModel model;
+  std::unique_ptr<SlabLocator> locator;
+  std::unique_ptr<ExactMeshQuery> core;
+  std::once_flag core_once;
+  Aabb box;  // of the slab vertices, for the query's spatial order
+
+  explicit Model(SlabModel m) : model(std::move(m)), locator(std::make_unique<SlabLocator>(model)) {
+    for (size_t v = 0; v < model.inner.size(); ++v) box.extend(model.inner[v]), box.extend(model.outer[v]);
+  }
+  const ExactMeshQuery& inner_shell() {
+    std::call_once(core_once, [&] { core = std::make_unique<ExactMeshQuery>(TriangleMesh{model.inner, model.slabs}); });
+    return *core;
+  }
+};
+
+using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Faces = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+
+TriangleMesh mesh_from_arrays(const Points& v, const Faces& f) {
+  if (v.ndim() != 2 || v.shape(1) != 3) throw InvalidInput("vertices: expected an (N, 3) array");
+  if (f.ndim() != 2 || f.shape(1) != 3) throw InvalidInput("faces: expected an (M, 3) array of vertex indices");
+  TriangleMesh m;
+  const auto V = v.unchecked<2>();
+  const auto F = f.unchecked<2>();
+  m.vertices.resize(V.shape(0));
+  for (py::ssize_t i = 0; i < V.shape(0); ++i) m.vertices[i] = Vec3(V(i, 0), V(i, 1), V(i, 2));
+  m.faces.resize(F.shape(0));
+  for (py::ssize_t i = 0; i < F.shape(0); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const int64_t id = F(i, k);
+      if (id < 0 || id >= V.shape(0))
+        throw InvalidInput("faces: row " + std::to_string(i) + " names vertex " + std::to_string(id) + ", outside [0, " +
+                           std::to_string(V.shape(0)) + ")");
+    }
+    m.faces[i] = Tri{int32_t(F(i, 0)), int32_t(F(i, 1)), int32_t(F(i, 2))};
+  }
+  return m;
+}
+
+py::dict fidelity_dict(const Fidelity& f) {
+  py::dict d;
+  d["rms_pct"] = f.rms_pct;
+  d["max_pct"] = f.max_pct;
+  d["rms_back_pct"] = f.rms_back_pct;
+  d["max_back_pct"] = f.max_back_pct;
+  return d;
+}
+
+// The input as `hdm bake` prepares it: repair when needed, orient outward, resolve crossings.
+py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& input, int slabs, int grid, double density,
+               int texels, double max_error, double rms_error, bool error_bound, bool repair) {
+  std::string name = "arrays";
+  TriangleMesh mesh;
+  if (const auto* path = std::get_if<std::string>(&input)) {
+    name = *path;
+    mesh = read_mesh(*path);
+  } else {
+    const auto& arrays = std::get<std::pair<Points, Faces>>(input);
+    mesh = mesh_from_arrays(arrays.first, arrays.second);
+  }
+  py::dict report;
+  SlabModel model;
+  {
+    py::gil_scoped_release release;
+    validate_mesh_data(mesh, name);
+    if (!repair) validate_for_bake(mesh, name);
+    else if (needs_repair(mesh)) mesh = repair_mesh(mesh, name);
+    orient_outward(mesh);
+    const int64_t crossing = count_self_intersections(mesh);
+    SelfIntersectionReport si;
+    if (crossing > 0) mesh = resolve_self_intersections(mesh, &si);
+    std::vector<uint8_t> buried;
+    const ExactMeshQuery exact(mesh);
+    if (crossing > 0) buried = buried_faces(exact);
+    BakeOptions o;
+    o.slabs = slabs;
+    o.grid_n = grid;
+    o.density = density;
+    o.texel_density = texels;
+    BakeReport r;
+    Fidelity f;
+    if (error_bound) {
+      Tolerance t;
+      t.max_pct = max_error;
+      t.rms_pct = rms_error;
+      t.adapt_grid = true;
+      if (!buried.empty()) t.buried = &buried;
+      std::vector<ToleranceRound> rounds;
+      model = bake_to_tolerance(exact, name, o, t, &rounds, &r);
+      f = rounds.back().fidelity;
+      py::gil_scoped_acquire acquire;
+      report["bound_met"] = rounds.back().met;
+      report["rounds"] = rounds.size();
+    } else {
+      model = bake_slabs(exact, name, o, &r);
+      f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);
+    }
+    py::gil_scoped_acquire acquire;
+    report["slabs"] = r.slabs;
+    report["grid"] = r.grid_n;
+    report["samples"] = r.samples;
+    report["input_triangles"] = r.input_triangles;
+    report["invalid_slabs"] = r.invalid_slabs;
+    report["overlapping_pairs"] = r.overlapping_pairs;
+    report["ray_misses"] = r.ray_misses;
+    report["bake_seconds"] = r.seconds;
+    report["self_intersections"] = crossing;
+    report["fidelity"] = fidelity_dict(f);
+  }
+  return py::make_tuple(std::make_shared<Model>(std::move(model)), report);
+}
+
+py::dict query_points(Model& m, const Points& points) {
+  if (points.ndim() != 2 || points.shape(1) != 3) throw InvalidInput("points: expected an (N, 3) array");
+  const py::ssize_t n = points.shape(0);
+  if (n > py::ssize_t(std::numeric_limits<uint32_t>::max())) throw InvalidInput("points: more than 2^32 rows");
+  py::array_t<bool> inside(n);
+  py::array_t<double> depth(n), surface({n, py::ssize_t(3)}), normal({n, py::ssize_t(3)});
+  py::array_t<int32_t> slab(n);
+  const double* p = points.data();
+  bool* in = inside.mutable_data();
+  double *d = depth.mutable_data(), *sp = surface.mutable_data(), *nm = normal.mutable_data();
+  int32_t* sl = slab.mutable_data();
+  const ExactMeshQuery& core = m.inner_shell();  // built with the GIL held, once
+  {
+    py::gil_scoped_release release;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    // Points in Morton order of a 1024³ grid over the model's box: neighbours in a chunk share
+    // slabs, so the query's coherence cache (previous slab, its neighbours) answers most of them,
+    // as it does along a servo path. Points in random order would each need the global lookup.
+    const Aabb box = m.box;
+    const Vec3 scale = (box.max - box.min).cwiseMax(1e-300).cwiseInverse() * 1023.0;
+    std::vector<std::pair<uint32_t, uint32_t>> order(static_cast<size_t>(n));
+    auto spread = [](uint32_t v) {  // 10 bits -> every third bit
+      v &= 0x3ff;
+      v = (v | (v << 16)) & 0x030000ff;
+      v = (v | (v << 8)) & 0x0300f00f;
+      v = (v | (v << 4)) & 0x030c30c3;
+      return (v | (v << 2)) & 0x09249249;
+    };
+    tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, n, 65536), [&](const tbb::blocked_range<py::ssize_t>& r) {
+      for (py::ssize_t i = r.begin(); i < r.end(); ++i) {
+        uint32_t c[3];
+        for (int k = 0; k < 3; ++k) {
+          const double u = (p[3 * i + k] - box.min[k]) * scale[k];
+          c[k] = u >= 0 ? uint32_t(std::min(u, 1023.0)) : 0;  // NaN -> 0
+        }
+        order[i] = {spread(c[0]) | (spread(c[1]) << 1) | (spread(c[2]) << 2), uint32_t(i)};
+      }
+    });
+    tbb::parallel_sort(order.begin(), order.end());
+    tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, n, 4096), [&](const tbb::blocked_range<py::ssize_t>& r) {
+      QueryCache cache;  // coherence within a chunk, as the servo loop has along a path
+      for (py::ssize_t j = r.begin(); j < r.end(); ++j) {
+        const py::ssize_t i = order[j].second;
+        const Vec3 x(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+        const Contact c = query(m.model, *m.locator, x, cache);
+        sl[i] = c.slab;
+        if (c.in_shell()) {
+          in[i] = c.penetrating();
+          d[i] = c.depth;
+          for (int k = 0; k < 3; ++k) sp[3 * i + k] = c.surface_point[k], nm[3 * i + k] = c.normal[k];
+        } else {
+          in[i] = x.allFinite() && core.inside(x);
+          d[i] = nan;
+          for (int k = 0; k < 3; ++k) sp[3 * i + k] = nan, nm[3 * i + k] = nan;
+        }
+      }
+    });
+  }
+  py::dict out;
+  out["inside"] = inside;
+  out["depth"] = depth;
+  out["surface_point"] = surface;
+  out["normal"] = normal;
+  out["slab"] = slab;
+  return out;
+}
+
+py::tuple surface_arrays(const Model& m) {
+  std::vector<Vec3> v;
+  std::vector<Tri> f;
+  displaced_surface(m.model, v, f);
+  py::array_t<double> V({py::ssize_t(v.size()), py::ssize_t(3)});
+  py::array_t<int32_t> F({py::ssize_t(f.size()), py::ssize_t(3)});
+  auto vv = V.mutable_unchecked<2>();
+  auto ff = F.mutable_unchecked<2>();
+  for (size_t i = 0; i < v.size(); ++i)
+    for (int k = 0; k < 3; ++k) vv(i, k) = v[i][k];
+  for (size_t i = 0; i < f.size(); ++i)
+    for (int k = 0; k < 3; ++k) ff(i, k) = f[i][k];
+  return py::make_tuple(V, F);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(hdm, mod) {
+  mod.doc() = "hdm: haptic displacement maps (Jagnow & Dorsey, Graphics Interface 2002). Bake a triangle mesh into "
+              "slabs, query it, save and export it. Lengths are in the input's model units.";
+  py::register_exception<InvalidInput>(mod, "InvalidInput", PyExc_ValueError);
+  py::register_exception<IoError>(mod, "IoError", PyExc_OSError);
+
+  py::class_<Model, std::shared_ptr<Model>>(mod, "Model", "A slab model: coarse slabs holding the fine surface as "
+                                                          "displacement maps.")
+      .def_property_readonly("slab_count", [](const Model& m) { return m.model.slab_count(); }, "number of slabs")
+      .def_property_readonly("grid_n", [](const Model& m) { return m.model.grid_n; },
+                             "displacement intervals per slab edge")
+      .def_property_readonly("source", [](const Model& m) { return m.model.source; }, "name of the baked input")
+      .def_property_readonly("invalid_slabs", [](const Model& m) { return count_invalid_slabs(m.model); },
+                             "slabs whose Jacobian is not positive everywhere (0 for a valid model)")
+      .def("query", &query_points, py::arg("points"),
+           "Haptic query of many points at once (parallel, the GIL released).\n\n"
+           "points: (N, 3) float64 array [model units].\n"
+           "Returns a dict of arrays: inside (N,) bool (below the displaced surface in a slab, or enclosed by the "
+           "inner shell when in no slab); depth (N,) float64 [model units], > 0 inside, the distance to the "
+           "surface's tangent plane, NaN in no slab; surface_point (N, 3) float64, the surface point on the point's "
+           "projection line, NaN in no slab; normal (N, 3) float64, unit outward normal there, NaN in no slab; slab "
+           "(N,) int32, the slab holding the point or -1 (also for non-finite points).")
+      .def("surface", &surface_arrays,
+           "The displaced surface as arrays (vertices (V, 3) float64 [model units], faces (F, 3) int32): every "
+           "slab's grid triangles.")
+      .def("save", [](const Model& m, const std::string& path) { save_model(m.model, path); }, py::arg("path"),
+           "Writes the model to an .hdm file (atomically: a failure keeps the previous file).")
+      .def("export", [](const Model& m, const std::string& path) { export_mesh(m.model, path); }, py::arg("path"),
+           "Writes the reconstructed surface with its colours: .obj (with .mtl and .png), .ply or .glb.");
+
+  mod.def("load", [](const std::string& path) { return std::make_shared<Model>(load_model(path)); }, py::arg("path"),
+          "Reads an .hdm file written by hdm bake or Model.save.");
+  mod.def("bake", &bake_mesh, py::arg("mesh"), py::kw_only(), py::arg("slabs") = 0, py::arg("grid") = 16,
+          py::arg("density") = 4.0, py::arg("texels") = 2, py::arg("max_error") = 0.2, py::arg("rms_error") = 0.02,
+          py::arg("error_bound") = true, py::arg("repair") = true,
+          "Bakes a triangle mesh into a slab model, as `hdm bake` does.\n\n"
+          "mesh: a file path (OBJ, PLY, OFF, STL) or a (vertices, faces) pair of arrays: (N, 3) float64 [model units] "
+          "and (M, 3) integer vertex indices, counter-clockwise seen from outside.\n"
+          "slabs: target slab count (0: input triangles * density / grid^2); grid: intervals per slab edge; "
+          "texels: colour texels per interval; max_error and rms_error: the fidelity bound, % of the bounding-box "
+          "diagonal, both ways; error_bound=False bakes once at the given count; repair=False refuses a dirty mesh.\n"
+          "Returns (Model, report dict: slabs, grid, samples, input_triangles, invalid_slabs, overlapping_pairs, "
+          "ray_misses, bake_seconds, self_intersections, fidelity {rms_pct, max_pct, rms_back_pct, max_back_pct}, "
+          "and with the bound: bound_met, rounds).\n"
+          "Raises ValueError (hdm.InvalidInput) for a mesh it cannot bake and OSError (hdm.IoError) for a file it "
+          "cannot read, with hdm's message.");
+}
