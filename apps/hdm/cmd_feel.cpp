@@ -4,7 +4,7 @@
 #include "commands.h"
 
 #include <hdm/core/error.h>
-#include <hdm/haptics/scenarios.h>
+#include <hdm/harness/scenarios.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
 

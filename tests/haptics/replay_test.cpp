@@ -4,8 +4,8 @@
 #include "support/test_models.h"
 
 #include <hdm/core/error.h>
-#include <hdm/haptics/scenario_sites.h>
-#include <hdm/haptics/scenarios.h>
+#include <hdm/harness/scenario_sites.h>
+#include <hdm/harness/scenarios.h>
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 #include "haptics/haptics_fixtures.h"
 #include "support/test_models.h"
 
-#include <hdm/haptics/scenarios.h>
+#include <hdm/harness/scenarios.h>
 
 #include <gtest/gtest.h>
 

@@ -6,8 +6,8 @@
 #include "haptics/haptics_fixtures.h"
 #include "support/test_models.h"
 
-#include <hdm/haptics/scenario_sites.h>
-#include <hdm/haptics/scenarios.h>
+#include <hdm/harness/scenario_sites.h>
+#include <hdm/harness/scenarios.h>
 
 #include <gtest/gtest.h>
 

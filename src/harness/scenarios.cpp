@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
-#include <hdm/haptics/scenario_sites.h>
-#include <hdm/haptics/scenarios.h>
+#include <hdm/harness/scenario_sites.h>
+#include <hdm/harness/scenarios.h>
 #include <hdm/haptics/servo_loop.h>
 
 #include <algorithm>

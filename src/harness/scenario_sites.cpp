@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
-#include <hdm/haptics/scenario_sites.h>
+#include <hdm/harness/scenario_sites.h>
 #include <hdm/query/slab_query.h>
 
 #include <algorithm>
