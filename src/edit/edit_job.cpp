@@ -3,7 +3,7 @@
 
 #include <hdm/slab/triangle_grid.h>
 
-#include "../query/surface_eval.h"
+#include <hdm/query/detail/surface_eval.h>
 
 #include <algorithm>
 #include <cmath>

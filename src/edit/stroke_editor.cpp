@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/edit/stroke_editor.h>
 
-#include "../query/surface_eval.h"
+#include <hdm/query/detail/surface_eval.h>
 #include "edit_job.h"
 
 #include <algorithm>

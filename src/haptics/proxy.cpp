@@ -2,7 +2,7 @@
 #include <hdm/core/error.h>
 #include <hdm/haptics/proxy.h>
 
-#include "../query/surface_eval.h"
+#include <hdm/query/detail/surface_eval.h>
 
 #include <algorithm>
 #include <cmath>

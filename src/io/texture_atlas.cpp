@@ -4,7 +4,7 @@
 #include <hdm/query/slab_query.h>
 #include <hdm/slab/triangle_grid.h>
 
-#include "../query/surface_eval.h"
+#include <hdm/query/detail/surface_eval.h>
 
 #include <algorithm>
 #include <cmath>

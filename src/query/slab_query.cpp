@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/query/slab_query.h>
 
-#include "surface_eval.h"
+#include <hdm/query/detail/surface_eval.h>
 
 #include <algorithm>
 #include <cmath>

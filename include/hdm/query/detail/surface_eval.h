@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal: the displaced-surface interpolation shared by the query (slab_query.cpp) and the
-// paint tool (edit_tools.cpp), inline so paint can skip the normal. One formula for both, so a
-// texel's position agrees bit for bit with what evaluate_surface() reports. Both read the
-// slab-major SlabModel::slab_samples (one slab's block per query) rather than the sample-indexed
-// `displacement` and `normals`, which are scattered over memory at 10^4+ slabs.
+// Internal (namespace hdm::detail, not part of the API): the displaced-surface interpolation shared
+// by the query (slab_query.cpp), the proxy, the edit kernels and the texture atlas, inline so paint
+// can skip the normal. One formula for all, so a texel's position agrees bit for bit with what
+// evaluate_surface() reports. All read the slab-major SlabModel::slab_samples (one slab's block
+// per query) rather than the sample-indexed `displacement` and `normals`, which are scattered over
+// memory at 10^4+ slabs. Published under detail/ so that no source reaches it by a ../ path.
 
 #include <hdm/query/slab_query.h>
 #include <hdm/slab/triangle_grid.h>
