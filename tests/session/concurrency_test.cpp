@@ -289,7 +289,14 @@ TEST(Concurrency, StudioServoThreadAndRenderThread) {
     studio::ServoThread servo(session, mouse, 10000);
     const SlabSnapshots& snaps = *session.snapshots();
     const auto start = std::chrono::steady_clock::now();
-    for (int frame = 0; std::chrono::steady_clock::now() - start < std::chrono::milliseconds(1500); ++frame) {
+    // At least 1.5 s, and on until the strokes have edited and an epoch was read (a loaded machine
+    // under ThreadSanitizer may need longer), at most 20 s.
+    auto running = [&] {
+      const auto t = std::chrono::steady_clock::now() - start;
+      if (t >= std::chrono::seconds(20)) return false;
+      return t < std::chrono::milliseconds(1500) || servo.figures().sweeps == 0 || read_epochs == 0;
+    };
+    for (int frame = 0; running(); ++frame) {
       if (frame % 20 == 0) {
         SessionCommand c;
         c.brush = brush(frame / 20);
