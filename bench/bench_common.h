@@ -3,7 +3,7 @@
 // Shared fixture of the micro-benchmarks: one baked model and its query points, built once per
 // process from the environment (HDM_BENCH_MODEL, HDM_BENCH_SLABS, HDM_BENCH_GRID, HDM_BENCH_HDM).
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/query/slab_query.h>
 
 #include <memory>

@@ -4,9 +4,9 @@
 // units. Errors are Python exceptions carrying the C++ message: ValueError for InvalidInput,
 // OSError for IoError, RuntimeError otherwise.
 #include <hdm/analysis/bake_to_tolerance.h>
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/analysis/fidelity.h>
-#include <hdm/analysis/shell_check.h>
+#include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>

@@ -6,7 +6,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 packages=(cmake ninja-build g++ pkg-config
-  libeigen3-dev libtbb-dev libembree-dev libmeshoptimizer-dev
+  libeigen3-dev libtbb-dev libembree-dev
   libassimp-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri

@@ -12,7 +12,7 @@
 #include "commands.h"
 
 #include <hdm/analysis/cgal_closest_point.h>
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/edit/stroke_editor.h>

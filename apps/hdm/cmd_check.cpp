@@ -5,7 +5,7 @@
 #include "input_mesh.h"
 
 #include <hdm/analysis/fidelity.h>
-#include <hdm/analysis/shell_check.h>
+#include <hdm/slab/shell_check.h>
 #include <hdm/io/hdm_file.h>
 
 #include <CLI/CLI.hpp>

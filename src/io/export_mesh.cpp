@@ -2,7 +2,7 @@
 #include <hdm/core/error.h>
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>
-#include <hdm/io/texture_atlas.h>
+#include <hdm/surface/texture_atlas.h>
 #include <hdm/slab/triangle_grid.h>
 
 #include <tiny_gltf.h>

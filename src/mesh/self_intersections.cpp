@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Self-intersection count and local repair, with CGAL; one of the few translation
 // units that include CGAL (heavy templates).
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/mesh/self_intersections.h>
 

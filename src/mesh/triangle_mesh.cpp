@@ -2,7 +2,6 @@
 #include <hdm/core/error.h>
 #include <hdm/mesh/triangle_mesh.h>
 
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -51,7 +50,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
     }
   }
   // Group by undirected edge; count uses and directions.
-  tbb::parallel_sort(edges.begin(), edges.end());
+  std::sort(edges.begin(), edges.end());
   for (size_t i = 0; i < edges.size();) {
     size_t j = i;
     const uint64_t key = edges[i] >> 1;

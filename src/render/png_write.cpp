@@ -4,7 +4,7 @@
 #include <hdm/render/png.h>
 
 #include <hdm/core/error.h>
-#include <hdm/io/hdm_file.h>
+#include <hdm/core/write_file_atomic.h>
 
 // stb is compiled here with internal linkage, so it cannot clash with another copy of stb linked
 // into the same program (hdm::io, the application, or Debian's libstb).

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Bake: decimate (checked edge collapses, decimate_mesh()), choose ray directions and shell offsets, validate every slab,
 // cast one ray per sample against the input (Embree, TBB). Design notes §2.2, §3.7, §9-Q1..Q3.
-#include <hdm/analysis/exact_mesh_query.h>
-#include <hdm/analysis/shell_check.h>
+#include <hdm/mesh/exact_mesh_query.h>
+#include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/mesh/decimate_mesh.h>
 #include <hdm/slab/bake.h>

@@ -3,8 +3,7 @@
 #include <hdm/slab/sample_layout.h>
 #include <hdm/slab/triangle_grid.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "../core/parallel_for.h"
 
 #include <algorithm>
 #include <string>
@@ -31,8 +30,8 @@ void build_csr(Each each, int count, std::vector<int32_t>& offsets, std::vector<
   each([&](int32_t key, int32_t value) { raw[fill[key]++] = value; });
   std::vector<int32_t>().swap(fill);
   std::vector<int32_t> kept(count);
-  tbb::parallel_for(tbb::blocked_range<int>(0, count, 4096), [&](const tbb::blocked_range<int>& r) {
-    for (int s = r.begin(); s < r.end(); ++s) {
+  detail::parallel_blocks(size_t(count), 4096, [&](size_t b, size_t e, size_t) {
+    for (size_t s = b; s < e; ++s) {
       auto first = raw.begin() + start[s], last = raw.begin() + start[s + 1];
       std::sort(first, last);
       kept[s] = static_cast<int32_t>(std::unique(first, last) - first);
@@ -41,8 +40,8 @@ void build_csr(Each each, int count, std::vector<int32_t>& offsets, std::vector<
   offsets.assign(count + 1, 0);
   for (int s = 0; s < count; ++s) offsets[s + 1] = offsets[s] + kept[s];
   values.assign(offsets[count], 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, count, 4096), [&](const tbb::blocked_range<int>& r) {
-    for (int s = r.begin(); s < r.end(); ++s)
+  detail::parallel_blocks(size_t(count), 4096, [&](size_t b, size_t e, size_t) {
+    for (size_t s = b; s < e; ++s)
       std::copy(raw.begin() + start[s], raw.begin() + start[s] + kept[s], values.begin() + offsets[s]);
   });
 }

@@ -3,9 +3,7 @@
 #include <hdm/slab/slab_model.h>
 #include <hdm/slab/triangle_grid.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
+#include "../core/parallel_for.h"
 
 #include <algorithm>
 #include <cmath>
@@ -287,17 +285,15 @@ void rebuild_derived(SlabModel& m) {
   // In blocks of samples, in parallel: each call writes only its own samples' position, normal and
   // slab copies, and a normal is the same sum in the same order whatever the block.
   constexpr size_t block = 16384;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
-    update_positions(m, all.data() + r.begin(), r.size());
-  });
+  detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) { update_positions(m, all.data() + b, e - b); });
   m.haptic_normals.clear();  // filled once below, not per update_normals() ring
-  tbb::enumerable_thread_specific<FaceNormalCache> caches;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
-    update_normals(m, all.data() + r.begin(), r.size(), caches.local());  // also fills slab_samples
+  std::vector<FaceNormalCache> caches(detail::parallel_workers(ns, block));
+  detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t w) {
+    update_normals(m, all.data() + b, e - b, caches[w]);  // also fills slab_samples
   });
   m.haptic_normals.resize(m.samples.ids.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, ns, block), [&](const tbb::blocked_range<size_t>& r) {
-    update_haptic_normals(m, all.data() + r.begin(), r.size(), false);  // reads the finished normals
+  detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
+    update_haptic_normals(m, all.data() + b, e - b, false);  // reads the finished normals
   });
 }
 

@@ -5,7 +5,7 @@
 
 #include <hdm/analysis/bake_to_tolerance.h>
 #include <hdm/analysis/fidelity.h>
-#include <hdm/analysis/shell_check.h>
+#include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/mesh/orient_mesh.h>

@@ -3,7 +3,7 @@
 #include "support/test_models.h"
 
 #include <hdm/analysis/cgal_closest_point.h>
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 
 #include <gtest/gtest.h>

@@ -5,7 +5,7 @@
 // may change.
 #include "support/test_models.h"
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/edit/stroke_editor.h>
 
 #include <cstring>

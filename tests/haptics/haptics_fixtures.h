@@ -3,7 +3,7 @@
 // Shared haptics fixtures: a baked analytic sphere with its locator and a workspace; the paper's
 // bunny bake with its locator and the exact reference on the input.
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/haptics/proxy.h>
 
 #include <memory>

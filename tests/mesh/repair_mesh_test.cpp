@@ -3,7 +3,7 @@
 // independent reference (positions, volume, exact distance with Embree).
 #include "support/test_models.h"
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/mesh/repair_mesh.h>

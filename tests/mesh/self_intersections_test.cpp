@@ -2,7 +2,7 @@
 // Self-crossing closed meshes resolved into the boundary of their union: checked against the
 // analytic union (volume), by counting (closed, manifold, no crossing left) and with Embree on the
 // input (every face of the result lies on an input face).
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/self_intersections.h>
 
 #include <gtest/gtest.h>

@@ -4,7 +4,7 @@
 // point and the convex-hull property of the subdivision masks.
 #include "support/test_models.h"
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/mesh/subdivide_mesh.h>
 

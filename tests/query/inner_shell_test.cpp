@@ -4,7 +4,7 @@
 // sphere and the exact inside test on the input mesh for points in no slab.
 #include "support/test_models.h"
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/query/slab_query.h>
 #include <hdm/slab/bake.h>

@@ -18,7 +18,6 @@
 #endif
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <atomic>
 #include <chrono>
@@ -138,8 +137,6 @@ std::string stored_difference(const SlabModel& a, const SlabModel& b) {
 }  // namespace
 
 TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
-  // TBB runs on the calling thread: its workers synchronise inside an uninstrumented library.
-  tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
   const SlabModel initial = sphere_shell();
   const Plan p = plan(8, 0.25);
   SessionOptions o;
@@ -278,7 +275,6 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
 // publishes; this thread reads the tool state and the timing ring, posts brushes and undos, and
 // reads snapshots. Under ThreadSanitizer (scripts/test_tsan.sh) it must run clean.
 TEST(Concurrency, StudioServoThreadAndRenderThread) {
-  tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
   SessionOptions o;
   o.publish_interval_s = 0.002;
   o.snapshots.checksums = true;

@@ -2,7 +2,7 @@
 // Bake: validity checked numerically, an analytic sphere, the real models, bad input.
 #include "support/test_models.h"
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/analysis/fidelity.h>
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>

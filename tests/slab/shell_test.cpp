@@ -4,7 +4,7 @@
 #include "support/test_models.h"
 
 #include <hdm/analysis/fidelity.h>
-#include <hdm/analysis/shell_check.h>
+#include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/slab/bake.h>

@@ -4,7 +4,7 @@
 /// Error-bounded baking: the coarse resolution is chosen so that the measured fidelity meets a
 /// bound, instead of being given as a slab count.
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/analysis/fidelity.h>
 #include <hdm/slab/bake.h>
 
@@ -60,7 +60,7 @@ struct ToleranceRound {
 /// that cross or fold at every resolution); the model returned is the last one baked (the finest).
 ///
 /// The decimation that places the coarse vertices is already error-driven (edge collapses of
-/// least quadric error first, meshoptimizer), so this chooses how far it goes, measured on the
+/// least quadric error first, decimate_mesh()), so this chooses how far it goes, measured on the
 /// finished slab model rather than on the coarse mesh: the error that counts includes undercut
 /// columns and sampling, which the coarse mesh's own error does not see.
 ///

@@ -6,7 +6,7 @@
 /// combined with analytic capsule distances), as for the bake's fidelity (design README, "How we
 /// measure").
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/slab/slab_model.h>
 
 #include <vector>

@@ -4,7 +4,7 @@
 /// Analyzers that measure a slab model against its input with exact queries on the input (design
 /// README, "How we measure"). Tests, `hdm bake`, `hdm check` and benchmarks all use these.
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/slab/slab_model.h>
 
 #include <cstdint>

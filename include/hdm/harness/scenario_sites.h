@@ -9,7 +9,7 @@
 /// Every search is deterministic: surface samples come from a fixed-seed generator and ties are
 /// broken by sample order. All lengths are in model units, in the model frame; normals are unit.
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/query/slab_locator.h>
 #include <hdm/slab/slab_model.h>
 

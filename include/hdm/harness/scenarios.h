@@ -5,7 +5,7 @@
 /// or penalty renderer on a slab model, and the run is scored against an independent reference,
 /// the exact input mesh (design README, "How we measure").
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/haptics/device.h>
 #include <hdm/haptics/proxy.h>
 

@@ -40,6 +40,7 @@
 /// `STIF` that many or none (defaults); `RUFF`, `LAYD` and `LAYM` likewise.
 
 #include <hdm/io/read_file.h>
+#include <hdm/core/write_file_atomic.h>
 #include <hdm/slab/slab_model.h>
 
 #include <cstddef>
@@ -98,11 +99,5 @@ SlabModel load_model(const std::string& path, const ModelLoadOptions& options = 
 /// @throws IoError, InvalidInput as load_model().
 SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::string& name,
                                  const ModelLoadOptions& options = {});
-
-/// @brief Writes @p size bytes to @p path so that a failure never loses the previous file:
-/// writes "<path>.tmp", flushes it to disk (fsync), then renames it over @p path.
-/// @throws IoError "<path>: <reason>" on any failure; the temporary file is removed.
-/// @note Used by every hdm writer (model files and exports).
-void write_file_atomic(const std::string& path, const void* data, size_t size);
 
 }  // namespace hdm

@@ -2,7 +2,7 @@
 // The reference itself: Embree closest point and inside test against brute force and a sphere.
 #include "support/test_models.h"
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 
 #include <gtest/gtest.h>
 

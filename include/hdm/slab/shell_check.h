@@ -3,7 +3,7 @@
 /// @file
 /// Independent checks of a slab shell: slab validity, overlap between slabs, undercut columns.
 
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/slab/slab_model.h>
 
 #include <cstdint>

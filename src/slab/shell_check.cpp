@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <hdm/analysis/shell_check.h>
+#include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 
 #include <tbb/blocked_range.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <hdm/analysis/exact_mesh_query.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 
 #include <embree3/rtcore.h>
