@@ -14,13 +14,13 @@ namespace hdm::bench {
 
 /// A baked model with the same kinds of points `hdm bench` uses [model units].
 struct Fixture {
-  std::string path;                        ///< input mesh file
-  TriangleMesh mesh;                       ///< input mesh
-  SlabModel model;                         ///< baked model (derived data built)
-  std::unique_ptr<SlabLocator> locator;    ///< its search structure
-  double diagonal = 0;                     ///< input bounding-box diagonal
-  std::vector<Vec3> path_points;           ///< coherent path, ≤ diagonal/1600 between points
-  std::vector<Vec3> global_points;         ///< random points within 1% of the diagonal of the surface
+  std::string path;                      ///< input mesh file
+  TriangleMesh mesh;                     ///< input mesh
+  SlabModel model;                       ///< baked model (derived data built)
+  std::unique_ptr<SlabLocator> locator;  ///< its search structure
+  double diagonal = 0;                   ///< input bounding-box diagonal
+  std::vector<Vec3> path_points;         ///< coherent path, ≤ diagonal/1600 between points
+  std::vector<Vec3> global_points;       ///< random points within 1% of the diagonal of the surface
 };
 
 /// The process-wide fixture (baked on first use; not thread-safe to initialise).

@@ -75,11 +75,21 @@ Brush brush_for(Tool tool, double radius) {
   Brush b;
   b.radius = radius;
   switch (tool) {
-    case Tool::Carve: b.tool = BrushTool::Carve; break;
-    case Tool::Add: b.tool = BrushTool::Add, b.height = 0.2 * radius; break;
-    case Tool::Smooth: b.tool = BrushTool::Smooth, b.strength = 0.5, b.falloff = Falloff::Smooth; break;
-    case Tool::Flatten: b.tool = BrushTool::Flatten, b.strength = 0.5, b.falloff = Falloff::Smooth; break;
-    case Tool::Paint: b.tool = BrushTool::Paint, b.falloff = Falloff::Linear, b.colour = Vec3f(0.8f, 0.1f, 0.1f); break;
+    case Tool::Carve:
+      b.tool = BrushTool::Carve;
+      break;
+    case Tool::Add:
+      b.tool = BrushTool::Add, b.height = 0.2 * radius;
+      break;
+    case Tool::Smooth:
+      b.tool = BrushTool::Smooth, b.strength = 0.5, b.falloff = Falloff::Smooth;
+      break;
+    case Tool::Flatten:
+      b.tool = BrushTool::Flatten, b.strength = 0.5, b.falloff = Falloff::Smooth;
+      break;
+    case Tool::Paint:
+      b.tool = BrushTool::Paint, b.falloff = Falloff::Linear, b.colour = Vec3f(0.8f, 0.1f, 0.1f);
+      break;
   }
   return b;
 }
@@ -145,9 +155,15 @@ void stroke_legacy(benchmark::State& state, Tool tool) {
     }
     EditResult r;
     switch (tool) {
-      case Tool::Carve: r = legacy::carve(m, scratch, path.contact[k], path.hip[k], radius, 0.0); break;
-      case Tool::Add: r = legacy::add_material(m, scratch, path.contact[k], radius, 0.001 * radius); break;
-      default: r = legacy::paint(m, scratch, path.contact[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5); break;
+      case Tool::Carve:
+        r = legacy::carve(m, scratch, path.contact[k], path.hip[k], radius, 0.0);
+        break;
+      case Tool::Add:
+        r = legacy::add_material(m, scratch, path.contact[k], radius, 0.001 * radius);
+        break;
+      default:
+        r = legacy::paint(m, scratch, path.contact[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
+        break;
     }
     visited += r.visited, changed += r.changed;
     ++k;
@@ -184,15 +200,27 @@ void stamp_any(benchmark::State& state, Tool tool, bool legacy_code) {
     EditResult r;
     if (legacy_code) {
       switch (tool) {
-        case Tool::Carve: r = legacy::carve(m, scratch, contacts[k], hips[k], radius, 0.0); break;
-        case Tool::Add: r = legacy::add_material(m, scratch, contacts[k], radius, 0.1 * radius); break;
-        default: r = legacy::paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5); break;
+        case Tool::Carve:
+          r = legacy::carve(m, scratch, contacts[k], hips[k], radius, 0.0);
+          break;
+        case Tool::Add:
+          r = legacy::add_material(m, scratch, contacts[k], radius, 0.1 * radius);
+          break;
+        default:
+          r = legacy::paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
+          break;
       }
     } else {
       switch (tool) {
-        case Tool::Carve: r = carve(m, scratch, contacts[k], hips[k], radius, 0.0); break;
-        case Tool::Add: r = add_material(m, scratch, contacts[k], radius, 0.1 * radius); break;
-        default: r = paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5); break;
+        case Tool::Carve:
+          r = carve(m, scratch, contacts[k], hips[k], radius, 0.0);
+          break;
+        case Tool::Add:
+          r = add_material(m, scratch, contacts[k], radius, 0.1 * radius);
+          break;
+        default:
+          r = paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
+          break;
       }
     }
     visited += r.visited, changed += r.changed;
@@ -219,7 +247,8 @@ void publish(benchmark::State& state) {
     benchmark::DoNotOptimize(snaps.publish_commit());
     slabs += count;
   }
-  state.counters["ns_per_slab"] = benchmark::Counter(double(slabs), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_slab"] =
+      benchmark::Counter(double(slabs), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(publish)->Arg(1)->Arg(8)->Arg(64);
 

@@ -136,7 +136,8 @@ void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcep
   // each listed once (the flood fill is done, so its queue is free to hold them).
   const uint32_t again = next_stamp(s, s.sample_stamp);
   int32_t wide = 0;
-  for (int32_t k = 0; k < ring; ++k) wide = add_with_neighbours(L, s.ring[k], s.sample_stamp, again, s.queue.data(), wide);
+  for (int32_t k = 0; k < ring; ++k)
+    wide = add_with_neighbours(L, s.ring[k], s.sample_stamp, again, s.queue.data(), wide);
   update_haptic_normals(m, s.queue.data(), static_cast<size_t>(wide), false);
 }
 
@@ -235,6 +236,5 @@ EditResult paint(SlabModel& m, EditScratch& s, const Contact& contact, double ra
   });
   return r;
 }
-
 
 }  // namespace hdm::bench::legacy

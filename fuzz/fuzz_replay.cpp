@@ -24,7 +24,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     if (rows != d.size()) __builtin_trap();
   } catch (const hdm::InvalidInput&) {
-  } catch (const hdm::IoError&) {
-  }
+  } catch (const hdm::IoError&) {}
   return 0;
 }

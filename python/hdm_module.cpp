@@ -72,8 +72,8 @@ TriangleMesh mesh_from_arrays(const Points& v, const Faces& f) {
     for (int k = 0; k < 3; ++k) {
       const int64_t id = F(i, k);
       if (id < 0 || id >= V.shape(0))
-        throw InvalidInput("faces: row " + std::to_string(i) + " names vertex " + std::to_string(id) + ", outside [0, " +
-                           std::to_string(V.shape(0)) + ")");
+        throw InvalidInput("faces: row " + std::to_string(i) + " names vertex " + std::to_string(id) +
+                           ", outside [0, " + std::to_string(V.shape(0)) + ")");
     }
     m.faces[i] = Tri{int32_t(F(i, 0)), int32_t(F(i, 1)), int32_t(F(i, 2))};
   }
@@ -90,8 +90,8 @@ py::dict fidelity_dict(const Fidelity& f) {
 }
 
 // The input as `hdm bake` prepares it: repair when needed, orient outward, resolve crossings.
-py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& input, int slabs, int grid, double density,
-               int texels, double max_error, double rms_error, bool error_bound, bool repair) {
+py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& input, int slabs, int grid,
+                    double density, int texels, double max_error, double rms_error, bool error_bound, bool repair) {
   std::string name = "arrays";
   TriangleMesh mesh;
   if (const auto* path = std::get_if<std::string>(&input)) {
@@ -106,8 +106,10 @@ py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& i
   {
     py::gil_scoped_release release;
     validate_mesh_data(mesh, name);
-    if (!repair) validate_for_bake(mesh, name);
-    else if (needs_repair(mesh)) mesh = repair_mesh(mesh, name);
+    if (!repair)
+      validate_for_bake(mesh, name);
+    else if (needs_repair(mesh))
+      mesh = repair_mesh(mesh, name);
     orient_outward(mesh);
     const int64_t crossing = count_self_intersections(mesh);
     SelfIntersectionReport si;
@@ -238,19 +240,24 @@ py::tuple surface_arrays(const Model& m) {
 }  // namespace
 
 PYBIND11_MODULE(hdm, mod) {
-  mod.doc() = "hdm: haptic displacement maps (Jagnow & Dorsey, Graphics Interface 2002). Bake a triangle mesh into "
-              "slabs, query it, save and export it. Lengths are in the input's model units.";
+  mod.doc() =
+      "hdm: haptic displacement maps (Jagnow & Dorsey, Graphics Interface 2002). Bake a triangle mesh into "
+      "slabs, query it, save and export it. Lengths are in the input's model units.";
   py::register_exception<InvalidInput>(mod, "InvalidInput", PyExc_ValueError);
   py::register_exception<IoError>(mod, "IoError", PyExc_OSError);
 
-  py::class_<Model, std::shared_ptr<Model>>(mod, "Model", "A slab model: coarse slabs holding the fine surface as "
-                                                          "displacement maps.")
-      .def_property_readonly("slab_count", [](const Model& m) { return m.model.slab_count(); }, "number of slabs")
-      .def_property_readonly("grid_n", [](const Model& m) { return m.model.grid_n; },
-                             "displacement intervals per slab edge")
-      .def_property_readonly("source", [](const Model& m) { return m.model.source; }, "name of the baked input")
-      .def_property_readonly("invalid_slabs", [](const Model& m) { return count_invalid_slabs(m.model); },
-                             "slabs whose Jacobian is not positive everywhere (0 for a valid model)")
+  py::class_<Model, std::shared_ptr<Model>>(mod, "Model",
+                                            "A slab model: coarse slabs holding the fine surface as "
+                                            "displacement maps.")
+      .def_property_readonly(
+          "slab_count", [](const Model& m) { return m.model.slab_count(); }, "number of slabs")
+      .def_property_readonly(
+          "grid_n", [](const Model& m) { return m.model.grid_n; }, "displacement intervals per slab edge")
+      .def_property_readonly(
+          "source", [](const Model& m) { return m.model.source; }, "name of the baked input")
+      .def_property_readonly(
+          "invalid_slabs", [](const Model& m) { return count_invalid_slabs(m.model); },
+          "slabs whose Jacobian is not positive everywhere (0 for a valid model)")
       .def("query", &query_points, py::arg("points"),
            "Haptic query of many points at once (parallel, the GIL released).\n\n"
            "points: (N, 3) float64 array [model units].\n"
@@ -262,13 +269,16 @@ PYBIND11_MODULE(hdm, mod) {
       .def("surface", &surface_arrays,
            "The displaced surface as arrays (vertices (V, 3) float64 [model units], faces (F, 3) int32): every "
            "slab's grid triangles.")
-      .def("save", [](const Model& m, const std::string& path) { save_model(m.model, path); }, py::arg("path"),
-           "Writes the model to an .hdm file (atomically: a failure keeps the previous file).")
-      .def("export", [](const Model& m, const std::string& path) { export_mesh(m.model, path); }, py::arg("path"),
-           "Writes the reconstructed surface with its colours: .obj (with .mtl and .png), .ply or .glb.");
+      .def(
+          "save", [](const Model& m, const std::string& path) { save_model(m.model, path); }, py::arg("path"),
+          "Writes the model to an .hdm file (atomically: a failure keeps the previous file).")
+      .def(
+          "export", [](const Model& m, const std::string& path) { export_mesh(m.model, path); }, py::arg("path"),
+          "Writes the reconstructed surface with its colours: .obj (with .mtl and .png), .ply or .glb.");
 
-  mod.def("load", [](const std::string& path) { return std::make_shared<Model>(load_model(path)); }, py::arg("path"),
-          "Reads an .hdm file written by hdm bake or Model.save.");
+  mod.def(
+      "load", [](const std::string& path) { return std::make_shared<Model>(load_model(path)); }, py::arg("path"),
+      "Reads an .hdm file written by hdm bake or Model.save.");
   mod.def("bake", &bake_mesh, py::arg("mesh"), py::kw_only(), py::arg("slabs") = 0, py::arg("grid") = 16,
           py::arg("density") = 4.0, py::arg("texels") = 2, py::arg("max_error") = 0.2, py::arg("rms_error") = 0.02,
           py::arg("error_bound") = true, py::arg("repair") = true,

@@ -94,43 +94,44 @@ void run_bake(const BakeArgs& a) {
   r.seconds += bvh_seconds;  // the last round's bake and the input BVH it used
   bar.finish();
   save_model(model, a.output);
-  nlohmann::json j = {{"input", a.input},
-                      {"output", a.output},
-                      {"slabs", r.slabs},
-                      {"grid", r.grid_n},
-                      {"samples", r.samples},
-                      {"input_triangles", r.input_triangles},
-                      {"submesh_triangles", r.submesh_triangles},
-                      {"bake_seconds", r.seconds},
-                      {"total_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
-                      {"invalid_slabs", r.invalid_slabs},
-                      {"ray_misses", r.ray_misses},
-                      {"overlapping_pairs", r.overlapping_pairs},
-                      {"undercut_columns", r.undercut_columns},
-                      {"separated", r.separated},
-                      {"peak_rss_mib", peak_rss_mib()},
-                      {"repair",
-                       {{"merged_vertices", fixed.merged_vertices},
-                        {"removed_faces", fixed.removed_faces},
-                        {"split_vertices", fixed.split_vertices},
-                        {"flipped_faces", fixed.flipped_faces},
-                        {"filled_holes", fixed.filled_holes},
-                        {"added_faces", fixed.added_faces},
-                        {"open_boundaries", fixed.open_boundaries}}},
-                      {"self_intersections", prepared.self_intersections},
-                      {"self_intersections_left", prepared.resolved.pairs_after},
-                      {"orient",
-                       {{"components", prepared.orient.components},
-                        {"closed", prepared.orient.closed},
-                        {"nearly_closed", prepared.orient.nearly_closed},
-                        {"sheets", prepared.orient.sheets},
-                        {"flipped", prepared.orient.flipped},
-                        {"flipped_faces", prepared.orient.flipped_faces}}},
-                      {"fidelity",
-                       {{"rms_pct", f.rms_pct},
-                        {"max_pct", f.max_pct},
-                        {"rms_back_pct", f.rms_back_pct},
-                        {"max_back_pct", f.max_back_pct}}}};
+  nlohmann::json j = {
+      {"input", a.input},
+      {"output", a.output},
+      {"slabs", r.slabs},
+      {"grid", r.grid_n},
+      {"samples", r.samples},
+      {"input_triangles", r.input_triangles},
+      {"submesh_triangles", r.submesh_triangles},
+      {"bake_seconds", r.seconds},
+      {"total_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
+      {"invalid_slabs", r.invalid_slabs},
+      {"ray_misses", r.ray_misses},
+      {"overlapping_pairs", r.overlapping_pairs},
+      {"undercut_columns", r.undercut_columns},
+      {"separated", r.separated},
+      {"peak_rss_mib", peak_rss_mib()},
+      {"repair",
+       {{"merged_vertices", fixed.merged_vertices},
+        {"removed_faces", fixed.removed_faces},
+        {"split_vertices", fixed.split_vertices},
+        {"flipped_faces", fixed.flipped_faces},
+        {"filled_holes", fixed.filled_holes},
+        {"added_faces", fixed.added_faces},
+        {"open_boundaries", fixed.open_boundaries}}},
+      {"self_intersections", prepared.self_intersections},
+      {"self_intersections_left", prepared.resolved.pairs_after},
+      {"orient",
+       {{"components", prepared.orient.components},
+        {"closed", prepared.orient.closed},
+        {"nearly_closed", prepared.orient.nearly_closed},
+        {"sheets", prepared.orient.sheets},
+        {"flipped", prepared.orient.flipped},
+        {"flipped_faces", prepared.orient.flipped_faces}}},
+      {"fidelity",
+       {{"rms_pct", f.rms_pct},
+        {"max_pct", f.max_pct},
+        {"rms_back_pct", f.rms_back_pct},
+        {"max_back_pct", f.max_back_pct}}}};
   if (bounded) {
     nlohmann::json tried = nlohmann::json::array();
     for (const ToleranceRound& t : rounds)
@@ -149,8 +150,10 @@ void run_bake(const BakeArgs& a) {
                       {"met", rounds.back().met},
                       {"rounds", tried}};
     if (!rounds.back().met)
-      std::fprintf(stderr, "hdm: warning: %s: the error bound is not met at %d slabs (the cap or the last round); "
-                   "saved the finest model tried\n", a.input.c_str(), r.slabs);
+      std::fprintf(stderr,
+                   "hdm: warning: %s: the error bound is not met at %d slabs (the cap or the last round); "
+                   "saved the finest model tried\n",
+                   a.input.c_str(), r.slabs);
   }
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
@@ -160,31 +163,36 @@ void run_bake(const BakeArgs& a) {
   std::printf("  slabs               %d (grid n = %d, %lld samples)\n", r.slabs, r.grid_n, (long long)r.samples);
   std::printf("  input triangles     %lld\n", (long long)r.input_triangles);
   std::printf("  submesh triangles   %lld\n", (long long)r.submesh_triangles);
-  std::printf("  bake time           %.2f s (peak memory %.0f MiB; %.2f s with reading, repair, every round and "
-              "the fidelity measurement)\n",
-              r.seconds, peak_rss_mib(), j["total_seconds"].get<double>());
+  std::printf(
+      "  bake time           %.2f s (peak memory %.0f MiB; %.2f s with reading, repair, every round and "
+      "the fidelity measurement)\n",
+      r.seconds, peak_rss_mib(), j["total_seconds"].get<double>());
   if (fixed.changed())
-    std::printf("  repaired input      %lld vertices welded, %lld faces removed, %lld vertices split, %lld faces flipped, "
-                "%d holes filled (%lld faces), %d open boundaries kept\n",
-                (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
-                (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
+    std::printf(
+        "  repaired input      %lld vertices welded, %lld faces removed, %lld vertices split, %lld faces flipped, "
+        "%d holes filled (%lld faces), %d open boundaries kept\n",
+        (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
+        (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
   if (prepared.self_intersections > 0)
-    std::printf("  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces); "
-                "buried faces left out of the fidelity\n",
-                (long long)prepared.self_intersections, (long long)prepared.resolved.pairs_after,
-                (long long)prepared.resolved.faces_before, (long long)prepared.resolved.faces_after);
+    std::printf(
+        "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces); "
+        "buried faces left out of the fidelity\n",
+        (long long)prepared.self_intersections, (long long)prepared.resolved.pairs_after,
+        (long long)prepared.resolved.faces_before, (long long)prepared.resolved.faces_after);
   if (prepared.orient.flipped)
     std::printf("  oriented outward    %d of %d parts reversed (%lld faces)\n", prepared.orient.flipped,
                 prepared.orient.components, (long long)prepared.orient.flipped_faces);
   std::printf("  invalid slabs       %d\n", r.invalid_slabs);
-  std::printf("  ray misses          %lld (filled at the point of the line nearest the input)\n", (long long)r.ray_misses);
+  std::printf("  ray misses          %lld (filled at the point of the line nearest the input)\n",
+              (long long)r.ray_misses);
   std::printf("  undercut columns    %lld\n", (long long)r.undercut_columns);
   std::printf("  overlapping pairs   %lld\n", (long long)r.overlapping_pairs);
-  std::printf("  slab separation     %s\n", r.separated ? "on (overlapping slabs thinned apart)" : "off (see hdm check for overlaps)");
+  std::printf("  slab separation     %s\n",
+              r.separated ? "on (overlapping slabs thinned apart)" : "off (see hdm check for overlaps)");
   for (size_t k = 0; k < rounds.size(); ++k)
-    std::printf("  error-bounded round %zu: %d slabs (n = %d), max %.4f%% / %.4f%% back, RMS %.4f%% / %.4f%% back%s\n", k + 1,
-                rounds[k].slabs, rounds[k].grid_n, rounds[k].fidelity.max_pct, rounds[k].fidelity.max_back_pct, rounds[k].fidelity.rms_pct,
-                rounds[k].fidelity.rms_back_pct, rounds[k].met ? " (bound met)" : "");
+    std::printf("  error-bounded round %zu: %d slabs (n = %d), max %.4f%% / %.4f%% back, RMS %.4f%% / %.4f%% back%s\n",
+                k + 1, rounds[k].slabs, rounds[k].grid_n, rounds[k].fidelity.max_pct, rounds[k].fidelity.max_back_pct,
+                rounds[k].fidelity.rms_pct, rounds[k].fidelity.rms_back_pct, rounds[k].met ? " (bound met)" : "");
   std::printf("  fidelity (%% of bounding-box diagonal)\n");
   std::printf("    model -> input    RMS %.4f%%  max %.4f%%\n", f.rms_pct, f.max_pct);
   std::printf("    input -> model    RMS %.4f%%  max %.4f%%\n", f.rms_back_pct, f.max_back_pct);
@@ -197,7 +205,8 @@ void add_bake_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("bake", "Bake a triangle mesh (OBJ, PLY, OFF, STL) into a slab model (.hdm)");
   cmd->add_option("input", a->input, "input mesh")->required();
   cmd->add_option("-o,--output", a->output, "output slab model (.hdm)")->required();
-  cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles * density / n^2)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles * density / n^2)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--density", a->density, "with no --slabs: submesh triangles per input triangle (default 4)")
       ->check(CLI::Range(1e-3, 1024.0));
   CLI::Option* grid = cmd->add_option("--grid", a->grid,
@@ -213,7 +222,8 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--rms-error", a->rms_error,
                   "error-bounded bake: ... and the RMS distance both ways at most this % of the diagonal")
       ->check(CLI::PositiveNumber);
-  cmd->add_flag("--no-error-bound", a->no_error_bound, "bake once at the --slabs or --density count, whatever the error");
+  cmd->add_flag("--no-error-bound", a->no_error_bound,
+                "bake once at the --slabs or --density count, whatever the error");
   cmd->add_option("--max-slabs", a->max_slabs, "error-bounded bake: never more slabs than this (default 100000)")
       ->check(CLI::Range(1, 10000000));
   cmd->add_flag("--json", a->json, "print the report as one JSON object");

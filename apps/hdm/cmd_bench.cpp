@@ -119,7 +119,8 @@ Summary summarise(const std::vector<Stats>& runs) {
   };
   r.s = {med(&Stats::median), med(&Stats::p99), med(&Stats::max), med(&Stats::mean)};
   r.spread_lo = r.spread_hi = runs[0].median;
-  for (const Stats& s : runs) r.spread_lo = std::min(r.spread_lo, s.median), r.spread_hi = std::max(r.spread_hi, s.median);
+  for (const Stats& s : runs)
+    r.spread_lo = std::min(r.spread_lo, s.median), r.spread_hi = std::max(r.spread_hi, s.median);
   return r;
 }
 
@@ -173,8 +174,7 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
       const double phase = 2 * M_PI * static_cast<double>(path.size()) / 1000.0;
       const Vec3 q = (1 - u) * a + u * b + depth * std::sin(phase) * nrm;
       if (path.empty()) path.push_back(q);
-      if ((q - path.back()).norm() > step && prev.allFinite() && (prev - path.back()).norm() > 0)
-        path.push_back(prev);
+      if ((q - path.back()).norm() > step && prev.allFinite() && (prev - path.back()).norm() > 0) path.push_back(prev);
       while ((q - path.back()).norm() > step && static_cast<int>(path.size()) < ticks)  // sharp turn of the normal
         path.push_back(path.back() + (q - path.back()).normalized() * step);
       prev = q;
@@ -217,7 +217,10 @@ double peak_rss_mb() {
 }
 
 nlohmann::json to_json(const Summary& s) {
-  return {{"median", s.s.median}, {"p99", s.s.p99}, {"max", s.s.max}, {"mean", s.s.mean},
+  return {{"median", s.s.median},
+          {"p99", s.s.p99},
+          {"max", s.s.max},
+          {"mean", s.s.mean},
           {"spread", {s.spread_lo, s.spread_hi}}};
 }
 
@@ -352,8 +355,10 @@ void run_bench(const BenchArgs& a) {
       sink += exact.closest_point(global_pts[k]).distance + exact.inside(global_pts[k]);
     }));
     if (cgal) {
-      cgal_coh.push_back(time_batches(path_pts.size(), [&](size_t k) { sink += cgal->closest_point(path_pts[k]).x(); }));
-      cgal_glo.push_back(time_batches(global_pts.size(), [&](size_t k) { sink += cgal->closest_point(global_pts[k]).x(); }));
+      cgal_coh.push_back(
+          time_batches(path_pts.size(), [&](size_t k) { sink += cgal->closest_point(path_pts[k]).x(); }));
+      cgal_glo.push_back(
+          time_batches(global_pts.size(), [&](size_t k) { sink += cgal->closest_point(global_pts[k]).x(); }));
     }
     QueryCache tcache;
     int64_t in_contact = 0;
@@ -375,8 +380,8 @@ void run_bench(const BenchArgs& a) {
 #endif
     g_sink = sink;
   }
-  const Summary s_coh = summarise(coh), s_glo = summarise(glo), s_tick = summarise(tick),
-                s_ecoh = summarise(emb_coh), s_eglo = summarise(emb_glo);
+  const Summary s_coh = summarise(coh), s_glo = summarise(glo), s_tick = summarise(tick), s_ecoh = summarise(emb_coh),
+                s_eglo = summarise(emb_glo);
   const bool have_proxy = !proxy_tick.empty();
   const Summary s_ccoh = cgal ? summarise(cgal_coh) : Summary{}, s_cglo = cgal ? summarise(cgal_glo) : Summary{};
   const Summary s_proxy = have_proxy ? summarise(proxy_tick) : Summary{};
@@ -408,9 +413,12 @@ void run_bench(const BenchArgs& a) {
           if (!c.in_shell()) continue;
           const auto t0 = Clock::now();
           EditResult er;
-          if (tool[0] == 'c') er = carve(work, scratch, c, hip, radius, 0.0);
-          else if (tool[0] == 'a') er = add_material(work, scratch, c, radius, 0.1 * radius);
-          else er = paint(work, scratch, c, radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
+          if (tool[0] == 'c')
+            er = carve(work, scratch, c, hip, radius, 0.0);
+          else if (tool[0] == 'a')
+            er = add_material(work, scratch, c, radius, 0.1 * radius);
+          else
+            er = paint(work, scratch, c, radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
           row.ns += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
           ++row.ops, row.visited += er.visited, row.changed += er.changed;
         }
@@ -439,17 +447,17 @@ void run_bench(const BenchArgs& a) {
 
   // ---- (f) memory ----
   const SampleLayout& L = model.samples;
-  const size_t sample_bytes = bytes(model.displacement) + bytes(model.layer_displacement) + bytes(model.friction_static) +
-                              bytes(model.friction_dynamic) + bytes(model.stiffness_scale) +
-                              bytes(model.positions) + bytes(model.normals) + bytes(model.haptic_normals) + bytes(L.ids) + bytes(L.triangles) +
-                              bytes(L.home_slab) + bytes(L.home_index) + bytes(L.neighbour_offsets) +
-                              bytes(L.neighbours) + bytes(L.triangle_offsets) + bytes(L.incident_triangles) +
-                              bytes(L.shared_slot_offsets) + bytes(L.slot_of_shared) + bytes(model.slab_samples);
+  const size_t sample_bytes =
+      bytes(model.displacement) + bytes(model.layer_displacement) + bytes(model.friction_static) +
+      bytes(model.friction_dynamic) + bytes(model.stiffness_scale) + bytes(model.positions) + bytes(model.normals) +
+      bytes(model.haptic_normals) + bytes(L.ids) + bytes(L.triangles) + bytes(L.home_slab) + bytes(L.home_index) +
+      bytes(L.neighbour_offsets) + bytes(L.neighbours) + bytes(L.triangle_offsets) + bytes(L.incident_triangles) +
+      bytes(L.shared_slot_offsets) + bytes(L.slot_of_shared) + bytes(model.slab_samples);
   const SampleLayout& T = model.texels;
-  const size_t texel_bytes = bytes(model.colour) + bytes(model.roughness) + bytes(T.ids) + bytes(T.triangles) + bytes(T.home_slab) +
-                             bytes(T.home_index) + bytes(T.neighbour_offsets) + bytes(T.neighbours) +
-                             bytes(T.triangle_offsets) + bytes(T.incident_triangles) + bytes(T.shared_slot_offsets) +
-                             bytes(T.slot_of_shared);
+  const size_t texel_bytes = bytes(model.colour) + bytes(model.roughness) + bytes(T.ids) + bytes(T.triangles) +
+                             bytes(T.home_slab) + bytes(T.home_index) + bytes(T.neighbour_offsets) +
+                             bytes(T.neighbours) + bytes(T.triangle_offsets) + bytes(T.incident_triangles) +
+                             bytes(T.shared_slot_offsets) + bytes(T.slot_of_shared);
   const size_t slab_bytes = bytes(model.slabs) + bytes(model.geometry) + bytes(model.edge_neighbour) +
                             bytes(model.inner) + bytes(model.outer) + bytes(model.vertex_slab_offsets) +
                             bytes(model.vertex_slabs) + locator.memory_bytes();
@@ -460,14 +468,22 @@ void run_bench(const BenchArgs& a) {
   nlohmann::json edit_rows = nlohmann::json::array();
   nlohmann::json warm_rows = nlohmann::json::array();
   for (const EditRow& e : warm)
-    warm_rows.push_back({{"tool", e.tool}, {"radius_pct_diagonal", e.radius_pct}, {"ticks", e.ops},
-                         {"visited", e.visited}, {"changed", e.changed}, {"ns_per_tick", e.ops ? e.ns / e.ops : 0.0},
+    warm_rows.push_back({{"tool", e.tool},
+                         {"radius_pct_diagonal", e.radius_pct},
+                         {"ticks", e.ops},
+                         {"visited", e.visited},
+                         {"changed", e.changed},
+                         {"ns_per_tick", e.ops ? e.ns / e.ops : 0.0},
                          {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0},
                          {"ns_per_changed", e.changed ? e.ns / e.changed : 0.0}});
   for (const EditRow& e : edits)
-    edit_rows.push_back({{"tool", e.tool}, {"radius_pct_diagonal", e.radius_pct}, {"ops", e.ops},
-                         {"visited", e.visited}, {"changed", e.changed},
-                         {"ns_per_op", e.ops ? e.ns / e.ops : 0.0}, {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0}});
+    edit_rows.push_back({{"tool", e.tool},
+                         {"radius_pct_diagonal", e.radius_pct},
+                         {"ops", e.ops},
+                         {"visited", e.visited},
+                         {"changed", e.changed},
+                         {"ns_per_op", e.ops ? e.ns / e.ops : 0.0},
+                         {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0}});
   const nlohmann::json j = {
       {"model", path},
       {"subdivisions", subdivisions},
@@ -481,27 +497,36 @@ void run_bench(const BenchArgs& a) {
       {"ticks", path_pts.size()},
       {"global_points", global_pts.size()},
       {"trajectory_max_step_mm", max_step / ws.scale * 1000},
-      {"in_shell_fraction", {{"coherent", double(in_shell_coh) / path_pts.size()},
-                             {"global", double(in_shell_glo) / global_pts.size()}}},
+      {"in_shell_fraction",
+       {{"coherent", double(in_shell_coh) / path_pts.size()}, {"global", double(in_shell_glo) / global_pts.size()}}},
       {"contact_fraction", double(contacts) / path_pts.size()},
-      {"hdm", {{"coherent_ns", to_json(s_coh)}, {"global_ns", to_json(s_glo)}, {"tick_ns", to_json(s_tick)},
-               {"proxy_tick_ns", have_proxy ? to_json(s_proxy) : nlohmann::json()}}},
-      {"baseline", {{"embree_ns", to_json(s_ecoh)},
-                    {"embree_global_ns", to_json(s_eglo)},
-                    {"cgal_closest_ns", cgal ? to_json(s_ccoh) : nlohmann::json()},
-                    {"cgal_closest_global_ns", cgal ? to_json(s_cglo) : nlohmann::json()},
-                    {"cgal_build_s", cgal ? nlohmann::json(cgal->build_seconds()) : nlohmann::json()}}},
+      {"hdm",
+       {{"coherent_ns", to_json(s_coh)},
+        {"global_ns", to_json(s_glo)},
+        {"tick_ns", to_json(s_tick)},
+        {"proxy_tick_ns", have_proxy ? to_json(s_proxy) : nlohmann::json()}}},
+      {"baseline",
+       {{"embree_ns", to_json(s_ecoh)},
+        {"embree_global_ns", to_json(s_eglo)},
+        {"cgal_closest_ns", cgal ? to_json(s_ccoh) : nlohmann::json()},
+        {"cgal_closest_global_ns", cgal ? to_json(s_cglo) : nlohmann::json()},
+        {"cgal_build_s", cgal ? nlohmann::json(cgal->build_seconds()) : nlohmann::json()}}},
       {"ratio_coherent", ratio_coh},
       {"ratio_global", ratio_glo},
       {"ratio_cgal_coherent", cgal ? nlohmann::json(s_ccoh.s.median / s_coh.s.median) : nlohmann::json()},
       {"ratio_cgal_global", cgal ? nlohmann::json(s_cglo.s.median / s_glo.s.median) : nlohmann::json()},
       {"edit_ns_per_sample", geom_edit_ns},
-      {"edit_ns_per_visited", {{"carve", per_visited('c')}, {"add", per_visited('a')}, {"paint_per_texel", per_visited('p')}}},
-      {"edit_ns_per_changed", {{"carve", per_changed('c')}, {"add", per_changed('a')}, {"paint_per_texel", per_changed('p')}}},
+      {"edit_ns_per_visited",
+       {{"carve", per_visited('c')}, {"add", per_visited('a')}, {"paint_per_texel", per_visited('p')}}},
+      {"edit_ns_per_changed",
+       {{"carve", per_changed('c')}, {"add", per_changed('a')}, {"paint_per_texel", per_changed('p')}}},
       {"edits", edit_rows},
-      {"edit_warm_ns_per_visited", {{"carve", warm_per_visited("carve")}, {"add", warm_per_visited("add")},
-                                    {"smooth", warm_per_visited("smooth")}, {"flatten", warm_per_visited("flatten")},
-                                    {"paint_per_texel", warm_per_visited("paint")}}},
+      {"edit_warm_ns_per_visited",
+       {{"carve", warm_per_visited("carve")},
+        {"add", warm_per_visited("add")},
+        {"smooth", warm_per_visited("smooth")},
+        {"flatten", warm_per_visited("flatten")},
+        {"paint_per_texel", warm_per_visited("paint")}}},
       {"edits_warm", warm_rows},
       {"bake_s", bake_s},
       {"bake_separate_slabs", !a.no_separate},
@@ -516,10 +541,10 @@ void run_bench(const BenchArgs& a) {
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("hdm bench: %s, %lld input triangles (%d subdivisions), %d slabs, n = %d, %d samples\n",
-              path.c_str(), (long long)mesh.faces.size(), subdivisions, S, model.grid_n, L.count);
-  std::printf("  %d repeats; latency per query from batches of %d, median over repeats [spread of medians]\n",
-              a.repeat, kBatch);
+  std::printf("hdm bench: %s, %lld input triangles (%d subdivisions), %d slabs, n = %d, %d samples\n", path.c_str(),
+              (long long)mesh.faces.size(), subdivisions, S, model.grid_n, L.count);
+  std::printf("  %d repeats; latency per query from batches of %d, median over repeats [spread of medians]\n", a.repeat,
+              kBatch);
   std::printf("  %-34s %9s %9s %9s %9s  %s\n", "latency [ns]", "median", "p99", "max", "mean", "spread");
   auto row = [](const char* name, const Summary& s) {
     std::printf("  %-34s %9.0f %9.0f %9.0f %9.0f  [%.0f..%.0f]\n", name, s.s.median, s.s.p99, s.s.max, s.s.mean,
@@ -542,10 +567,11 @@ void run_bench(const BenchArgs& a) {
   std::printf("  points in shell                   coherent %.1f%%, global %.1f%%; max path step %.3f mm\n",
               100.0 * in_shell_coh / path_pts.size(), 100.0 * in_shell_glo / global_pts.size(),
               max_step / ws.scale * 1000);
-  std::printf("  edits, warm strokes at 1 kHz      carve %.1f, add %.1f, smooth %.1f, flatten %.1f ns per visited sample, "
-              "paint %.1f per texel\n",
-              warm_per_visited("carve"), warm_per_visited("add"), warm_per_visited("smooth"),
-              warm_per_visited("flatten"), warm_per_visited("paint"));
+  std::printf(
+      "  edits, warm strokes at 1 kHz      carve %.1f, add %.1f, smooth %.1f, flatten %.1f ns per visited sample, "
+      "paint %.1f per texel\n",
+      warm_per_visited("carve"), warm_per_visited("add"), warm_per_visited("smooth"), warm_per_visited("flatten"),
+      warm_per_visited("paint"));
   std::printf("  edits, cold stamps [ns per visited] carve %.1f, add %.1f, paint %.1f per texel\n", per_visited('c'),
               per_visited('a'), per_visited('p'));
   std::printf("  edits, cold stamps [ns per changed] carve %.1f, add %.1f, paint %.1f per texel\n", per_changed('c'),
@@ -559,11 +585,12 @@ void run_bench(const BenchArgs& a) {
 
 void add_bench_command(CLI::App& app) {
   auto a = std::make_shared<BenchArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "bench", "Bake a model and time the haptic query, servo tick, edits and bake against Embree");
+  CLI::App* cmd =
+      app.add_subcommand("bench", "Bake a model and time the haptic query, servo tick, edits and bake against Embree");
   cmd->add_option("--model", a->model, "input mesh (default: <repository>/data/meshes/bunny00.off)");
-  cmd->add_option("--slabs", a->slabs, "target slab count (default: input triangles * 4 / n^2); the input is "
-                                       "subdivided 1-to-4 until it has more triangles")
+  cmd->add_option("--slabs", a->slabs,
+                  "target slab count (default: input triangles * 4 / n^2); the input is "
+                  "subdivided 1-to-4 until it has more triangles")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--grid", a->grid, "displacement intervals per slab edge n")->check(CLI::Range(1, 256));
   cmd->add_option("--subdivide", a->subdivide,

@@ -38,32 +38,44 @@ void run_check(const CheckArgs& a) {
   const int invalid = count_invalid_slabs(model);
   const int64_t overlapping = count_overlapping_pairs(model);
   const int64_t undercut = count_undercut_columns(model, exact);
-  const nlohmann::json j = {
-      {"model", a.model},
-      {"against", a.input},
-      {"slabs", model.slab_count()},
-      {"grid", model.grid_n},
-      {"fidelity", {{"rms_pct", f.rms_pct}, {"max_pct", f.max_pct}, {"rms_back_pct", f.rms_back_pct}, {"max_back_pct", f.max_back_pct}}},
-      {"contact", {{"points", c.points}, {"agreement", c.agreement}, {"depth_rms_pct", c.depth_rms_pct}, {"depth_max_pct", c.depth_max_pct},
-                   {"missed_below_shell", c.missed_below_shell}, {"missed_in_shell", c.missed_in_shell}, {"false_inside", c.false_inside}}},
-      {"invalid_slabs", invalid},
-      {"overlapping_pairs", overlapping},
-      {"undercut_columns", undercut},
-      {"self_intersections", prepared.self_intersections},
-      {"buried_faces", std::count(buried.begin(), buried.end(), uint8_t(1))},
-      {"samples", model.samples.count}};
+  const nlohmann::json j = {{"model", a.model},
+                            {"against", a.input},
+                            {"slabs", model.slab_count()},
+                            {"grid", model.grid_n},
+                            {"fidelity",
+                             {{"rms_pct", f.rms_pct},
+                              {"max_pct", f.max_pct},
+                              {"rms_back_pct", f.rms_back_pct},
+                              {"max_back_pct", f.max_back_pct}}},
+                            {"contact",
+                             {{"points", c.points},
+                              {"agreement", c.agreement},
+                              {"depth_rms_pct", c.depth_rms_pct},
+                              {"depth_max_pct", c.depth_max_pct},
+                              {"missed_below_shell", c.missed_below_shell},
+                              {"missed_in_shell", c.missed_in_shell},
+                              {"false_inside", c.false_inside}}},
+                            {"invalid_slabs", invalid},
+                            {"overlapping_pairs", overlapping},
+                            {"undercut_columns", undercut},
+                            {"self_intersections", prepared.self_intersections},
+                            {"buried_faces", std::count(buried.begin(), buried.end(), uint8_t(1))},
+                            {"samples", model.samples.count}};
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("check %s against %s (%d slabs, n = %d)\n", a.model.c_str(), a.input.c_str(), model.slab_count(), model.grid_n);
+  std::printf("check %s against %s (%d slabs, n = %d)\n", a.model.c_str(), a.input.c_str(), model.slab_count(),
+              model.grid_n);
   std::printf("  fidelity model -> input   RMS %.4f%%  max %.4f%% of the diagonal\n", f.rms_pct, f.max_pct);
   std::printf("  fidelity input -> model   RMS %.4f%%  max %.4f%%\n", f.rms_back_pct, f.max_back_pct);
   std::printf("  contact (%lld points within 1%% of the surface)\n", (long long)c.points);
   std::printf("    inside/outside agreement %.4f%%\n", 100 * c.agreement);
   std::printf("    depth error              RMS %.4f%%  max %.4f%%\n", c.depth_rms_pct, c.depth_max_pct);
-  std::printf("    disagreements            %lld inside but below the shell, %lld inside but above the surface, %lld outside but below\n",
-              (long long)c.missed_below_shell, (long long)c.missed_in_shell, (long long)c.false_inside);
+  std::printf(
+      "    disagreements            %lld inside but below the shell, %lld inside but above the surface, %lld outside "
+      "but below\n",
+      (long long)c.missed_below_shell, (long long)c.missed_in_shell, (long long)c.false_inside);
   std::printf("  invalid slabs             %d\n", invalid);
   std::printf("  overlapping slab pairs    %lld\n", (long long)overlapping);
   std::printf("  undercut columns          %lld of %d\n", (long long)undercut, model.samples.count);

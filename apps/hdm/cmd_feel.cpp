@@ -52,10 +52,11 @@ void write_trace(const std::string& path, const ScenarioReport& r) {
     }
   char line[256];
   for (const ScenarioTraceRow& t : r.trace) {
-    std::snprintf(line, sizeof line, "%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%d,%d,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f\n", t.t, t.device.x(),
-                  t.device.y(), t.device.z(), t.force.x(), t.force.y(), t.force.z(), t.force.norm(),
-                  t.force.dot(first), t.depth_mm, t.status, t.slab, t.proxy.x(), t.proxy.y(), t.proxy.z(),
-                  t.normal.x(), t.normal.y(), t.normal.z());
+    std::snprintf(line, sizeof line,
+                  "%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%d,%d,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f\n", t.t,
+                  t.device.x(), t.device.y(), t.device.z(), t.force.x(), t.force.y(), t.force.z(), t.force.norm(),
+                  t.force.dot(first), t.depth_mm, t.status, t.slab, t.proxy.x(), t.proxy.y(), t.proxy.z(), t.normal.x(),
+                  t.normal.y(), t.normal.z());
     out << line;
   }
   if (!out) throw IoError(path + ": write failed");
@@ -127,19 +128,21 @@ void run_feel(const FeelArgs& a) {
               r.note.c_str());
   std::printf("  ticks               %lld (%lld in contact)\n", (long long)r.ticks, (long long)r.contact_ticks);
   std::printf("  pop-throughs        %d\n", r.pop_throughs);
-  std::printf("  max force step      %.2f %% of max force (handle still); exact input's own %.2f %% (smooth), "
-              "%.2f %% (facets)\n",
-              r.max_force_step_pct, r.reference_force_step_pct, r.reference_facet_force_step_pct);
-  std::printf("  normal error p95    %.2f deg (face), %.2f deg (smooth input normal); input's own face vs smooth %.2f deg\n",
-              r.normal_error_p95_deg, r.normal_error_smooth_p95_deg, r.normal_floor_p95_deg);
+  std::printf(
+      "  max force step      %.2f %% of max force (handle still); exact input's own %.2f %% (smooth), "
+      "%.2f %% (facets)\n",
+      r.max_force_step_pct, r.reference_force_step_pct, r.reference_facet_force_step_pct);
+  std::printf(
+      "  normal error p95    %.2f deg (face), %.2f deg (smooth input normal); input's own face vs smooth %.2f deg\n",
+      r.normal_error_p95_deg, r.normal_error_smooth_p95_deg, r.normal_floor_p95_deg);
   std::printf("  energy ratio        %.3f (returned / absorbed)\n", r.energy_ratio);
   std::printf("  force               max %.3f N, mean in contact %.3f N, cv %.3f\n", r.max_force_n,
               r.mean_contact_force_n, r.force_cv);
   std::printf("  max penetration     %.3f mm\n", r.max_penetration_mm);
   std::printf("  slab crossings      %lld\n", (long long)r.slab_crossings);
   if (r.scenario == "stiff")
-    std::printf("  stiffness           %.0f N/m highest stable, %.0f N/m highest passive\n",
-                r.stable_stiffness_n_per_m, r.passive_stiffness_n_per_m);
+    std::printf("  stiffness           %.0f N/m highest stable, %.0f N/m highest passive\n", r.stable_stiffness_n_per_m,
+                r.passive_stiffness_n_per_m);
   else
     std::printf("  stiffness           %.0f N/m\n", r.stable_stiffness_n_per_m);
   std::printf("  tick compute        median %.0f ns, p99 %.0f ns, max %.0f ns\n", r.tick_ns_median, r.tick_ns_p99,

@@ -98,7 +98,8 @@ void run_render(const RenderArgs& a) {
   parse_pair(a.view, ',', o.azimuth_deg, o.elevation_deg);
   o.show_slab_edges = a.edges;
   o.zoom = a.zoom;
-  if (std::sscanf(a.focus.c_str(), "%lf,%lf,%lf", &o.focus.x(), &o.focus.y(), &o.focus.z()) != 3 || !o.focus.allFinite())
+  if (std::sscanf(a.focus.c_str(), "%lf,%lf,%lf", &o.focus.x(), &o.focus.y(), &o.focus.z()) != 3 ||
+      !o.focus.allFinite())
     throw InvalidInput("--focus: expected X,Y,Z in normalised box coordinates, for example 0.6,0.45,1, got '" +
                        a.focus + "'");
   SlabModel model = load_model(a.model, {a.limit.bytes()});
@@ -131,7 +132,8 @@ void add_render_command(CLI::App& app) {
   sub->add_option("--surface", args->surface, "what to draw: the displaced surface, or the inner or outer shell")
       ->capture_default_str()
       ->check(CLI::IsMember({"displaced", "inner", "outer"}));
-  sub->add_option("--colour-by", args->colour_by, "paint: the model's colours; displacement: δ from blue (0) to red (1)")
+  sub->add_option("--colour-by", args->colour_by,
+                  "paint: the model's colours; displacement: δ from blue (0) to red (1)")
       ->capture_default_str()
       ->check(CLI::IsMember({"paint", "displacement"}));
   add_input_limit(sub, args->limit);

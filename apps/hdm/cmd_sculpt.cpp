@@ -66,8 +66,10 @@ void before_tick(void* user, SculptSession& session, const ServoTick& t) noexcep
   }
   while (r.next_command < r.path->commands.size() && r.path->commands[r.next_command].first <= t.tick) {
     const int16_t step = r.path->commands[r.next_command].second;
-    if (r.script->strokes[static_cast<size_t>(step)].tool == Tool::Undo) session.undo();
-    else session.redo();
+    if (r.script->strokes[static_cast<size_t>(step)].tool == Tool::Undo)
+      session.undo();
+    else
+      session.redo();
     ++r.next_command;
   }
 }
@@ -111,15 +113,21 @@ nlohmann::json stats_json(const LatencyStats& s) { return {{"median", s.median},
 std::vector<const BrushSweep*> applied_sweeps(const std::vector<EditLogEntry>& log) {
   std::vector<std::vector<const BrushSweep*>> strokes, undone;
   for (const EditLogEntry& e : log) switch (e.kind) {
-      case EditLogEntry::Begin: strokes.emplace_back(); undone.clear(); break;
-      case EditLogEntry::Sweep: if (!strokes.empty()) strokes.back().push_back(&e.sweep); break;
+      case EditLogEntry::Begin:
+        strokes.emplace_back();
+        undone.clear();
+        break;
+      case EditLogEntry::Sweep:
+        if (!strokes.empty()) strokes.back().push_back(&e.sweep);
+        break;
       case EditLogEntry::Undo:
         if (!strokes.empty()) undone.push_back(std::move(strokes.back())), strokes.pop_back();
         break;
       case EditLogEntry::Redo:
         if (!undone.empty()) strokes.push_back(std::move(undone.back())), undone.pop_back();
         break;
-      default: break;
+      default:
+        break;
     }
   std::vector<const BrushSweep*> out;
   for (const auto& s : strokes) out.insert(out.end(), s.begin(), s.end());
@@ -141,9 +149,12 @@ nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact
     }
   if (measured == 0) return nullptr;
   const EditFidelity f = measure_edit_fidelity(model, exact, tools, radius, spacing);
-  return {{"sweeps", measured},             {"rms_pct", f.rms_pct},
-          {"max_pct", f.max_pct},           {"rms_back_pct", f.rms_back_pct},
-          {"max_back_pct", f.max_back_pct}, {"points", f.points},
+  return {{"sweeps", measured},
+          {"rms_pct", f.rms_pct},
+          {"max_pct", f.max_pct},
+          {"rms_back_pct", f.rms_back_pct},
+          {"max_back_pct", f.max_back_pct},
+          {"points", f.points},
           {"back_points", f.back_points}};
 }
 
@@ -213,8 +224,10 @@ void run_sculpt(const SculptArgs& a) {
     saver = std::thread([&] {
       auto next = std::chrono::steady_clock::now();
       while (!done.load()) {
-        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(a.save_every));
-        while (!done.load() && std::chrono::steady_clock::now() < next) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(a.save_every));
+        while (!done.load() && std::chrono::steady_clock::now() < next)
+          std::this_thread::sleep_for(std::chrono::milliseconds(5));
         if (done.load()) break;
         SlabModel copy;
         {
@@ -291,31 +304,36 @@ void run_sculpt(const SculptArgs& a) {
     return;
   }
   std::printf("sculpted %s with %s\n", a.model.c_str(), script_path.c_str());
-  std::printf("  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s), %lld overruns, %lld ticks longer than a "
-              "period\n",
-              (long long)st.ticks, st.seconds, st.rate_hz, a.rate, a.fast ? ", --fast" : "", (long long)st.overruns,
-              (long long)st.long_ticks);
-  std::printf("  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (proxy, edits within %.0f µs, publication)\n",
-              st.compute_ns.median, st.compute_ns.p99, st.compute_ns.max, a.budget_us);
+  std::printf(
+      "  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s), %lld overruns, %lld ticks longer than a "
+      "period\n",
+      (long long)st.ticks, st.seconds, st.rate_hz, a.rate, a.fast ? ", --fast" : "", (long long)st.overruns,
+      (long long)st.long_ticks);
+  std::printf(
+      "  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (proxy, edits within %.0f µs, publication)\n",
+      st.compute_ns.median, st.compute_ns.p99, st.compute_ns.max, a.budget_us);
   std::printf("  contact ticks    %lld\n", (long long)ss.contact_ticks);
-  std::printf("  edits            %lld sweeps (tool position every %lld ticks), %lld samples/texels changed, "
-              "%lld ticks carried work over\n",
-              (long long)ss.sweeps, (long long)so.edit_every, (long long)ss.changed, (long long)ss.carried_ticks);
+  std::printf(
+      "  edits            %lld sweeps (tool position every %lld ticks), %lld samples/texels changed, "
+      "%lld ticks carried work over\n",
+      (long long)ss.sweeps, (long long)so.edit_every, (long long)ss.changed, (long long)ss.carried_ticks);
   std::printf("  undo history     %d strokes, %.1f MB of records\n", h.undo_count(),
               double(h.records_held() * sizeof(UndoRecord)) / 1e6);
   if (a.cpu_time)
-    std::printf("  tick CPU time    median %.0f ns, p99 %.0f ns, max %.0f ns; %lld ticks computed longer than a period\n",
-                st.cpu_ns.median, st.cpu_ns.p99, st.cpu_ns.max, (long long)st.cpu_long_ticks);
+    std::printf(
+        "  tick CPU time    median %.0f ns, p99 %.0f ns, max %.0f ns; %lld ticks computed longer than a period\n",
+        st.cpu_ns.median, st.cpu_ns.p99, st.cpu_ns.max, (long long)st.cpu_long_ticks);
   if (so.publish)
     std::printf("  published        %lld epochs, %lld slab versions; %d autosaves while sculpting\n",
                 (long long)ss.publications, (long long)ss.slabs_published, saves.load());
   for (const char* t : {"carve", "add"})
     if (check.contains(t))
-      std::printf("  %-5s vs exact   model->exact RMS %.4f%% max %.4f%%, exact->model RMS %.4f%% max %.4f%% of the "
-                  "diagonal (%lld sweeps, against %s)\n",
-                  t, check[t]["rms_pct"].get<double>(), check[t]["max_pct"].get<double>(),
-                  check[t]["rms_back_pct"].get<double>(), check[t]["max_back_pct"].get<double>(),
-                  (long long)check[t]["sweeps"].get<int64_t>(), a.check_against.c_str());
+      std::printf(
+          "  %-5s vs exact   model->exact RMS %.4f%% max %.4f%%, exact->model RMS %.4f%% max %.4f%% of the "
+          "diagonal (%lld sweeps, against %s)\n",
+          t, check[t]["rms_pct"].get<double>(), check[t]["max_pct"].get<double>(),
+          check[t]["rms_back_pct"].get<double>(), check[t]["max_back_pct"].get<double>(),
+          (long long)check[t]["sweeps"].get<int64_t>(), a.check_against.c_str());
   if (note) std::printf("  note             %s\n", note);
   if (!a.output.empty()) std::printf("  wrote            %s\n", a.output.c_str());
   if (!a.forces.empty()) std::printf("  wrote            %s\n", a.forces.c_str());

@@ -20,7 +20,8 @@ namespace hdm::app {
 
 void add_studio_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
-      "studio", "Sculpt and paint a model in a window with the mouse (runs hdm-studio; `hdm studio --help` for its options)");
+      "studio",
+      "Sculpt and paint a model in a window with the mouse (runs hdm-studio; `hdm studio --help` for its options)");
   cmd->prefix_command();  // every argument goes to hdm-studio, --help included
   cmd->set_help_flag();
   cmd->callback([cmd] {

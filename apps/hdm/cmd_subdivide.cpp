@@ -72,10 +72,13 @@ void run_subdivide(const SubdivideArgs& a) {
   write_file_atomic(a.output, text.data(), text.size());
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (a.json) {
-    const nlohmann::json j = {{"input", a.input},         {"output", a.output},
+    const nlohmann::json j = {{"input", a.input},
+                              {"output", a.output},
                               {"input_triangles", input_triangles},
-                              {"repaired", repaired},     {"steps", steps},
-                              {"triangles", out.faces.size()}, {"vertices", out.vertices.size()},
+                              {"repaired", repaired},
+                              {"steps", steps},
+                              {"triangles", out.faces.size()},
+                              {"vertices", out.vertices.size()},
                               {"seconds", seconds}};
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -91,7 +94,8 @@ void run_subdivide(const SubdivideArgs& a) {
 
 void add_subdivide_command(CLI::App& app) {
   auto a = std::make_shared<SubdivideArgs>();
-  CLI::App* cmd = app.add_subcommand("subdivide", "Refine a mesh with sqrt(3) subdivision (CGAL) to at least N triangles (.off)");
+  CLI::App* cmd =
+      app.add_subcommand("subdivide", "Refine a mesh with sqrt(3) subdivision (CGAL) to at least N triangles (.off)");
   cmd->add_option("input", a->input, "input mesh (OBJ, PLY, OFF, STL)")->required();
   cmd->add_option("-o,--output", a->output, "output mesh (.off)")->required();
   cmd->add_option("--min-triangles", a->min_triangles, "wanted triangle count (default 1000000)")

@@ -15,8 +15,7 @@ void add_input_options(CLI::App& cmd, InputOptions& o) {
       ->check(CLI::Range(0.0, 10.0));
 }
 
-PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint64_t max_file_bytes,
-                            bool resolve) {
+PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint64_t max_file_bytes, bool resolve) {
   PreparedInput in;
   in.mesh = read_mesh(path, {max_file_bytes});
   if (o.no_repair) {

@@ -13,17 +13,17 @@
 namespace hdm::app {
 
 struct InputOptions {
-  bool no_repair = false;      // refuse a dirty mesh instead of repairing it
-  int max_hole_edges = 64;     // RepairOptions::max_hole_edges
-  double max_hole_size = 0.05; // RepairOptions::max_hole_size
+  bool no_repair = false;       // refuse a dirty mesh instead of repairing it
+  int max_hole_edges = 64;      // RepairOptions::max_hole_edges
+  double max_hole_size = 0.05;  // RepairOptions::max_hole_size
 };
 
 struct PreparedInput {
   TriangleMesh mesh;
   RepairReport repair;
   OrientReport orient;
-  int64_t self_intersections = 0;  // face pairs of the mesh (as read, repaired and oriented) that cross
-  SelfIntersectionReport resolved; // with `resolve`: what resolve_self_intersections() did
+  int64_t self_intersections = 0;   // face pairs of the mesh (as read, repaired and oriented) that cross
+  SelfIntersectionReport resolved;  // with `resolve`: what resolve_self_intersections() did
 };
 
 // Adds --no-repair, --max-hole and --max-hole-size to @p cmd.

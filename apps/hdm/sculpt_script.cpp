@@ -26,7 +26,8 @@ Vec3 vec3(const nlohmann::json& j, const std::string& where, double lo, double h
 
 // A number field with its default, refused unless finite and in [lo, hi]; @p prefix names the
 // object ("<file>: " or "<file>: strokes[3].").
-double number(const nlohmann::json& j, const char* key, double fallback, double lo, double hi, const std::string& prefix) {
+double number(const nlohmann::json& j, const char* key, double fallback, double lo, double hi,
+              const std::string& prefix) {
   if (!j.contains(key)) return fallback;
   const nlohmann::json& v = j[key];
   if (!v.is_number()) throw InvalidInput(prefix + key + ": expected a number");
@@ -195,11 +196,21 @@ Script read_script(const std::string& path, uint64_t max_bytes) {
 Brush stroke_brush(const Stroke& s, double mm) {
   Brush b;
   switch (s.tool) {
-    case Tool::Carve: b.tool = BrushTool::Carve; break;
-    case Tool::Add: b.tool = BrushTool::Add; break;
-    case Tool::Smooth: b.tool = BrushTool::Smooth; break;
-    case Tool::Flatten: b.tool = BrushTool::Flatten; break;
-    default: b.tool = BrushTool::Paint; break;
+    case Tool::Carve:
+      b.tool = BrushTool::Carve;
+      break;
+    case Tool::Add:
+      b.tool = BrushTool::Add;
+      break;
+    case Tool::Smooth:
+      b.tool = BrushTool::Smooth;
+      break;
+    case Tool::Flatten:
+      b.tool = BrushTool::Flatten;
+      break;
+    default:
+      b.tool = BrushTool::Paint;
+      break;
   }
   b.radius = s.radius_mm * mm;
   b.strength = s.strength;
@@ -261,7 +272,7 @@ Trajectory build_trajectory(const Script& script, const SlabModel& m, const Slab
       const Vec3 above = ws.to_device(p + n * (5.0 / 1000 * ws.scale));
       if (i == 0) {
         move(here, above, std::max(0.05, (above - here).norm() / 0.2), Tool::None, -1);  // travel at 20 cm/s
-        move(above, path[0], 0.3, st.tool, static_cast<int>(k));                        // press in
+        move(above, path[0], 0.3, st.tool, static_cast<int>(k));                         // press in
       }
       retract = above;
     }

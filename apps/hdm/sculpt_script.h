@@ -27,12 +27,12 @@ struct Stroke {
   double resilience_mm = 0.3;  ///< carve: resilient band
   double height_mm = 0.5;      ///< add: ridge height above the stroke's starting surface
   double strength = 1;         ///< brush strength in [0,1]
-  Falloff falloff = Falloff::Constant;  ///< brush falloff (default: constant for carve and add, linear otherwise)
+  Falloff falloff = Falloff::Constant;    ///< brush falloff (default: constant for carve and add, linear otherwise)
   BrushField field = BrushField::Colour;  ///< paint: the field written
-  float value = 0;             ///< paint of a scalar field (layer_thickness in mm)
-  double pressure_force_n = 1.0;  ///< paint, smooth, flatten: normal force of full pressure [N]
-  Vec3f colour{0.8f, 0.1f, 0.1f};  ///< paint: linear RGB
-  int count = 1;               ///< undo / redo: how many strokes
+  float value = 0;                        ///< paint of a scalar field (layer_thickness in mm)
+  double pressure_force_n = 1.0;          ///< paint, smooth, flatten: normal force of full pressure [N]
+  Vec3f colour{0.8f, 0.1f, 0.1f};         ///< paint: linear RGB
+  int count = 1;                          ///< undo / redo: how many strokes
 };
 
 /// The under-layer a script sets before its strokes (SlabModel::layer_displacement, under_layer).

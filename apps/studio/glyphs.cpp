@@ -46,8 +46,7 @@ void draw_tool_glyphs(ImDrawList* list, const RenderCamera& cam, const ToolState
   const ImU32 tool_colour = t.tool_on ? IM_COL32(255, 140, 0, 230) : IM_COL32(40, 120, 255, 210);
   // The tool sphere: three great circles about the HIP.
   const Vec3 axes[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
-  for (int k = 0; k < 3; ++k)
-    circle(list, cam, t.hip, axes[k], axes[(k + 1) % 3], o.brush_radius, tool_colour, 1.0f);
+  for (int k = 0; k < 3; ++k) circle(list, cam, t.hip, axes[k], axes[(k + 1) % 3], o.brush_radius, tool_colour, 1.0f);
   if (!t.contact || !t.proxy.allFinite()) return;
   // The footprint in the tangent plane at the proxy, the proxy, the HIP–proxy link and the force.
   Vec3 u, v;

@@ -13,8 +13,8 @@ namespace hdm::studio {
 
 /// How the glyphs are sized.
 struct GlyphOptions {
-  double brush_radius = 1;     ///< tool sphere and footprint radius [model units]
-  double newton_length = 1;    ///< arrow length per newton of force [model units / N]
+  double brush_radius = 1;   ///< tool sphere and footprint radius [model units]
+  double newton_length = 1;  ///< arrow length per newton of force [model units / N]
 };
 
 /// @brief Adds the tool sphere, proxy, footprint and force arrow of @p tool to @p list, seen by

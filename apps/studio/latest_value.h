@@ -9,8 +9,8 @@
 
 namespace hdm::studio {
 
-/// One writer thread, one reader thread; T a fixed-size value (copying never allocates). write() and read() are wait-free,
-/// never allocate, and a read never sees a half-written value.
+/// One writer thread, one reader thread; T a fixed-size value (copying never allocates). write() and read() are
+/// wait-free, never allocate, and a read never sees a half-written value.
 template <class T>
 class LatestValue {
   static_assert(std::is_copy_assignable_v<T>);  // fixed-size values: copying never allocates
@@ -38,7 +38,7 @@ class LatestValue {
  private:
   static constexpr uint32_t kFresh = 4, kIndex = 3;
   T slots_[3];
-  uint32_t back_ = 0, front_ = 1;   // owned by the writer / the reader
+  uint32_t back_ = 0, front_ = 1;  // owned by the writer / the reader
   std::atomic<uint32_t> middle_{2};
 };
 

@@ -18,20 +18,26 @@ int main(int argc, char** argv) {
   std::string model, size = "1280x720";
   app.add_option("model", model, "slab model (.hdm); bake a mesh first with `hdm bake MESH -o MODEL.hdm`")->required();
   app.add_option("--size", size, "window size WxH [pixels]");
-  app.add_option("--rate", o.rate_hz, "servo rate [Hz]: 1000 (default) or 10000")->check(CLI::IsMember({1000.0, 10000.0}));
-  app.add_option("--stiffness", o.stiffness, "proxy stiffness as felt at the device [N/m]")->check(CLI::Range(1.0, 1e5));
-  app.add_option("--friction", o.friction_scale, "factor on the model's friction coefficients")->check(CLI::Range(0.0, 10.0));
+  app.add_option("--rate", o.rate_hz, "servo rate [Hz]: 1000 (default) or 10000")
+      ->check(CLI::IsMember({1000.0, 10000.0}));
+  app.add_option("--stiffness", o.stiffness, "proxy stiffness as felt at the device [N/m]")
+      ->check(CLI::Range(1.0, 1e5));
+  app.add_option("--friction", o.friction_scale, "factor on the model's friction coefficients")
+      ->check(CLI::Range(0.0, 10.0));
   app.add_option("--script", o.script, "scripted session (JSON, docs/studio.md): device and UI actions, then exit");
-  app.add_option("--replay", o.replay, "play this recorded trajectory (hdm sculpt --forces CSV) as the device instead of the mouse");
+  app.add_option("--replay", o.replay,
+                 "play this recorded trajectory (hdm sculpt --forces CSV) as the device instead of the mouse");
   app.add_option("--frames", o.frames, "stop after this many frames")->check(CLI::Range(1L, 100000000L));
   app.add_option("--screenshot", o.screenshot, "write the model view of the last frame here (PNG)");
   app.add_option("--report", o.report, "write the session's figures here (JSON): frame times, uploads, servo timing");
   app.add_flag("--verify-uploads", o.verify_uploads,
-               "compare every slab's data each frame and count the slabs that really changed (tests; costs a copy of the model)");
+               "compare every slab's data each frame and count the slabs that really changed (tests; costs a copy of "
+               "the model)");
   app.add_flag("!--no-vsync", o.vsync, "draw frames as fast as possible in an interactive session");
   std::string lod = "auto";
-  app.add_option("--lod", lod, "level of detail: auto (from the frame time) or 0 (every grid triangle), 1, 2, ... "
-                               "(the grid of every 2^k-th point)");
+  app.add_option("--lod", lod,
+                 "level of detail: auto (from the frame time) or 0 (every grid triangle), 1, 2, ... "
+                 "(the grid of every 2^k-th point)");
   app.add_option("--frame-budget-ms", o.frame_budget_ms, "frame time the automatic level of detail aims under [ms]")
       ->check(CLI::Range(1.0, 10000.0));
   try {

@@ -9,11 +9,11 @@ namespace hdm::studio {
 /// An orbit camera: azimuth and elevation about a target, a zoom factor relative to the fitted
 /// distance. Model units, degrees.
 struct OrbitCamera {
-  Vec3 centre = Vec3::Zero();  ///< centre of the model's bounding sphere (fit) [model units]
-  double radius = 1;           ///< its radius [model units]
+  Vec3 centre = Vec3::Zero();                  ///< centre of the model's bounding sphere (fit) [model units]
+  double radius = 1;                           ///< its radius [model units]
   double azimuth_deg = 0, elevation_deg = 15;  ///< view direction, as fit_camera()
-  double zoom = 1;             ///< 1: the whole model fits
-  Vec3 target = Vec3::Zero();  ///< point looked at [model units]
+  double zoom = 1;                             ///< 1: the whole model fits
+  Vec3 target = Vec3::Zero();                  ///< point looked at [model units]
 
   /// Frames the sphere (centre, radius) from the current view direction, zoom 1.
   void fit() noexcept { target = centre, zoom = 1; }

@@ -17,23 +17,23 @@ namespace hdm::studio {
 
 /// The tool as the last tick left it, model frame.
 struct ToolState {
-  Vec3 hip = Vec3::Zero();        ///< haptic interaction point [model units]
-  Vec3 proxy = Vec3::Zero();      ///< surface contact point of the proxy [model units] (contact only)
-  Vec3 normal = Vec3::UnitZ();    ///< surface normal at the proxy (contact only)
-  Vec3 force = Vec3::Zero();      ///< force rendered [N] (device axes = model axes)
-  bool contact = false;           ///< the proxy is on the surface
-  bool tool_on = false;           ///< the tool button is held
-  bool edit_pending = false;      ///< edit work carried over to the next tick
-  int64_t tick = 0;               ///< tick index
+  Vec3 hip = Vec3::Zero();      ///< haptic interaction point [model units]
+  Vec3 proxy = Vec3::Zero();    ///< surface contact point of the proxy [model units] (contact only)
+  Vec3 normal = Vec3::UnitZ();  ///< surface normal at the proxy (contact only)
+  Vec3 force = Vec3::Zero();    ///< force rendered [N] (device axes = model axes)
+  bool contact = false;         ///< the proxy is on the surface
+  bool tool_on = false;         ///< the tool button is held
+  bool edit_pending = false;    ///< edit work carried over to the next tick
+  int64_t tick = 0;             ///< tick index
 };
 
 /// Live servo figures over the last second, read by the render thread.
 struct ServoFigures {
-  double rate_hz = 0;        ///< ticks in the last second
-  double tick_p99_ns = 0;    ///< 99th percentile of the tick's work (session tick) [ns]
-  int64_t late_ticks = 0;    ///< ticks that started a period or more late, since the start
-  int64_t ticks = 0;         ///< ticks since the start
-  int64_t sweeps = 0;        ///< edit sweeps since the start
+  double rate_hz = 0;      ///< ticks in the last second
+  double tick_p99_ns = 0;  ///< 99th percentile of the tick's work (session tick) [ns]
+  int64_t late_ticks = 0;  ///< ticks that started a period or more late, since the start
+  int64_t ticks = 0;       ///< ticks since the start
+  int64_t sweeps = 0;      ///< edit sweeps since the start
 };
 
 /// Runs run_session() on a thread of its own until stop().

@@ -12,10 +12,10 @@ namespace hdm::studio {
 
 /// What one update() did.
 struct UploadFrame {
-  uint64_t epoch = 0;   ///< epoch drawn from now on
-  int uploaded = 0;     ///< slabs re-uploaded
-  int dirty = -1;       ///< with verification: slabs whose data differ from what was drawn (-1: not verified)
-  int mismatched = 0;   ///< with verification: slabs uploaded but unchanged, or changed but not uploaded
+  uint64_t epoch = 0;  ///< epoch drawn from now on
+  int uploaded = 0;    ///< slabs re-uploaded
+  int dirty = -1;      ///< with verification: slabs whose data differ from what was drawn (-1: not verified)
+  int mismatched = 0;  ///< with verification: slabs uploaded but unchanged, or changed but not uploaded
 };
 
 /// Keeps a SlabRenderer in step with SlabSnapshots.
@@ -42,7 +42,7 @@ class SnapshotUploader {
   std::vector<uint64_t> drawn_epoch_;  // per slab: epoch of the version on the GPU
   bool verify_;
   size_t stride_ = 0;
-  std::vector<float> mirror_;          // verify: per slab, the data drawn
+  std::vector<float> mirror_;  // verify: per slab, the data drawn
   int64_t total_ = 0;
 };
 

@@ -54,10 +54,12 @@ struct Window {
   GLFWwindow* handle = nullptr;
   bool imgui = false;
   Window(int width, int height, const std::string& title, bool vsync) {
-    glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "hdm-studio: GLFW error %d: %s\n", code, text); });
+    glfwSetErrorCallback(
+        [](int code, const char* text) { std::fprintf(stderr, "hdm-studio: GLFW error %d: %s\n", code, text); });
     if (!glfwInit())
-      throw RenderError("studio: no window system (GLFW could not initialise: set DISPLAY, or run under Xvfb: "
-                        "xvfb-run -a hdm-studio ...)");
+      throw RenderError(
+          "studio: no window system (GLFW could not initialise: set DISPLAY, or run under Xvfb: "
+          "xvfb-run -a hdm-studio ...)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -296,11 +298,15 @@ class Studio final : public ScriptHost {
     glfwGetFramebufferSize(win, &w, &h);
     if (!io.WantCaptureMouse) {
       const bool pan = io.MouseDown[2] || (io.MouseDown[1] && io.KeyShift);
-      if (pan) camera_.pan(io.MouseDelta.x, io.MouseDelta.y, h);
-      else if (io.MouseDown[1]) camera_.orbit(io.MouseDelta.x, io.MouseDelta.y);
+      if (pan)
+        camera_.pan(io.MouseDelta.x, io.MouseDelta.y, h);
+      else if (io.MouseDown[1])
+        camera_.orbit(io.MouseDelta.x, io.MouseDelta.y);
       if (io.MouseWheel != 0) {
-        if (io.KeyShift) settings_.depth_mm = std::clamp(settings_.depth_mm + 0.1f * io.MouseWheel, 0.0f, 5.0f);
-        else camera_.dolly(io.MouseWheel);
+        if (io.KeyShift)
+          settings_.depth_mm = std::clamp(settings_.depth_mm + 0.1f * io.MouseWheel, 0.0f, 5.0f);
+        else
+          camera_.dolly(io.MouseWheel);
       }
       cursor_ = Eigen::Vector2d(io.MousePos.x, io.MousePos.y);
       cursor_valid_ = ImGui::IsMousePosValid();
@@ -347,8 +353,10 @@ class Studio final : public ScriptHost {
     }
     if (!editing) stroke_frozen_ = false;
     float depth = 1;
-    if (stroke_frozen_) depth = frozen_[static_cast<size_t>(h - 1 - py) * w + px];
-    else glReadPixels(px, h - 1 - py, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
+    if (stroke_frozen_)
+      depth = frozen_[static_cast<size_t>(h - 1 - py) * w + px];
+    else
+      glReadPixels(px, h - 1 - py, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
     const double x = px + 0.5, y = py + 0.5;
     const Vec3 far_point = unproject(cam, x, y, 1.0);
     const Vec3 dir = (far_point - cam.eye).normalized();
@@ -373,8 +381,10 @@ class Studio final : public ScriptHost {
     std::nth_element(last.begin(), last.begin() + 4, last.end());
     const double median = last[4];
     const int before = level_;
-    if (median > o_.frame_budget_ms && level_ + 1 < levels) ++level_;
-    else if (median < 0.4 * o_.frame_budget_ms && level_ > 0) --level_;
+    if (median > o_.frame_budget_ms && level_ + 1 < levels)
+      ++level_;
+    else if (median < 0.4 * o_.frame_budget_ms && level_ > 0)
+      --level_;
     if (level_ != before) level_changed_at_ = static_cast<long>(frame_ms_.size());
   }
 
@@ -450,10 +460,12 @@ class Studio final : public ScriptHost {
         {"frames", frames_},
         {"frame_ms", percentiles(skip_first)},
         {"slabs", slabs_},
-        {"lod", {{"mode", o_.lod < 0 ? nlohmann::json("auto") : nlohmann::json(o_.lod)},
-                 {"frame_budget_ms", o_.frame_budget_ms},
-                 {"frames_per_level", frames_per_level()}}},
-        {"uploads", {{"total", total}, {"frames_with_uploads", frames_with}, {"max_per_frame", most}, {"per_frame", uploads_}}},
+        {"lod",
+         {{"mode", o_.lod < 0 ? nlohmann::json("auto") : nlohmann::json(o_.lod)},
+          {"frame_budget_ms", o_.frame_budget_ms},
+          {"frames_per_level", frames_per_level()}}},
+        {"uploads",
+         {{"total", total}, {"frames_with_uploads", frames_with}, {"max_per_frame", most}, {"per_frame", uploads_}}},
         {"servo",
          {{"target_rate_hz", o_.rate_hz},
           {"rate_hz", st.rate_hz},

@@ -13,38 +13,38 @@ namespace hdm::studio {
 
 /// How the studio starts.
 struct StudioOptions {
-  std::string model_name;        ///< shown in the title and the report
+  std::string model_name;          ///< shown in the title and the report
   int width = 1280, height = 720;  ///< window size [pixels]
-  double rate_hz = 1000;         ///< servo rate: 1000 or 10000 [Hz]
-  double stiffness = 1000;       ///< proxy stiffness as felt at the device [N/m]
-  double friction_scale = 1;     ///< factor on the model's friction coefficients
-  std::string script;            ///< scripted session (JSON); empty: interactive
+  double rate_hz = 1000;           ///< servo rate: 1000 or 10000 [Hz]
+  double stiffness = 1000;         ///< proxy stiffness as felt at the device [N/m]
+  double friction_scale = 1;       ///< factor on the model's friction coefficients
+  std::string script;              ///< scripted session (JSON); empty: interactive
   /// Replay this recording (`hdm sculpt --forces` CSV: positions and the tool button) as the
   /// device instead of the mouse; the strokes use the panel's brush (carve unless changed).
   std::string replay;
-  long frames = -1;              ///< stop after this many frames (-1: when the script ends or the window closes)
-  std::string screenshot;        ///< write the last frame's model view here (PNG)
-  std::string report;            ///< write the session's figures here (JSON)
-  bool verify_uploads = false;   ///< compare every slab's data each frame to count the really changed ones
-  bool vsync = true;             ///< interactive sessions wait for the display; scripted ones never
+  long frames = -1;             ///< stop after this many frames (-1: when the script ends or the window closes)
+  std::string screenshot;       ///< write the last frame's model view here (PNG)
+  std::string report;           ///< write the session's figures here (JSON)
+  bool verify_uploads = false;  ///< compare every slab's data each frame to count the really changed ones
+  bool vsync = true;            ///< interactive sessions wait for the display; scripted ones never
   /// Level of detail (paper §6): -1 chooses it from the frame time (coarser while the median of the
   /// last 8 frames is over frame_budget_ms, finer again under 40 % of it); k >= 0 draws level k
   /// (SlabRenderer::draw). Screenshots are always drawn at full detail.
   int lod = -1;
-  double frame_budget_ms = 50;   ///< frame time the automatic level of detail aims under [ms]
+  double frame_budget_ms = 50;  ///< frame time the automatic level of detail aims under [ms]
 };
 
 /// The tool settings of the panel (and of scripts). Lengths in device millimetres.
 struct ToolSettings {
   enum Kind : int { Probe, Carve, Add, Smooth, Flatten, Paint } kind = Probe;
-  float radius_mm = 3;        ///< tool radius
-  float strength = 1;         ///< see hdm::BrushTool
-  float depth_mm = 0.8f;      ///< how far the mouse pushes the tool in below the surface under the cursor
-  float height_mm = 1;        ///< add: ridge height
-  float resilience_mm = 0;    ///< carve: resilient band (paper §4.1)
-  int field = 0;              ///< paint: hdm::BrushField
+  float radius_mm = 3;                   ///< tool radius
+  float strength = 1;                    ///< see hdm::BrushTool
+  float depth_mm = 0.8f;                 ///< how far the mouse pushes the tool in below the surface under the cursor
+  float height_mm = 1;                   ///< add: ridge height
+  float resilience_mm = 0;               ///< carve: resilient band (paper §4.1)
+  int field = 0;                         ///< paint: hdm::BrushField
   float colour[3] = {0.8f, 0.1f, 0.1f};  ///< paint colour: linear RGB
-  float value = 0.5f;         ///< paint of a scalar field (layer thickness in mm)
+  float value = 0.5f;                    ///< paint of a scalar field (layer thickness in mm)
 };
 
 /// @brief The brush of @p t for a model with @p mm model units per device millimetre

@@ -53,12 +53,18 @@ void apply_tool_json(const nlohmann::json& j, ToolSettings& t, const std::string
     if (key == "tool") {
       if (!v.is_string()) throw InvalidInput(at + " must be a tool name");
       t.kind = parse_tool_kind(v.get<std::string>());
-    } else if (key == "radius_mm") t.radius_mm = number(v, at, 0.05, 100);
-    else if (key == "strength") t.strength = number(v, at, 0, 1);
-    else if (key == "depth_mm") t.depth_mm = number(v, at, 0, 50);
-    else if (key == "height_mm") t.height_mm = number(v, at, 0, 50);
-    else if (key == "resilience_mm") t.resilience_mm = number(v, at, 0, 50);
-    else if (key == "value") t.value = number(v, at, -1e6, 1e6);
+    } else if (key == "radius_mm")
+      t.radius_mm = number(v, at, 0.05, 100);
+    else if (key == "strength")
+      t.strength = number(v, at, 0, 1);
+    else if (key == "depth_mm")
+      t.depth_mm = number(v, at, 0, 50);
+    else if (key == "height_mm")
+      t.height_mm = number(v, at, 0, 50);
+    else if (key == "resilience_mm")
+      t.resilience_mm = number(v, at, 0, 50);
+    else if (key == "value")
+      t.value = number(v, at, -1e6, 1e6);
     else if (key == "field") {
       if (!v.is_string()) throw InvalidInput(at + " must be a field name");
       t.field = static_cast<int>(parse_brush_field(v.get<std::string>()));
@@ -66,8 +72,9 @@ void apply_tool_json(const nlohmann::json& j, ToolSettings& t, const std::string
       if (!v.is_array() || v.size() != 3) throw InvalidInput(at + " must be [r, g, b] (linear, in [0,1])");
       for (int c = 0; c < 3; ++c) t.colour[c] = number(v[c], at, 0, 1);
     } else if (key != "do") {
-      throw InvalidInput(at + " is not a tool setting (tool, radius_mm, strength, depth_mm, height_mm, "
-                              "resilience_mm, field, colour, value)");
+      throw InvalidInput(at +
+                         " is not a tool setting (tool, radius_mm, strength, depth_mm, height_mm, "
+                         "resilience_mm, field, colour, value)");
     }
   }
 }
@@ -101,18 +108,25 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
     } else if (action == "stroke") {
       s.kind = ScriptStep::Stroke;
       const nlohmann::json pts = j.value("points", nlohmann::json());
-      if (!pts.is_array() || pts.size() < 2) throw InvalidInput(where + ": a stroke has \"points\": two or more [x, y]");
+      if (!pts.is_array() || pts.size() < 2)
+        throw InvalidInput(where + ": a stroke has \"points\": two or more [x, y]");
       for (const auto& p : pts) s.points.push_back(point(p, where));
       s.frames = static_cast<int>(number(j.value("frames", nlohmann::json(30)), where + ": \"frames\"", 1, 1e6));
     } else if (action == "wait") {
       s.kind = ScriptStep::Wait;
       s.frames = static_cast<int>(number(j.value("frames", nlohmann::json()), where + ": \"frames\"", 0, 1e7));
-    } else if (action == "settle") s.kind = ScriptStep::Settle;
-    else if (action == "undo") s.kind = ScriptStep::Undo;
-    else if (action == "redo") s.kind = ScriptStep::Redo;
+    } else if (action == "settle")
+      s.kind = ScriptStep::Settle;
+    else if (action == "undo")
+      s.kind = ScriptStep::Undo;
+    else if (action == "redo")
+      s.kind = ScriptStep::Redo;
     else if (action == "screenshot" || action == "save" || action == "export") {
-      s.kind = action == "screenshot" ? ScriptStep::Screenshot : action == "save" ? ScriptStep::Save : ScriptStep::Export;
-      if (!j.contains("path") || !j["path"].is_string()) throw InvalidInput(where + ": \"" + action + "\" needs \"path\"");
+      s.kind = action == "screenshot" ? ScriptStep::Screenshot
+               : action == "save"     ? ScriptStep::Save
+                                      : ScriptStep::Export;
+      if (!j.contains("path") || !j["path"].is_string())
+        throw InvalidInput(where + ": \"" + action + "\" needs \"path\"");
       s.path = j["path"].get<std::string>();
       s.ui = j.value("ui", false);
     } else if (action == "view") {
@@ -133,14 +147,30 @@ bool ScriptPlayer::frame(ScriptHost& host) {
   while (next_ < steps_.size()) {
     const ScriptStep& s = steps_[next_];
     switch (s.kind) {
-      case ScriptStep::Tool: apply_tool_json(s.tool, host.tool_settings(), "script"); break;
-      case ScriptStep::Cursor: host.set_cursor(s.points[0].x(), s.points[0].y(), false); break;
-      case ScriptStep::Screenshot: host.screenshot(s.path, s.ui); break;
-      case ScriptStep::Undo: host.undo(); break;
-      case ScriptStep::Redo: host.redo(); break;
-      case ScriptStep::Save: host.save(s.path); break;
-      case ScriptStep::Export: host.export_model(s.path); break;
-      case ScriptStep::View: host.view(s.azimuth_deg, s.elevation_deg, s.zoom); break;
+      case ScriptStep::Tool:
+        apply_tool_json(s.tool, host.tool_settings(), "script");
+        break;
+      case ScriptStep::Cursor:
+        host.set_cursor(s.points[0].x(), s.points[0].y(), false);
+        break;
+      case ScriptStep::Screenshot:
+        host.screenshot(s.path, s.ui);
+        break;
+      case ScriptStep::Undo:
+        host.undo();
+        break;
+      case ScriptStep::Redo:
+        host.redo();
+        break;
+      case ScriptStep::Save:
+        host.save(s.path);
+        break;
+      case ScriptStep::Export:
+        host.export_model(s.path);
+        break;
+      case ScriptStep::View:
+        host.view(s.azimuth_deg, s.elevation_deg, s.zoom);
+        break;
       case ScriptStep::Stroke: {
         // Frames 0..frames with the button held along the path, then one frame to release it.
         if (frame_in_step_ <= s.frames) {

@@ -15,11 +15,11 @@ namespace hdm::studio {
 /// One step of a script.
 struct ScriptStep {
   enum Kind { Tool, Cursor, Stroke, Wait, Settle, Screenshot, Undo, Redo, Save, Export, View } kind = Wait;
-  nlohmann::json tool;                   ///< Tool: the settings it changes
-  std::vector<Eigen::Vector2d> points;   ///< Cursor (one) / Stroke (two or more): window coordinates in [0,1], y down
-  int frames = 0;                        ///< Stroke: frames the cursor takes along the points; Wait: frames
-  std::string path;                      ///< Screenshot, Save, Export: output file
-  bool ui = false;                       ///< Screenshot: the whole window, panels and tool glyphs included
+  nlohmann::json tool;                  ///< Tool: the settings it changes
+  std::vector<Eigen::Vector2d> points;  ///< Cursor (one) / Stroke (two or more): window coordinates in [0,1], y down
+  int frames = 0;                       ///< Stroke: frames the cursor takes along the points; Wait: frames
+  std::string path;                     ///< Screenshot, Save, Export: output file
+  bool ui = false;                      ///< Screenshot: the whole window, panels and tool glyphs included
   double azimuth_deg = 0, elevation_deg = 15, zoom = 1;  ///< View
 };
 

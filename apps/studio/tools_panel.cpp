@@ -22,11 +22,24 @@ ToolSettings::Kind parse_tool_kind(const std::string& name) {
 Brush tool_brush(const ToolSettings& t, double mm) {
   Brush b;
   switch (t.kind) {
-    case ToolSettings::Add: b.tool = BrushTool::Add; break;
-    case ToolSettings::Smooth: b.tool = BrushTool::Smooth; b.falloff = Falloff::Smooth; break;
-    case ToolSettings::Flatten: b.tool = BrushTool::Flatten; b.falloff = Falloff::Smooth; break;
-    case ToolSettings::Paint: b.tool = BrushTool::Paint; b.falloff = Falloff::Linear; break;
-    default: b.tool = BrushTool::Carve; break;
+    case ToolSettings::Add:
+      b.tool = BrushTool::Add;
+      break;
+    case ToolSettings::Smooth:
+      b.tool = BrushTool::Smooth;
+      b.falloff = Falloff::Smooth;
+      break;
+    case ToolSettings::Flatten:
+      b.tool = BrushTool::Flatten;
+      b.falloff = Falloff::Smooth;
+      break;
+    case ToolSettings::Paint:
+      b.tool = BrushTool::Paint;
+      b.falloff = Falloff::Linear;
+      break;
+    default:
+      b.tool = BrushTool::Carve;
+      break;
   }
   b.radius = t.radius_mm * mm;
   b.strength = t.strength;
@@ -49,16 +62,19 @@ PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::str
   t.kind = static_cast<ToolSettings::Kind>(kind);
   ImGui::SliderFloat("radius [mm]", &t.radius_mm, 0.2f, 20.0f, "%.1f");
   ImGui::SliderFloat("depth [mm]", &t.depth_mm, 0.0f, 5.0f, "%.2f");
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("how far the tool goes in below the surface under the cursor (shift+wheel)");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("how far the tool goes in below the surface under the cursor (shift+wheel)");
   ImGui::SliderFloat("strength", &t.strength, 0.0f, 1.0f, "%.2f");
   if (t.kind == ToolSettings::Add) ImGui::SliderFloat("height [mm]", &t.height_mm, 0.0f, 5.0f, "%.2f");
   if (t.kind == ToolSettings::Carve) ImGui::SliderFloat("resilience [mm]", &t.resilience_mm, 0.0f, 2.0f, "%.2f");
   if (t.kind == ToolSettings::Paint) {
-    static const char* const fields[] = {"colour", "roughness", "friction_static", "friction_dynamic", "stiffness",
-                                         "layer_thickness"};
+    static const char* const fields[] = {"colour",           "roughness", "friction_static",
+                                         "friction_dynamic", "stiffness", "layer_thickness"};
     ImGui::Combo("field", &t.field, fields, IM_ARRAYSIZE(fields));
-    if (t.field == static_cast<int>(BrushField::Colour)) ImGui::ColorEdit3("colour", t.colour, ImGuiColorEditFlags_Float);
-    else ImGui::InputFloat(t.field == static_cast<int>(BrushField::LayerThickness) ? "thickness [mm]" : "value", &t.value);
+    if (t.field == static_cast<int>(BrushField::Colour))
+      ImGui::ColorEdit3("colour", t.colour, ImGuiColorEditFlags_Float);
+    else
+      ImGui::InputFloat(t.field == static_cast<int>(BrushField::LayerThickness) ? "thickness [mm]" : "value", &t.value);
   }
   ImGui::Separator();
   a.undo = ImGui::Button("undo");
@@ -77,8 +93,9 @@ PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::str
   a.screenshot = ImGui::Button("screenshot");
   ImGui::PopItemWidth();
   if (!message.empty()) ImGui::TextUnformatted(message.c_str());
-  ImGui::TextDisabled("left: tool   right: orbit   middle / shift+right: pan\nwheel: zoom   shift+wheel: depth   F: fit\n"
-                      "ctrl+Z: undo   ctrl+shift+Z: redo");
+  ImGui::TextDisabled(
+      "left: tool   right: orbit   middle / shift+right: pan\nwheel: zoom   shift+wheel: depth   F: fit\n"
+      "ctrl+Z: undo   ctrl+shift+Z: redo");
   ImGui::End();
   return a;
 }
@@ -91,10 +108,10 @@ void draw_status_overlay(const StatusFigures& s, float width) {
                    ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
   ImGui::Text("servo      %6.0f Hz (target %.0f)", s.servo_rate_hz, s.target_rate_hz);
   ImGui::Text("tick p99   %6.1f us, %lld late", s.tick_p99_us, static_cast<long long>(s.late_ticks));
-  ImGui::Text("frame      %6.1f ms median, %.1f ms p99, level %d (grid %d)", s.frame_ms_median, s.frame_ms_p99,
-              s.level, s.grid);
-  ImGui::Text("uploaded   %6d slabs this frame (%lld total of %d)", s.uploaded, static_cast<long long>(s.uploaded_total),
-              s.slabs);
+  ImGui::Text("frame      %6.1f ms median, %.1f ms p99, level %d (grid %d)", s.frame_ms_median, s.frame_ms_p99, s.level,
+              s.grid);
+  ImGui::Text("uploaded   %6d slabs this frame (%lld total of %d)", s.uploaded,
+              static_cast<long long>(s.uploaded_total), s.slabs);
   ImGui::Text("edits      %6.0f sweeps/s, epoch %llu", s.edits_per_s, static_cast<unsigned long long>(s.epoch));
   ImGui::Text("contact    %s, force %.2f N", s.contact ? "yes" : "no ", s.force_n);
   ImGui::End();

@@ -8,18 +8,19 @@
 namespace hdm {
 
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
-                            const Tolerance& tolerance,
-                            std::vector<ToleranceRound>* rounds, BakeReport* report) {
+                            const Tolerance& tolerance, std::vector<ToleranceRound>* rounds, BakeReport* report) {
   if (!(tolerance.max_pct > 0) || !(tolerance.rms_pct > 0))
     throw InvalidInput(name + ": error bounds must be positive (max " + std::to_string(tolerance.max_pct) + "%, RMS " +
                        std::to_string(tolerance.rms_pct) + "%)");
   if (tolerance.max_slabs < 1 || tolerance.max_rounds < 1)
     throw InvalidInput(name + ": the slab cap and the number of rounds must be at least 1");
-  const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(input.mesh().faces.size())));
+  const int cap =
+      static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(input.mesh().faces.size())));
   BakeOptions o = options;
   std::vector<ToleranceRound> tried;
   double budget = 0;
-  int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round  // submesh triangles (slabs·n²) the next round may use when the grid adapts
+  int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round  // submesh triangles
+                                // (slabs·n²) the next round may use when the grid adapts
   for (int round = 0;; ++round) {
     BakeReport r;
     SlabModel model = bake_slabs(input, name, o, &r);

@@ -37,7 +37,8 @@ class ToolGrid {
     cell_ = std::max(reach, 1e-12);
     for (size_t i = 0; i < tools.size(); ++i) {
       const ToolCapsule& t = tools[i];
-      const Vec3 lo = t.a.cwiseMin(t.b).array() - (t.radius + margin), hi = t.a.cwiseMax(t.b).array() + (t.radius + margin);
+      const Vec3 lo = t.a.cwiseMin(t.b).array() - (t.radius + margin),
+                 hi = t.a.cwiseMax(t.b).array() + (t.radius + margin);
       const Eigen::Vector3i c0 = key(lo), c1 = key(hi);
       for (int x = c0.x(); x <= c1.x(); ++x)
         for (int y = c0.y(); y <= c1.y(); ++y)
@@ -141,13 +142,15 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
     const ToolCapsule& t = tools[i];
     if (!t.measured) continue;
     const bool starts = i == 0 || (tools[i - 1].b - t.a).norm() > 1e-9 * diag || tools[i - 1].radius != t.radius;
-    const bool ends = i + 1 == tools.size() || (tools[i + 1].a - t.b).norm() > 1e-9 * diag || tools[i + 1].radius != t.radius;
+    const bool ends =
+        i + 1 == tools.size() || (tools[i + 1].a - t.b).norm() > 1e-9 * diag || tools[i + 1].radius != t.radius;
     if (starts) sphere(t.a, t.radius), since = 0;
     const Vec3 u = t.b - t.a;
     const double len = u.norm();
     if (len > 0) {
       const Vec3 dir = u / len;
-      const Vec3 e1 = (std::abs(dir.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(dir).normalized(), e2 = dir.cross(e1);
+      const Vec3 e1 = (std::abs(dir.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(dir).normalized(),
+                 e2 = dir.cross(e1);
       const int around = std::max(8, static_cast<int>(2 * M_PI * t.radius / spacing));
       double last = -1;
       for (double s = spacing - since; s <= len; s += spacing) {

@@ -64,7 +64,8 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
     return Vec3((m.vertices[f[0]] + m.vertices[f[1]] + m.vertices[f[2]]) / 3.0);
   };
   const double near = 1e-2 * diag;
-  const Sum fwd = distances(ns + nt, input, near, [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
+  const Sum fwd = distances(ns + nt, input, near,
+                            [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
   const ExactMeshQuery recon(surface, BvhQuality::medium);  // about one query per triangle
   // Input points on the surface of the material: every vertex and centroid, or without buried faces.
   std::vector<Vec3> back_points;
@@ -109,7 +110,8 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<Vec3> points(count);
   for (auto& p : points) {
-    const size_t f = std::min(cdf.size() - 1, size_t(std::lower_bound(cdf.begin(), cdf.end(), u(rng) * total) - cdf.begin()));
+    const size_t f =
+        std::min(cdf.size() - 1, size_t(std::lower_bound(cdf.begin(), cdf.end(), u(rng) * total) - cdf.begin()));
     double a = u(rng), b = u(rng);
     if (a + b > 1) a = 1 - a, b = 1 - b;
     const Tri& t = m.faces[f];
@@ -147,8 +149,8 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         return a;
       },
       [](const Acc& a, const Acc& b) {
-        return Acc{a.agree + b.agree, a.depth_n + b.depth_n, a.below + b.below, a.above + b.above,
-                   a.false_in + b.false_in, a.sq + b.sq, std::max(a.max, b.max)};
+        return Acc{a.agree + b.agree,       a.depth_n + b.depth_n, a.below + b.below,     a.above + b.above,
+                   a.false_in + b.false_in, a.sq + b.sq,           std::max(a.max, b.max)};
       });
   ContactAccuracy c;
   c.points = count;

@@ -33,11 +33,16 @@ BrushField parse_brush_field(const std::string& name) {
 
 const char* brush_tool_name(BrushTool tool) noexcept {
   switch (tool) {
-    case BrushTool::Carve: return "carve";
-    case BrushTool::Add: return "add";
-    case BrushTool::Smooth: return "smooth";
-    case BrushTool::Flatten: return "flatten";
-    case BrushTool::Paint: return "paint";
+    case BrushTool::Carve:
+      return "carve";
+    case BrushTool::Add:
+      return "add";
+    case BrushTool::Smooth:
+      return "smooth";
+    case BrushTool::Flatten:
+      return "flatten";
+    case BrushTool::Paint:
+      return "paint";
   }
   return "?";
 }

@@ -185,12 +185,21 @@ void EditJob::start_sweep(const SlabModel& m, EditScratch& s, const BrushSweep& 
   // Smooth and flatten relax at 20 s⁻¹ × strength × pressure (time constant 50 ms at full strength).
   coef_ = 20.0 * strength * pressure * std::max(sw.dt, 0.0);
   switch (b.tool) {
-    case BrushTool::Carve: kernel_ = Kernel::Carve; break;
-    case BrushTool::Add: kernel_ = Kernel::Add; break;
-    case BrushTool::Smooth: kernel_ = Kernel::Smooth; break;
-    case BrushTool::Flatten: kernel_ = Kernel::Flatten; break;
+    case BrushTool::Carve:
+      kernel_ = Kernel::Carve;
+      break;
+    case BrushTool::Add:
+      kernel_ = Kernel::Add;
+      break;
+    case BrushTool::Smooth:
+      kernel_ = Kernel::Smooth;
+      break;
+    case BrushTool::Flatten:
+      kernel_ = Kernel::Flatten;
+      break;
     case BrushTool::Paint:
-      kernel_ = b.field == BrushField::Colour || b.field == BrushField::Roughness ? Kernel::PaintTexel : Kernel::PaintSample;
+      kernel_ =
+          b.field == BrushField::Colour || b.field == BrushField::Roughness ? Kernel::PaintTexel : Kernel::PaintSample;
       break;
   }
   if ((kernel_ == Kernel::Smooth || kernel_ == Kernel::Flatten) && !(coef_ > 0)) return;
@@ -228,8 +237,10 @@ void EditJob::start_history(EditScratch& s, UndoHistory& h, bool redo) noexcept 
   if (redo ? !h.can_redo() : !h.can_undo()) return;
   history_ = &h;
   redo_ = redo;
-  if (redo) h.redo_range(rec_pos_, rec_end_);
-  else h.undo_range(rec_pos_, rec_end_);
+  if (redo)
+    h.redo_range(rec_pos_, rec_end_);
+  else
+    h.undo_range(rec_pos_, rec_end_);
   phase_ = Phase::History;
 }
 
@@ -283,7 +294,8 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     st->sample_base[id] = v;
     st->sample_k[id] = 0;
     if (st->history)
-      st->history->record({id, {v.delta, v.friction_static, v.friction_dynamic, v.stiffness_scale, v.layer_displacement}});
+      st->history->record(
+          {id, {v.delta, v.friction_static, v.friction_dynamic, v.stiffness_scale, v.layer_displacement}});
   };
   auto touch_texel = [&](int32_t id) noexcept {
     if (!st || st->texel_mark[id] == st->id) return;
@@ -336,7 +348,8 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
         if (!line_capsule(p0, L, A, B, r, t0, t1)) return true;
         const float cur = m.displacement[id];
         const double delta = cur;
-        if (add ? !(t0 <= delta && delta < t1) : !(t0 < delta && delta <= t1)) return true;  // float position vs exact line
+        if (add ? !(t0 <= delta && delta < t1) : !(t0 < delta && delta <= t1))
+          return true;  // float position vs exact line
         double target = add ? std::min(t1, 1.0) : std::max(t0, 0.0);
         if (soft_) {
           const double base = base_delta(id);
@@ -366,8 +379,9 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     case Kernel::Flatten: {
       const bool smooth = kernel_ == Kernel::Smooth;
       const Vec3 q = sweep_.plane_point, n = sweep_.plane_normal;
-      static constexpr double kInverse[] = {0, 1, 1 / 2., 1 / 3., 1 / 4., 1 / 5., 1 / 6., 1 / 7., 1 / 8., 1 / 9.,
-                                            1 / 10., 1 / 11., 1 / 12., 1 / 13., 1 / 14., 1 / 15., 1 / 16.};
+      static constexpr double kInverse[] = {0,       1,       1 / 2.,  1 / 3.,  1 / 4.,  1 / 5.,
+                                            1 / 6.,  1 / 7.,  1 / 8.,  1 / 9.,  1 / 10., 1 / 11.,
+                                            1 / 12., 1 / 13., 1 / 14., 1 / 15., 1 / 16.};
       done = flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
         const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
         if (!(w > 0)) return false;
@@ -411,9 +425,15 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
         if (st) st->sample_k[id] = k;
         auto blend = [k](float from, float to) { return k * to + (1 - k) * from; };
         switch (b.field) {
-          case BrushField::FrictionStatic: m.friction_static[id] = blend(base.friction_static, b.value); break;
-          case BrushField::FrictionDynamic: m.friction_dynamic[id] = blend(base.friction_dynamic, b.value); break;
-          case BrushField::Stiffness: m.stiffness_scale[id] = blend(base.stiffness_scale, b.value); break;
+          case BrushField::FrictionStatic:
+            m.friction_static[id] = blend(base.friction_static, b.value);
+            break;
+          case BrushField::FrictionDynamic:
+            m.friction_dynamic[id] = blend(base.friction_dynamic, b.value);
+            break;
+          case BrushField::Stiffness:
+            m.stiffness_scale[id] = blend(base.stiffness_scale, b.value);
+            break;
           default: {  // LayerThickness: the layer's top `value` below the stroke's starting surface
             Vec3 p0, p1;
             line_of(id, p0, p1);
@@ -465,7 +485,8 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       });
       break;
     }
-    default: done = true;
+    default:
+      done = true;
   }
   if (!done) return false;
   phase_ = Phase::Idle;
@@ -511,8 +532,10 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       ++result.changed;
     }
   }
-  if (redo_) history_->redone();
-  else history_->undone();
+  if (redo_)
+    history_->redone();
+  else
+    history_->undone();
   phase_ = Phase::Idle;
   return true;
 }
@@ -578,10 +601,14 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
 
 bool EditJob::run(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   switch (phase_) {
-    case Phase::Idle: return true;
-    case Phase::Flood: return run_flood(m, s, d);
-    case Phase::History: return run_history(m, s, d);
-    default: return run_normals(m, s, d);
+    case Phase::Idle:
+      return true;
+    case Phase::Flood:
+      return run_flood(m, s, d);
+    case Phase::History:
+      return run_history(m, s, d);
+    default:
+      return run_normals(m, s, d);
   }
 }
 

@@ -30,7 +30,8 @@ struct StrokeMemory {
 };
 
 inline SampleValues sample_values(const SlabModel& m, int32_t s) noexcept {
-  return {m.displacement[s], m.friction_static[s], m.friction_dynamic[s], m.stiffness_scale[s], m.layer_displacement[s]};
+  return {m.displacement[s], m.friction_static[s], m.friction_dynamic[s], m.stiffness_scale[s],
+          m.layer_displacement[s]};
 }
 inline TexelValues texel_values(const SlabModel& m, int32_t t) noexcept {
   const Vec3f& c = m.colour[t];

@@ -13,10 +13,10 @@ namespace {
 
 struct Event {
   enum Kind : uint8_t { Begin, Sample, End, Undo, Redo, Sweep } kind = Sample;
-  Brush brush;        // Begin
-  ToolSample sample;  // Sample
+  Brush brush;                // Begin
+  ToolSample sample;          // Sample
   Vec3 axis = Vec3::UnitZ();  // Sample: the tool's axis
-  BrushSweep sweep;   // Sweep: a logged sweep to apply as is
+  BrushSweep sweep;           // Sweep: a logged sweep to apply as is
   Vec3 point = Vec3::Zero();  // Sample: the tool's position, once computed
   bool has_point = false;
 };
@@ -39,9 +39,9 @@ struct StrokeEditor::Impl {
   detail::EditJob job;
   std::vector<Event> queue;
   size_t head = 0, count = 0;
-  bool producer_open = false;  // begin_stroke called and end_stroke not yet
+  bool producer_open = false;                  // begin_stroke called and end_stroke not yet
   BrushTool producer_tool = BrushTool::Carve;  // the tool of the stroke being fed
-  bool axis_valid = false;     // the producer's low-passed contact normal
+  bool axis_valid = false;                     // the producer's low-passed contact normal
   Vec3 axis = Vec3::UnitZ();
   double axis_time = 0;
   // The stroke being processed.
@@ -60,8 +60,8 @@ struct StrokeEditor::Impl {
     log->push_back(e);
   }
   bool flush_requested = false;
-  int64_t normals_ns = 0;     // clock of the last normal refresh
-  double normals_time = 0;    // stroke time of the last normal refresh
+  int64_t normals_ns = 0;   // clock of the last normal refresh
+  double normals_time = 0;  // stroke time of the last normal refresh
 
   // The pending normals are refreshed on request, before a command (stroke end, undo, a new
   // stroke), when the stroke is over, or during a stroke once normals_interval_s has passed since
@@ -106,19 +106,22 @@ struct StrokeEditor::Impl {
     const ToolSample& t = e.sample;
     const Contact& c = t.contact;
     switch (brush.tool) {
-      case BrushTool::Carve: return t.hip + e.axis * (brush.radius + std::max(brush.resilience, 0.0));
+      case BrushTool::Carve:
+        return t.hip + e.axis * (brush.radius + std::max(brush.resilience, 0.0));
       case BrushTool::Add: {
         // The starting surface under the contact: the stroke's first-touch displacements,
         // interpolated over the grid cell evaluate_surface uses.
         const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
         auto base = [&](int32_t id) {
-          return memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta) : double(m.displacement[id]);
+          return memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
+                                                     : double(m.displacement[id]);
         };
         const double delta = cell.wa * base(cell.a) + cell.wb * base(cell.b) + cell.wd * base(cell.d);
         const Vec3 point = c.surface_point + (delta - c.delta) * c.ray;  // same projection line
         return point + e.axis * (brush.height - brush.radius);
       }
-      default: return c.surface_point;
+      default:
+        return c.surface_point;
     }
   }
 
@@ -137,8 +140,8 @@ struct StrokeEditor::Impl {
     auto base_point = [&](int32_t id) -> Vec3 {
       for (int k = 0; k < cached; ++k)
         if (ids[k] == id) return at[k];
-      const double delta = memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
-                                                                : double(m.displacement[id]);
+      const double delta =
+          memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta) : double(m.displacement[id]);
       const std::array<double, 3>& w = scratch.grid_weights[L.home_index[id]];
       const Tri& t = m.slabs[L.home_slab[id]];
       const Vec3 p0 = w[0] * m.inner[t[0]] + w[1] * m.inner[t[1]] + w[2] * m.inner[t[2]];
@@ -238,8 +241,8 @@ void StrokeEditor::add_sample(const SlabModel& model, const ToolSample& sample) 
     return;
   Impl& s = *impl_;
   // Only carve, add and flatten place their tool along the axis.
-  const bool axis = s.producer_tool == BrushTool::Carve || s.producer_tool == BrushTool::Add ||
-                    s.producer_tool == BrushTool::Flatten;
+  const bool axis =
+      s.producer_tool == BrushTool::Carve || s.producer_tool == BrushTool::Add || s.producer_tool == BrushTool::Flatten;
   const Vec3 n = axis ? s.base_normal(model, sample.contact) : sample.contact.normal;
   if (!s.axis_valid) {
     s.axis = n;
@@ -370,10 +373,16 @@ void StrokeEditor::record_log(std::vector<EditLogEntry>* log) noexcept { impl_->
 
 bool StrokeEditor::replay(const EditLogEntry& entry) noexcept {
   switch (entry.kind) {
-    case EditLogEntry::Begin: begin_stroke(entry.sweep.brush); return true;
-    case EditLogEntry::End: end_stroke(); return true;
-    case EditLogEntry::Undo: return undo();
-    case EditLogEntry::Redo: return redo();
+    case EditLogEntry::Begin:
+      begin_stroke(entry.sweep.brush);
+      return true;
+    case EditLogEntry::End:
+      end_stroke();
+      return true;
+    case EditLogEntry::Undo:
+      return undo();
+    case EditLogEntry::Redo:
+      return redo();
     default: {
       Event e;
       e.kind = Event::Sweep;

@@ -6,7 +6,8 @@
 namespace hdm {
 
 UndoHistory::UndoHistory(size_t cap_bytes, int max_strokes)
-    : records_(std::max<size_t>(1, cap_bytes / sizeof(UndoRecord))), strokes_(static_cast<size_t>(std::max(1, max_strokes))) {}
+    : records_(std::max<size_t>(1, cap_bytes / sizeof(UndoRecord))),
+      strokes_(static_cast<size_t>(std::max(1, max_strokes))) {}
 
 void UndoHistory::forget_oldest() noexcept {
   ++first_stroke_;

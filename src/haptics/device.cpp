@@ -32,8 +32,7 @@ void SimulatedDevice::end_frame(const Vec3& force_n) noexcept {
   const double mag = f.norm();
   if (mag > options_.spec.max_force_n) f *= options_.spec.max_force_n / mag;  // amplifier saturation
   const Vec3 target = targets_.empty() ? x_ : targets_[std::min<size_t>(tick_, targets_.size() - 1)];
-  const Vec3 target_next =
-      targets_.empty() ? x_ : targets_[std::min<size_t>(tick_ + 1, targets_.size() - 1)];
+  const Vec3 target_next = targets_.empty() ? x_ : targets_[std::min<size_t>(tick_ + 1, targets_.size() - 1)];
   const double T = 1.0 / options_.rate_hz, h = T / options_.substeps;
   const Vec3 target_v = (target_next - target) / T;
   x_prev_ = x_;
@@ -57,7 +56,8 @@ ReplayDevice::ReplayDevice(const std::string& path, DeviceSpec spec, uint64_t ma
                   std::to_string(max_file_bytes) + " bytes; raise the limit to read it (hdm: --max-input-mb)");
   std::ifstream in(path, std::ios::binary);
   std::string text(static_cast<size_t>(size), '\0');
-  if (!in || (size > 0 && !in.read(text.data(), static_cast<std::streamsize>(size)))) throw IoError(path + ": cannot read");
+  if (!in || (size > 0 && !in.read(text.data(), static_cast<std::streamsize>(size))))
+    throw IoError(path + ": cannot read");
   parse(text, path);
 }
 
@@ -117,7 +117,8 @@ void ReplayDevice::parse(std::string_view text, const std::string& path) {
       if (cell.size() > 1 && cell[0] == '+') cell.remove_prefix(1);
       double x = 0;
       const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), x);
-      if (cell.empty() || end != cell.data() + cell.size() || (ec != std::errc() && ec != std::errc::result_out_of_range))
+      if (cell.empty() || end != cell.data() + cell.size() ||
+          (ec != std::errc() && ec != std::errc::result_out_of_range))
         throw InvalidInput(where + "malformed number in column " + std::to_string(v.size() + 1));
       v.push_back(ec == std::errc() ? x : INFINITY);  // out of range: refused below if it is used
       start = comma + 1;

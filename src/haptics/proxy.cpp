@@ -21,9 +21,7 @@ constexpr double kMinNormalAgreement = 0.0;
 // contact shows stick-slip, as real dry friction does).
 constexpr double kRestick = 1e-3;
 
-double model_diagonal(const SlabModel& m) noexcept {
-  return m.source_diagonal > 0 ? m.source_diagonal : 1.0;
-}
+double model_diagonal(const SlabModel& m) noexcept { return m.source_diagonal > 0 ? m.source_diagonal : 1.0; }
 
 // Surface sample under slab coordinates: (slab, bary) -> surface point at δ on the projection line,
 // with the force-shading normal (SlabModel::haptic_normals) interpolated over the same grid
@@ -58,8 +56,8 @@ bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Cont
 
 // Re-projects point @p x onto the displaced surface: locate it, then take the surface point on its
 // projection line. Returns false when x is in no slab, or in a slab that faces away.
-bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x, const Vec3& n_ref,
-               double min_cos, AlphaSolver solver, QueryCache& cache, Contact& out) noexcept {
+bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x, const Vec3& n_ref, double min_cos,
+               AlphaSolver solver, QueryCache& cache, Contact& out) noexcept {
   SlabCoordinates c;
   const int slab = locator.find(x, cache.last_slab, solver, c);
   if (slab < 0) return false;
@@ -176,7 +174,8 @@ ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const
       const int subs = std::min(p.max_tunnel_steps, static_cast<int>(std::ceil(len / step)));
       QueryCache sub_cache = s.hip_cache;
       for (int k = 1; k < subs; ++k) {
-        const Contact ck = query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache, p.solver);
+        const Contact ck =
+            query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache, p.solver);
         if (ck.penetrating()) {
           c = ck;
           break;
@@ -295,7 +294,7 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
   s.normal = c.normal;
   s.position = s.contact ? Vec3(hip + c.normal * c.ray_depth()) : hip;  // the paper's SCP (§3.3)
   out.force = f.force;
-  out.status = f.status == ForceStatus::BadInput ? ProxyStatus::BadInput
+  out.status = f.status == ForceStatus::BadInput  ? ProxyStatus::BadInput
                : f.status == ForceStatus::Clamped ? ProxyStatus::Clamped
                : s.contact                        ? ProxyStatus::Sliding
                                                   : ProxyStatus::Free;

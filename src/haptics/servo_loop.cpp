@@ -73,7 +73,8 @@ ServoStats run_servo_loop(const ServoOptions& o, ServoTickFn tick, void* user, c
       st.time_s = k * period_s;
       if (o.realtime) st.missed = static_cast<int64_t>(std::chrono::duration<double>(a - due).count() / period_s);
       if (st.missed > o.watchdog_ticks) ++trips;
-      if (o.stop && stop_at == n && o.stop->load(std::memory_order_relaxed)) stop_at = std::min(n, k + ramp_out_ticks + 1);
+      if (o.stop && stop_at == n && o.stop->load(std::memory_order_relaxed))
+        stop_at = std::min(n, k + ramp_out_ticks + 1);
       st.stopping = k + ramp_out_ticks >= stop_at;
       st.force_gain = env.update(period_s, st.missed, st.stopping);
       const double cpu0 = o.cpu_time ? thread_cpu_ns() : 0.0;

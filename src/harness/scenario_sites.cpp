@@ -34,12 +34,13 @@ double percentile(std::vector<double> v, double q) {
 
 // The bake represents the input's surface at @p p (normal @p n) when a point a quarter of the part's
 // thickness @p t inside it is inside the slab model's surface, with its surface point within t/4
-// of p's tangent plane (the projection line is oblique) and its normal within 25 degrees of n. A sheet thinner than the bake resolves fails this on
-// one side (the two sides' slabs overlap or the displacement is clipped).
+// of p's tangent plane (the projection line is oblique) and its normal within 25 degrees of n. A sheet thinner than the
+// bake resolves fails this on one side (the two sides' slabs overlap or the displacement is clipped).
 bool represented(const SlabModel& model, const SlabLocator& locator, const Vec3& p, const Vec3& n, double t) {
   QueryCache cache;
   const Contact c = query(model, locator, p - n * (0.25 * t), cache);
-  return c.penetrating() && std::abs((c.surface_point - p).dot(n)) < 0.25 * t && c.normal.dot(n) > std::cos(25 * kPi / 180);
+  return c.penetrating() && std::abs((c.surface_point - p).dot(n)) < 0.25 * t &&
+         c.normal.dot(n) > std::cos(25 * kPi / 180);
 }
 
 // The bake represents a stroke when at every point a point 0.002 of the diagonal under it (about
@@ -83,9 +84,10 @@ ScenarioSites::ScenarioSites(const ExactMeshQuery& reference, const SiteOptions&
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   samples_.reserve(o_.samples);
   for (int i = 0; i < o_.samples; ++i) {
-    const size_t f = std::min(m.faces.size() - 1, static_cast<size_t>(std::lower_bound(cumulative.begin(),
-                                                                                       cumulative.end(), u01(rng) * area) -
-                                                                      cumulative.begin()));
+    const size_t f =
+        std::min(m.faces.size() - 1,
+                 static_cast<size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), u01(rng) * area) -
+                                     cumulative.begin()));
     double a = u01(rng), b = u01(rng);
     if (a + b > 1) a = 1 - a, b = 1 - b;
     const Tri& t = m.faces[f];
@@ -145,7 +147,7 @@ SurfaceStroke ScenarioSites::walk(const SurfacePoint& start, const Vec3& directi
     const SurfacePoint q = project(cur.point + d * h);
     const Vec3 moved = tangential(q.point - cur.point, q.normal);
     if (q.face < 0 || moved.norm() < 0.25 * h) break;  // stalled in a crease
-    d = moved.normalized();  // keep heading: the walk follows the surface like a geodesic
+    d = moved.normalized();                            // keep heading: the walk follows the surface like a geodesic
     s.points.push_back(q);
   }
   return s;
@@ -320,7 +322,7 @@ SurfaceStroke ScenarioSites::edges_spiral(const SlabModel& model, const SlabLoca
       if (slab >= 0 && last >= 0 && slab != last) ++st.slab_crossings;
       if (slab >= 0) last = slab;
     }
-    if (st.slab_crossings < 6) continue;  // a corner whose fan the spiral misses
+    if (st.slab_crossings < 6) continue;                           // a corner whose fan the spiral misses
     if (!stroke_represented(model, locator, st, diag_)) continue;  // the bake misses the relief there
     best_score = sc;
     best = std::move(st);

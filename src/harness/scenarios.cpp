@@ -37,7 +37,7 @@ struct Setup {
   Vec3 size;
   double diag = 1;
   Workspace ws;
-  std::vector<Vec3> targets;  // hand target per tick [m]
+  std::vector<Vec3> targets;                 // hand target per tick [m]
   int64_t steady_begin = 0, steady_end = 0;  // ticks of the steady part (force_cv, stiff hold)
   std::string note;
 };
@@ -265,10 +265,11 @@ void slide_path(const ScenarioSites& sites, const ScenarioOptions& o, Setup& s) 
   stroke(o, s, pts, lifted, o.speed_m_s);
   const Vec3& a = st.points.front().point;
   char buf[240];
-  std::snprintf(buf, sizeof buf,
-                "stroke from (%.4g, %.4g, %.4g) and back, %.1f cm each way at %.0f mm/s, hand pressing %.2f N along -n; "
-                "input roughness p95 %.1f deg, bend %.1f deg",
-                a.x(), a.y(), a.z(), 100 * one_way, 1e3 * o.speed_m_s, o.press_force_n, st.roughness_deg, st.bend_deg);
+  std::snprintf(
+      buf, sizeof buf,
+      "stroke from (%.4g, %.4g, %.4g) and back, %.1f cm each way at %.0f mm/s, hand pressing %.2f N along -n; "
+      "input roughness p95 %.1f deg, bend %.1f deg",
+      a.x(), a.y(), a.z(), 100 * one_way, 1e3 * o.speed_m_s, o.press_force_n, st.roughness_deg, st.bend_deg);
   s.note = buf;
 }
 
@@ -283,8 +284,8 @@ void press_path(const SurfacePoint& spot, const ScenarioOptions& o, Setup& s, do
   line_to(s.targets, out, 0.02, o.rate_hz);
   hold(s.targets, 0.05, o.rate_hz);
   char buf[200];
-  std::snprintf(buf, sizeof buf, "press at (%.4g, %.4g, %.4g) along -n, hand up to %.2f N, hold %.2f s",
-                spot.point.x(), spot.point.y(), spot.point.z(), hand_force, hold_s);
+  std::snprintf(buf, sizeof buf, "press at (%.4g, %.4g, %.4g) along -n, hand up to %.2f N, hold %.2f s", spot.point.x(),
+                spot.point.y(), spot.point.z(), hand_force, hold_s);
   s.note = buf;
 }
 
@@ -315,7 +316,8 @@ void thin_path(const ThinSite& site, const ScenarioOptions& o, Setup& s) {
   hold(s.targets, 0.05, o.rate_hz);
   const Vec3& in = site.entry.point;
   char buf[200];
-  std::snprintf(buf, sizeof buf, "thinnest sheet at (%.4g, %.4g, %.4g), %.2f mm thick at the device, pushed along (%.2f, %.2f, %.2f)",
+  std::snprintf(buf, sizeof buf,
+                "thinnest sheet at (%.4g, %.4g, %.4g), %.2f mm thick at the device, pushed along (%.2f, %.2f, %.2f)",
                 in.x(), in.y(), in.z(), 1e3 * (out_d - in_d).norm(), u.x(), u.y(), u.z());
   s.note = buf;
 }
@@ -330,11 +332,16 @@ Scenario parse_scenario(const std::string& name) {
 
 const char* scenario_name(Scenario s) noexcept {
   switch (s) {
-    case Scenario::Slide: return "slide";
-    case Scenario::Press: return "press";
-    case Scenario::Thin: return "thin";
-    case Scenario::Edges: return "edges";
-    case Scenario::Stiff: return "stiff";
+    case Scenario::Slide:
+      return "slide";
+    case Scenario::Press:
+      return "press";
+    case Scenario::Thin:
+      return "thin";
+    case Scenario::Edges:
+      return "edges";
+    case Scenario::Stiff:
+      return "stiff";
   }
   return "?";
 }
@@ -346,10 +353,18 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
   RunFlags flags;
   const ScenarioSites sites(ref);
   switch (o.scenario) {
-    case Scenario::Slide: slide_path(sites, o, s); break;
-    case Scenario::Press: press_path(sites.press_spot(), o, s, 1.2 * o.proxy.force.max_force, 0.3); break;
-    case Scenario::Thin: thin_path(sites.thin_site(model, locator), o, s); break;
-    case Scenario::Edges: edges_path(sites.edges_spiral(model, locator), o, s); break;
+    case Scenario::Slide:
+      slide_path(sites, o, s);
+      break;
+    case Scenario::Press:
+      press_path(sites.press_spot(), o, s, 1.2 * o.proxy.force.max_force, 0.3);
+      break;
+    case Scenario::Thin:
+      thin_path(sites.thin_site(model, locator), o, s);
+      break;
+    case Scenario::Edges:
+      edges_path(sites.edges_spiral(model, locator), o, s);
+      break;
     case Scenario::Stiff: {
       // Sweep stiffness in 1 dB-like steps (×10^0.1); stable = the held force settles (std/mean < 5 %)
       // and the contact returns no more energy than it absorbed (Colgate & Schenkel's passivity).
@@ -376,8 +391,9 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
       best_report.scenario = "stiff";
       best_report.stable_stiffness_n_per_m = best;
       best_report.passive_stiffness_n_per_m = passive;
-      best_report.note = "press-and-hold at 1.5 N, stiffness swept x10^0.1 from 200 N/m; stable: no pop-through and "
-                         "the held force settles (std/mean < 5 %); passive: also returned/absorbed work <= 1";
+      best_report.note =
+          "press-and-hold at 1.5 N, stiffness swept x10^0.1 from 200 N/m; stable: no pop-through and "
+          "the held force settles (std/mean < 5 %); passive: also returned/absorbed work <= 1";
       return best_report;
     }
   }
@@ -394,7 +410,8 @@ ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, co
   s.steady_end = static_cast<int64_t>(device.size());
   s.note = "replay of a recorded trajectory (open loop: the handle does not respond to the force)";
   const ScenarioSites sites(ref);
-  ScenarioReport r = score_run(model, locator, ref, &sites, o, s, RunFlags{}, device, static_cast<int64_t>(device.size()));
+  ScenarioReport r =
+      score_run(model, locator, ref, &sites, o, s, RunFlags{}, device, static_cast<int64_t>(device.size()));
   r.scenario = "replay";
   return r;
 }

@@ -85,8 +85,8 @@ std::vector<uint8_t> encode_png(const TextureAtlas& atlas, const std::string& pa
     out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
   };
   if (!stbi_write_png_to_func(sink, &png, atlas.width, atlas.height, 4, atlas.rgba.data(), atlas.width * 4))
-    throw IoError(path + ": PNG encoding of the " + std::to_string(atlas.width) + "x" +
-                  std::to_string(atlas.height) + " texture atlas failed");
+    throw IoError(path + ": PNG encoding of the " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) +
+                  " texture atlas failed");
   return png;
 }
 
@@ -109,8 +109,8 @@ void export_obj(const SlabModel& m, const std::string& path) {
   const std::vector<uint8_t> png = encode_png(atlas, png_path);
   write_file_atomic(png_path, png.data(), png.size());
 
-  const std::string mtl = "# hdm colour atlas\nnewmtl hdm_colour\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd " +
-                          png_name + "\n";
+  const std::string mtl =
+      "# hdm colour atlas\nnewmtl hdm_colour\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd " + png_name + "\n";
   write_file_atomic(mtl_path, mtl.data(), mtl.size());
 
   const int n = m.grid_n, S = m.slab_count(), per_slab = m.samples.per_slab;
@@ -272,8 +272,7 @@ void export_glb(const SlabModel& m, const std::string& path) {
   g.accessors[pos].maxValues = hi;
   const int nrm = add_accessor(g, nrm_view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, V);
   const int uv = add_accessor(g, uv_view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, V);
-  const int idx =
-      add_accessor(g, idx_view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
+  const int idx = add_accessor(g, idx_view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
 
   tinygltf::Image image;
   image.name = "hdm_colour_atlas";
@@ -334,9 +333,15 @@ void export_mesh(const SlabModel& model, const std::string& path) {
   const Format format = format_of(path);
   check_derived(model);
   switch (format) {
-    case Format::obj: export_obj(model, path); break;
-    case Format::ply: export_ply(model, path); break;
-    case Format::glb: export_glb(model, path); break;
+    case Format::obj:
+      export_obj(model, path);
+      break;
+    case Format::ply:
+      export_ply(model, path);
+      break;
+    case Format::glb:
+      export_glb(model, path);
+      break;
   }
 }
 

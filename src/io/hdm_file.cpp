@@ -152,7 +152,8 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
   if (m.inner.size() != m.outer.size()) refuse("inner and outer vertex counts differ");
   // Samples, boxes and normals are float: coordinates beyond max_model_coordinate would overflow them.
   for (size_t v = 0; v < m.inner.size(); ++v)
-    if (!(m.inner[v].cwiseAbs().maxCoeff() <= max_model_coordinate && m.outer[v].cwiseAbs().maxCoeff() <= max_model_coordinate))
+    if (!(m.inner[v].cwiseAbs().maxCoeff() <= max_model_coordinate &&
+          m.outer[v].cwiseAbs().maxCoeff() <= max_model_coordinate))
       refuse("coarse vertex " + std::to_string(v) + " is not finite or lies beyond ±1e15 model units");
   if (m.slabs.empty()) refuse("no slabs");
   const auto C = static_cast<int64_t>(m.inner.size()), S = static_cast<int64_t>(m.slabs.size());
@@ -163,7 +164,8 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
   for (size_t s = 0; s < m.slabs.size(); ++s)
     for (int k = 0; k < 3; ++k) {
       const int64_t a = m.slabs[s][k], b = m.slabs[s][(k + 1) % 3];
-      if (a < 0 || a >= C || b < 0 || b >= C || a == b) refuse("slab " + std::to_string(s) + ": invalid coarse vertex ids");
+      if (a < 0 || a >= C || b < 0 || b >= C || a == b)
+        refuse("slab " + std::to_string(s) + ": invalid coarse vertex ids");
       edges.push_back((uint64_t(std::min(a, b)) << 32) | uint64_t(std::max(a, b)));
     }
   std::sort(edges.begin(), edges.end());
@@ -181,16 +183,16 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
            " slabs over " + std::to_string(C) + " coarse vertices at grid n = " + std::to_string(n) + " have " +
            std::to_string(ns) + " samples)");
   if (static_cast<int64_t>(m.colour.size()) != nt)
-    refuse("corrupt (COLR holds " + std::to_string(m.colour.size()) + " colours, but the texel grid (n·m = " +
-           std::to_string(big_n) + ") has " + std::to_string(nt) + " texels)");
+    refuse("corrupt (COLR holds " + std::to_string(m.colour.size()) +
+           " colours, but the texel grid (n·m = " + std::to_string(big_n) + ") has " + std::to_string(nt) + " texels)");
 }
 
 }  // namespace
 
 void save_model(const SlabModel& m, const std::string& path) {
   Writer w;
-  w.bytes.reserve(64 + m.inner.size() * 48 + m.slabs.size() * 12 + m.displacement.size() * 16 +
-                  m.colour.size() * 12 + m.source.size());
+  w.bytes.reserve(64 + m.inner.size() * 48 + m.slabs.size() * 12 + m.displacement.size() * 16 + m.colour.size() * 12 +
+                  m.source.size());
   w.bytes.insert(w.bytes.end(), kMagic, kMagic + 4);
   w.put(hdm_format_version);
   w.tag("GRID", 2);

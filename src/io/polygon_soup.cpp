@@ -140,7 +140,8 @@ TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name) {
     }
   }
   if (other > 0)
-    throw InvalidInput(name + ": " + with_commas(other) + " of " + with_commas(soup.polygon_count() + soup.points_and_lines) +
+    throw InvalidInput(name + ": " + with_commas(other) + " of " +
+                       with_commas(soup.polygon_count() + soup.points_and_lines) +
                        " faces are points or line segments, not triangles");
   if (triangles.empty()) throw InvalidInput(name + ": holds no triangles");
 
@@ -157,7 +158,8 @@ TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name) {
   for (size_t i = 0; i < used.size(); ++i) key[i] = bits_of(positions[used[i]]);
   std::vector<int32_t> order(used.size());
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
+  std::sort(order.begin(), order.end(),
+            [&](int32_t a, int32_t b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
   std::vector<int32_t> first(used.size());  // index (into used) of the first vertex with the same position
   for (size_t i = 0; i < order.size(); ++i)
     first[order[i]] = (i > 0 && key[order[i]] == key[order[i - 1]]) ? first[order[i - 1]] : order[i];

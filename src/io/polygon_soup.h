@@ -18,10 +18,10 @@ namespace hdm::detail {
 /// to_triangle_mesh(); polygons of one or two corners are kept here and
 /// refused by to_triangle_mesh().
 struct PolygonSoup {
-  std::vector<Vec3> positions;         ///< file vertices, in file order [file units]
-  std::vector<int32_t> corners;        ///< corner vertex ids of every polygon, concatenated
+  std::vector<Vec3> positions;           ///< file vertices, in file order [file units]
+  std::vector<int32_t> corners;          ///< corner vertex ids of every polygon, concatenated
   std::vector<uint64_t> polygon_end{0};  ///< polygon p owns corners [polygon_end[p], polygon_end[p + 1])
-  uint64_t points_and_lines = 0;       ///< point and line elements (OBJ "p", "l"): refused like short polygons
+  uint64_t points_and_lines = 0;         ///< point and line elements (OBJ "p", "l"): refused like short polygons
 
   size_t polygon_count() const { return polygon_end.size() - 1; }
   void end_polygon() { polygon_end.push_back(corners.size()); }

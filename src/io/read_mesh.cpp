@@ -91,9 +91,9 @@ void check_raw_scene(const aiScene& scene, const std::string& path) {
 // Reads with assimp from @p path, or from @p bytes when it is not null (hint: the extension).
 const aiScene& import_scene(Assimp::Importer& importer, const std::string& path, const std::string_view* bytes) {
   // Drop every per-vertex attribute but the position, so JoinIdenticalVertices welds by position.
-  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
-                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS | aiComponent_COLORS |
-                                  aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS);
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                                          aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                                          aiComponent_BONEWEIGHTS);
   const aiScene* scene = nullptr;
   try {
     if (bytes) {
@@ -170,11 +170,16 @@ TriangleMesh read_mesh_from_memory(std::string_view bytes, const std::string& na
   check_input_size(bytes.size(), options.max_file_bytes, name);
   if (bytes.empty()) throw IoError(name + ": empty file");
   switch (format_of(name)) {
-    case Format::Obj: return detail::to_triangle_mesh(detail::parse_obj(bytes, name), name);
-    case Format::Ply: return detail::to_triangle_mesh(detail::parse_ply(bytes, name), name);
-    case Format::Off: return detail::to_triangle_mesh(detail::parse_off(bytes, name), name);
-    case Format::Stl: return detail::to_triangle_mesh(detail::parse_stl(bytes, name), name);
-    case Format::Other: break;
+    case Format::Obj:
+      return detail::to_triangle_mesh(detail::parse_obj(bytes, name), name);
+    case Format::Ply:
+      return detail::to_triangle_mesh(detail::parse_ply(bytes, name), name);
+    case Format::Off:
+      return detail::to_triangle_mesh(detail::parse_off(bytes, name), name);
+    case Format::Stl:
+      return detail::to_triangle_mesh(detail::parse_stl(bytes, name), name);
+    case Format::Other:
+      break;
   }
   return read_with_assimp(name, &bytes);
 }

@@ -23,9 +23,13 @@ struct Tokens {
   std::string_view rest;
   std::string_view next() {
     size_t a = 0;
-    while (a < rest.size() && (rest[a] == ' ' || rest[a] == '\t' || rest[a] == '\r' || rest[a] == '\v' || rest[a] == '\f')) ++a;
+    while (a < rest.size() &&
+           (rest[a] == ' ' || rest[a] == '\t' || rest[a] == '\r' || rest[a] == '\v' || rest[a] == '\f'))
+      ++a;
     size_t b = a;
-    while (b < rest.size() && !(rest[b] == ' ' || rest[b] == '\t' || rest[b] == '\r' || rest[b] == '\v' || rest[b] == '\f')) ++b;
+    while (b < rest.size() &&
+           !(rest[b] == ' ' || rest[b] == '\t' || rest[b] == '\r' || rest[b] == '\v' || rest[b] == '\f'))
+      ++b;
     const std::string_view t = rest.substr(a, b - a);
     rest.remove_prefix(b);
     return t;
@@ -62,7 +66,8 @@ PolygonSoup parse_obj(std::string_view bytes, const std::string& name) {
         std::string_view more = bytes.substr(pos, end - pos);
         pos = end + 1;
         if (const size_t hash = more.find('#'); hash != std::string_view::npos) more = more.substr(0, hash);
-        while (!more.empty() && (more.back() == '\r' || more.back() == ' ' || more.back() == '\t')) more.remove_suffix(1);
+        while (!more.empty() && (more.back() == '\r' || more.back() == ' ' || more.back() == '\t'))
+          more.remove_suffix(1);
         const bool again = !more.empty() && more.back() == '\\';
         joined += ' ';
         joined.append(again ? more.substr(0, more.size() - 1) : more);
@@ -77,8 +82,11 @@ PolygonSoup parse_obj(std::string_view bytes, const std::string& name) {
       double c[3] = {0, 0, 0};
       for (int d = 0; d < 3; ++d) {
         const std::string_view t = tokens.next();
-        if (t.empty()) fail(first_line, "vertex " + std::to_string(soup.positions.size()) + " has " + std::to_string(d) + " coordinates, expected 3");
-        if (!parse_double(t, c[d])) fail(first_line, "vertex " + std::to_string(soup.positions.size()) + ": " + quoted(t) + " is not a number");
+        if (t.empty())
+          fail(first_line, "vertex " + std::to_string(soup.positions.size()) + " has " + std::to_string(d) +
+                               " coordinates, expected 3");
+        if (!parse_double(t, c[d]))
+          fail(first_line, "vertex " + std::to_string(soup.positions.size()) + ": " + quoted(t) + " is not a number");
       }
       if (soup.positions.size() >= size_t(std::numeric_limits<int32_t>::max()))
         fail(first_line, "more than hdm's limit of 2,147,483,647 vertices");
@@ -88,13 +96,18 @@ PolygonSoup parse_obj(std::string_view bytes, const std::string& name) {
       for (std::string_view t = tokens.next(); !t.empty(); t = tokens.next()) {
         const std::string_view v = t.substr(0, t.find('/'));
         int64_t id = 0;
-        if (!parse_int(v, id) || id == 0) fail(first_line, "face corner " + quoted(t) + " is not a vertex index (1-based, or negative to count back)");
+        if (!parse_int(v, id) || id == 0)
+          fail(first_line, "face corner " + quoted(t) + " is not a vertex index (1-based, or negative to count back)");
         if (id < 0) {
-          if (id < -nv) fail(first_line, "face corner " + std::to_string(id) + " counts back past the first vertex (" + std::to_string(nv) + " vertices so far)");
+          if (id < -nv)
+            fail(first_line, "face corner " + std::to_string(id) + " counts back past the first vertex (" +
+                                 std::to_string(nv) + " vertices so far)");
           id += nv;
         } else {
           id -= 1;  // 1-based; may refer to a vertex defined further on, checked at the end
-          if (id >= std::numeric_limits<int32_t>::max()) fail(first_line, "face refers to vertex " + std::to_string(id + 1) + ", more than hdm's limit of 2,147,483,647");
+          if (id >= std::numeric_limits<int32_t>::max())
+            fail(first_line,
+                 "face refers to vertex " + std::to_string(id + 1) + ", more than hdm's limit of 2,147,483,647");
           if (id > max_ref) max_ref = id, max_ref_line = first_line;
         }
         soup.corners.push_back(static_cast<int32_t>(id));

@@ -66,7 +66,8 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
     if (in.at_line_end() && (!in.next_line() || !in.next_content_line())) in.fail("the file ends before the counts");
   }
   const int64_t nv = read_count(in, "vertex");
-  if (in.at_line_end() && (!in.next_line() || !in.next_content_line())) in.fail("the OFF header ends before its face count");
+  if (in.at_line_end() && (!in.next_line() || !in.next_content_line()))
+    in.fail("the OFF header ends before its face count");
   const int64_t nf = read_count(in, "face");
   in.next_line();  // the edge count, if any, is not used
 
@@ -87,11 +88,14 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
   soup.polygon_end.reserve(static_cast<size_t>(nf) + 1);
   for (int64_t v = 0; v < nv; ++v) {
     if (!in.next_content_line())
-      in.fail("the file ends after " + with_commas(v) + " of the " + with_commas(need_v) + " vertices its header claims");
+      in.fail("the file ends after " + with_commas(v) + " of the " + with_commas(need_v) +
+              " vertices its header claims");
     double c[4] = {0, 0, 0, 1};
     for (int d = 0; d < (homogeneous ? 4 : 3); ++d) {
       const std::string_view t = in.token(true);
-      if (t.empty()) in.fail("vertex " + std::to_string(v) + " has " + std::to_string(d) + " coordinates, expected " + (homogeneous ? "4" : "3"));
+      if (t.empty())
+        in.fail("vertex " + std::to_string(v) + " has " + std::to_string(d) + " coordinates, expected " +
+                (homogeneous ? "4" : "3"));
       if (!parse_double(t, c[d])) in.fail("vertex " + std::to_string(v) + ": " + quoted(t) + " is not a number");
     }
     soup.positions.emplace_back(c[0] / c[3], c[1] / c[3], c[2] / c[3]);
@@ -112,7 +116,8 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
       const std::string_view t = in.token(true);
       int64_t id = 0;
       if (t.empty())
-        in.fail("face " + std::to_string(f) + " lists " + std::to_string(j) + " of its " + std::to_string(corners) + " corners");
+        in.fail("face " + std::to_string(f) + " lists " + std::to_string(j) + " of its " + std::to_string(corners) +
+                " corners");
       if (!parse_int(t, id)) in.fail("face " + std::to_string(f) + ": corner " + quoted(t) + " is not an integer");
       if (id < 0 || id >= nv)
         in.fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(id) + ", the file has " +

@@ -36,11 +36,20 @@ Type type_named(std::string_view t) {
 }
 uint64_t size_of(Type t) {
   switch (t) {
-    case Type::I8: case Type::U8: return 1;
-    case Type::I16: case Type::U16: return 2;
-    case Type::I32: case Type::U32: case Type::F32: return 4;
-    case Type::F64: return 8;
-    case Type::None: break;
+    case Type::I8:
+    case Type::U8:
+      return 1;
+    case Type::I16:
+    case Type::U16:
+      return 2;
+    case Type::I32:
+    case Type::U32:
+    case Type::F32:
+      return 4;
+    case Type::F64:
+      return 8;
+    case Type::None:
+      break;
   }
   return 0;
 }
@@ -79,15 +88,24 @@ class BinaryBody {
       bits |= uint64_t(static_cast<uint8_t>(bytes_[pos_ + (big_ ? n - 1 - k : k)])) << (8 * k);
     pos_ += n;
     switch (t) {
-      case Type::I8: return static_cast<int8_t>(bits);
-      case Type::U8: return static_cast<uint8_t>(bits);
-      case Type::I16: return static_cast<int16_t>(bits);
-      case Type::U16: return static_cast<uint16_t>(bits);
-      case Type::I32: return static_cast<int32_t>(bits);
-      case Type::U32: return static_cast<uint32_t>(bits);
-      case Type::F32: return std::bit_cast<float>(static_cast<uint32_t>(bits));
-      case Type::F64: return std::bit_cast<double>(bits);
-      case Type::None: break;
+      case Type::I8:
+        return static_cast<int8_t>(bits);
+      case Type::U8:
+        return static_cast<uint8_t>(bits);
+      case Type::I16:
+        return static_cast<int16_t>(bits);
+      case Type::U16:
+        return static_cast<uint16_t>(bits);
+      case Type::I32:
+        return static_cast<int32_t>(bits);
+      case Type::U32:
+        return static_cast<uint32_t>(bits);
+      case Type::F32:
+        return std::bit_cast<float>(static_cast<uint32_t>(bits));
+      case Type::F64:
+        return std::bit_cast<double>(bits);
+      case Type::None:
+        break;
     }
     return 0;
   }
@@ -179,7 +197,8 @@ void read_body(Body& body, const std::vector<Element>& elements, const Element* 
 
 PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
   TextCursor in(bytes, name);
-  if (in.token() != "ply" || !in.at_line_end()) throw IoError(name + ": not a PLY file (the first line is not \"ply\")");
+  if (in.token() != "ply" || !in.at_line_end())
+    throw IoError(name + ": not a PLY file (the first line is not \"ply\")");
 
   // ---- header: its lines up to end_header, found first so binary data is never read as header ----
   size_t header_end = 0;
@@ -206,10 +225,14 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
       continue;
     } else if (key == "format") {
       const std::string_view f = in.token();
-      if (f == "ascii") format = Format::Ascii;
-      else if (f == "binary_little_endian") format = Format::BinaryLittle;
-      else if (f == "binary_big_endian") format = Format::BinaryBig;
-      else in.fail("unknown PLY format " + quoted(f) + " (ascii, binary_little_endian or binary_big_endian)");
+      if (f == "ascii")
+        format = Format::Ascii;
+      else if (f == "binary_little_endian")
+        format = Format::BinaryLittle;
+      else if (f == "binary_big_endian")
+        format = Format::BinaryBig;
+      else
+        in.fail("unknown PLY format " + quoted(f) + " (ascii, binary_little_endian or binary_big_endian)");
       have_format = true;
     } else if (key == "element") {
       Element e;

@@ -71,8 +71,10 @@ PolygonSoup parse_ascii(std::string_view bytes, const std::string& name) {
   };
   auto expect = [&](std::string_view word, const char* where) {
     const std::string_view t = next();
-    if (t.empty()) in.fail(std::string("truncated (the file ends ") + where + ", expected \"" + std::string(word) + "\")");
-    if (!same_word(t, word)) in.fail(std::string("expected \"") + std::string(word) + "\" " + where + ", found " + quoted(t));
+    if (t.empty())
+      in.fail(std::string("truncated (the file ends ") + where + ", expected \"" + std::string(word) + "\")");
+    if (!same_word(t, word))
+      in.fail(std::string("expected \"") + std::string(word) + "\" " + where + ", found " + quoted(t));
   };
   auto number = [&](const char* what) {
     const std::string_view t = next();
@@ -125,7 +127,9 @@ PolygonSoup parse_ascii(std::string_view bytes, const std::string& name) {
 
 PolygonSoup parse_stl(std::string_view bytes, const std::string& name) {
   size_t first = 0;
-  while (first < bytes.size() && (bytes[first] == ' ' || bytes[first] == '\t' || bytes[first] == '\r' || bytes[first] == '\n')) ++first;
+  while (first < bytes.size() &&
+         (bytes[first] == ' ' || bytes[first] == '\t' || bytes[first] == '\r' || bytes[first] == '\n'))
+    ++first;
   const bool solid = bytes.size() - first >= 5 && same_word(bytes.substr(first, 5), "solid");
   if (bytes.size() >= header_bytes) {
     uint32_t n = 0;

@@ -75,7 +75,8 @@ class TextCursor {
     skip_blanks();
     const size_t start = pos_;
     if (comments && pos_ < text_.size() && text_[pos_] == '#') return text_.substr(start, 0);
-    while (pos_ < text_.size() && !is_blank(text_[pos_]) && text_[pos_] != '\n' && !(comments && text_[pos_] == '#')) ++pos_;
+    while (pos_ < text_.size() && !is_blank(text_[pos_]) && text_[pos_] != '\n' && !(comments && text_[pos_] == '#'))
+      ++pos_;
     return text_.substr(start, pos_ - start);
   }
   /// Leaves the cursor just before @p token (which token() returned) so it is read again.
@@ -138,8 +139,7 @@ inline std::string integer_text(double v) {
 /// A token for an error message: at most 24 characters, non-printable bytes as '?'.
 inline std::string quoted(std::string_view token) {
   std::string out = "\"";
-  for (size_t k = 0; k < token.size() && k < 24; ++k)
-    out += (token[k] >= 0x20 && token[k] < 0x7f) ? token[k] : '?';
+  for (size_t k = 0; k < token.size() && k < 24; ++k) out += (token[k] >= 0x20 && token[k] < 0x7f) ? token[k] : '?';
   if (token.size() > 24) out += "...";
   return out + "\"";
 }

@@ -265,8 +265,10 @@ class Simplifier {
           const int32_t p = cycle[(root + j) % k], q = cycle[(root + j + 1) % k];
           if (r != r0 && r != p && r != q) continue;
           const Vec3 n = (pos_[p] - pos_[r0]).cross(pos_[q] - pos_[r0]);
-          if (!(n.norm() > 0)) after_.push_back(Vec3::Zero());
-          else after_.push_back(n.normalized());
+          if (!(n.norm() > 0))
+            after_.push_back(Vec3::Zero());
+          else
+            after_.push_back(n.normalized());
         }
         worst = std::min(worst, visibility(after_));
       }
@@ -622,7 +624,7 @@ class Simplifier {
   double max_angle_ = 0;     // acos(min_visibility)
   std::priority_queue<Candidate> heap_;
   std::vector<int32_t> nbr_, ra_, rb_, shared_, fold_ring_, unfolded_;
-  std::vector<uint8_t> folded_;  // stars no direction sees (visibility <= kFold)
+  std::vector<uint8_t> folded_;          // stars no direction sees (visibility <= kFold)
   static constexpr double kFold = 0.02;  // a star seen at no better dot than this is folded
   std::vector<Vec3> before_, after_;
   int64_t faces_left_ = 0, features_ = 0, collapses_ = 0;

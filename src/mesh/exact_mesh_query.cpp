@@ -27,7 +27,8 @@ ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw NumericalError("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneBuildQuality(impl_->scene, quality == BvhQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+  rtcSetSceneBuildQuality(impl_->scene,
+                          quality == BvhQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   // Robust (watertight) triangle tests: a bake ray through an input vertex or edge, which a coarse
   // mesh at the input's own resolution casts on purpose, must hit one of its faces.
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
@@ -54,7 +55,8 @@ ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
       if (!(n.norm() > 0)) continue;
       const Vec3 u = n.normalized();
       for (int k = 0; k < 3; ++k) {
-        const Vec3 e1 = mesh.vertices[t[(k + 1) % 3]] - mesh.vertices[t[k]], e2 = mesh.vertices[t[(k + 2) % 3]] - mesh.vertices[t[k]];
+        const Vec3 e1 = mesh.vertices[t[(k + 1) % 3]] - mesh.vertices[t[k]],
+                   e2 = mesh.vertices[t[(k + 2) % 3]] - mesh.vertices[t[k]];
         impl_->vertex_normal[t[k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * u;
         const uint64_t a = uint64_t(t[k]), b = uint64_t(t[(k + 1) % 3]);
         impl_->edge_normal[std::min(a, b) * nv + std::max(a, b)] += u;
@@ -76,7 +78,8 @@ struct WithinState {
 bool within_callback(RTCPointQueryFunctionArguments* args) {
   auto* st = static_cast<WithinState*>(args->userPtr);
   const Tri& f = st->mesh->faces[args->primID];
-  const Vec3 q = closest_point_on_triangle(st->p, st->mesh->vertices[f[0]], st->mesh->vertices[f[1]], st->mesh->vertices[f[2]]);
+  const Vec3 q =
+      closest_point_on_triangle(st->p, st->mesh->vertices[f[0]], st->mesh->vertices[f[1]], st->mesh->vertices[f[2]]);
   if ((q - st->p).norm() <= st->radius) st->out->push_back(static_cast<int32_t>(args->primID));
   return false;  // the query sphere never shrinks
 }
@@ -133,8 +136,8 @@ struct PointQueryState {
 bool point_query_callback(RTCPointQueryFunctionArguments* args) {
   auto* st = static_cast<PointQueryState*>(args->userPtr);
   const Tri& f = st->mesh->faces[args->primID];
-  const Vec3 q = closest_point_on_triangle(st->p, st->mesh->vertices[f[0]], st->mesh->vertices[f[1]],
-                                           st->mesh->vertices[f[2]]);
+  const Vec3 q =
+      closest_point_on_triangle(st->p, st->mesh->vertices[f[0]], st->mesh->vertices[f[1]], st->mesh->vertices[f[2]]);
   const double d = (q - st->p).norm();
   if (d < st->best.distance) {
     st->best = {q, d, static_cast<int32_t>(args->primID)};
@@ -174,7 +177,8 @@ ClosestPoint ExactMeshQuery::closest_point(const Vec3& p, double radius) const {
   q.y = static_cast<float>(p.y());
   q.z = static_cast<float>(p.z());
   q.time = 0;
-  q.radius = std::isinf(radius) ? std::numeric_limits<float>::infinity() : static_cast<float>(radius) * 1.0001f + 1e-30f;
+  q.radius =
+      std::isinf(radius) ? std::numeric_limits<float>::infinity() : static_cast<float>(radius) * 1.0001f + 1e-30f;
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(impl_->scene, &q, &ctx, point_query_callback, &st);

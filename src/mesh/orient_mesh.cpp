@@ -72,8 +72,10 @@ OrientReport orient_outward(TriangleMesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
       const int32_t g = twin(a, b);
-      if (g >= 0) parent[find(int32_t(f))] = find(g);
-      else boundary.emplace_back(a, b);
+      if (g >= 0)
+        parent[find(int32_t(f))] = find(g);
+      else
+        boundary.emplace_back(a, b);
     }
   std::unordered_map<int32_t, int32_t> part_of_root;
   std::vector<Part> parts;
@@ -86,7 +88,8 @@ OrientReport orient_outward(TriangleMesh& mesh) {
     Part& p = parts[it->second];
     p.faces.push_back(int32_t(f));
     for (int32_t v : mesh.faces[f]) p.box.extend(mesh.vertices[v]);
-    const Vec3 &a = mesh.vertices[mesh.faces[f][0]], &b = mesh.vertices[mesh.faces[f][1]], &c = mesh.vertices[mesh.faces[f][2]];
+    const Vec3 &a = mesh.vertices[mesh.faces[f][0]], &b = mesh.vertices[mesh.faces[f][1]],
+               &c = mesh.vertices[mesh.faces[f][2]];
     p.area += 0.5 * (b - a).cross(c - a).norm();
     p.volume += a.dot(b.cross(c)) / 6;
   }
@@ -132,16 +135,20 @@ OrientReport orient_outward(TriangleMesh& mesh) {
   for (size_t i = 0; i < parts.size(); ++i) {
     Part& p = parts[i];
     ++rep.components;
-    if (p.closed) ++rep.closed, solid.push_back(int32_t(i));
-    else if (p.cap_area < 0.25 * p.area) ++rep.nearly_closed, solid.push_back(int32_t(i));
-    else ++rep.sheets;
+    if (p.closed)
+      ++rep.closed, solid.push_back(int32_t(i));
+    else if (p.cap_area < 0.25 * p.area)
+      ++rep.nearly_closed, solid.push_back(int32_t(i));
+    else
+      ++rep.sheets;
   }
   for (int32_t i : solid) {
     const Part& p = parts[i];
     int depth = 0;
     const Vec3& probe = mesh.vertices[mesh.faces[p.faces[0]][0]];
     for (int32_t j : solid)
-      if (j != i && parts[j].box.contains(p.box.min) && parts[j].box.contains(p.box.max)) depth += inside_part(mesh, parts[j], probe);
+      if (j != i && parts[j].box.contains(p.box.min) && parts[j].box.contains(p.box.max))
+        depth += inside_part(mesh, parts[j], probe);
     const bool outward = (p.volume > 0) == (depth % 2 == 0);
     if (outward) continue;
     ++rep.flipped;

@@ -103,8 +103,7 @@ TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, cons
   polygons.reserve(mesh.faces.size());
   for (const Tri& f : mesh.faces) polygons.push_back({size_t(f[0]), size_t(f[1]), size_t(f[2])});
   std::set<std::array<Point, 3>> original_orientation;
-  for (const Tri& f : mesh.faces)
-    original_orientation.insert(rotated({points[f[0]], points[f[1]], points[f[2]]}));
+  for (const Tri& f : mesh.faces) original_orientation.insert(rotated({points[f[0]], points[f[1]], points[f[2]]}));
 
   // Weld, drop repeated-vertex and duplicate faces, drop unused points.
   const size_t v0 = points.size(), f0 = polygons.size();

@@ -41,8 +41,7 @@ TriangleMesh subdivide_mesh(const TriangleMesh& mesh, int64_t min_triangles, int
   if (static_cast<int64_t>(mesh.faces.size()) >= min_triangles) return mesh;
 
   Mesh sm;
-  sm.reserve(static_cast<Mesh::size_type>(mesh.vertices.size()),
-             static_cast<Mesh::size_type>(3 * mesh.faces.size()),
+  sm.reserve(static_cast<Mesh::size_type>(mesh.vertices.size()), static_cast<Mesh::size_type>(3 * mesh.faces.size()),
              static_cast<Mesh::size_type>(mesh.faces.size()));
   std::vector<Mesh::Vertex_index> vid;
   vid.reserve(mesh.vertices.size());

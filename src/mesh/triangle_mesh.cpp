@@ -2,7 +2,6 @@
 #include <hdm/core/error.h>
 #include <hdm/mesh/triangle_mesh.h>
 
-
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
@@ -60,18 +59,21 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
       ++j;
     }
     const size_t uses = j - i;
-    if (uses == 1) ++t.boundary_edges;
-    else if (uses > 2) ++t.non_manifold_edges;
-    else if (forward != 1) ++t.inconsistent_edges;
+    if (uses == 1)
+      ++t.boundary_edges;
+    else if (uses > 2)
+      ++t.non_manifold_edges;
+    else if (forward != 1)
+      ++t.inconsistent_edges;
     i = j;
   }
-  for (size_t v = 0; v < parent.size(); ++v) t.components += find_root(parent, static_cast<int32_t>(v)) == static_cast<int32_t>(v);
+  for (size_t v = 0; v < parent.size(); ++v)
+    t.components += find_root(parent, static_cast<int32_t>(v)) == static_cast<int32_t>(v);
   return t;
 }
 
 void validate_mesh_data(const TriangleMesh& mesh, const std::string& name) {
-  if (mesh.faces.empty() || mesh.vertices.empty())
-    throw InvalidInput(name + ": mesh is empty (no triangles)");
+  if (mesh.faces.empty() || mesh.vertices.empty()) throw InvalidInput(name + ": mesh is empty (no triangles)");
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
     if (!mesh.vertices[v].allFinite())
       throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");

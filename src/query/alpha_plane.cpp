@@ -19,13 +19,14 @@ struct Cubic {
 constexpr double kStepTol = 1e-6;
 
 // Root of f in [lo, hi] where f(lo) = flo, f(hi) = fhi have opposite signs.
-double solve(const Cubic& f, double lo, double hi, double flo, double fhi, double guess,
-             AlphaSolver solver) noexcept {
+double solve(const Cubic& f, double lo, double hi, double flo, double fhi, double guess, AlphaSolver solver) noexcept {
   if (solver == AlphaSolver::Bisection) {  // the paper's reference: exactly 15 steps
     for (int k = 0; k < 15; ++k) {
       const double mid = 0.5 * (lo + hi), fm = f(mid);
-      if ((fm > 0) == (flo > 0)) lo = mid, flo = fm;
-      else hi = mid;
+      if ((fm > 0) == (flo > 0))
+        lo = mid, flo = fm;
+      else
+        hi = mid;
     }
     return 0.5 * (lo + hi);
   }
@@ -40,8 +41,10 @@ double solve(const Cubic& f, double lo, double hi, double flo, double fhi, doubl
   for (int k = 0; k < 40; ++k) {
     const double fa = f(a);
     if (fa == 0) return a;
-    if ((fa > 0) == (flo > 0)) lo = a, flo = fa;
-    else hi = a;
+    if ((fa > 0) == (flo > 0))
+      lo = a, flo = fa;
+    else
+      hi = a;
     const double d1 = f.slope(a), d2 = f.curvature(a);
     const double step = 2 * fa * d1 / (2 * d1 * d1 - fa * d2);
     const double next = a - step;
@@ -74,8 +77,8 @@ int barycentrics(const SlabGeometry& g, const Vec3& p, double alpha, Vec3& bary)
 
 }  // namespace
 
-bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, double alpha_guess,
-                    SlabCoordinates& c, int& exit_edge) noexcept {
+bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c,
+                    int& exit_edge) noexcept {
   exit_edge = -1;
   if (!g.box.contains(p)) return false;  // also rejects NaN
   const Vec3 q = p - g.R0;

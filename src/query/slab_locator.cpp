@@ -143,8 +143,7 @@ int SlabLocator::find_grid(const Vec3& p, AlphaSolver solver, double guess, Slab
 }
 
 size_t SlabLocator::memory_bytes() const noexcept {
-  return filters_.capacity() * sizeof(Filter) +
-         edge_.capacity() * sizeof(edge_[0]) +
+  return filters_.capacity() * sizeof(Filter) + edge_.capacity() * sizeof(edge_[0]) +
          ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t) +
          grid_offsets_.capacity() * sizeof(int32_t) + grid_entries_.capacity() * sizeof(GridEntry);
 }

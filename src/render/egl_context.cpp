@@ -37,9 +37,10 @@ EGLDisplay surfaceless_display() {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!has_extension(client, "EGL_MESA_platform_surfaceless"))
       throw RenderError(std::string("no EGL display: the EGL surfaceless platform "
-                                    "(EGL_MESA_platform_surfaceless) is missing; ") + kInstallHint);
-    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-        eglGetProcAddress("eglGetPlatformDisplayEXT"));
+                                    "(EGL_MESA_platform_surfaceless) is missing; ") +
+                        kInstallHint);
+    auto get_platform_display =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (!get_platform_display)
       throw RenderError(std::string("no EGL display: eglGetPlatformDisplayEXT is missing; ") + kInstallHint);
     EGLDisplay d = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
@@ -67,9 +68,9 @@ EglContext::EglContext() {
     if (!eglChooseConfig(display, wanted, &config, 1, &found) || found < 1)
       throw RenderError("EGL has no OpenGL-capable config; " + std::string(kInstallHint));
   }
-  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                               EGL_NONE};
+  const EGLint attributes[] = {
+      EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
   if (context == EGL_NO_CONTEXT)
     throw RenderError("no OpenGL 4.5 core context (" + egl_error_text() +

@@ -14,8 +14,10 @@ namespace {
 GLuint make_renderbuffer(GLenum format, int samples, int width, int height) {
   GLuint rb = 0;
   glCreateRenderbuffers(1, &rb);
-  if (samples > 1) glNamedRenderbufferStorageMultisample(rb, samples, format, width, height);
-  else glNamedRenderbufferStorage(rb, format, width, height);
+  if (samples > 1)
+    glNamedRenderbufferStorageMultisample(rb, samples, format, width, height);
+  else
+    glNamedRenderbufferStorage(rb, format, width, height);
   return rb;
 }
 
@@ -32,8 +34,8 @@ Framebuffer::Framebuffer(int width, int height, int samples) : width_(width), he
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
   if (width < 1 || height < 1 || width > max_size || height > max_size)
-    throw InvalidInput("image size " + std::to_string(width) + "x" + std::to_string(height) +
-                       " is outside 1.." + std::to_string(max_size) + " pixels per side");
+    throw InvalidInput("image size " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1.." +
+                       std::to_string(max_size) + " pixels per side");
   samples_ = std::clamp(samples, 1, std::max(1, static_cast<int>(max_samples)));
 
   // Multisampled draw target; with MSAA off it doubles as the read-back target.
@@ -79,8 +81,8 @@ void Framebuffer::begin(const float rgb[3]) {
 std::vector<uint8_t> Framebuffer::read_rgb() {
   GLuint source = draw_fbo_;
   if (resolve_fbo_) {
-    glBlitNamedFramebuffer(draw_fbo_, resolve_fbo_, 0, 0, width_, height_, 0, 0, width_, height_,
-                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitNamedFramebuffer(draw_fbo_, resolve_fbo_, 0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
     source = resolve_fbo_;
   }
   const size_t row = static_cast<size_t>(width_) * 3;
@@ -91,8 +93,7 @@ std::vector<uint8_t> Framebuffer::read_rgb() {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   render_detail::check_gl("reading the rendered image back");
   // OpenGL's first row is the bottom one; PNG's is the top one.
-  for (int y = 0; y < height_; ++y)
-    std::memcpy(&image[row * y], &bottom_up[row * (height_ - 1 - y)], row);
+  for (int y = 0; y < height_; ++y) std::memcpy(&image[row * y], &bottom_up[row * (height_ - 1 - y)], row);
   return image;
 }
 

@@ -10,8 +10,7 @@ namespace hdm::render_detail {
 void check_gl(const char* what) {
   GLenum first = glGetError();
   if (first == GL_NO_ERROR) return;
-  while (glGetError() != GL_NO_ERROR) {
-  }
+  while (glGetError() != GL_NO_ERROR) {}
   char code[16];
   std::snprintf(code, sizeof code, "0x%04X", first);
   throw RenderError(std::string(what) + ": OpenGL error " + code);

@@ -108,10 +108,10 @@ struct SlabRenderer::State {
     size_t first;   // first index in the element buffer
     GLsizei count;  // indices
   };
-  std::vector<Level> levels;  // level k: every 2^k-th grid point
-  TextureAtlas layout;          // sizes and tile placement; rgba is dropped after upload
-  std::vector<Vertex> vertices; // staging for upload_slab
-  std::vector<uint8_t> tile;    // staging for upload_slab
+  std::vector<Level> levels;     // level k: every 2^k-th grid point
+  TextureAtlas layout;           // sizes and tile placement; rgba is dropped after upload
+  std::vector<Vertex> vertices;  // staging for upload_slab
+  std::vector<uint8_t> tile;     // staging for upload_slab
 
   void delete_buffers() {
     const GLuint buffers[] = {vbo, ebo};
@@ -165,8 +165,8 @@ struct SlabRenderer::State {
                          static_cast<GLsizeiptr>(per_slab * sizeof(Vertex)), vertices.data());
     const Eigen::Vector2i origin = layout.origin(slab);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(atlas, 0, origin.x() - 1, origin.y() - 1, layout.tile, layout.tile, GL_RGBA,
-                        GL_UNSIGNED_BYTE, tile.data());
+    glTextureSubImage2D(atlas, 0, origin.x() - 1, origin.y() - 1, layout.tile, layout.tile, GL_RGBA, GL_UNSIGNED_BYTE,
+                        tile.data());
     render_detail::check_gl("re-uploading a slab");
   }
 };
@@ -206,8 +206,7 @@ void SlabRenderer::upload_all(const SlabModel& model) {
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
   if (atlas.width > max_texture || atlas.height > max_texture)
     throw RenderError("render: the colour atlas (" + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) +
-                      " pixels) exceeds GL_MAX_TEXTURE_SIZE " + std::to_string(max_texture) +
-                      "; lower texel_density");
+                      " pixels) exceeds GL_MAX_TEXTURE_SIZE " + std::to_string(max_texture) + "; lower texel_density");
   const int S = model.slab_count(), n = model.grid_n, P = model.samples.per_slab;
   const long long indices = 3LL * S * grid::triangle_count(n);
   if (static_cast<long long>(S) * P > std::numeric_limits<uint32_t>::max() ||

@@ -114,9 +114,12 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
   SessionTick r;
   SessionCommand c;
   while (s.commands.pop(c)) {
-    if (c.kind == SessionCommand::SetBrush) s.brush = c.brush;
-    else if (c.kind == SessionCommand::Undo) s.editor.undo();
-    else s.editor.redo();
+    if (c.kind == SessionCommand::SetBrush)
+      s.brush = c.brush;
+    else if (c.kind == SessionCommand::Undo)
+      s.editor.undo();
+    else
+      s.editor.redo();
   }
   if (!device.begin_frame(r.device)) {
     r.ended = true;
@@ -128,7 +131,8 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
   r.force = r.out.force * t.force_gain;
   device.end_frame(r.force);  // the force first: edits never delay it
   ++s.stats.ticks;
-  const bool contact = r.out.contact.in_shell() && r.out.status != ProxyStatus::Free && r.out.status != ProxyStatus::BadInput;
+  const bool contact =
+      r.out.contact.in_shell() && r.out.status != ProxyStatus::Free && r.out.status != ProxyStatus::BadInput;
   s.stats.contact_ticks += contact;
 
   // The tool button makes strokes.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Bake: decimate (checked edge collapses, decimate_mesh()), choose ray directions and shell offsets, validate every slab,
-// cast one ray per sample against the input (Embree, TBB). Design notes §2.2, §3.7, §9-Q1..Q3.
+// Bake: decimate (checked edge collapses, decimate_mesh()), choose ray directions and shell offsets, validate every
+// slab, cast one ray per sample against the input (Embree, TBB). Design notes §2.2, §3.7, §9-Q1..Q3.
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
@@ -42,8 +42,8 @@ Coarse decimate(const TriangleMesh& mesh, int target) {
 }
 
 struct VertexFrame {
-  std::vector<Vec3> direction;  // unit ray direction per coarse vertex
-  std::vector<double> edge;     // mean incident edge length
+  std::vector<Vec3> direction;          // unit ray direction per coarse vertex
+  std::vector<double> edge;             // mean incident edge length
   std::vector<int32_t> offsets, faces;  // CSR vertex -> faces
   std::vector<Vec3> face_normal;
 };
@@ -132,7 +132,8 @@ VertexFrame vertex_frames(const Coarse& c, int smoothing) {
       const Vec3 cand = sum.normalized();
       double mc = 2, mo = 2;
       for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
-        mc = std::min(mc, cand.dot(fr.face_normal[fr.faces[k]])), mo = std::min(mo, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
+        mc = std::min(mc, cand.dot(fr.face_normal[fr.faces[k]])),
+        mo = std::min(mo, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
       if (mc >= std::min(0.25, mo)) next[v] = cand;
     }
     fr.direction = std::move(next);
@@ -184,8 +185,8 @@ void untangle(Coarse& c) {
 }
 
 // Distance along ray x + t·d (t > 0) to the coarse surface, ignoring faces around vertex v.
-double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_t v, const Vec3& x,
-                     const Vec3& d, double far, std::vector<SegmentHit>& hits) {
+double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_t v, const Vec3& x, const Vec3& d,
+                     double far, std::vector<SegmentHit>& hits) {
   coarse.segment_hits(x, x + far * d, hits);
   for (const SegmentHit& h : hits) {
     bool incident = false;
@@ -203,7 +204,8 @@ namespace {
 SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const std::string& name, const BakeOptions& o,
                BakeReport* report) {
   const auto start = std::chrono::steady_clock::now();
-  if (o.grid_n < 1 || o.grid_n > 256) throw InvalidInput("--grid " + std::to_string(o.grid_n) + ": must be in [1, 256]");
+  if (o.grid_n < 1 || o.grid_n > 256)
+    throw InvalidInput("--grid " + std::to_string(o.grid_n) + ": must be in [1, 256]");
   if (o.texel_density < 1 || o.texel_density > 16)
     throw InvalidInput("texel density " + std::to_string(o.texel_density) + ": must be in [1, 16]");
   if (o.slabs < 0) throw InvalidInput("--slabs " + std::to_string(o.slabs) + ": must be positive");
@@ -212,8 +214,9 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   validate_for_bake(mesh, name);
   const double diag = bounds(mesh).diagonal();
   const int n = o.grid_n;
-  const int target =
-      o.slabs > 0 ? o.slabs : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) * o.density / (n * n))));
+  const int target = o.slabs > 0
+                         ? o.slabs
+                         : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) * o.density / (n * n))));
 
   progress(o, "decimate", 0);
   Coarse coarse = decimate(mesh, target);
@@ -290,7 +293,8 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
     const std::vector<double> in0 = need_in, out0 = need_out;
     for (const Tri& t : coarse.faces)
       for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) need_in[t[a]] = std::max(need_in[t[a]], in0[t[b]]), need_out[t[a]] = std::max(need_out[t[a]], out0[t[b]]);
+        for (int b = 0; b < 3; ++b)
+          need_in[t[a]] = std::max(need_in[t[a]], in0[t[b]]), need_out[t[a]] = std::max(need_out[t[a]], out0[t[b]]);
   }
   std::vector<double> off_in(nv), off_out(nv), cap_in(nv), cap_out(nv), min_off(nv), tgt_in(nv), tgt_out(nv);
   {
@@ -319,7 +323,8 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       for (int32_t f : near_faces) {
         if (ring2[f] == vi + 1) continue;
         const Tri& t = coarse.faces[f];
-        const Vec3 q = closest_point_on_triangle(x, coarse.vertices[t[0]], coarse.vertices[t[1]], coarse.vertices[t[2]]);
+        const Vec3 q =
+            closest_point_on_triangle(x, coarse.vertices[t[0]], coarse.vertices[t[1]], coarse.vertices[t[2]]);
         double& clear = (q - x).dot(d) > 0 ? clear_out : clear_in;
         clear = std::min(clear, (q - x).norm());
       }
@@ -430,7 +435,8 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
     } else {
       for (size_t f = 0; f < model.slabs.size(); ++f) {
         moved[f] = 0;
-        for (int32_t v : model.slabs[f]) moved[f] |= model.inner[v] != checked_inner[v] || model.outer[v] != checked_outer[v];
+        for (int32_t v : model.slabs[f])
+          moved[f] |= model.inner[v] != checked_inner[v] || model.outer[v] != checked_outer[v];
       }
       update_overlapping_pairs(model, moved, known_pairs);
     }
@@ -461,79 +467,81 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   // many rays without a surface, without it (overlaps are then reported by `hdm check`).
   const std::vector<double> tgt_in0 = tgt_in, tgt_out0 = tgt_out;
   for (int pass = 0; pass < 2; ++pass) {
-  const bool separating = pass == 0 && o.separate_slabs;
-  if (pass == 1 && !o.separate_slabs) break;
-  tgt_in = tgt_in0, tgt_out = tgt_out0;
-  for (size_t v = 0; v < nv; ++v) off_in[v] = off_out[v] = min_off[v], place(v);
-  rep.separated = separating;
-  // Corners at the last cast: later rounds recast only the columns whose slab moved.
-  std::vector<Vec3> cast_inner(nv, Vec3::Constant(NAN)), cast_outer(nv, Vec3::Constant(NAN));
-  std::vector<uint8_t> stale(nv);
-  for (int round = 0; round < 8; ++round) {
-    rep.shell_iterations = round + 1;
-    progress(o, "grow shell", round / 8.0);
-    grow();
-    progress(o, "separate", round / 8.0);
-    if (separating) separate();
-    for (size_t v = 0; v < nv; ++v)
-      stale[v] = !(model.inner[v] == cast_inner[v]) || !(model.outer[v] == cast_outer[v]);
-    cast_inner = model.inner;
-    cast_outer = model.outer;
-    // One ray per distinct sample, from the outer end inward; of the hits whose triangle faces
-    // outward, keep the one nearest the coarse surface (design notes §2.2 keep the outermost: in a
-    // thick shell between close parts, fingers or the walls of a hole, the outermost hit can be
-    // another part's surface, while the coarse surface follows the local one).
-    const int blocks = 20;
-    for (int b = 0; b < blocks; ++b) {
-      const int lo = int(int64_t(ns) * b / blocks), hi = int(int64_t(ns) * (b + 1) / blocks);
-      tbb::parallel_for(tbb::blocked_range<int>(lo, hi, 512), [&](const tbb::blocked_range<int>& r) {
-        std::vector<SegmentHit> hits;
-        for (int s = r.begin(); s < r.end(); ++s) {
-          const Tri& home = model.slabs[model.samples.home_slab[s]];
-          if (!stale[home[0]] && !stale[home[1]] && !stale[home[2]]) continue;
-          Vec3 p0, p1;
-          projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
-          input.segment_hits(p1, p0, hits);
-          const Vec3 up = p1 - p0;
-          missed[s] = 1;
-          undercut[s] = hits.size() > 1;
-          const int index = model.samples.home_index[s];
-          const double wT = model.samples.point_i[index] / double(n), wS = model.samples.point_j[index] / double(n);
-          const Vec3 coarse_point = (1 - wT - wS) * coarse.vertices[home[0]] + wS * coarse.vertices[home[1]] +
-                                    wT * coarse.vertices[home[2]];
-          const double t_coarse = (coarse_point - p0).dot(up) / std::max(up.squaredNorm(), 1e-300);
-          double best = INFINITY;
-          for (const SegmentHit& h : hits)
-            if (input.face_normal(h.face).dot(up) > 0 && std::abs(1.0 - h.t - t_coarse) < best) {
-              best = std::abs(1.0 - h.t - t_coarse);
-              model.displacement[s] = static_cast<float>(std::clamp(1.0 - h.t, 0.0, 1.0));
-              missed[s] = 0;
-            }
-        }
-      });
-      progress(o, "cast rays", double(b + 1) / blocks);
+    const bool separating = pass == 0 && o.separate_slabs;
+    if (pass == 1 && !o.separate_slabs) break;
+    tgt_in = tgt_in0, tgt_out = tgt_out0;
+    for (size_t v = 0; v < nv; ++v) off_in[v] = off_out[v] = min_off[v], place(v);
+    rep.separated = separating;
+    // Corners at the last cast: later rounds recast only the columns whose slab moved.
+    std::vector<Vec3> cast_inner(nv, Vec3::Constant(NAN)), cast_outer(nv, Vec3::Constant(NAN));
+    std::vector<uint8_t> stale(nv);
+    for (int round = 0; round < 8; ++round) {
+      rep.shell_iterations = round + 1;
+      progress(o, "grow shell", round / 8.0);
+      grow();
+      progress(o, "separate", round / 8.0);
+      if (separating) separate();
+      for (size_t v = 0; v < nv; ++v)
+        stale[v] = !(model.inner[v] == cast_inner[v]) || !(model.outer[v] == cast_outer[v]);
+      cast_inner = model.inner;
+      cast_outer = model.outer;
+      // One ray per distinct sample, from the outer end inward; of the hits whose triangle faces
+      // outward, keep the one nearest the coarse surface (design notes §2.2 keep the outermost: in a
+      // thick shell between close parts, fingers or the walls of a hole, the outermost hit can be
+      // another part's surface, while the coarse surface follows the local one).
+      const int blocks = 20;
+      for (int b = 0; b < blocks; ++b) {
+        const int lo = int(int64_t(ns) * b / blocks), hi = int(int64_t(ns) * (b + 1) / blocks);
+        tbb::parallel_for(tbb::blocked_range<int>(lo, hi, 512), [&](const tbb::blocked_range<int>& r) {
+          std::vector<SegmentHit> hits;
+          for (int s = r.begin(); s < r.end(); ++s) {
+            const Tri& home = model.slabs[model.samples.home_slab[s]];
+            if (!stale[home[0]] && !stale[home[1]] && !stale[home[2]]) continue;
+            Vec3 p0, p1;
+            projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+            input.segment_hits(p1, p0, hits);
+            const Vec3 up = p1 - p0;
+            missed[s] = 1;
+            undercut[s] = hits.size() > 1;
+            const int index = model.samples.home_index[s];
+            const double wT = model.samples.point_i[index] / double(n), wS = model.samples.point_j[index] / double(n);
+            const Vec3 coarse_point = (1 - wT - wS) * coarse.vertices[home[0]] + wS * coarse.vertices[home[1]] +
+                                      wT * coarse.vertices[home[2]];
+            const double t_coarse = (coarse_point - p0).dot(up) / std::max(up.squaredNorm(), 1e-300);
+            double best = INFINITY;
+            for (const SegmentHit& h : hits)
+              if (input.face_normal(h.face).dot(up) > 0 && std::abs(1.0 - h.t - t_coarse) < best) {
+                best = std::abs(1.0 - h.t - t_coarse);
+                model.displacement[s] = static_cast<float>(std::clamp(1.0 - h.t, 0.0, 1.0));
+                missed[s] = 0;
+              }
+          }
+        });
+        progress(o, "cast rays", double(b + 1) / blocks);
+      }
+      // Grow the shell where rays missed: outward if the outer end is inside the input, else inward.
+      int64_t misses = 0;
+      std::vector<uint8_t> grow_in(nv, 0), grow_out(nv, 0);
+      for (int s = 0; s < ns; ++s) {
+        if (!missed[s]) continue;
+        ++misses;
+        Vec3 p0, p1;
+        projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+        const bool out = input.inside(p1);
+        for (int32_t v : model.slabs[model.samples.home_slab[s]]) (out ? grow_out : grow_in)[v] = 1;
+      }
+      rep.ray_misses = misses;
+      if (misses == 0 || round == 7) break;
+      bool grew = false;
+      for (size_t v = 0; v < nv; ++v) {
+        if (grow_in[v] && tgt_in[v] < cap_in[v])
+          tgt_in[v] = std::min(cap_in[v], std::max(tgt_in[v], off_in[v]) * 1.5), grew = true;
+        if (grow_out[v] && tgt_out[v] < cap_out[v])
+          tgt_out[v] = std::min(cap_out[v], std::max(tgt_out[v], off_out[v]) * 1.5), grew = true;
+      }
+      if (!grew) break;
     }
-    // Grow the shell where rays missed: outward if the outer end is inside the input, else inward.
-    int64_t misses = 0;
-    std::vector<uint8_t> grow_in(nv, 0), grow_out(nv, 0);
-    for (int s = 0; s < ns; ++s) {
-      if (!missed[s]) continue;
-      ++misses;
-      Vec3 p0, p1;
-      projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
-      const bool out = input.inside(p1);
-      for (int32_t v : model.slabs[model.samples.home_slab[s]]) (out ? grow_out : grow_in)[v] = 1;
-    }
-    rep.ray_misses = misses;
-    if (misses == 0 || round == 7) break;
-    bool grew = false;
-    for (size_t v = 0; v < nv; ++v) {
-      if (grow_in[v] && tgt_in[v] < cap_in[v]) tgt_in[v] = std::min(cap_in[v], std::max(tgt_in[v], off_in[v]) * 1.5), grew = true;
-      if (grow_out[v] && tgt_out[v] < cap_out[v]) tgt_out[v] = std::min(cap_out[v], std::max(tgt_out[v], off_out[v]) * 1.5), grew = true;
-    }
-    if (!grew) break;
-  }
-  if (rep.ray_misses <= o.miss_limit * ns) break;
+    if (rep.ray_misses <= o.miss_limit * ns) break;
   }
   // Slab pairs that still overlap: none once separation converged; without separation (the
   // second pass) the exact check runs once here.
@@ -570,10 +578,10 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
 
   for (int s = 0; s < model.slab_count(); ++s) {
     const Tri& t = model.slabs[s];
-    if (slab_min_jacobian(model.geometry[s], model.outer[t[1]] - model.inner[t[1]], model.outer[t[2]] - model.inner[t[2]]) <= 0)
-      {
+    if (slab_min_jacobian(model.geometry[s], model.outer[t[1]] - model.inner[t[1]],
+                          model.outer[t[2]] - model.inner[t[2]]) <= 0) {
       ++rep.invalid_slabs;
-      }
+    }
   }
   rep.slabs = model.slab_count();
   rep.grid_n = n;

@@ -97,13 +97,20 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i + j <= n; ++i) {
         int32_t id;
-        if (i == 0 && j == 0) id = R;
-        else if (i == n) id = T;
-        else if (j == n) id = Sv;
-        else if (j == 0) id = edge_sample(R, T, i);
-        else if (i == 0) id = edge_sample(R, Sv, j);
-        else if (i + j == n) id = edge_sample(Sv, T, i);
-        else id = next_interior++;
+        if (i == 0 && j == 0)
+          id = R;
+        else if (i == n)
+          id = T;
+        else if (j == n)
+          id = Sv;
+        else if (j == 0)
+          id = edge_sample(R, T, i);
+        else if (i == 0)
+          id = edge_sample(R, Sv, j);
+        else if (i + j == n)
+          id = edge_sample(Sv, T, i);
+        else
+          id = next_interior++;
         const int local = grid::index(n, i, j);
         out[local] = id;
         if (L.home_slab[id] < 0) {

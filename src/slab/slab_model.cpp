@@ -197,8 +197,8 @@ void check(bool ok, const std::string& what) {
 template <class T>
 void fill_default(std::vector<T>& v, size_t n, T value, const char* name) {
   if (v.empty()) v.assign(n, value);
-  check(v.size() == n, std::string(name) + " has " + std::to_string(v.size()) + " entries, expected " +
-                           std::to_string(n));
+  check(v.size() == n,
+        std::string(name) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
 }
 
 void build_adjacency(SlabModel& m) {
@@ -236,12 +236,13 @@ void rebuild_derived(SlabModel& m) {
   check(!m.slabs.empty(), "no slabs");
   // Per-element checks build their message only on failure (millions of elements per model).
   for (size_t v = 0; v < m.inner.size(); ++v)
-    if (!(m.inner[v].allFinite() && m.outer[v].allFinite())) check(false, "coarse vertex " + std::to_string(v) + " is not finite");
+    if (!(m.inner[v].allFinite() && m.outer[v].allFinite()))
+      check(false, "coarse vertex " + std::to_string(v) + " is not finite");
   m.samples = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n);
   m.texels = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n * m.texel_density);
   const size_t ns = m.samples.count, nt = m.texels.count;
-  check(m.displacement.size() == ns, "displacement has " + std::to_string(m.displacement.size()) +
-                                         " samples, the layout has " + std::to_string(ns));
+  check(m.displacement.size() == ns,
+        "displacement has " + std::to_string(m.displacement.size()) + " samples, the layout has " + std::to_string(ns));
   for (size_t s = 0; s < ns; ++s)
     if (!(m.displacement[s] >= 0.0f && m.displacement[s] <= 1.0f))
       check(false, "displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
@@ -254,7 +255,8 @@ void rebuild_derived(SlabModel& m) {
   for (size_t t = 0; t < nt; ++t)
     if (!m.colour[t].allFinite()) check(false, "colour of texel " + std::to_string(t) + " is not finite");
   for (size_t s = 0; s < ns; ++s)
-    if (!(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) && std::isfinite(m.stiffness_scale[s])))
+    if (!(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) &&
+          std::isfinite(m.stiffness_scale[s])))
       check(false, "surface field of sample " + std::to_string(s) + " is not finite");
   for (size_t s = 0; s < ns; ++s)
     if (!(m.layer_displacement[s] >= 0.0f && m.layer_displacement[s] <= 1.0f))
@@ -272,8 +274,8 @@ void rebuild_derived(SlabModel& m) {
   m.geometry.resize(m.slabs.size());
   for (size_t s = 0; s < m.slabs.size(); ++s) {
     const Tri& t = m.slabs[s];
-    m.geometry[s] = make_slab_geometry(m.inner[t[0]], m.inner[t[1]], m.inner[t[2]], m.outer[t[0]], m.outer[t[1]],
-                                       m.outer[t[2]]);
+    m.geometry[s] =
+        make_slab_geometry(m.inner[t[0]], m.inner[t[1]], m.inner[t[2]], m.outer[t[0]], m.outer[t[1]], m.outer[t[2]]);
   }
   build_adjacency(m);
 

@@ -22,7 +22,8 @@ TEST(CgalClosestPointTest, matches_brute_force) {
     const Vec3 p(u(rng), u(rng), u(rng));
     double best = INFINITY;
     for (const Tri& t : m.faces)
-      best = std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+      best = std::min(best,
+                      (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
     EXPECT_NEAR((cgal.closest_point(p) - p).norm(), best, 1e-9) << p.transpose();
   }
 }

@@ -14,7 +14,8 @@ namespace {
 double brute_distance(const Vec3& p, const TriangleMesh& m) {
   double best = 1e300;
   for (const Tri& t : m.faces)
-    best = std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+    best =
+        std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
   return best;
 }
 

@@ -26,11 +26,13 @@ double roughness(const SlabModel& m, const Vec3& centre, double radius) {
     const Vec3 p = sample_position(m, s);
     if ((p - centre).norm() > radius) continue;
     Vec3 mean = Vec3::Zero(), normal = Vec3::Zero();
-    for (int e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e) mean += sample_position(m, L.neighbours[e]);
+    for (int e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e)
+      mean += sample_position(m, L.neighbours[e]);
     mean /= double(L.neighbour_offsets[s + 1] - L.neighbour_offsets[s]);
     for (int e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
       const Tri& t = L.triangles[L.incident_triangles[e]];
-      normal += (sample_position(m, t[1]) - sample_position(m, t[0])).cross(sample_position(m, t[2]) - sample_position(m, t[0]));
+      normal += (sample_position(m, t[1]) - sample_position(m, t[0]))
+                    .cross(sample_position(m, t[2]) - sample_position(m, t[0]));
     }
     sum += std::pow((p - mean).dot(normal.normalized()), 2);
     ++n;
@@ -147,7 +149,8 @@ TEST(Brushes, paint_blends_once_per_stroke_whatever_the_dwell) {
       for (const EditLogEntry& e : log)
         if (e.kind == EditLogEntry::Sweep) {
           const Vec3 p = f.model.positions[s].cast<double>(), u = e.sweep.to - e.sweep.from;
-          const double t = u.squaredNorm() > 0 ? std::clamp((p - e.sweep.from).dot(u) / u.squaredNorm(), 0.0, 1.0) : 0.0;
+          const double t =
+              u.squaredNorm() > 0 ? std::clamp((p - e.sweep.from).dot(u) / u.squaredNorm(), 0.0, 1.0) : 0.0;
           k = std::max(k, std::max(0.0, 1 - (p - e.sweep.from - t * u).norm() / paint.radius));
         }
       const double expected = before.friction_static[s] + k * (0.9 - before.friction_static[s]);
@@ -175,10 +178,12 @@ TEST(Brushes, strength_scales_the_cut) {
     // The deepest cut along the normal (the tool's bottom sits 1 mm under the surface).
     depth[run] = 0;
     for (int s = 0; s < f.model.samples.count; ++s)
-      depth[run] = std::max(depth[run], (test::baked_bunny(0, 16).positions[s] - f.model.positions[s]).cast<double>().dot(n));
+      depth[run] =
+          std::max(depth[run], (test::baked_bunny(0, 16).positions[s] - f.model.positions[s]).cast<double>().dot(n));
     std::printf("strength %.1f: cut %.3f mm\n", carve.strength, depth[run] / f.mm);
   }
-  EXPECT_NEAR(depth[0], 1.0 * test::BunnyStrokes().mm, 0.25 * test::BunnyStrokes().mm);  // the HIP 1 mm under the surface
+  EXPECT_NEAR(depth[0], 1.0 * test::BunnyStrokes().mm,
+              0.25 * test::BunnyStrokes().mm);  // the HIP 1 mm under the surface
   EXPECT_NEAR(depth[1] / depth[0], 0.5, 0.08);
 }
 
@@ -202,7 +207,8 @@ TEST(Layers, carving_exposes_the_under_layer_at_its_depth) {
       continue;
     }
     // Depth of the cut along the surface normal (independent of the layer's representation).
-    const double cut = (before.positions[s] - f.model.positions[s]).cast<double>().dot(before.normals[s].cast<double>());
+    const double cut =
+        (before.positions[s] - f.model.positions[s]).cast<double>().dot(before.normals[s].cast<double>());
     const bool is_exposed = f.model.displacement[s] < f.model.layer_displacement[s];
     if (std::abs(cut - t) < 0.05 * t) continue;  // at the layer's top itself: either
     EXPECT_EQ(is_exposed, cut > t) << "sample " << s << " cut " << cut / f.mm << " mm";

@@ -41,8 +41,10 @@ struct Fixture {
       Contact c;
       Vec3 hip;
       if (!contact_at(int(rng() % model.samples.count), 0.004, c, hip)) continue;
-      if (k % 2) carve(model, scratch, c, hip, radius_frac * diag, 0.0);
-      else add_material(model, scratch, c, radius_frac * diag, height_frac * diag);
+      if (k % 2)
+        carve(model, scratch, c, hip, radius_frac * diag, 0.0);
+      else
+        add_material(model, scratch, c, radius_frac * diag, height_frac * diag);
     }
   }
 };
@@ -161,8 +163,10 @@ TEST(EditToolsTest, edited_normals_match_a_brute_force_recompute) {
     Contact c;
     Vec3 hip;
     if (!f.contact_at(int(rng() % f.model.samples.count), 0.004, c, hip)) continue;
-    if (k % 2) carve(f.model, f.scratch, c, hip, 0.015 * f.diag, 0.0);
-    else add_material(f.model, f.scratch, c, 0.015 * f.diag, 0.004 * f.diag);
+    if (k % 2)
+      carve(f.model, f.scratch, c, hip, 0.015 * f.diag, 0.0);
+    else
+      add_material(f.model, f.scratch, c, 0.015 * f.diag, 0.004 * f.diag);
   }
   const std::vector<Vec3> ref = brute_force_normals(f.model);
   int moved = 0;
@@ -203,8 +207,10 @@ TEST(EditToolsTest, haptic_normals_follow_the_edits) {
     ASSERT_LT((f.model.haptic_normals[slot].cast<double>() - ref[s]).norm(), 3e-3) << "slot " << slot;
     // Bit for bit the same in every slab that holds the sample, so the interpolated field is the
     // same on a shared edge or corner from either side.
-    if (first_slot[s] < 0) first_slot[s] = int64_t(slot);
-    else ASSERT_EQ(f.model.haptic_normals[slot], f.model.haptic_normals[first_slot[s]]) << "sample " << s;
+    if (first_slot[s] < 0)
+      first_slot[s] = int64_t(slot);
+    else
+      ASSERT_EQ(f.model.haptic_normals[slot], f.model.haptic_normals[first_slot[s]]) << "sample " << s;
   }
 }
 

@@ -37,9 +37,16 @@ struct BunnyStrokes {
 /// Every array an edit may change, stored and derived.
 struct ModelState {
   explicit ModelState(const SlabModel& m)
-      : displacement(m.displacement), friction_static(m.friction_static), friction_dynamic(m.friction_dynamic),
-        stiffness_scale(m.stiffness_scale), layer_displacement(m.layer_displacement), roughness(m.roughness),
-        colour(m.colour), positions(m.positions), normals(m.normals), haptic_normals(m.haptic_normals),
+      : displacement(m.displacement),
+        friction_static(m.friction_static),
+        friction_dynamic(m.friction_dynamic),
+        stiffness_scale(m.stiffness_scale),
+        layer_displacement(m.layer_displacement),
+        roughness(m.roughness),
+        colour(m.colour),
+        positions(m.positions),
+        normals(m.normals),
+        haptic_normals(m.haptic_normals),
         slab_samples(m.slab_samples) {}
   std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement, roughness;
   std::vector<Vec3f> colour, positions, normals, haptic_normals;

@@ -16,16 +16,36 @@ Brush random_brush(std::mt19937& rng, double mm) {
   Brush b;
   b.radius = (1.5 + rng() % 3) * mm;
   switch (rng() % 10) {
-    case 0: b.tool = BrushTool::Carve, b.resilience = 0.2 * mm; break;
-    case 1: b.tool = BrushTool::Carve, b.strength = 0.5, b.falloff = Falloff::Smooth; break;
-    case 2: b.tool = BrushTool::Add, b.height = 0.6 * mm; break;
-    case 3: b.tool = BrushTool::Smooth, b.strength = 1, b.falloff = Falloff::Smooth; break;
-    case 4: b.tool = BrushTool::Flatten, b.strength = 1, b.falloff = Falloff::Linear; break;
-    case 5: b.tool = BrushTool::Paint, b.field = BrushField::Colour, b.colour = Vec3f(0.1f, 0.9f, 0.2f); break;
-    case 6: b.tool = BrushTool::Paint, b.field = BrushField::Roughness, b.value = 0.1f; break;
-    case 7: b.tool = BrushTool::Paint, b.field = BrushField::FrictionStatic, b.value = 0.9f; break;
-    case 8: b.tool = BrushTool::Paint, b.field = BrushField::Stiffness, b.value = 0.3f; break;
-    default: b.tool = BrushTool::Paint, b.field = BrushField::LayerThickness, b.value = float(0.5 * mm); break;
+    case 0:
+      b.tool = BrushTool::Carve, b.resilience = 0.2 * mm;
+      break;
+    case 1:
+      b.tool = BrushTool::Carve, b.strength = 0.5, b.falloff = Falloff::Smooth;
+      break;
+    case 2:
+      b.tool = BrushTool::Add, b.height = 0.6 * mm;
+      break;
+    case 3:
+      b.tool = BrushTool::Smooth, b.strength = 1, b.falloff = Falloff::Smooth;
+      break;
+    case 4:
+      b.tool = BrushTool::Flatten, b.strength = 1, b.falloff = Falloff::Linear;
+      break;
+    case 5:
+      b.tool = BrushTool::Paint, b.field = BrushField::Colour, b.colour = Vec3f(0.1f, 0.9f, 0.2f);
+      break;
+    case 6:
+      b.tool = BrushTool::Paint, b.field = BrushField::Roughness, b.value = 0.1f;
+      break;
+    case 7:
+      b.tool = BrushTool::Paint, b.field = BrushField::FrictionStatic, b.value = 0.9f;
+      break;
+    case 8:
+      b.tool = BrushTool::Paint, b.field = BrushField::Stiffness, b.value = 0.3f;
+      break;
+    default:
+      b.tool = BrushTool::Paint, b.field = BrushField::LayerThickness, b.value = float(0.5 * mm);
+      break;
   }
   return b;
 }

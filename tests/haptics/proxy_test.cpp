@@ -214,7 +214,8 @@ TEST(Proxy, BadInputGivesZeroForceAndKeepsState) {
   for (RenderMode mode : {RenderMode::Proxy, RenderMode::Penalty}) {
     ProxyState st;
     const Vec3 d = Vec3::UnitZ();
-    for (int k = 0; k <= 50; ++k) render_step(mode, S.model, *S.locator, S.ws, dev(d * (1.01 - 0.02 * k / 50)), Vec3::Zero(), p, st);
+    for (int k = 0; k <= 50; ++k)
+      render_step(mode, S.model, *S.locator, S.ws, dev(d * (1.01 - 0.02 * k / 50)), Vec3::Zero(), p, st);
     ASSERT_TRUE(st.contact);
     const ProxyState before = st;
     for (const Vec3& bad : {Vec3(nan, 0, 0), Vec3(0, inf, 0), Vec3(1e9, 0, 0), Vec3(0, 0, -1e300), Vec3(2, 0, 0)}) {

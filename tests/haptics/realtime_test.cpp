@@ -127,8 +127,10 @@ struct SessionRig {
       b.height = 1 * mm, b.strength = 1, b.falloff = s < 2 ? Falloff::Constant : Falloff::Smooth;
       brushes.push_back(b);
       const double a = 0.3 + 0.5 * s;
-      const Vec3 start = sphere().ws.to_device(Vec3(std::sin(0.4) * std::cos(a), std::sin(0.4) * std::sin(a), std::cos(0.4)) * 0.97);
-      const Vec3 end = sphere().ws.to_device(Vec3(std::sin(0.7) * std::cos(a), std::sin(0.7) * std::sin(a), std::cos(0.7)) * 0.97);
+      const Vec3 start =
+          sphere().ws.to_device(Vec3(std::sin(0.4) * std::cos(a), std::sin(0.4) * std::sin(a), std::cos(0.4)) * 0.97);
+      const Vec3 end =
+          sphere().ws.to_device(Vec3(std::sin(0.7) * std::cos(a), std::sin(0.7) * std::sin(a), std::cos(0.7)) * 0.97);
       add(start * 1.2, 800, -1);
       add(start, 800, s);
       add(end, 3000, s);
@@ -282,8 +284,7 @@ TEST(Servo, KeptWindowBoundsTheStatisticsButNotTheCounts) {
     static void tick(void*, const ServoTick& t) noexcept {
       if (t.tick != 10) return;
       const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(20);
-      while (std::chrono::steady_clock::now() < until) {
-      }
+      while (std::chrono::steady_clock::now() < until) {}
     }
   };
   ServoOptions o;

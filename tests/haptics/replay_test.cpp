@@ -19,9 +19,7 @@
 namespace hdm {
 namespace {
 
-std::string temp_csv(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / name).string();
-}
+std::string temp_csv(const std::string& name) { return (std::filesystem::temp_directory_path() / name).string(); }
 
 // A straight press 2 mm deep along the input's normal, held: the proxy force is k·2 mm along the
 // exact input normal (k = 1000 N/m, frictionless), with no pop-through.
@@ -90,10 +88,11 @@ namespace {
 // The CSV reader from memory: columns found by name in any order, CRLF line ends, blanks around
 // cells, a trailing comma, blank lines; every row read as written.
 TEST(Replay, ReadsCsvVariantsFromMemory) {
-  const std::string csv = "device_z_m, time_s ,device_x_m,device_y_m,extra\r\n"
-                          "0.03,0,+0.01,-0.02,7\r\n"
-                          "\r\n"
-                          " 0.031 , 0.001 , 0.011 , -0.021 , 8 ,\r\n";
+  const std::string csv =
+      "device_z_m, time_s ,device_x_m,device_y_m,extra\r\n"
+      "0.03,0,+0.01,-0.02,7\r\n"
+      "\r\n"
+      " 0.031 , 0.001 , 0.011 , -0.021 , 8 ,\r\n";
   ReplayDevice d = ReplayDevice::from_csv(csv, "memory.csv");
   ASSERT_EQ(d.size(), 2u);
   DeviceState s;
@@ -116,8 +115,9 @@ TEST(Replay, ReadsCsvVariantsFromMemory) {
 
 TEST(Replay, ToolOnColumnIsTheToolButton) {
   // The columns `hdm sculpt --forces` writes: the tool button comes back as bit 0.
-  const std::string csv = "time_s,device_x_m,device_y_m,device_z_m,contact,tool_on\n"
-                          "0,0,0,0,0,0\n0.001,0,0,0,1,1\n0.002,0,0,0,1,1\n0.003,0,0,0,0,0\n";
+  const std::string csv =
+      "time_s,device_x_m,device_y_m,device_z_m,contact,tool_on\n"
+      "0,0,0,0,0,0\n0.001,0,0,0,1,1\n0.002,0,0,0,1,1\n0.003,0,0,0,0,0\n";
   ReplayDevice d = ReplayDevice::from_csv(csv, "tool.csv");
   std::vector<uint32_t> buttons;
   DeviceState s;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Scenario pass/fail figures on the paper's bunny configuration (150 slabs, 16 intervals per edge; the thin sheet on the default 1,178 slabs),
-// scored against the exact input mesh (Embree), and the stiffness limit against sampled-data
+// Scenario pass/fail figures on the paper's bunny configuration (150 slabs, 16 intervals per edge; the thin sheet on
+// the default 1,178 slabs), scored against the exact input mesh (Embree), and the stiffness limit against sampled-data
 // passivity theory. Energy bounds allow a few per cent above 1 where the hand slides: force
 // shading (interpolated normals) is not a conservative field (Ruspini et al. 1997), so a stroke can
 // gain a little energy even from an ideal proxy.

@@ -90,7 +90,8 @@ TEST(Session, PaintedFrictionHoldsWhatSlidesOnTheBareSurface) {
   SculptSession session(sphere().model, sphere().ws, options());
   // A stripe of μs = 0.9, μd = 0.8 painted around the polar angle 0.5 rad, azimuth 0..0.6 rad.
   Script s;
-  for (auto [field, value] : {std::pair{BrushField::FrictionStatic, 0.9f}, std::pair{BrushField::FrictionDynamic, 0.8f}}) {
+  for (auto [field, value] :
+       {std::pair{BrushField::FrictionStatic, 0.9f}, std::pair{BrushField::FrictionDynamic, 0.8f}}) {
     session.set_brush(paint_brush(field, value));
     s = Script();
     s.move(on_sphere(0.0, 0.5, -0.01), 0.1, false);
@@ -118,7 +119,8 @@ TEST(Session, PaintedFrictionHoldsWhatSlidesOnTheBareSurface) {
     ASSERT_NE(out[1790].out.status, ProxyStatus::Free);
     EXPECT_NEAR(out[790].out.mu_static, stripe ? 0.9 : 0.3, 0.02);
     moved[stripe] = (after - before).norm() / sphere().ws.scale;  // [m]
-    std::printf("%s: the proxy moved %.2f mm while the hand pulled 3 mm\n", stripe ? "stripe" : "bare", moved[stripe] * 1e3);
+    std::printf("%s: the proxy moved %.2f mm while the hand pulled 3 mm\n", stripe ? "stripe" : "bare",
+                moved[stripe] * 1e3);
   }
   EXPECT_GT(moved[0], 1.0e-3) << "on the bare surface (μs 0.3) the pull slides the proxy";
   EXPECT_LT(moved[1], 0.05e-3) << "on the stripe (μs 0.9) it sticks";
@@ -195,8 +197,8 @@ TEST(Session, AnExposedUnderLayerIsFeltWithItsOwnStiffness) {
   // The hand's target 6 mm under the original surface.
   const double top = pressed_depth(session, 2.5, 0.5), pit = pressed_depth(session, 0.0, 0.5);
   const double want_top = expected_depth(1.0), want_pit = expected_depth(0.5, 1000, 200, 0.006 - floor_m);
-  std::printf("depth: top material %.3f mm (expected %.3f), exposed under-layer %.3f mm (expected %.3f)\n",
-              top * 1e3, want_top * 1e3, pit * 1e3, want_pit * 1e3);
+  std::printf("depth: top material %.3f mm (expected %.3f), exposed under-layer %.3f mm (expected %.3f)\n", top * 1e3,
+              want_top * 1e3, pit * 1e3, want_pit * 1e3);
   EXPECT_NEAR(top, want_top, 0.08 * want_top);
   EXPECT_NEAR(pit, want_pit, 0.08 * want_pit);
 }

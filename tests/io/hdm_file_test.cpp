@@ -28,8 +28,7 @@ std::atomic<size_t> g_largest{0};
 void* operator new(size_t size) {
   if (g_track.load(std::memory_order_relaxed)) {
     size_t seen = g_largest.load();
-    while (size > seen && !g_largest.compare_exchange_weak(seen, size)) {
-    }
+    while (size > seen && !g_largest.compare_exchange_weak(seen, size)) {}
   }
   if (void* p = std::malloc(size ? size : 1)) return p;
   throw std::bad_alloc();
@@ -63,14 +62,13 @@ void reseal(std::vector<uint8_t>& b) { set_u64(b, b.size() - 8, reference_fnv1a(
 
 // Section tag -> offset of its count field, walking the layout the format spec in hdm_file.h gives.
 std::map<std::string, size_t> section_offsets(const std::vector<uint8_t>& b) {
-  const std::map<std::string, size_t> element_bytes = {{"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12},
-                                                       {"DISP", 4}, {"COLR", 12}, {"FRST", 4},  {"FRDY", 4},
-                                                       {"STIF", 4}, {"SRCN", 1},  {"SRCT", 8},  {"SRCD", 8},
-                                                       {"RUFF", 4}, {"LAYD", 4},  {"LAYM", 28}};
+  const std::map<std::string, size_t> element_bytes = {
+      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 12}, {"FRST", 4}, {"FRDY", 4},
+      {"STIF", 4}, {"SRCN", 1},  {"SRCT", 8},  {"SRCD", 8},  {"RUFF", 4}, {"LAYD", 4},  {"LAYM", 28}};
   std::map<std::string, size_t> at;
   size_t pos = 8;
-  for (const char* tag : {"GRID", "INNR", "OUTR", "SLAB", "DISP", "COLR", "FRST", "FRDY", "STIF", "SRCN", "SRCT", "SRCD",
-                          "RUFF", "LAYD", "LAYM"}) {
+  for (const char* tag : {"GRID", "INNR", "OUTR", "SLAB", "DISP", "COLR", "FRST", "FRDY", "STIF", "SRCN", "SRCT",
+                          "SRCD", "RUFF", "LAYD", "LAYM"}) {
     EXPECT_EQ(std::string(reinterpret_cast<const char*>(&b[pos]), 4), tag);
     at[tag] = pos + 4;
     pos += 12 + get_u64(b, pos + 4) * element_bytes.at(tag);

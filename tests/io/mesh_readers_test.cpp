@@ -85,7 +85,8 @@ TEST(MeshReaders, CgalFilesWithColoursCommentsAndExtraElements) {
   const std::string dir = HDM_DATA_DIR;
   auto area = [](const TriangleMesh& m) {
     double a = 0;
-    for (const Tri& f : m.faces) a += 0.5 * (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]).norm();
+    for (const Tri& f : m.faces)
+      a += 0.5 * (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]).norm();
     return a;
   };
   // COFF with blank lines and '#' comments after the colours: three triangles and a pentagon
@@ -140,24 +141,34 @@ TEST(MeshReaders, PlyVariants) {
       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
   const TriangleMesh q = read_mesh_from_memory(ascii, "quad.ply");
   ASSERT_EQ(q.faces.size(), 2u);
-  for (const Tri& f : q.faces) EXPECT_GT((q.vertices[f[1]] - q.vertices[f[0]]).cross(q.vertices[f[2]] - q.vertices[f[0]]).z(), 0);
+  for (const Tri& f : q.faces)
+    EXPECT_GT((q.vertices[f[1]] - q.vertices[f[0]]).cross(q.vertices[f[2]] - q.vertices[f[0]]).z(), 0);
 }
 
 TEST(MeshReaders, OffVariants) {
   const std::vector<PosTri> want = canonical(tet());
   // counts on the keyword's line, comments, trailing face colours
   EXPECT_EQ(canonical(read_mesh_from_memory("OFF 4 4 0 # counts\n0 0 0\n1 0 0 # a comment\n0 1 0#no space\n0 0 1\n"
-                                            "3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "a.off")), want);
+                                            "3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+                                            "a.off")),
+            want);
   // no keyword; NOFF normals; 4OFF homogeneous coordinates (x/w)
-  EXPECT_EQ(canonical(read_mesh_from_memory("4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "b.off")), want);
+  EXPECT_EQ(canonical(read_mesh_from_memory("4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+                                            "b.off")),
+            want);
   EXPECT_EQ(canonical(read_mesh_from_memory("NOFF\n4 4 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0 0 1 0 0 1\n"
-                                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "c.off")), want);
+                                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+                                            "c.off")),
+            want);
   EXPECT_EQ(canonical(read_mesh_from_memory("4OFF\n4 4 0\n0 0 0 2\n2 0 0 2\n0 4 0 4\n0 0 0.5 0.5\n"
-                                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "d.off")), want);
+                                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+                                            "d.off")),
+            want);
   // A face of ten corners (assimp 5.2 dropped faces of more than nine): a regular decagon, 8 triangles.
   std::ostringstream s;
   s << "OFF\n10 1 0\n";
-  for (int k = 0; k < 10; ++k) s << std::cos(2 * std::numbers::pi * k / 10) << ' ' << std::sin(2 * std::numbers::pi * k / 10) << " 0\n";
+  for (int k = 0; k < 10; ++k)
+    s << std::cos(2 * std::numbers::pi * k / 10) << ' ' << std::sin(2 * std::numbers::pi * k / 10) << " 0\n";
   s << "10 0 1 2 3 4 5 6 7 8 9\n";
   EXPECT_EQ(read_mesh_from_memory(s.str(), "decagon.off").faces.size(), 8u);
 }
@@ -189,14 +200,16 @@ TEST(MeshReaders, StlVariants) {
   EXPECT_EQ(canonical(read_mesh_from_memory(bin, "solid_header.stl")), canonical(t));
   // ... with two bytes of padding after the records (still binary: it holds control bytes), and cut.
   EXPECT_EQ(canonical(read_mesh_from_memory(bin + "\n\n", "padded.stl")), canonical(t));
-  EXPECT_TRUE(has(error_of<IoError>(bin.substr(0, bin.size() - 10), "cut.stl"), "cut.stl: the binary STL header claims 4 triangles"));
+  EXPECT_TRUE(has(error_of<IoError>(bin.substr(0, bin.size() - 10), "cut.stl"),
+                  "cut.stl: the binary STL header claims 4 triangles"));
   // Two ASCII solids, upper-case keywords in the second.
   std::ostringstream s;
   for (int solid = 0; solid < 2; ++solid) {
     s << (solid ? "SOLID B\n" : "solid a\n");
     for (int k = solid * 2; k < solid * 2 + 2; ++k) {
       s << (solid ? "FACET NORMAL 0 0 0\nOUTER LOOP\n" : "facet normal 0 0 0\n  outer loop\n");
-      for (int32_t i : tet_f[k]) s << (solid ? "VERTEX " : "    vertex ") << tet_v[i].x() << ' ' << tet_v[i].y() << ' ' << tet_v[i].z() << '\n';
+      for (int32_t i : tet_f[k])
+        s << (solid ? "VERTEX " : "    vertex ") << tet_v[i].x() << ' ' << tet_v[i].y() << ' ' << tet_v[i].z() << '\n';
       s << (solid ? "ENDLOOP\nENDFACET\n" : "  endloop\nendfacet\n");
     }
     s << (solid ? "ENDSOLID B\n" : "endsolid a\n");
@@ -208,7 +221,8 @@ TEST(MeshReaders, StlVariants) {
 
 double shoelace(const std::vector<Vec3>& p) {
   double a = 0;
-  for (size_t k = 0; k < p.size(); ++k) a += p[k].x() * p[(k + 1) % p.size()].y() - p[(k + 1) % p.size()].x() * p[k].y();
+  for (size_t k = 0; k < p.size(); ++k)
+    a += p[k].x() * p[(k + 1) % p.size()].y() - p[(k + 1) % p.size()].x() * p[k].y();
   return 0.5 * a;
 }
 // Ray-crossing point-in-polygon test in the z = 0 plane.
@@ -250,8 +264,9 @@ TEST(MeshReaders, TriangulatesConcavePolygonsInsideTheirOutline) {
   expect_tiles({Vec3(0, 0, 0), Vec3(2, 1, 0), Vec3(0.5, 1, 0), Vec3(0, 2, 0)}, "dart");
   expect_tiles({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0.5, 1, 0), Vec3(0, 2, 0)}, "notch");
   // A U of 8 corners and a 12-pointed star (24 corners, 12 reflex).
-  expect_tiles({Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(3, 3, 0), Vec3(2, 3, 0), Vec3(2, 1, 0), Vec3(1, 1, 0),
-                Vec3(1, 3, 0), Vec3(0, 3, 0)}, "u");
+  expect_tiles({Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(3, 3, 0), Vec3(2, 3, 0), Vec3(2, 1, 0), Vec3(1, 1, 0), Vec3(1, 3, 0),
+                Vec3(0, 3, 0)},
+               "u");
   std::vector<Vec3> star;
   for (int k = 0; k < 24; ++k) {
     const double r = k % 2 ? 0.4 : 1.0, a = 2 * std::numbers::pi * k / 24;
@@ -260,7 +275,8 @@ TEST(MeshReaders, TriangulatesConcavePolygonsInsideTheirOutline) {
   expect_tiles(star, "star");
   // A convex 1000-gon is fanned in linear time.
   std::vector<Vec3> circle;
-  for (int k = 0; k < 1000; ++k) circle.emplace_back(std::cos(2 * std::numbers::pi * k / 1000), std::sin(2 * std::numbers::pi * k / 1000), 0);
+  for (int k = 0; k < 1000; ++k)
+    circle.emplace_back(std::cos(2 * std::numbers::pi * k / 1000), std::sin(2 * std::numbers::pi * k / 1000), 0);
   expect_tiles(circle, "circle");
   // A concave polygon of more corners than ear clipping is given: refused, with the limit.
   std::vector<Vec3> big_star;
@@ -276,18 +292,22 @@ TEST(MeshReaders, TriangulatesConcavePolygonsInsideTheirOutline) {
 TEST(MeshReaders, HeadersClaimingMoreThanTheFileHoldsAreRefused) {
   // The OFF header of issue 16: assimp 5.2 allocated 11 GB for it.
   const std::string off = "OFF\n4 4999999999 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 0 2 3";
-  EXPECT_TRUE(has(error_of<IoError>(off, "claims.off"), "claims 4 vertices and 4,999,999,999 faces, but only 47 bytes"));
-  const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 2147483647\nproperty float x\n"
-                          "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                          "end_header\n" + std::string(40, '\0');
+  EXPECT_TRUE(
+      has(error_of<IoError>(off, "claims.off"), "claims 4 vertices and 4,999,999,999 faces, but only 47 bytes"));
+  const std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2147483647\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\n" +
+      std::string(40, '\0');
   EXPECT_TRUE(has(error_of<IoError>(ply, "claims.ply"), "claims 2,147,483,647 vertex elements of at least 12 bytes"));
   std::string stl(80, ' ');
   put(stl, uint32_t(0xFFFFFFFF));
   stl += std::string(50, '\0');
   EXPECT_TRUE(has(error_of<IoError>(stl, "claims.stl"), "claims 4,294,967,295 triangles"));
   // A list count beyond the end of the file.
-  std::string list = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                     "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  std::string list =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
   list += std::string(36, '\0');
   put(list, int32_t(1) << 30);
   put(list, int32_t{0});
@@ -304,20 +324,24 @@ TEST(MeshReaders, BadIndicesAndShortFacetsNameTheLine) {
   EXPECT_TRUE(has(error_of<IoError>("v 0 0 0\nf -2 1 1\n", "back.obj"), "back.obj:2:"));
   EXPECT_TRUE(has(error_of<IoError>("v 0 0\n", "short.obj"), "short.obj:1: vertex 0 has 2 coordinates"));
   // assimp 5.2 dropped the fourth vertex of this facet without a word.
-  const std::string stl = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
-                          "vertex 9 9 9\nendloop\nendfacet\nendsolid t\n";
+  const std::string stl =
+      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+      "vertex 9 9 9\nendloop\nendfacet\nendsolid t\n";
   EXPECT_TRUE(has(error_of<IoError>(stl, "four.stl"), "four.stl:7: facet 0 has more than 3 vertices"));
   EXPECT_TRUE(has(error_of<IoError>("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nendloop\n", "two.stl"),
                   "two.stl:5: facet 0 has 1 vertices, expected 3"));
-  EXPECT_TRUE(has(error_of<IoError>("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n", "cut.stl"), "truncated"));
-  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                          "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
+  EXPECT_TRUE(
+      has(error_of<IoError>("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n", "cut.stl"), "truncated"));
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
   EXPECT_TRUE(has(error_of<IoError>(ply, "range.ply"), "face 0 refers to vertex 3, the file has 3 vertices"));
   EXPECT_TRUE(has(error_of<IoError>("ply\nformat ascii 1.0\nelement vertex 3\n", "noend.ply"), "no end_header"));
   EXPECT_TRUE(has(error_of<InvalidInput>("OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n", "nan.off"),
                   "vertex 2 has a non-finite coordinate"));
-  EXPECT_TRUE(has(error_of<InvalidInput>("v 0 0 0\nv 1 0 0\nl 1 2\n", "lines.obj"), "1 of 1 faces are points or line segments"));
+  EXPECT_TRUE(has(error_of<InvalidInput>("v 0 0 0\nv 1 0 0\nl 1 2\n", "lines.obj"),
+                  "1 of 1 faces are points or line segments"));
 }
 
 TEST(MeshReaders, SizeLimitIsCheckedBeforeReading) {
@@ -334,7 +358,8 @@ TEST(MeshReaders, SizeLimitIsCheckedBeforeReading) {
   }
   EXPECT_EQ(read_mesh(path).faces.size(), 1u);  // the default limit (1 GiB) lets it through
   const std::vector<uint8_t> bytes = test::read_bytes(path);
-  EXPECT_EQ(canonical(read_mesh_from_memory(std::string(bytes.begin(), bytes.end()), "big.off")), canonical(read_mesh(path)));
+  EXPECT_EQ(canonical(read_mesh_from_memory(std::string(bytes.begin(), bytes.end()), "big.off")),
+            canonical(read_mesh(path)));
 }
 
 }  // namespace

@@ -167,7 +167,8 @@ std::string to_stl_ascii(const TriangleMesh& m) {
   for (const Tri& f : m.faces) {
     const Vec3 n = (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]).normalized();
     s << " facet normal " << n.x() << ' ' << n.y() << ' ' << n.z() << "\n  outer loop\n";
-    for (int32_t i : f) s << "   vertex " << m.vertices[i].x() << ' ' << m.vertices[i].y() << ' ' << m.vertices[i].z() << '\n';
+    for (int32_t i : f)
+      s << "   vertex " << m.vertices[i].x() << ' ' << m.vertices[i].y() << ' ' << m.vertices[i].z() << '\n';
     s << "  endloop\n endfacet\n";
   }
   s << "endsolid test\n";
@@ -219,8 +220,9 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(ReadMesh, DropsUnusedVertices) {
   TempDir dir;
   const std::string path = dir.file("unused.obj");
-  test::write_text(path, "v 9 9 9\nv 0 0 0\nv 1 0 0\nv 7 7 7\nv 0 1 0\nv 0 0 1\n"
-                         "f 2 3 5\nf 2 5 6\nf 2 6 3\nf 3 6 5\n");
+  test::write_text(path,
+                   "v 9 9 9\nv 0 0 0\nv 1 0 0\nv 7 7 7\nv 0 1 0\nv 0 0 1\n"
+                   "f 2 3 5\nf 2 5 6\nf 2 6 3\nf 3 6 5\n");
   const TriangleMesh r = read_mesh(path);
   ASSERT_EQ(r.vertices.size(), 4u);
   for (const Vec3& v : r.vertices) EXPECT_LE(v.norm(), 1.0) << "an unused vertex survived: " << v.transpose();
@@ -232,9 +234,10 @@ TEST(ReadMesh, TriangulatesPolygons) {
   TempDir dir;
   const std::string path = dir.file("poly.obj");
   // A unit square (z = 0) and a convex pentagon (z = 1), both counter-clockwise seen from +z.
-  test::write_text(path, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
-                         "v 0 0 1\nv 2 0 1\nv 3 1 1\nv 1 2 1\nv -1 1 1\n"
-                         "f 1 2 3 4\nf 5 6 7 8 9\n");
+  test::write_text(path,
+                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                   "v 0 0 1\nv 2 0 1\nv 3 1 1\nv 1 2 1\nv -1 1 1\n"
+                   "f 1 2 3 4\nf 5 6 7 8 9\n");
   const TriangleMesh r = read_mesh(path);
   ASSERT_EQ(r.faces.size(), 2u + 3u);
   double area[2] = {0, 0};

@@ -70,7 +70,8 @@ Topology topology(const TriangleMesh& m) {
     for (size_t i = 0; i < s.size(); ++i)
       for (size_t j = i + 1; j < s.size(); ++j) {
         int shared = 0;
-        for (int a : m.faces[s[i]]) for (int b : m.faces[s[j]]) shared += a == b;
+        for (int a : m.faces[s[i]])
+          for (int b : m.faces[s[j]]) shared += a == b;
         if (shared >= 2) p[find(p, int(i))] = find(p, int(j));
       }
     int groups = 0;
@@ -79,8 +80,10 @@ Topology topology(const TriangleMesh& m) {
   }
   std::set<int> roots;
   for (size_t v = 0; v < m.vertices.size(); ++v)
-    if (uses[v] > 0) roots.insert(find(parent, int(v)));
-    else ++t.unused_vertices;
+    if (uses[v] > 0)
+      roots.insert(find(parent, int(v)));
+    else
+      ++t.unused_vertices;
   t.components = static_cast<int64_t>(roots.size());
   t.euler = int64_t(m.vertices.size() - t.unused_vertices) - int64_t(undirected.size()) + int64_t(m.faces.size());
   return t;
@@ -98,8 +101,8 @@ TriangleMesh torus(double R, double r, int u, int v, const Vec3& centre = Vec3::
   for (int i = 0; i < u; ++i)
     for (int j = 0; j < v; ++j) {
       const double a = 2 * M_PI * i / u, b = 2 * M_PI * j / v;
-      m.vertices.push_back(centre + Vec3((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a),
-                                         r * std::sin(b)));
+      m.vertices.push_back(
+          centre + Vec3((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
     }
   auto id = [&](int i, int j) { return ((i + u) % u) * v + (j + v) % v; };
   for (int i = 0; i < u; ++i)
@@ -115,7 +118,8 @@ TriangleMesh gridded_cube(int s) {
   TriangleMesh m;
   std::map<std::tuple<int, int, int>, int> ids;
   auto vertex = [&](const Vec3& p) {
-    const auto key = std::make_tuple(int(std::lround(p.x() * s)), int(std::lround(p.y() * s)), int(std::lround(p.z() * s)));
+    const auto key =
+        std::make_tuple(int(std::lround(p.x() * s)), int(std::lround(p.y() * s)), int(std::lround(p.z() * s)));
     auto [it, fresh] = ids.emplace(key, int(m.vertices.size()));
     if (fresh) m.vertices.push_back(p);
     return it->second;

@@ -19,7 +19,8 @@ TEST(ExactMeshQueryTest, closest_point_matches_brute_force) {
     const Vec3 p(u(rng), u(rng), u(rng));
     double best = 1e300;
     for (const Tri& t : m.faces)
-      best = std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+      best = std::min(best,
+                      (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
     EXPECT_NEAR(q.closest_point(p).distance, best, 1e-9);
     // and close to the analytic sphere distance (chord error of the tessellation)
     EXPECT_NEAR(best, std::abs((p - Vec3(1, -1, 0.5)).norm() - 2.0), 0.02);
@@ -50,7 +51,8 @@ TEST(ExactMeshQueryTest, closest_point_within_a_radius_matches_brute_force) {
     const double radius = r(rng);
     double best = 1e300;
     for (const Tri& t : m.faces)
-      best = std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+      best = std::min(best,
+                      (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
     const ClosestPoint c = q.closest_point(p, radius);
     if (best < radius) {
       ++found;

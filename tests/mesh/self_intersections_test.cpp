@@ -14,7 +14,8 @@ namespace {
 // Axis-aligned box [lo, hi], faces counter-clockwise seen from outside.
 void add_box(TriangleMesh& m, const Vec3& lo, const Vec3& hi) {
   const auto base = static_cast<int32_t>(m.vertices.size());
-  for (int k = 0; k < 8; ++k) m.vertices.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+  for (int k = 0; k < 8; ++k)
+    m.vertices.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
   const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     m.faces.push_back({base + q[0], base + q[1], base + q[2]});

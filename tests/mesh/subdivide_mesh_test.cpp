@@ -47,8 +47,10 @@ double mean_edge(const TriangleMesh& m) {
 // Manifold, consistently oriented, no degenerate face, one component; closed or with a boundary.
 void expect_manifold(const TriangleMesh& m, bool closed = true) {
   const MeshTopology t = analyze_topology(m);
-  if (closed) EXPECT_EQ(t.boundary_edges, 0);
-  else EXPECT_GT(t.boundary_edges, 0);
+  if (closed)
+    EXPECT_EQ(t.boundary_edges, 0);
+  else
+    EXPECT_GT(t.boundary_edges, 0);
   EXPECT_EQ(t.non_manifold_edges, 0);
   EXPECT_EQ(t.inconsistent_edges, 0);
   EXPECT_EQ(t.degenerate_faces, 0);

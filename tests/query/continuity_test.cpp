@@ -26,7 +26,11 @@ SweepResult sweep(const SlabModel& m, const SlabLocator& loc, const Vec3& a, con
   SweepResult r;
   QueryCache cache;
   Contact prev;
-  const Workspace ws = fit_workspace([&] { Aabb box; for (const Vec3& v : m.inner) box.extend(v); return box; }());
+  const Workspace ws = fit_workspace([&] {
+    Aabb box;
+    for (const Vec3& v : m.inner) box.extend(v);
+    return box;
+  }());
   ForceParams fp;
   fp.max_force = 1e9;  // measure the unclamped force
   Vec3 prev_f = Vec3::Zero();

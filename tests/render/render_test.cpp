@@ -53,12 +53,12 @@ struct CoarseMesh {
 CoarseMesh icosahedron() {
   const double p = (1 + std::sqrt(5.0)) / 2;
   CoarseMesh m;
-  m.vertices = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
-                {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
+  m.vertices = {{-1, p, 0},  {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
+                {0, -1, -p}, {0, 1, -p}, {p, 0, -1},  {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
   for (Vec3& v : m.vertices) v.normalize();
-  m.faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+  m.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
              {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-             {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+             {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   return m;
 }
 
@@ -285,7 +285,7 @@ TEST(RenderPng, RedSlabFacingTheCameraLooksRed) {
   EXPECT_LT(p[2], p[0] / 4);
   // A white slab next to it stays grey-white: the colour comes from the right tile.
   const int white = model.edge_neighbour[red][0] != (red + 7) % model.slab_count() ? model.edge_neighbour[red][0]
-                                                                                  : model.edge_neighbour[red][1];
+                                                                                   : model.edge_neighbour[red][1];
   ASSERT_GE(white, 0);
   const std::array<Vec3, 3> w = surface_corners(model, white);
   const Eigen::Vector2d wc = cam.project((w[0] + w[1] + w[2]) / 3);
@@ -310,8 +310,8 @@ TEST(SlabRenderer, UploadSlabChangesOnlyThatSlabsPixels) {
   const std::array<Vec3, 3> c = surface_corners(model, slab);
   const std::array<Eigen::Vector2d, 3> tri = {scene.camera.project(c[0]), scene.camera.project(c[1]),
                                               scene.camera.project(c[2])};
-  const double area = std::abs((tri[1] - tri[0]).x() * (tri[2] - tri[0]).y() -
-                               (tri[1] - tri[0]).y() * (tri[2] - tri[0]).x()) / 2;
+  const double area =
+      std::abs((tri[1] - tri[0]).x() * (tri[2] - tri[0]).y() - (tri[1] - tri[0]).y() * (tri[2] - tri[0]).x()) / 2;
   long changed = 0, changed_outside = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
@@ -386,7 +386,8 @@ TEST(SlabRenderer, CoarserLevelsDrawTheSameFlatSurface) {
   auto covered = [](const Image& im) {
     std::vector<bool> mask(static_cast<size_t>(im.width) * im.height);
     for (int y = 0; y < im.height; ++y)
-      for (int x = 0; x < im.width; ++x) mask[static_cast<size_t>(y) * im.width + x] = im.at(x, y)[0] < 250 || im.at(x, y)[2] < 250;
+      for (int x = 0; x < im.width; ++x)
+        mask[static_cast<size_t>(y) * im.width + x] = im.at(x, y)[0] < 250 || im.at(x, y)[2] < 250;
     return mask;
   };
   const std::vector<bool> fine = covered(scene.frame(false, 0));
@@ -408,7 +409,8 @@ TEST(SlabRenderer, SlabEdgeOverlayDarkensBoundariesOnly) {
   const Image plain = scene.frame(false), edges = scene.frame(true);
   const int slab = facing_slab(model, towards_eye(az, el));
   const std::array<Vec3, 3> c = surface_corners(model, slab);
-  const Eigen::Vector2d mid = scene.camera.project((c[0] + c[1]) / 2), centre = scene.camera.project((c[0] + c[1] + c[2]) / 3);
+  const Eigen::Vector2d mid = scene.camera.project((c[0] + c[1]) / 2),
+                        centre = scene.camera.project((c[0] + c[1] + c[2]) / 3);
   const uint8_t* on_edge = edges.at(static_cast<int>(mid.x()), static_cast<int>(mid.y()));
   EXPECT_LT(on_edge[0], 100);
   const int cx = static_cast<int>(centre.x()), cy = static_cast<int>(centre.y());

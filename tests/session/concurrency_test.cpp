@@ -99,10 +99,18 @@ Brush brush(int s) {
   Brush b;
   b.radius = 0.12;
   switch (s % 4) {
-    case 0: b.tool = BrushTool::Carve; break;
-    case 1: b.tool = BrushTool::Add, b.height = 0.02; break;
-    case 2: b.tool = BrushTool::Smooth, b.falloff = Falloff::Smooth; break;
-    default: b.tool = BrushTool::Paint, b.field = BrushField::Colour, b.colour = Vec3f(0.9f, 0.2f, 0.1f); break;
+    case 0:
+      b.tool = BrushTool::Carve;
+      break;
+    case 1:
+      b.tool = BrushTool::Add, b.height = 0.02;
+      break;
+    case 2:
+      b.tool = BrushTool::Smooth, b.falloff = Falloff::Smooth;
+      break;
+    default:
+      b.tool = BrushTool::Paint, b.field = BrushField::Colour, b.colour = Vec3f(0.9f, 0.2f, 0.1f);
+      break;
   }
   b.pressure_force_n = 0.3;
   return b;
@@ -235,11 +243,12 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   session.finish();
 
   const SessionStats& ss = session.stats();
-  std::printf("%lld ticks at %.0f Hz (%lld overruns), %lld in contact; %lld sweeps changed %lld samples/texels; "
-              "%lld epochs published (%lld waits for readers), %lld slab re-uploads, %zu files saved\n",
-              (long long)st.ticks, st.rate_hz, (long long)st.overruns, (long long)ss.contact_ticks,
-              (long long)ss.sweeps, (long long)ss.changed, (long long)ss.publications, (long long)ss.publish_deferred,
-              (long long)reuploads.load(), saved.size());
+  std::printf(
+      "%lld ticks at %.0f Hz (%lld overruns), %lld in contact; %lld sweeps changed %lld samples/texels; "
+      "%lld epochs published (%lld waits for readers), %lld slab re-uploads, %zu files saved\n",
+      (long long)st.ticks, st.rate_hz, (long long)st.overruns, (long long)ss.contact_ticks, (long long)ss.sweeps,
+      (long long)ss.changed, (long long)ss.publications, (long long)ss.publish_deferred, (long long)reuploads.load(),
+      saved.size());
   EXPECT_EQ(torn.load(), 0) << "a reader saw a slab version being written";
   EXPECT_EQ(seams.load(), 0) << "a snapshot mixed two states of a shared sample";
   EXPECT_EQ(bad_vertices.load(), 0);

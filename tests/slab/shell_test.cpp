@@ -116,7 +116,8 @@ TEST(ShellTest, real_models_are_valid_and_disjoint_from_150_to_5000_slabs) {
         m = bake_slabs(mesh, name, o);
       } catch (const NumericalError& e) {
         EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-        EXPECT_TRUE(std::string(name) == "refined_elephant.off" && slabs == 150) << name << " " << slabs << ": " << e.what();
+        EXPECT_TRUE(std::string(name) == "refined_elephant.off" && slabs == 150)
+            << name << " " << slabs << ": " << e.what();
         continue;
       }
       EXPECT_EQ(count_invalid_slabs(m), 0) << name << " " << slabs;

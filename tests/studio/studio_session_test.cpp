@@ -143,8 +143,10 @@ TEST_F(StudioSession, StrokesChangeTheirPixelsAndNothingElse) {
       for (size_t k = 0; k < paths.size(); ++k)
         if (path_distance(paths[k], p) <= paths[k].radius_mm * px_per_mm_max + 4) near = static_cast<int>(k);
       const bool changed = before.diff(after, x, y) > kChanged;
-      if (near >= 0) inside[static_cast<size_t>(near)] += changed;
-      else outside += changed, ++outside_pixels;
+      if (near >= 0)
+        inside[static_cast<size_t>(near)] += changed;
+      else
+        outside += changed, ++outside_pixels;
     }
   for (size_t k = 0; k < paths.size(); ++k) {
     // At least one changed pixel per pixel of the stroke's length (a groove 1.5 mm deep or a

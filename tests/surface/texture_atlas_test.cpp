@@ -85,7 +85,8 @@ TEST_P(Atlas, TexelsSitAtTheirUvAndPaddingCopiesTheNearestTexel) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Grids, Atlas, ::testing::Values(std::pair{4, 2}, std::pair{1, 1}, std::pair{3, 1}, std::pair{2, 3}));
+INSTANTIATE_TEST_SUITE_P(Grids, Atlas,
+                         ::testing::Values(std::pair{4, 2}, std::pair{1, 1}, std::pair{3, 1}, std::pair{2, 3}));
 
 TEST(LinearToSrgb, MatchesTheReferenceFormula) {
   for (int k = 0; k <= 1000; ++k) {

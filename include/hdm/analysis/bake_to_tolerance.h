@@ -23,7 +23,7 @@ struct Tolerance {
   /// Lower the grid n as the slab count grows, so that the samples (slabs·n²) do not grow with it
   /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
   bool adapt_grid = true;
-  int min_grid = 4;           ///< smallest grid n adapt_grid chooses (never above options.grid_n)
+  int min_grid = 4;  ///< smallest grid n adapt_grid chooses (never above options.grid_n)
   /// Optional #F flags of buried input faces (buried_faces()), left out of the fidelity's
   /// input-to-model direction. Not owned.
   const std::vector<uint8_t>* buried = nullptr;
@@ -31,13 +31,13 @@ struct Tolerance {
 
 /// One bake tried by bake_to_tolerance().
 struct ToleranceRound {
-  int slabs = 0;       ///< slabs built
-  int grid_n = 0;      ///< grid n used
-  Fidelity fidelity;   ///< measured against the input
+  int slabs = 0;                  ///< slabs built
+  int grid_n = 0;                 ///< grid n used
+  Fidelity fidelity;              ///< measured against the input
   int invalid_slabs = 0;          ///< BakeReport::invalid_slabs of the round
   int64_t overlapping_pairs = 0;  ///< BakeReport::overlapping_pairs of the round
   int64_t ray_misses = 0;         ///< BakeReport::ray_misses of the round
-  bool met = false;    ///< every bound of the Tolerance holds, and no slab is invalid or overlaps another
+  bool met = false;               ///< every bound of the Tolerance holds, and no slab is invalid or overlaps another
 };
 
 /// @brief Bakes the mesh of @p input with more and more slabs until the fidelity measured against it
@@ -77,7 +77,7 @@ struct ToleranceRound {
 /// @note Cost: up to max_rounds bakes and fidelity measurements, all on the one BVH of @p input;
 ///       one round when the first bake meets the bounds.
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
-                            const Tolerance& tolerance,
-                            std::vector<ToleranceRound>* rounds = nullptr, BakeReport* report = nullptr);
+                            const Tolerance& tolerance, std::vector<ToleranceRound>* rounds = nullptr,
+                            BakeReport* report = nullptr);
 
 }  // namespace hdm

@@ -43,13 +43,15 @@ std::vector<uint8_t> buried_faces(const ExactMeshQuery& input);
 
 /// Contact accuracy near the surface.
 struct ContactAccuracy {
-  int64_t points = 0;       ///< query points
-  double agreement = 0;     ///< fraction whose inside/outside matches the exact test on the input
-  double depth_rms_pct = 0; ///< RMS |hdm depth - exact distance| over points inside both, % of diagonal
-  double depth_max_pct = 0; ///< maximum of those
-  int64_t missed_below_shell = 0;  ///< disagreements: exactly inside, but in no slab and not enclosed by the inner shell
-  int64_t missed_in_shell = 0;     ///< disagreements: exactly inside, in a slab, but above the displaced surface
-  int64_t false_inside = 0;        ///< disagreements: exactly outside, but below the displaced surface or enclosed by the inner shell
+  int64_t points = 0;        ///< query points
+  double agreement = 0;      ///< fraction whose inside/outside matches the exact test on the input
+  double depth_rms_pct = 0;  ///< RMS |hdm depth - exact distance| over points inside both, % of diagonal
+  double depth_max_pct = 0;  ///< maximum of those
+  int64_t missed_below_shell =
+      0;                        ///< disagreements: exactly inside, but in no slab and not enclosed by the inner shell
+  int64_t missed_in_shell = 0;  ///< disagreements: exactly inside, in a slab, but above the displaced surface
+  int64_t false_inside =
+      0;  ///< disagreements: exactly outside, but below the displaced surface or enclosed by the inner shell
 };
 
 /// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)

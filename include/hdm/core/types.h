@@ -29,8 +29,8 @@ struct Aabb {
   }
   /// True if @p p lies in the box (closed). noexcept; a NaN point is never inside.
   bool contains(const Vec3& p) const noexcept {
-    return p.x() >= min.x() && p.y() >= min.y() && p.z() >= min.z() && p.x() <= max.x() &&
-           p.y() <= max.y() && p.z() <= max.z();
+    return p.x() >= min.x() && p.y() >= min.y() && p.z() >= min.z() && p.x() <= max.x() && p.y() <= max.y() &&
+           p.z() <= max.z();
   }
   /// Length of the diagonal [model units]; 0 for an empty box.
   double diagonal() const { return min.x() <= max.x() ? (max - min).norm() : 0.0; }

@@ -61,17 +61,17 @@ enum class BrushField : uint8_t {
 
 /// A brush. Lengths in model units (hdm::Workspace::scale converts device metres).
 struct Brush {
-  BrushTool tool = BrushTool::Carve;  ///< what it does
-  double radius = 0;                  ///< tool radius [model units], > 0
-  double strength = 1;                ///< in [0,1]; see BrushTool for its meaning per tool
+  BrushTool tool = BrushTool::Carve;    ///< what it does
+  double radius = 0;                    ///< tool radius [model units], > 0
+  double strength = 1;                  ///< in [0,1]; see BrushTool for its meaning per tool
   Falloff falloff = Falloff::Constant;  ///< weight across the radius
-  double resilience = 0;              ///< carve: resilient band k [model units] (paper §4.1), >= 0
-  double height = 0;                  ///< add: height of the added ridge above the stroke's start surface [model units]
+  double resilience = 0;                ///< carve: resilient band k [model units] (paper §4.1), >= 0
+  double height = 0;  ///< add: height of the added ridge above the stroke's start surface [model units]
   BrushField field = BrushField::Colour;  ///< paint: the field written
-  Vec3f colour{0.8f, 0.1f, 0.1f};     ///< paint Colour: linear RGB
-  float value = 0;                    ///< paint of a scalar field: the value painted (layer thickness in model units)
-  double pressure_force_n = 1.0;      ///< normal force [N] that gives full pressure (paint, smooth, flatten);
-                                      ///< pressure ramps from 0 at 10 % of it (paint_pressure)
+  Vec3f colour{0.8f, 0.1f, 0.1f};         ///< paint Colour: linear RGB
+  float value = 0;                ///< paint of a scalar field: the value painted (layer thickness in model units)
+  double pressure_force_n = 1.0;  ///< normal force [N] that gives full pressure (paint, smooth, flatten);
+                                  ///< pressure ramps from 0 at 10 % of it (paint_pressure)
 };
 
 /// @brief Weight of falloff @p f at normalised distance @p x (clamped to [0,1]); 0 for x >= 1.
@@ -80,9 +80,12 @@ inline double falloff_weight(Falloff f, double x) noexcept {
   if (!(x < 1)) return 0.0;
   if (x < 0) x = 0;
   switch (f) {
-    case Falloff::Linear: return 1 - x;
-    case Falloff::Smooth: return 1 - x * x * (3 - 2 * x);
-    default: return 1.0;
+    case Falloff::Linear:
+      return 1 - x;
+    case Falloff::Smooth:
+      return 1 - x * x * (3 - 2 * x);
+    default:
+      return 1.0;
   }
 }
 

@@ -29,17 +29,17 @@ struct EditScratch {
   /// `changed[0 .. changed_count)`. Sweeps list them; refresh_normals() (or the stroke editor's
   /// batched refresh) recomputes the normals of their rings and empties the list.
   std::vector<int32_t> changed;
-  int32_t changed_count = 0;                        ///< entries of `changed` in use
-  std::vector<uint32_t> changed_mark;               ///< per sample: == changed_epoch when listed
-  uint32_t changed_epoch = 1;                       ///< current listing's mark
-  std::vector<int32_t> ring;                        ///< changed samples plus their neighbours
+  int32_t changed_count = 0;           ///< entries of `changed` in use
+  std::vector<uint32_t> changed_mark;  ///< per sample: == changed_epoch when listed
+  uint32_t changed_epoch = 1;          ///< current listing's mark
+  std::vector<int32_t> ring;           ///< changed samples plus their neighbours
   /// #S flags: slabs whose data (displacement, normals, fields, colours) edits changed since the
   /// flags were last cleared; `dirty_list[0 .. dirty_count)` lists them once each. The consumer
   /// (a renderer, hdm::SlabSnapshots' publisher) clears both with clear_dirty().
   std::vector<uint8_t> dirty_slabs;
-  std::vector<int32_t> dirty_list;                  ///< #S: the flagged slabs, in the order flagged
-  int32_t dirty_count = 0;                          ///< entries of dirty_list in use
-  FaceNormalCache faces;                            ///< per-triangle normals, each computed once per edit
+  std::vector<int32_t> dirty_list;  ///< #S: the flagged slabs, in the order flagged
+  int32_t dirty_count = 0;          ///< entries of dirty_list in use
+  FaceNormalCache faces;            ///< per-triangle normals, each computed once per edit
   /// per_slab entries: barycentrics (wR, wS, wT) of each grid index of the displacement grid, as
   /// projection_line() computes them (same bits), so the flood fill does not divide per sample.
   std::vector<std::array<double, 3>> grid_weights;
@@ -75,15 +75,15 @@ struct EditResult {
 /// surface contact point (the brush centre). The flood fill is seeded with the grid cell under
 /// (seed_slab, seed_bary), normally the contact at `to`.
 struct BrushSweep {
-  Brush brush;                    ///< the brush
-  Vec3 from = Vec3::Zero();       ///< path start [model units]
-  Vec3 to = Vec3::Zero();         ///< path end [model units]
-  Vec3 plane_point = Vec3::Zero();   ///< Flatten: a point of the tool's plane [model units]
-  Vec3 plane_normal = Vec3::UnitZ(); ///< Flatten: the plane's unit normal
-  int32_t seed_slab = -1;         ///< slab of the seed cell (nothing happens when < 0)
-  Vec3 seed_bary = Vec3::Zero();  ///< barycentrics (wR, wS, wT) of the seed in that slab
-  double pressure = 1;            ///< [0,1]: scales Smooth, Flatten and Paint
-  double dt = 0;                  ///< Smooth, Flatten: contact time the sweep stands for [s]
+  Brush brush;                        ///< the brush
+  Vec3 from = Vec3::Zero();           ///< path start [model units]
+  Vec3 to = Vec3::Zero();             ///< path end [model units]
+  Vec3 plane_point = Vec3::Zero();    ///< Flatten: a point of the tool's plane [model units]
+  Vec3 plane_normal = Vec3::UnitZ();  ///< Flatten: the plane's unit normal
+  int32_t seed_slab = -1;             ///< slab of the seed cell (nothing happens when < 0)
+  Vec3 seed_bary = Vec3::Zero();      ///< barycentrics (wR, wS, wT) of the seed in that slab
+  double pressure = 1;                ///< [0,1]: scales Smooth, Flatten and Paint
+  double dt = 0;                      ///< Smooth, Flatten: contact time the sweep stands for [s]
 };
 
 /// @brief Applies @p sweep to @p model at once (every sample it reaches, then the normals), as

@@ -34,10 +34,10 @@ struct StrokeEditorOptions {
 
 /// One tool position, given by the servo thread on each tick of a stroke in contact.
 struct ToolSample {
-  Contact contact;        ///< the proxy's contact (slab, coordinates, surface point, unit normal)
-  Vec3 hip = Vec3::Zero();  ///< haptic interaction point [model units]
+  Contact contact;            ///< the proxy's contact (slab, coordinates, surface point, unit normal)
+  Vec3 hip = Vec3::Zero();    ///< haptic interaction point [model units]
   double normal_force_n = 0;  ///< rendered normal force [N]: pressure for Smooth, Flatten, Paint
-  double time_s = 0;      ///< servo time [s]
+  double time_s = 0;          ///< servo time [s]
 };
 
 /// One entry of an edit log: what a StrokeEditor applied, in order (StrokeEditor::record_log()).
@@ -50,11 +50,11 @@ struct EditLogEntry {
 
 /// What StrokeEditor::work() did in one call.
 struct EditWork {
-  int32_t sweeps = 0;       ///< sweeps (and undo / redo steps) finished
-  int32_t visited = 0;      ///< samples or texels visited
-  int32_t changed = 0;      ///< samples or texels changed
-  bool idle = true;         ///< nothing queued and no sweep in progress after the call
-  bool deadline = false;    ///< stopped at the deadline with work left (it carries over to the next call)
+  int32_t sweeps = 0;     ///< sweeps (and undo / redo steps) finished
+  int32_t visited = 0;    ///< samples or texels visited
+  int32_t changed = 0;    ///< samples or texels changed
+  bool idle = true;       ///< nothing queued and no sweep in progress after the call
+  bool deadline = false;  ///< stopped at the deadline with work left (it carries over to the next call)
 };
 
 /// Applies strokes to one model, from the thread that owns the model, within a time budget.
@@ -66,8 +66,8 @@ struct EditWork {
 /// normal of the grid triangles around the contact's cell, at the displacements the stroke found
 /// there. The contact normal itself turns as soon as the proxy rides a wall the stroke cut, and a
 /// sphere placed along it digs sideways and deeper on every tick (the groove wandered and sank 3 mm
-/// over a 40 mm stroke in closed loop). Each sweep covers the path from the last position swept to the newest one (positions that
-/// arrived while the previous sweep was running are merged into one segment while they stay within
+/// over a 40 mm stroke in closed loop). Each sweep covers the path from the last position swept to the newest one
+/// (positions that arrived while the previous sweep was running are merged into one segment while they stay within
 /// StrokeEditorOptions::merge_tolerance of it, so the swept volume follows the hand). The tool's
 /// axis is the contact normal low-passed over StrokeEditorOptions::axis_time_s. Carve and
 /// Add are booleans with the swept sphere, so a stroke's result does not depend on the servo rate;

@@ -66,12 +66,12 @@ class HapticDevice {
 
 /// Settings of SimulatedDevice. Defaults: a light handle in a compliant grip.
 struct SimulatedDeviceOptions {
-  double mass_kg = 0.05;           ///< handle plus linkage mass [kg]
-  double hand_stiffness = 200.0;   ///< hand spring pulling the handle to the target [N/m]
-  double hand_damping = 2.0;       ///< hand damper on the handle's velocity relative to the target [N·s/m]
-  double rate_hz = 1000.0;         ///< servo rate: the rendered force is held for 1/rate_hz [Hz]
-  int substeps = 10;               ///< semi-implicit Euler steps per servo period (force held: zero-order hold)
-  DeviceSpec spec;                 ///< reported capabilities (max force clamp)
+  double mass_kg = 0.05;          ///< handle plus linkage mass [kg]
+  double hand_stiffness = 200.0;  ///< hand spring pulling the handle to the target [N/m]
+  double hand_damping = 2.0;      ///< hand damper on the handle's velocity relative to the target [N·s/m]
+  double rate_hz = 1000.0;        ///< servo rate: the rendered force is held for 1/rate_hz [Hz]
+  int substeps = 10;              ///< semi-implicit Euler steps per servo period (force held: zero-order hold)
+  DeviceSpec spec;                ///< reported capabilities (max force clamp)
 };
 
 /// A simulated device: a handle of mass m pulled by a hand spring-damper toward a scripted target
@@ -126,8 +126,7 @@ class ReplayDevice final : public HapticDevice {
   /// position is not finite (NaN, inf), the time goes backwards or tool_on is not 0 or 1 (each
   /// naming the file and line).
   /// @note Accepts "\n" and "\r\n" line ends and blanks around cells; O(file size).
-  explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {},
-                        uint64_t max_file_bytes = uint64_t(1) << 30);
+  explicit ReplayDevice(const std::string& csv_path, DeviceSpec spec = {}, uint64_t max_file_bytes = uint64_t(1) << 30);
   /// @brief Loads a recording from CSV text held in memory, as the constructor loads a file;
   /// @p name starts every error message.
   /// @throws InvalidInput as the constructor.

@@ -30,15 +30,15 @@ struct ForceParams {
 
 /// Status of one force evaluation.
 enum class ForceStatus : uint8_t {
-  Free,        ///< no penetration: zero force
-  Contact,     ///< in contact: force rendered
-  Clamped,     ///< in contact, force clamped to max_force
-  BadInput,    ///< non-finite position or velocity: zero force
+  Free,      ///< no penetration: zero force
+  Contact,   ///< in contact: force rendered
+  Clamped,   ///< in contact, force clamped to max_force
+  BadInput,  ///< non-finite position or velocity: zero force
 };
 
 /// Rendered force.
 struct ForceSample {
-  Vec3 force = Vec3::Zero();        ///< force on the device handle [N], device frame
+  Vec3 force = Vec3::Zero();  ///< force on the device handle [N], device frame
   ForceStatus status = ForceStatus::Free;
 };
 

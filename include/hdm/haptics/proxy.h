@@ -22,18 +22,18 @@ enum class RenderMode : uint8_t {
 /// Parameters of the proxy, SI at the device unless stated. Defaults suit a desktop device
 /// (Phantom Omni / Touch class) at 1 kHz.
 struct ProxyParams {
-  ForceParams force;                 ///< stiffness k [N/m], damping b [N·s/m] along the normal, max force [N]
-  double damping_force_n = 0.2;      ///< spring force k·depth [N] at which the normal damping reaches force.damping;
-                                     ///< it ramps in linearly from 0 at contact (Hunt & Crossley 1975), so a
-                                     ///< contact starts without a damping step; 0: full damping at once
-  double friction_scale = 1.0;       ///< factor on the per-sample μs, μd of SlabModel (0: frictionless)
-  int iterations = 3;                ///< tangent-plane projection + re-projection rounds per tick (>= 1)
-  int max_halvings = 6;              ///< step halvings when a candidate leaves the shell or turns too far
-  double max_turn_deg = 30.0;        ///< largest change of the proxy's normal accepted per step [deg]
-  double position_limit_m = 1.0;     ///< HIP farther than this from the workspace centre [m]: BadInput, zero force
-  double tunnel_step = 0.0;          ///< free-space sub-step [model units] to catch a HIP that jumps across a
-                                     ///< thin part in one tick; 0: 0.002 × the model's source diagonal
-  int max_tunnel_steps = 16;         ///< cap on free-space sub-steps per tick
+  ForceParams force;              ///< stiffness k [N/m], damping b [N·s/m] along the normal, max force [N]
+  double damping_force_n = 0.2;   ///< spring force k·depth [N] at which the normal damping reaches force.damping;
+                                  ///< it ramps in linearly from 0 at contact (Hunt & Crossley 1975), so a
+                                  ///< contact starts without a damping step; 0: full damping at once
+  double friction_scale = 1.0;    ///< factor on the per-sample μs, μd of SlabModel (0: frictionless)
+  int iterations = 3;             ///< tangent-plane projection + re-projection rounds per tick (>= 1)
+  int max_halvings = 6;           ///< step halvings when a candidate leaves the shell or turns too far
+  double max_turn_deg = 30.0;     ///< largest change of the proxy's normal accepted per step [deg]
+  double position_limit_m = 1.0;  ///< HIP farther than this from the workspace centre [m]: BadInput, zero force
+  double tunnel_step = 0.0;       ///< free-space sub-step [model units] to catch a HIP that jumps across a
+                                  ///< thin part in one tick; 0: 0.002 × the model's source diagonal
+  int max_tunnel_steps = 16;      ///< cap on free-space sub-steps per tick
   AlphaSolver solver = AlphaSolver::Newton;  ///< alpha-plane root finder of every slab lookup (paper: Bisection)
   /// Depth below the under-layer's top over which its stiffness and friction replace the surface's
   /// [model units] (layer_exposure()); 0: 0.0005 × the model's source diagonal (0.08 mm on a 16 cm
@@ -53,26 +53,26 @@ enum class ProxyStatus : uint8_t {
 /// Proxy state carried from tick to tick. Plain data, no allocation: copyable into a servo
 /// thread's storage.
 struct ProxyState {
-  bool contact = false;              ///< proxy is on the surface
-  bool stuck = false;                ///< static friction holds the proxy (only meaningful in contact)
-  int32_t slab = -1;                 ///< proxy's slab (contact only)
-  SlabCoordinates coords;            ///< proxy's (α = δ, barycentrics) in that slab (contact only)
-  Vec3 position = Vec3::Zero();      ///< proxy [model units]: on the displaced surface in contact, else the HIP
-  Vec3 normal = Vec3::UnitZ();       ///< interpolated unit normal at the proxy (contact only)
-  Vec3 last_hip = Vec3::Zero();      ///< previous finite HIP [model units]
-  bool has_last_hip = false;         ///< last_hip is valid
-  QueryCache hip_cache;              ///< coherence cache of the HIP queries (free motion)
-  QueryCache proxy_cache;            ///< coherence cache of the proxy re-projections
+  bool contact = false;          ///< proxy is on the surface
+  bool stuck = false;            ///< static friction holds the proxy (only meaningful in contact)
+  int32_t slab = -1;             ///< proxy's slab (contact only)
+  SlabCoordinates coords;        ///< proxy's (α = δ, barycentrics) in that slab (contact only)
+  Vec3 position = Vec3::Zero();  ///< proxy [model units]: on the displaced surface in contact, else the HIP
+  Vec3 normal = Vec3::UnitZ();   ///< interpolated unit normal at the proxy (contact only)
+  Vec3 last_hip = Vec3::Zero();  ///< previous finite HIP [model units]
+  bool has_last_hip = false;     ///< last_hip is valid
+  QueryCache hip_cache;          ///< coherence cache of the HIP queries (free motion)
+  QueryCache proxy_cache;        ///< coherence cache of the proxy re-projections
 };
 
 /// Output of one tick.
 struct ProxyOutput {
-  Vec3 force = Vec3::Zero();        ///< force on the handle [N], device frame; never NaN
+  Vec3 force = Vec3::Zero();  ///< force on the handle [N], device frame; never NaN
   ProxyStatus status = ProxyStatus::Free;
-  Contact contact;                  ///< contact at the proxy (slab, coords, surface point, normal) with
-                                    ///< depth = (proxy - HIP)·n [model units] > 0; slab -1 when free
-  double normal_force = 0;          ///< k·depth [N] before damping and clamping
-  double friction_force = 0;        ///< tangential spring force |F_t| [N]
+  Contact contact;                       ///< contact at the proxy (slab, coords, surface point, normal) with
+                                         ///< depth = (proxy - HIP)·n [model units] > 0; slab -1 when free
+  double normal_force = 0;               ///< k·depth [N] before damping and clamping
+  double friction_force = 0;             ///< tangential spring force |F_t| [N]
   double mu_static = 0, mu_dynamic = 0;  ///< friction coefficients interpolated at the proxy
 };
 
@@ -91,9 +91,9 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
 /// its interpolated tangent plane and re-projected onto the displaced surface through
 /// SlabLocator::find + evaluate_surface (params.iterations rounds, crossing slab edges and
 /// corners; a step is halved when it leaves the shell, lands on a surface facing away, turns the
-/// normal by more than max_turn_deg, or does not reduce the tangential residual); static friction holds it while |F_t| <= μs·F_n, otherwise it slides so that
-/// |F_t| = μd·F_n. Stiffness scale and friction are the per-sample fields interpolated at the
-/// proxy, or the under-layer's (SlabModel::under_layer) where the proxy is below the layer's top
+/// normal by more than max_turn_deg, or does not reduce the tangential residual); static friction holds it while |F_t|
+/// <= μs·F_n, otherwise it slides so that |F_t| = μd·F_n. Stiffness scale and friction are the per-sample fields
+/// interpolated at the proxy, or the under-layer's (SlabModel::under_layer) where the proxy is below the layer's top
 /// (blended over ProxyParams::layer_band); they are read on every tick, so painting them is felt
 /// on the next. Contact lasts while (HIP - proxy)·n_proxy < 0, whatever the HIP's own query
 /// says, so it holds past the inner face and through thin parts. Force
@@ -126,9 +126,9 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
 
 /// @brief Dispatches to proxy_step() or penalty_step().
 /// @note noexcept, real-time safe.
-inline ProxyOutput render_step(RenderMode mode, const SlabModel& model, const SlabLocator& locator,
-                               const Workspace& ws, const Vec3& hip_device, const Vec3& velocity,
-                               const ProxyParams& params, ProxyState& state) noexcept {
+inline ProxyOutput render_step(RenderMode mode, const SlabModel& model, const SlabLocator& locator, const Workspace& ws,
+                               const Vec3& hip_device, const Vec3& velocity, const ProxyParams& params,
+                               ProxyState& state) noexcept {
   return mode == RenderMode::Proxy ? proxy_step(model, locator, ws, hip_device, velocity, params, state)
                                    : penalty_step(model, locator, ws, hip_device, velocity, params, state);
 }

@@ -32,11 +32,11 @@ struct ServoOptions {
 
 /// What the servo loop tells the tick function on every tick.
 struct ServoTick {
-  int64_t tick = 0;        ///< tick index
-  double time_s = 0;       ///< scheduled time of the tick [s]
-  double force_gain = 1;   ///< factor in [0,1] to apply to the commanded force (ramp-in/out, watchdog)
-  int64_t missed = 0;      ///< periods this tick started late by (0 when on time)
-  bool stopping = false;   ///< a stop was requested: the gain is ramping out
+  int64_t tick = 0;       ///< tick index
+  double time_s = 0;      ///< scheduled time of the tick [s]
+  double force_gain = 1;  ///< factor in [0,1] to apply to the commanded force (ramp-in/out, watchdog)
+  int64_t missed = 0;     ///< periods this tick started late by (0 when on time)
+  bool stopping = false;  ///< a stop was requested: the gain is ramping out
 };
 
 /// Gain envelope of the commanded force: ramp-in, ramp-out and the watchdog. Used by
@@ -63,17 +63,17 @@ struct LatencyStats {
 
 /// Timing of a finished run.
 struct ServoStats {
-  int64_t ticks = 0;        ///< ticks run
-  double seconds = 0;       ///< wall time [s]
-  double rate_hz = 0;       ///< achieved rate: ticks / seconds [Hz]
-  LatencyStats period_ns;   ///< time between tick starts [ns]
-  LatencyStats compute_ns;  ///< time inside the tick function [ns]
-  int64_t overruns = 0;     ///< ticks that started more than one period late
-  int64_t long_ticks = 0;   ///< ticks whose wall time from start to end exceeded the period
+  int64_t ticks = 0;            ///< ticks run
+  double seconds = 0;           ///< wall time [s]
+  double rate_hz = 0;           ///< achieved rate: ticks / seconds [Hz]
+  LatencyStats period_ns;       ///< time between tick starts [ns]
+  LatencyStats compute_ns;      ///< time inside the tick function [ns]
+  int64_t overruns = 0;         ///< ticks that started more than one period late
+  int64_t long_ticks = 0;       ///< ticks whose wall time from start to end exceeded the period
   int64_t cpu_long_ticks = -1;  ///< with ServoOptions::cpu_time: ticks whose CPU time exceeded the period (a long
                                 ///< tick that is not one was preempted); -1 when not measured
-  LatencyStats cpu_ns;      ///< with ServoOptions::cpu_time: the servo thread's CPU time per tick [ns]
-  int64_t watchdog_trips = 0;  ///< ticks that started more than watchdog_ticks periods late
+  LatencyStats cpu_ns;          ///< with ServoOptions::cpu_time: the servo thread's CPU time per tick [ns]
+  int64_t watchdog_trips = 0;   ///< ticks that started more than watchdog_ticks periods late
 };
 
 /// Tick function: called on the servo thread with the tick index and its scheduled time [s].

@@ -36,21 +36,21 @@ struct SurfaceStroke {
 
 /// A place to push through a thin part.
 struct ThinSite {
-  SurfacePoint entry;       ///< where the push enters (its normal points out of the part)
-  Vec3 exit = Vec3::Zero(); ///< where the line entry - t·normal leaves the part [model units]
-  double thickness = 0;     ///< |exit - entry| [model units]
+  SurfacePoint entry;        ///< where the push enters (its normal points out of the part)
+  Vec3 exit = Vec3::Zero();  ///< where the line entry - t·normal leaves the part [model units]
+  double thickness = 0;      ///< |exit - entry| [model units]
 };
 
 /// Settings of the searches. Fractions are of the input's bounding-box diagonal.
 struct SiteOptions {
-  uint64_t seed = 20020701;        ///< surface-sampling seed (fixed: runs are reproducible)
-  int samples = 16384;             ///< area-weighted surface samples
-  int candidates = 256;            ///< exposed samples tried as stroke starts / press spots
-  double clearance = 0.1;          ///< free line along the normal that makes a point "exposed"
-  double stroke_length = 0.25;     ///< slide stroke length (one way)
-  double min_depth = 0.04;         ///< slide / edges: the part under the stroke is at least this thick
-  double min_thin = 0.008;         ///< thin: thinner parts count as degenerate (below the bake's resolution)
-  double max_thin = 0.06;          ///< thin: thicker parts are not "thin"
+  uint64_t seed = 20020701;     ///< surface-sampling seed (fixed: runs are reproducible)
+  int samples = 16384;          ///< area-weighted surface samples
+  int candidates = 256;         ///< exposed samples tried as stroke starts / press spots
+  double clearance = 0.1;       ///< free line along the normal that makes a point "exposed"
+  double stroke_length = 0.25;  ///< slide stroke length (one way)
+  double min_depth = 0.04;      ///< slide / edges: the part under the stroke is at least this thick
+  double min_thin = 0.008;      ///< thin: thinner parts count as degenerate (below the bake's resolution)
+  double max_thin = 0.06;       ///< thin: thicker parts are not "thin"
 };
 
 /// Surface sampling and normals of an input mesh, and the site searches.

@@ -35,27 +35,27 @@ const char* scenario_name(Scenario s) noexcept;
 struct ScenarioOptions {
   Scenario scenario = Scenario::Slide;
   RenderMode mode = RenderMode::Proxy;
-  double rate_hz = 1000;            ///< servo rate [Hz]
-  ProxyParams proxy;                ///< force parameters (stiffness, damping, max force, friction)
-  bool friction = false;            ///< use the model's μs/μd fields (off: frictionless, so force
-                                    ///< direction = surface normal and normal_error is meaningful)
-  double workspace_m = 0.16;        ///< device workspace the model's diagonal maps to [m]
-  double speed_m_s = 0.1;           ///< slide / edges speed of the hand target [m/s]
-  double press_force_n = 1.0;       ///< slide / edges: hand force pressing into the surface [N]
-  SimulatedDeviceOptions device;    ///< handle mass, hand spring/damper (rate and max force are set from above)
-  bool keep_trace = false;          ///< fill ScenarioReport::trace
+  double rate_hz = 1000;          ///< servo rate [Hz]
+  ProxyParams proxy;              ///< force parameters (stiffness, damping, max force, friction)
+  bool friction = false;          ///< use the model's μs/μd fields (off: frictionless, so force
+                                  ///< direction = surface normal and normal_error is meaningful)
+  double workspace_m = 0.16;      ///< device workspace the model's diagonal maps to [m]
+  double speed_m_s = 0.1;         ///< slide / edges speed of the hand target [m/s]
+  double press_force_n = 1.0;     ///< slide / edges: hand force pressing into the surface [N]
+  SimulatedDeviceOptions device;  ///< handle mass, hand spring/damper (rate and max force are set from above)
+  bool keep_trace = false;        ///< fill ScenarioReport::trace
 };
 
 /// One traced tick (for plots).
 struct ScenarioTraceRow {
-  double t;          ///< time [s]
-  Vec3 device;       ///< handle [m]
-  Vec3 force;        ///< rendered force [N]
-  double depth_mm;   ///< (proxy - HIP)·n [mm at the device], 0 when free
-  int status;        ///< ProxyStatus
-  int slab;          ///< proxy / contact slab, -1 free
-  Vec3 proxy;        ///< proxy (SCP in penalty mode) [m, device frame]
-  Vec3 normal;       ///< contact normal (model frame = device axes)
+  double t;         ///< time [s]
+  Vec3 device;      ///< handle [m]
+  Vec3 force;       ///< rendered force [N]
+  double depth_mm;  ///< (proxy - HIP)·n [mm at the device], 0 when free
+  int status;       ///< ProxyStatus
+  int slab;         ///< proxy / contact slab, -1 free
+  Vec3 proxy;       ///< proxy (SCP in penalty mode) [m, device frame]
+  Vec3 normal;      ///< contact normal (model frame = device axes)
 };
 
 /// Scores of one run. Angles in degrees, forces in N, lengths in mm at the device.
@@ -63,8 +63,9 @@ struct ScenarioReport {
   std::string scenario, mode;
   double rate_hz = 0;
   int64_t ticks = 0, contact_ticks = 0, bad_input_ticks = 0;
-  int pop_throughs = 0;             ///< force reversed, or vanished with the HIP inside / passing through the input
-  double max_force_step_pct = 0;    ///< largest tick-to-tick |ΔF| as % of max force over ticks where the handle moved < 0.1 mm
+  int pop_throughs = 0;  ///< force reversed, or vanished with the HIP inside / passing through the input
+  double max_force_step_pct =
+      0;  ///< largest tick-to-tick |ΔF| as % of max force over ticks where the handle moved < 0.1 mm
   /// The same step for a reference renderer of the exact input on the same handle motion: the
   /// spring k·|HIP - c|·n(c) to the HIP's closest input point c along the input's interpolated
   /// normal there (Embree closest point; the same ticks as max_force_step_pct, while the rendered
@@ -77,24 +78,26 @@ struct ScenarioReport {
   /// rendered mesh as rough, gives without force shading: at an edge of dihedral angle θ it steps
   /// by about |F|·θ at any servo rate (the closest point jumps across the edge's bisector).
   double reference_facet_force_step_pct = 0;
-  double normal_error_p95_deg = 0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
+  double normal_error_p95_deg =
+      0;  ///< force direction vs the exact input face normal at the closest point to the proxy (SCP in penalty mode)
   double normal_error_smooth_p95_deg = 0;  ///< same against the input's interpolated (area-weighted vertex) normal
   /// The input's own facet noise at the same points: its face normal against its interpolated
   /// vertex normal (p95) [deg]. A force that follows any continuous normal field cannot get far
   /// below this against the face normal.
   double normal_floor_p95_deg = 0;
-  double energy_ratio = 0;          ///< work the rendered force returned to the handle / work it absorbed
-  double stable_stiffness_n_per_m = 0;  ///< stiff: highest stiffness whose press-and-hold settles (hand coupled); others: the stiffness used
-  double passive_stiffness_n_per_m = 0; ///< stiff: highest stiffness at which the rendered contact is also passive
-                                        ///< (returned/absorbed work <= 1; theory: K < 2b/T, Colgate & Brown 1994)
+  double energy_ratio = 0;  ///< work the rendered force returned to the handle / work it absorbed
+  double stable_stiffness_n_per_m =
+      0;  ///< stiff: highest stiffness whose press-and-hold settles (hand coupled); others: the stiffness used
+  double passive_stiffness_n_per_m = 0;  ///< stiff: highest stiffness at which the rendered contact is also passive
+                                         ///< (returned/absorbed work <= 1; theory: K < 2b/T, Colgate & Brown 1994)
   double max_force_n = 0, mean_contact_force_n = 0;
-  double force_cv = 0;              ///< std/mean of |F| over the steady part (slide, edges)
-  double max_penetration_mm = 0;    ///< largest (proxy - HIP)·n [mm]
+  double force_cv = 0;                 ///< std/mean of |F| over the steady part (slide, edges)
+  double max_penetration_mm = 0;       ///< largest (proxy - HIP)·n [mm]
   double proxy_surface_error_max = 0;  ///< max |proxy - evaluate_surface(proxy coords)| / diagonal (proxy mode)
-  int64_t slab_crossings = 0;       ///< ticks on which the contact slab changed
+  int64_t slab_crossings = 0;          ///< ticks on which the contact slab changed
   double tick_ns_median = 0, tick_ns_p99 = 0, tick_ns_max = 0;  ///< render_step compute time [ns]
-  std::string note;                 ///< scenario details (e.g. where the ear is)
-  std::vector<ScenarioTraceRow> trace;  ///< per tick, when keep_trace
+  std::string note;                                             ///< scenario details (e.g. where the ear is)
+  std::vector<ScenarioTraceRow> trace;                          ///< per tick, when keep_trace
 };
 
 /// @brief Runs one scenario on @p model, scored against @p reference (the input mesh the model was

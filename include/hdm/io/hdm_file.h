@@ -31,7 +31,8 @@
 /// | `SRCD` | 1 | float64 source_diagonal [model units] |
 /// | `RUFF` | #texels | float32 roughness (version 2) |
 /// | `LAYD` | #samples | float32 layer_displacement (version 2) |
-/// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness (version 2) |
+/// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness
+/// (version 2) |
 ///
 /// Version 1 files (without the last three sections) load with the defaults of those fields.
 /// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels

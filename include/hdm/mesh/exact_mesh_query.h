@@ -21,8 +21,8 @@ struct ClosestPoint {
 
 /// A ray hit.
 struct SegmentHit {
-  double t;        ///< parameter along the segment, 0 at its origin and 1 at its end
-  int32_t face;    ///< face hit
+  double t;      ///< parameter along the segment, 0 at its origin and 1 at its end
+  int32_t face;  ///< face hit
 };
 
 /// How much time Embree spends on building the BVH (RTC_BUILD_QUALITY_*): `high` (spatial splits)

@@ -12,12 +12,12 @@ namespace hdm {
 
 /// What orient_outward() found and changed.
 struct OrientReport {
-  int components = 0;        ///< connected components (through shared edges)
-  int closed = 0;            ///< components without boundary edges
-  int nearly_closed = 0;     ///< open components whose openings are small (see orient_outward())
-  int sheets = 0;            ///< open components kept as given (surfaces, not solids)
-  int flipped = 0;           ///< components whose faces were reversed
-  int64_t flipped_faces = 0; ///< faces reversed
+  int components = 0;         ///< connected components (through shared edges)
+  int closed = 0;             ///< components without boundary edges
+  int nearly_closed = 0;      ///< open components whose openings are small (see orient_outward())
+  int sheets = 0;             ///< open components kept as given (surfaces, not solids)
+  int flipped = 0;            ///< components whose faces were reversed
+  int64_t flipped_faces = 0;  ///< faces reversed
 };
 
 /// @brief Orients every connected component of @p mesh outward, so that faces are counter-clockwise

@@ -12,21 +12,21 @@ namespace hdm {
 
 /// Options of repair_mesh().
 struct RepairOptions {
-  int max_hole_edges = 64;     ///< boundary cycles with at most this many edges may be filled (holes in
-                               ///< a scan); longer ones are kept as open boundaries (open slab sides)
-  double max_hole_size = 0.05; ///< ... and only when their bounding box is at most this fraction of the
-                               ///< mesh's diagonal (a scan hole is small; a cut such as a bust's neck is not)
+  int max_hole_edges = 64;      ///< boundary cycles with at most this many edges may be filled (holes in
+                                ///< a scan); longer ones are kept as open boundaries (open slab sides)
+  double max_hole_size = 0.05;  ///< ... and only when their bounding box is at most this fraction of the
+                                ///< mesh's diagonal (a scan hole is small; a cut such as a bust's neck is not)
 };
 
 /// What repair_mesh() changed.
 struct RepairReport {
-  int64_t merged_vertices = 0;     ///< vertices at the same position as another one, welded
-  int64_t removed_faces = 0;       ///< degenerate (repeated vertex, zero area) and duplicate faces removed
-  int64_t split_vertices = 0;      ///< vertices duplicated to make the mesh manifold (orienting a soup)
-  int64_t flipped_faces = 0;       ///< faces whose orientation was reversed for consistency or outward normals
-  int filled_holes = 0;            ///< boundary cycles closed
-  int64_t added_faces = 0;         ///< faces added by hole filling
-  int open_boundaries = 0;         ///< boundary cycles left open (longer than max_hole_edges)
+  int64_t merged_vertices = 0;  ///< vertices at the same position as another one, welded
+  int64_t removed_faces = 0;    ///< degenerate (repeated vertex, zero area) and duplicate faces removed
+  int64_t split_vertices = 0;   ///< vertices duplicated to make the mesh manifold (orienting a soup)
+  int64_t flipped_faces = 0;    ///< faces whose orientation was reversed for consistency or outward normals
+  int filled_holes = 0;         ///< boundary cycles closed
+  int64_t added_faces = 0;      ///< faces added by hole filling
+  int open_boundaries = 0;      ///< boundary cycles left open (longer than max_hole_edges)
   /// True when the mesh changed.
   bool changed() const noexcept {
     return merged_vertices || removed_faces || split_vertices || flipped_faces || filled_holes;

@@ -19,13 +19,13 @@ int64_t count_self_intersections(const TriangleMesh& mesh);
 
 /// What resolve_self_intersections() did.
 struct SelfIntersectionReport {
-  int64_t pairs_before = 0;  ///< crossing face pairs of the input
-  int64_t pairs_after = 0;   ///< crossing face pairs left (the input's count when it was kept)
-  int64_t faces_before = 0;  ///< faces of the input
-  int64_t faces_after = 0;   ///< faces of the result
-  int64_t buried_faces = 0;  ///< faces (after refinement) dropped as inside the union
-  int64_t closed_cracks = 0; ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
-  bool resolved = false;     ///< the result is the union's boundary; false: the input was kept
+  int64_t pairs_before = 0;   ///< crossing face pairs of the input
+  int64_t pairs_after = 0;    ///< crossing face pairs left (the input's count when it was kept)
+  int64_t faces_before = 0;   ///< faces of the input
+  int64_t faces_after = 0;    ///< faces of the result
+  int64_t buried_faces = 0;   ///< faces (after refinement) dropped as inside the union
+  int64_t closed_cracks = 0;  ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
+  bool resolved = false;      ///< the result is the union's boundary; false: the input was kept
 };
 
 /// @brief The boundary of the solid a closed mesh that crosses itself bounds: the union of its

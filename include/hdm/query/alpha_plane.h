@@ -18,8 +18,8 @@ enum class AlphaSolver {
 
 /// Position of a point inside a slab.
 struct SlabCoordinates {
-  double alpha = 0;              ///< alpha-plane parameter in [0,1] (0 inner face, 1 outer face)
-  Vec3 bary = Vec3::Zero();      ///< barycentrics (wR, wS, wT) on the alpha-triangle, sum 1
+  double alpha = 0;          ///< alpha-plane parameter in [0,1] (0 inner face, 1 outer face)
+  Vec3 bary = Vec3::Zero();  ///< barycentrics (wR, wS, wT) on the alpha-triangle, sum 1
 };
 
 /// @brief Finds α and the barycentrics of point @p p in slab @p g.
@@ -43,8 +43,8 @@ bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, Sl
 ///                     triangle: the edge it lies beyond (0: RS, 1: ST, 2: TR, the order of
 ///                     SlabModel::edge_neighbour); otherwise -1.
 /// @note noexcept, no allocation, O(1); same result as locate_in_slab().
-bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, double alpha_guess,
-                    SlabCoordinates& c, int& exit_edge) noexcept;
+bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c,
+                    int& exit_edge) noexcept;
 
 /// @brief The point of slab @p g with coordinates (@p bary, @p alpha): X(w, α) = Σ wV·(V0 + α·dV).
 /// @note noexcept, O(1); the inverse of locate_in_slab.

@@ -80,9 +80,7 @@ class SlabLocator {
       return box.contains(x, y, z) && sides.may_contain(x, y, z);
     }
   };
-  bool candidate(int32_t slab, float x, float y, float z) const noexcept {
-    return filters_[slab].may_contain(x, y, z);
-  }
+  bool candidate(int32_t slab, float x, float y, float z) const noexcept { return filters_[slab].may_contain(x, y, z); }
   int find_grid(const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
   void build_grid();
   // Cell coordinate of v along axis a: monotonic in v, so a box [lo, hi] holding v is listed in
@@ -93,7 +91,7 @@ class SlabLocator {
   }
 
   const std::vector<SlabGeometry>* geometry_;
-  std::vector<Filter> filters_;  // #S, by slab id
+  std::vector<Filter> filters_;               // #S, by slab id
   std::vector<std::array<int32_t, 3>> edge_;  // #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> ring_offsets_, ring_;
   // Uniform grid over the slab boxes, cells half a slab box wide: cell k lists, inline, the

@@ -10,13 +10,14 @@ namespace hdm {
 
 /// Answer of a haptic query, model units and model frame.
 struct Contact {
-  int32_t slab = -1;               ///< slab holding the point, -1 outside the shell (or NaN point)
-  SlabCoordinates coords;          ///< α and barycentrics of the point in that slab
-  double delta = 0;                ///< displacement δ in [0,1] on the point's projection line
-  double depth = 0;                ///< (δ - α)·max(D(w)·n, 0.1|D(w)|), the distance to the surface's tangent plane: > 0 inside material (penetration), < 0 above
+  int32_t slab = -1;       ///< slab holding the point, -1 outside the shell (or NaN point)
+  SlabCoordinates coords;  ///< α and barycentrics of the point in that slab
+  double delta = 0;        ///< displacement δ in [0,1] on the point's projection line
+  double depth = 0;  ///< (δ - α)·max(D(w)·n, 0.1|D(w)|), the distance to the surface's tangent plane: > 0 inside
+                     ///< material (penetration), < 0 above
   Vec3 surface_point = Vec3::Zero();  ///< point at δ on the point's projection line [model units]
-  Vec3 normal = Vec3::UnitZ();     ///< interpolated unit normal of the displaced surface (outward)
-  Vec3 ray = Vec3::Zero();         ///< projection-line direction D(w) = P1(w) - P0(w) [model units]
+  Vec3 normal = Vec3::UnitZ();        ///< interpolated unit normal of the displaced surface (outward)
+  Vec3 ray = Vec3::Zero();            ///< projection-line direction D(w) = P1(w) - P0(w) [model units]
   bool in_shell() const noexcept { return slab >= 0; }
   bool penetrating() const noexcept { return slab >= 0 && depth > 0; }
   /// The paper's depth (§3.3): (δ - α)·|D(w)|, measured along the projection line [model units].

@@ -18,12 +18,12 @@ struct SlabModel;
 /// Frames: world = model units; view = right-handed, camera at the origin looking down −Z, Y up;
 /// clip = OpenGL clip space (NDC depth in [−1, 1]).
 struct RenderCamera {
-  Vec3 target = Vec3::Zero();   ///< point looked at: centre of the surface's bounding box [model units]
-  Vec3 eye = Vec3::UnitZ();     ///< camera position [model units]
-  double fov_y_deg = 30;        ///< vertical field of view [degrees]
-  double radius = 1;            ///< radius of the framed sphere about `target` [model units]
+  Vec3 target = Vec3::Zero();               ///< point looked at: centre of the surface's bounding box [model units]
+  Vec3 eye = Vec3::UnitZ();                 ///< camera position [model units]
+  double fov_y_deg = 30;                    ///< vertical field of view [degrees]
+  double radius = 1;                        ///< radius of the framed sphere about `target` [model units]
   double near_plane = 0.1, far_plane = 10;  ///< clip distances along the view axis [model units]
-  int width = 1, height = 1;    ///< image size [pixels]
+  int width = 1, height = 1;                ///< image size [pixels]
   Eigen::Matrix4f view = Eigen::Matrix4f::Identity();        ///< world -> view (rigid)
   Eigen::Matrix4f projection = Eigen::Matrix4f::Identity();  ///< view -> clip
 
@@ -61,8 +61,7 @@ RenderCamera fit_camera(const std::vector<Vec3f>& points, int width, int height,
 /// @pre rebuild_derived(model) has run.
 /// @throws InvalidInput if the model has no slabs or stale derived data.
 /// @note O(#samples); allocates one temporary array.
-RenderCamera fit_camera(const SlabModel& model, int width, int height, double azimuth_deg,
-                        double elevation_deg);
+RenderCamera fit_camera(const SlabModel& model, int width, int height, double azimuth_deg, double elevation_deg);
 
 /// @brief The camera @p fitted moved to look at @p target from @p zoom times closer, along the
 /// same view direction with the same up vector; the clip planes still hold everything @p fitted

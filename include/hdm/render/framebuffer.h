@@ -37,9 +37,9 @@ class Framebuffer {
   /// @throws RenderError if OpenGL reports an error.
   std::vector<uint8_t> read_rgb();
 
-  int width() const noexcept { return width_; }     ///< [pixels]
-  int height() const noexcept { return height_; }   ///< [pixels]
-  int samples() const noexcept { return samples_; } ///< MSAA samples actually used
+  int width() const noexcept { return width_; }      ///< [pixels]
+  int height() const noexcept { return height_; }    ///< [pixels]
+  int samples() const noexcept { return samples_; }  ///< MSAA samples actually used
 
  private:
   void release() noexcept;

@@ -13,8 +13,8 @@ struct SlabModel;
 
 /// What render_png() draws and how.
 struct RenderOptions {
-  int width = 1280;   ///< image width [pixels], 1 .. GL_MAX_RENDERBUFFER_SIZE
-  int height = 960;   ///< image height [pixels], 1 .. GL_MAX_RENDERBUFFER_SIZE
+  int width = 1280;  ///< image width [pixels], 1 .. GL_MAX_RENDERBUFFER_SIZE
+  int height = 960;  ///< image height [pixels], 1 .. GL_MAX_RENDERBUFFER_SIZE
   /// View direction [degrees]: the camera looks at the centre of the displaced surface's
   /// bounding box from azimuth (about +Y; 0 = from +Z, 90 = from +X) and elevation (above the
   /// XZ plane, in [−90, 90]), Y up, and is placed so the whole surface fits (fit_camera()).
@@ -27,8 +27,8 @@ struct RenderOptions {
   /// Close-up: the camera looks at this point, in coordinates normalised to the surface's bounding
   /// box ([0,1]³; the centre is (0.5, 0.5, 0.5)), from `zoom` times closer (zoom_camera()).
   Vec3 focus = Vec3::Constant(0.5);
-  double zoom = 1;               ///< > 0; 1: the whole surface fits
-  int msaa_samples = 4;          ///< multisample anti-aliasing (1 = off; clamped to GL_MAX_SAMPLES)
+  double zoom = 1;       ///< > 0; 1: the whole surface fits
+  int msaa_samples = 4;  ///< multisample anti-aliasing (1 = off; clamped to GL_MAX_SAMPLES)
 };
 
 /// @brief Renders the displaced surface of @p model with its colours and writes it as an 8-bit

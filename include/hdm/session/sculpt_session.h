@@ -27,15 +27,15 @@ struct SessionOptions {
   /// after the force is sent, edits run until then (the rest carries over to the next ticks), and for
   /// at least a fifth of it, so a tick lasts about this, or the proxy step plus a fifth of it.
   double edit_budget_s = 25e-6;
-  double publish_interval_s = 0.01;     ///< publish changed slabs at most this often [s] (100 Hz)
-  bool publish = true;                  ///< keep SlabSnapshots for other threads (memory: see SlabSnapshots)
-  SnapshotOptions snapshots;            ///< reader slots, spare versions
-  StrokeEditorOptions editor;           ///< undo cap, queue
-  uint32_t tool_button = 1;             ///< device button mask that holds the tool on (a stroke while held)
+  double publish_interval_s = 0.01;  ///< publish changed slabs at most this often [s] (100 Hz)
+  bool publish = true;               ///< keep SlabSnapshots for other threads (memory: see SlabSnapshots)
+  SnapshotOptions snapshots;         ///< reader slots, spare versions
+  StrokeEditorOptions editor;        ///< undo cap, queue
+  uint32_t tool_button = 1;          ///< device button mask that holds the tool on (a stroke while held)
   /// Feed a tool position every this many ticks (1: every tick, the default; the paper's 10 Hz
   /// at 1 kHz is 100). The sweep joins consecutive positions either way.
   int64_t edit_every = 1;
-  int command_capacity = 256;           ///< commands (post()) waiting for the servo thread
+  int command_capacity = 256;  ///< commands (post()) waiting for the servo thread
 };
 
 /// A command for the servo thread from another thread (post()).
@@ -46,25 +46,25 @@ struct SessionCommand {
 
 /// What one tick did (for the caller's records).
 struct SessionTick {
-  DeviceState device;                 ///< the device reading of the tick (device frame)
-  Vec3 force = Vec3::Zero();          ///< force sent [N], after the envelope's gain
-  ProxyOutput out;                    ///< the renderer's output (contact, forces, friction)
-  bool ended = false;                 ///< the device had nothing more (begin_frame returned false)
-  bool tool_on = false;               ///< the tool button is held
-  int32_t sweeps = 0;                 ///< sweeps finished in this tick
-  int32_t changed = 0;                ///< samples / texels changed in this tick
-  int32_t published = 0;              ///< slabs published in this tick
-  bool edit_pending = false;          ///< the budget ran out with work left: it carries over to the next tick
+  DeviceState device;         ///< the device reading of the tick (device frame)
+  Vec3 force = Vec3::Zero();  ///< force sent [N], after the envelope's gain
+  ProxyOutput out;            ///< the renderer's output (contact, forces, friction)
+  bool ended = false;         ///< the device had nothing more (begin_frame returned false)
+  bool tool_on = false;       ///< the tool button is held
+  int32_t sweeps = 0;         ///< sweeps finished in this tick
+  int32_t changed = 0;        ///< samples / texels changed in this tick
+  int32_t published = 0;      ///< slabs published in this tick
+  bool edit_pending = false;  ///< the budget ran out with work left: it carries over to the next tick
 };
 
 /// Counters of a session.
 struct SessionStats {
   int64_t ticks = 0, contact_ticks = 0, sweeps = 0, changed = 0;
-  int64_t publications = 0;           ///< epochs committed
-  int64_t slabs_published = 0;        ///< slab versions copied
-  int64_t publish_deferred = 0;       ///< ticks a publication waited for spare versions (readers held old epochs)
-  int64_t carried_ticks = 0;          ///< ticks whose budget ran out with work left for the next
-  double max_edit_ns = 0;             ///< longest edit + publish work in one tick [ns]
+  int64_t publications = 0;      ///< epochs committed
+  int64_t slabs_published = 0;   ///< slab versions copied
+  int64_t publish_deferred = 0;  ///< ticks a publication waited for spare versions (readers held old epochs)
+  int64_t carried_ticks = 0;     ///< ticks whose budget ran out with work left for the next
+  double max_edit_ns = 0;        ///< longest edit + publish work in one tick [ns]
 };
 
 /// One haptic sculpting session: the live model, its locator, the proxy, a StrokeEditor and

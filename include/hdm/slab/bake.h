@@ -17,19 +17,24 @@ class ExactMeshQuery;
 
 /// Options of bake_slabs(). Tolerances are relative to the input's bounding-box diagonal.
 struct BakeOptions {
-  int slabs = 0;           ///< target slab count; 0: input triangles · density / n²
-  double density = 4.0;    ///< with slabs = 0: submesh triangles (slabs·n²) per input triangle. At 1 the reconstruction
-                           ///< has the input's resolution, and its interpolation error between samples (about 0.003% of
-                           ///< the diagonal on bunny00) bounds the inside/outside agreement within ±1% to about 99.7%;
-                           ///< at 4 it passes 99.9%
-  int grid_n = 16;         ///< displacement intervals per slab edge (paper: 15, i.e. 16 samples per edge)
+  int slabs = 0;         ///< target slab count; 0: input triangles · density / n²
+  double density = 4.0;  ///< with slabs = 0: submesh triangles (slabs·n²) per input triangle. At 1 the reconstruction
+                         ///< has the input's resolution, and its interpolation error between samples (about 0.003% of
+                         ///< the diagonal on bunny00) bounds the inside/outside agreement within ±1% to about 99.7%;
+                         ///< at 4 it passes 99.9%
+  int grid_n = 16;       ///< displacement intervals per slab edge (paper: 15, i.e. 16 samples per edge)
   int texel_density = 2;   ///< colour texels per displacement interval
   double headroom = 0.25;  ///< carve/add headroom each side, as a fraction of the mean coarse edge length at the vertex
-  double max_thickness = 1.0;  ///< largest shell thickness each side, as a fraction of the mean coarse edge length at the vertex
-  double min_thickness = 0.01;  ///< wanted shell thickness each side, fraction of the diagonal (cursor penetration F_max/k_s plus carve headroom), capped in thin parts
-  int direction_smoothing = 10;  ///< Laplacian smoothing passes over the ray directions (each kept only while it sees all incident faces)
-  bool separate_slabs = true;  ///< thin the shell where slabs of different parts overlap (falls back to no separation when that leaves more than miss_limit rays without a surface)
-  double miss_limit = 0.10;  ///< when separation leaves more than this fraction of sample rays without a surface, bake again without it
+  double max_thickness =
+      1.0;  ///< largest shell thickness each side, as a fraction of the mean coarse edge length at the vertex
+  double min_thickness = 0.01;  ///< wanted shell thickness each side, fraction of the diagonal (cursor penetration
+                                ///< F_max/k_s plus carve headroom), capped in thin parts
+  int direction_smoothing =
+      10;  ///< Laplacian smoothing passes over the ray directions (each kept only while it sees all incident faces)
+  bool separate_slabs = true;  ///< thin the shell where slabs of different parts overlap (falls back to no separation
+                               ///< when that leaves more than miss_limit rays without a surface)
+  double miss_limit =
+      0.10;  ///< when separation leaves more than this fraction of sample rays without a surface, bake again without it
   Vec3f colour{0.82f, 0.80f, 0.76f};  ///< initial surface colour, linear RGB
   /// Progress callback: stage name and fraction in [0,1] of that stage. Called from the calling thread.
   std::function<void(const char* stage, double fraction)> progress;
@@ -37,18 +42,19 @@ struct BakeOptions {
 
 /// Counters of one bake.
 struct BakeReport {
-  int slabs = 0;                    ///< slabs built
-  int grid_n = 0;                   ///< intervals per edge
-  int64_t input_triangles = 0;      ///< triangles of the input
-  int64_t submesh_triangles = 0;    ///< slabs·n², the triangles of the reconstructed surface
-  int64_t samples = 0;              ///< distinct displacement samples
-  int invalid_slabs = 0;            ///< slabs whose Jacobian is not positive everywhere (design notes §3.7)
-  int64_t ray_misses = 0;           ///< sample rays that found no outward-facing input surface (filled at the point of their line nearest the input)
-  int64_t overlapping_pairs = 0;    ///< slab pairs of different parts that overlap (0 when separation converged)
-  int64_t undercut_columns = 0;     ///< sample rays that cross the input more than once
-  int shell_iterations = 0;         ///< rounds of shrinking/growing the shell
-  bool separated = false;           ///< overlapping slabs were thinned apart (see BakeOptions::separate_slabs)
-  double seconds = 0;               ///< wall time of the bake [s]
+  int slabs = 0;                  ///< slabs built
+  int grid_n = 0;                 ///< intervals per edge
+  int64_t input_triangles = 0;    ///< triangles of the input
+  int64_t submesh_triangles = 0;  ///< slabs·n², the triangles of the reconstructed surface
+  int64_t samples = 0;            ///< distinct displacement samples
+  int invalid_slabs = 0;          ///< slabs whose Jacobian is not positive everywhere (design notes §3.7)
+  int64_t ray_misses = 0;  ///< sample rays that found no outward-facing input surface (filled at the point of their
+                           ///< line nearest the input)
+  int64_t overlapping_pairs = 0;  ///< slab pairs of different parts that overlap (0 when separation converged)
+  int64_t undercut_columns = 0;   ///< sample rays that cross the input more than once
+  int shell_iterations = 0;       ///< rounds of shrinking/growing the shell
+  bool separated = false;         ///< overlapping slabs were thinned apart (see BakeOptions::separate_slabs)
+  double seconds = 0;             ///< wall time of the bake [s]
 };
 
 /// @brief Bakes @p mesh into a slab model.

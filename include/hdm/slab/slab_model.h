@@ -18,11 +18,11 @@ namespace hdm {
 /// Rα = R0 + α·dR, Eα1 = e1 + α·d1 (Sα - Rα), Eα2 = e2 + α·d2 (Tα - Rα); its plane normal is
 /// N(α) = N0 + N1·α + N2·α² (outward for a valid slab).
 struct SlabGeometry {
-  Vec3 R0, dR;                ///< inner R corner and R's ray
-  Vec3 e1, e2, d1, d2;        ///< S0-R0, T0-R0, dS-dR, dT-dR
-  Vec3 N0, N1, N2;            ///< alpha-plane normal coefficients
-  double N0dR, N1dR, N2dR;    ///< N0·dR, N1·dR, N2·dR
-  Aabb box;                   ///< box of the six corners: contains the whole slab
+  Vec3 R0, dR;              ///< inner R corner and R's ray
+  Vec3 e1, e2, d1, d2;      ///< S0-R0, T0-R0, dS-dR, dT-dR
+  Vec3 N0, N1, N2;          ///< alpha-plane normal coefficients
+  double N0dR, N1dR, N2dR;  ///< N0·dR, N1·dR, N2·dR
+  Aabb box;                 ///< box of the six corners: contains the whole slab
 };
 
 /// One grid point of a slab as the haptic query reads it: the displacement and the unit normal of
@@ -51,19 +51,18 @@ struct UnderLayer {
 /// Threading: readers may share a const model; edits (hdm/edit) mutate the stored per-sample and
 /// per-texel fields, `positions`, `normals`, `slab_samples` and `haptic_normals` and must not run
 /// concurrently with readers of the same samples (hdm::SlabSnapshots gives other threads
-/// consistent copies while one thread edits; docs/editing.md). Code that changes `displacement` outside the edit tools must call
-/// update_positions() and update_normals() on the changed samples and their one-ring (or
-/// rebuild_derived()), or the query will read stale values from `slab_samples` (and the proxy from
-/// `haptic_normals`).
+/// consistent copies while one thread edits; docs/editing.md). Code that changes `displacement` outside the edit tools
+/// must call update_positions() and update_normals() on the changed samples and their one-ring (or rebuild_derived()),
+/// or the query will read stale values from `slab_samples` (and the proxy from `haptic_normals`).
 struct SlabModel {
   // ---- stored ----
-  int grid_n = 16;                ///< displacement intervals per slab edge (n)
-  int texel_density = 2;          ///< colour texels per displacement interval (m); texel grid n·m
-  std::vector<Vec3> inner;        ///< #C inner coarse vertex positions V0 [model units]
-  std::vector<Vec3> outer;        ///< #C outer coarse vertex positions V1 [model units]
-  std::vector<Tri> slabs;         ///< #S slabs as coarse-vertex triples R, S, T (CCW from outside)
-  std::vector<float> displacement;///< #samples δ in [0,1] along each projection line (0 inner, 1 outer)
-  std::vector<Vec3f> colour;      ///< #texels linear RGB in [0,1]
+  int grid_n = 16;                      ///< displacement intervals per slab edge (n)
+  int texel_density = 2;                ///< colour texels per displacement interval (m); texel grid n·m
+  std::vector<Vec3> inner;              ///< #C inner coarse vertex positions V0 [model units]
+  std::vector<Vec3> outer;              ///< #C outer coarse vertex positions V1 [model units]
+  std::vector<Tri> slabs;               ///< #S slabs as coarse-vertex triples R, S, T (CCW from outside)
+  std::vector<float> displacement;      ///< #samples δ in [0,1] along each projection line (0 inner, 1 outer)
+  std::vector<Vec3f> colour;            ///< #texels linear RGB in [0,1]
   std::vector<float> friction_static;   ///< #samples static friction coefficient μs
   std::vector<float> friction_dynamic;  ///< #samples dynamic friction coefficient μd
   std::vector<float> stiffness_scale;   ///< #samples factor on the rendered stiffness, in [0,1]
@@ -72,16 +71,16 @@ struct SlabModel {
   /// (default 0: no under-layer above the inner face). The surface is the under-layer where
   /// δ < this value (exposed by carving); see UnderLayer and layer_exposure().
   std::vector<float> layer_displacement;
-  UnderLayer under_layer;         ///< the under-layer's material
-  std::string source;             ///< name of the input mesh the model was baked from
-  int64_t source_triangles = 0;   ///< triangles of that input
-  double source_diagonal = 0;     ///< bounding-box diagonal of that input [model units]
+  UnderLayer under_layer;        ///< the under-layer's material
+  std::string source;            ///< name of the input mesh the model was baked from
+  int64_t source_triangles = 0;  ///< triangles of that input
+  double source_diagonal = 0;    ///< bounding-box diagonal of that input [model units]
 
   // ---- derived (rebuild_derived) ----
-  SampleLayout samples;           ///< displacement samples (grid n)
-  SampleLayout texels;            ///< colour texels (grid n·m)
-  std::vector<Vec3f> positions;   ///< #samples surface points (cache of sample_position) [model units]
-  std::vector<Vec3f> normals;     ///< #samples unit normals of the displaced surface
+  SampleLayout samples;          ///< displacement samples (grid n)
+  SampleLayout texels;           ///< colour texels (grid n·m)
+  std::vector<Vec3f> positions;  ///< #samples surface points (cache of sample_position) [model units]
+  std::vector<Vec3f> normals;    ///< #samples unit normals of the displaced surface
   /// #S·samples.per_slab unit normals for force shading (the proxy, hdm::proxy_step), slab-major
   /// like `slab_samples` (slot slab·per_slab + grid index holds sample samples.ids[slot]): each
   /// sample's normal summed with those of its grid neighbours (one ring, across seams) and
@@ -91,8 +90,8 @@ struct SlabModel {
   /// grid normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
   /// update_normals() keeps it in sync with `normals` (the samples it is given and their ring).
   std::vector<Vec3f> haptic_normals;
-  std::vector<SlabGeometry> geometry;               ///< #S slab constants
-  std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
+  std::vector<SlabGeometry> geometry;                      ///< #S slab constants
+  std::vector<std::array<int32_t, 3>> edge_neighbour;      ///< #S: slab across edge RS, ST, TR or -1
   std::vector<int32_t> vertex_slab_offsets, vertex_slabs;  ///< CSR coarse vertex -> slabs
   /// #S·samples.per_slab: slab-major copy of `displacement` and `normals`, in grid::index order
   /// within a slab (slot slab·per_slab + index holds sample samples.ids[slot]). What the query
@@ -127,8 +126,8 @@ void rebuild_derived(SlabModel& model);
 
 /// @brief Slab constants of the slab with corners (R0,S0,T0) and (R1,S1,T1) [model units].
 /// @see design notes §3.2 (simplified cubic constants, checked against paper eq. 1-2).
-SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, const Vec3& R1,
-                                const Vec3& S1, const Vec3& T1);
+SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, const Vec3& R1, const Vec3& S1,
+                                const Vec3& T1);
 
 /// @brief Ends of the projection line of grid point @p index of slab @p slab.
 /// @param[out] p0  inner end Σ wV·V0 [model units]
@@ -167,9 +166,9 @@ struct FaceNormalCache {
     int32_t tri = -1;    ///< triangle whose normal `face` holds (-1: none)
     uint32_t stamp = 0;  ///< call number that set `tri`
   };
-  std::vector<Entry> memo;        ///< kSlots entries, triangle f in slot f & (kSlots - 1)
-  std::vector<int32_t> pending;   ///< triangles listed for evaluation (flushed when full)
-  uint32_t current = 0;           ///< number of the current call
+  std::vector<Entry> memo;       ///< kSlots entries, triangle f in slot f & (kSlots - 1)
+  std::vector<int32_t> pending;  ///< triangles listed for evaluation (flushed when full)
+  uint32_t current = 0;          ///< number of the current call
 };
 
 /// @brief Recomputes `haptic_normals` of @p samples from `normals`: the normalised sum of the

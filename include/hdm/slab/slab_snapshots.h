@@ -24,25 +24,25 @@ namespace hdm {
 
 /// Settings of SlabSnapshots.
 struct SnapshotOptions {
-  int reader_slots = 8;      ///< readers that may hold a snapshot at once (more wait for a slot)
+  int reader_slots = 8;  ///< readers that may hold a snapshot at once (more wait for a slot)
   /// Versions beyond one per slab, for publishing while readers hold older ones; -1: one per slab
   /// (enough to publish any edit while no reader holds an old epoch).
   int spare_versions = -1;
-  bool checksums = false;    ///< the writer stores a checksum per version and readers can verify() it (tests)
+  bool checksums = false;  ///< the writer stores a checksum per version and readers can verify() it (tests)
 };
 
 /// One slab as a reader sees it. Arrays in grid::index order of the slab's grid (displacement
 /// grid: per_slab points; texel grid: texels_per_slab points), like SlabModel::slab_samples.
 struct SlabView {
-  uint64_t epoch = 0;                  ///< epoch that published this version (0: the model at construction)
-  int per_slab = 0;                    ///< displacement grid points of a slab
-  int texels_per_slab = 0;             ///< texel grid points of a slab
-  const SlabSample* points = nullptr;  ///< per_slab displacement δ and unit normal
+  uint64_t epoch = 0;                         ///< epoch that published this version (0: the model at construction)
+  int per_slab = 0;                           ///< displacement grid points of a slab
+  int texels_per_slab = 0;                    ///< texel grid points of a slab
+  const SlabSample* points = nullptr;         ///< per_slab displacement δ and unit normal
   const float* friction_static = nullptr;     ///< per_slab μs
   const float* friction_dynamic = nullptr;    ///< per_slab μd
   const float* stiffness_scale = nullptr;     ///< per_slab stiffness scale
   const float* layer_displacement = nullptr;  ///< per_slab under-layer top δ
-  const float* texels = nullptr;       ///< texels_per_slab × 4: linear RGB colour and roughness
+  const float* texels = nullptr;              ///< texels_per_slab × 4: linear RGB colour and roughness
 };
 
 class SnapshotReader;
@@ -99,10 +99,10 @@ class SlabSnapshots {
  private:
   friend class SnapshotReader;
   struct Version {
-    uint64_t epoch = 0;                 // written only while no reader can reach the version
-    uint64_t superseded = UINT64_MAX;   // writer only: epoch of the next version of its slab
-    std::atomic<int32_t> prev{-1};      // older version of the same slab (-1: none needed)
-    int32_t next = -1;                  // writer only: newer version of the same slab
+    uint64_t epoch = 0;                // written only while no reader can reach the version
+    uint64_t superseded = UINT64_MAX;  // writer only: epoch of the next version of its slab
+    std::atomic<int32_t> prev{-1};     // older version of the same slab (-1: none needed)
+    int32_t next = -1;                 // writer only: newer version of the same slab
     int32_t slab = -1;
     uint64_t checksum = 0;
   };
@@ -120,8 +120,8 @@ class SlabSnapshots {
   size_t version_total_ = 0, slot_count_ = 0;
   std::vector<float> arena_;
   std::unique_ptr<Version[]> versions_;
-  std::unique_ptr<std::atomic<int32_t>[]> current_;   // #S: newest committed version of each slab
-  std::unique_ptr<std::atomic<uint64_t>[]> slots_;    // reader epochs (kFree / kClaiming / epoch)
+  std::unique_ptr<std::atomic<int32_t>[]> current_;  // #S: newest committed version of each slab
+  std::unique_ptr<std::atomic<uint64_t>[]> slots_;   // reader epochs (kFree / kClaiming / epoch)
   std::atomic<uint64_t> published_{0};
   // writer only
   std::vector<int32_t> free_, retired_, pending_;

@@ -35,9 +35,7 @@ struct TextureAtlas {
   std::vector<uint8_t> rgba;  ///< width·height·4 bytes, sRGB-encoded RGBA8, row 0 = top
 
   /// Pixel (x0, y0) of texel (0, 0) (corner R) of slab @p slab.
-  Eigen::Vector2i origin(int slab) const {
-    return {(slab % columns) * tile + 1, (slab / columns) * tile + 1};
-  }
+  Eigen::Vector2i origin(int slab) const { return {(slab % columns) * tile + 1, (slab / columns) * tile + 1}; }
 
   /// @brief Texture coordinates of the point with barycentrics (wR, wS, wT) of slab @p slab.
   /// @param slab  slab id in [0, #S).

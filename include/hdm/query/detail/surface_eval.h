@@ -67,12 +67,12 @@ inline const SlabSample* slab_block(const SlabModel& model, int slab) noexcept {
 /// Surface point P0(w) + δ(w)·D(w) at barycentrics (·, wS, wT) of @p slab [model units]; also
 /// returns δ and D(w). Reads the slab-major copy (SlabModel::slab_samples), whose values equal
 /// `displacement`, so the result is the same as interpolating `displacement`.
-inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT, const LocalCell& cell,
-                          double& delta, Vec3& ray) noexcept {
+inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT, const LocalCell& cell, double& delta,
+                          Vec3& ray) noexcept {
   const SlabGeometry& g = model.geometry[slab];
   const SlabSample* v = slab_block(model, slab);
   delta = cell.wa * v[cell.la].delta + cell.wb * v[cell.lb].delta + cell.wd * v[cell.ld].delta;
-  ray = g.dR + wS * g.d1 + wT * g.d2;         // D(w) = Σ wV dV
+  ray = g.dR + wS * g.d1 + wT * g.d2;            // D(w) = Σ wV dV
   const Vec3 p0 = g.R0 + wS * g.e1 + wT * g.e2;  // P0(w) = Σ wV V0
   return p0 + delta * ray;
 }
