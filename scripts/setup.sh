@@ -13,7 +13,8 @@ packages=(cmake ninja-build g++ pkg-config
   libcgal-dev libcgal-demo gnuplot-nox
   libglfw3-dev libimgui-dev xvfb xauth
   clang libclang-rt-14-dev
-  pybind11-dev python3-dev python3-numpy python3-pytest)
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  doxygen)
 
 missing=()
 for p in "${packages[@]}"; do

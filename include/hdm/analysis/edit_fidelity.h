@@ -15,8 +15,10 @@ namespace hdm {
 
 /// One swept sphere: the capsule of radius `radius` around the segment [a, b] [model units].
 struct ToolCapsule {
+  /// @{ Ends of the swept segment [model units].
   Vec3 a = Vec3::Zero(), b = Vec3::Zero();
-  double radius = 0;
+  /// @}
+  double radius = 0;     ///< radius of the swept sphere [model units], > 0
   bool add = false;      ///< false: material removed (carve); true: material added (union)
   bool measured = true;  ///< the band measured is around the measured tools (all tools shape the exact solid)
 };
@@ -46,6 +48,7 @@ struct EditFidelity {
 ///   outside it for add, sampled on the swept envelope about every @p spacing; and the input's
 ///   vertices and face centroids that no tool touched), their distance to the displaced surface
 ///   (an Embree BVH over its grid triangles).
+/// @param model    the edited slab model (derived data built) [model units].
 /// @param input    exact queries on the input mesh the model was baked from.
 /// @param tools    the swept spheres, in the order they were applied (e.g. a session's sweep log).
 /// @param margin   width of the measured band beyond the tools [model units], > 0.

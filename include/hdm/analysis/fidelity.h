@@ -25,6 +25,8 @@ struct Fidelity {
 /// @brief Fidelity of @p model against @p input: every sample and grid-triangle centroid of the
 /// reconstructed surface to the input, and every input vertex and face centroid to the
 /// reconstructed surface (an Embree BVH over the displaced grid triangles).
+/// @param model   slab model with derived data (rebuild_derived()).
+/// @param input   exact queries on the mesh @p model was baked from (same frame and units).
 /// @param buried  optional #F flags of input faces that are not on the surface of the material
 ///                (buried_faces()): their centroids, and vertices all of whose faces are buried,
 ///                are left out of the input-to-model direction.

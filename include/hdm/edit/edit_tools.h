@@ -22,9 +22,11 @@ struct EditScratch {
   /// @brief Sizes every buffer for @p model. Allocates O(#samples + #texels + #S): about
   /// 12 bytes per sample, 8 per texel, 5 per slab, plus a fixed ~120 KB (face-normal memo).
   explicit EditScratch(const SlabModel& model);
-  std::vector<uint32_t> sample_stamp, texel_stamp;  ///< visit marks of the current edit
-  uint32_t stamp = 0;                               ///< current edit's mark
-  std::vector<int32_t> queue;                       ///< flood-fill queue (samples or texels)
+  /// @{ Visit marks of the current edit: #samples and #texels entries (equal to `stamp` once visited).
+  std::vector<uint32_t> sample_stamp, texel_stamp;
+  /// @}
+  uint32_t stamp = 0;          ///< current edit's mark
+  std::vector<int32_t> queue;  ///< flood-fill queue (samples or texels)
   /// Samples whose displacement changed since their normals were last refreshed, once each:
   /// `changed[0 .. changed_count)`. Sweeps list them; refresh_normals() (or the stroke editor's
   /// batched refresh) recomputes the normals of their rings and empties the list.
@@ -96,6 +98,8 @@ EditResult apply_brush(SlabModel& model, EditScratch& scratch, const BrushSweep&
 
 /// @brief Carve: remove material inside a sphere of radius @p radius centred at
 /// hip + n·(radius + resilience), n the contact normal (paper §4.1, Fig. 7).
+/// @param model       slab model with derived data; edited in place.
+/// @param scratch     buffers sized for @p model (EditScratch).
 /// @param contact     current contact (must be in a slab; nothing happens otherwise).
 /// @param hip         haptic interaction point [model units].
 /// @param radius      tool radius [model units], > 0.
@@ -118,6 +122,11 @@ EditResult add_material(SlabModel& model, EditScratch& scratch, const Contact& c
 
 /// @brief Paint: texels within @p radius of the surface contact point blend towards @p colour with
 /// intensity k = pressure·(1 - d/r): c ← k·colour + (1-k)·c (paper §5).
+/// @param model     slab model with derived data; its `colour` texels are edited in place.
+/// @param scratch   buffers sized for @p model (EditScratch).
+/// @param contact   current contact (must be in a slab; nothing happens otherwise).
+/// @param radius    brush radius [model units], > 0.
+/// @param colour    target colour, linear RGB in [0,1].
 /// @param pressure  in [0,1] (clamped), from the penetration depth (see paint_pressure()).
 /// @note Texel positions are taken on the displaced surface. No allocation; O(visited).
 ///       apply_brush() with BrushTool::Paint, BrushField::Colour, Falloff::Linear and from = to.
@@ -125,6 +134,7 @@ EditResult paint(SlabModel& model, EditScratch& scratch, const Contact& contact,
                  double pressure) noexcept;
 
 /// @brief Paint pressure from penetration depth: clamp((depth - d0)/(d1 - d0), 0, 1) (design notes §5.3).
+/// @param depth  penetration depth [model units] (or a normal force [N], with d0, d1 in N).
 /// @param d0  dead zone [model units]: lighter touches do not paint. @param d1 depth of full pressure.
 /// The same ramp maps a normal force to pressure (hdm::StrokeEditor: d0 = 0.1·F1, d1 = F1).
 double paint_pressure(double depth, double d0, double d1) noexcept;
@@ -133,13 +143,20 @@ double paint_pressure(double depth, double d0, double d1) noexcept;
 /// normal (SlabModel::layer_displacement = clamp(δ − thickness/(|P1 − P0|·cos θ), 0, 1), θ the
 /// angle between the projection line and the normal, cos θ at least 0.2), and sets its material:
 /// the two-layer set-up of paper §2 (e.g. enamel over dentin).
+/// @param model      slab model with derived data; `layer_displacement` and `under_layer` are set.
 /// @param thickness  [model units], >= 0.
+/// @param material   the under-layer's colour, stiffness and friction.
 /// @note noexcept, no allocation, O(#samples): a set-up step (not for the servo tick). Derived
 ///       data need no refresh (the layer is read directly by the proxy and the renderer).
 void set_under_layer(SlabModel& model, double thickness, const UnderLayer& material) noexcept;
 
 /// @brief The interval of t in which the line p0 + t·L passes within @p radius of the segment
 /// [a, b] (the capsule around it; a sphere when a = b).
+/// @param p0      a point of the line [model units].
+/// @param L       the line's direction (any length, not zero); t is measured in units of |L|.
+/// @param a       one end of the segment [model units].
+/// @param b       the other end [model units].
+/// @param radius  capsule radius [model units], >= 0.
 /// @param[out] t_in, t_out  the interval's ends when it is not empty.
 /// @return false when the line misses the capsule.
 /// @note noexcept, O(1): the union of the intervals of the two end spheres and of the cylinder

@@ -44,7 +44,11 @@ struct ToolSample {
 /// Replaying a log on a copy of the model as it was (StrokeEditor::replay()) reproduces every
 /// stored value bit for bit.
 struct EditLogEntry {
+  /// What the entry records: a stroke's start (Begin), one applied sweep (Sweep), its end (End),
+  /// an undo or a redo of the last stroke.
+  /// @{
   enum Kind : uint8_t { Begin, Sweep, End, Undo, Redo } kind = Sweep;
+  /// @}
   BrushSweep sweep;  ///< Sweep: the sweep applied; Begin: sweep.brush is the stroke's brush
 };
 

@@ -13,12 +13,16 @@ namespace hdm {
 /// Every stored per-sample value an edit may change (SlabModel's displacement, friction_static,
 /// friction_dynamic, stiffness_scale, layer_displacement), in that order.
 struct SampleValues {
+  /// @{ The sample's SlabModel values of the same names (delta: SlabModel::displacement).
   float delta, friction_static, friction_dynamic, stiffness_scale, layer_displacement;
+  /// @}
 };
 
 /// Every stored per-texel value an edit may change (SlabModel's colour and roughness).
 struct TexelValues {
+  /// @{ The texel's linear RGB colour and roughness, each in [0,1].
   float r, g, b, roughness;
+  /// @}
 };
 
 /// One record: a sample's or a texel's values (before the stroke until it is undone; after the
@@ -53,10 +57,13 @@ class UndoHistory {
   /// True while a stroke is open.
   bool recording() const noexcept { return open_; }
 
-  /// Strokes that can be undone / redone.
+  /// Strokes that can be undone.
   int undo_count() const noexcept { return top_ - first_stroke_; }
+  /// Strokes that can be redone (undone since the last new stroke).
   int redo_count() const noexcept { return stroke_end_ - top_; }
+  /// True when no stroke is open and one can be undone.
   bool can_undo() const noexcept { return !open_ && undo_count() > 0; }
+  /// True when no stroke is open and one can be redone.
   bool can_redo() const noexcept { return !open_ && redo_count() > 0; }
 
   /// @brief Records of the stroke the next undo reverts (the last applied one), as a range of

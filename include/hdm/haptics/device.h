@@ -85,6 +85,8 @@ class SimulatedDevice final : public HapticDevice {
  public:
   /// @brief Creates the device; @p targets holds one hand target [m] per tick (the last one is held
   /// after the end). The spans must outlive the device.
+  /// @param options  handle mass, hand spring and damper, rate, substeps and the device spec.
+  /// @param targets  hand target per tick [m, device frame].
   /// @param start    initial handle position [m] (at rest).
   /// @param buttons  optional button mask per tick (the hand pressing the tool button; the last
   ///                 one is held after the end); empty: no button pressed.
@@ -119,6 +121,8 @@ class SimulatedDevice final : public HapticDevice {
 class ReplayDevice final : public HapticDevice {
  public:
   /// @brief Loads @p csv_path (all rows read here, so frames never do I/O).
+  /// @param csv_path  the recording (CSV, see the class).
+  /// @param spec      the device's workspace, rate and force limit reported by spec().
   /// @param max_file_bytes  a larger file is refused before it is read (default 1 GiB, about
   ///                        ten million rows as `hdm sculpt --forces` writes them).
   /// @throws IoError when the file cannot be read or is larger than @p max_file_bytes;

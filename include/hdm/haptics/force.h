@@ -38,8 +38,8 @@ enum class ForceStatus : uint8_t {
 
 /// Rendered force.
 struct ForceSample {
-  Vec3 force = Vec3::Zero();  ///< force on the device handle [N], device frame
-  ForceStatus status = ForceStatus::Free;
+  Vec3 force = Vec3::Zero();               ///< force on the device handle [N], device frame
+  ForceStatus status = ForceStatus::Free;  ///< what the force evaluation found
 };
 
 /// @brief Penalty force F = k_s·depth·n - b·(v·n)·n with the paper's depth along the ray
@@ -47,6 +47,8 @@ struct ForceSample {
 /// notes §4.5). depth is converted to metres through @p ws.
 /// @param contact   query answer at the HIP.
 /// @param velocity  device velocity [m/s].
+/// @param params    stiffness [N/m], damping [N·s/m] and force limit [N].
+/// @param ws        device ↔ model mapping (converts depth to metres).
 /// @return zero force and BadInput for a non-finite velocity or contact, never NaN.
 /// @note noexcept, O(1), real-time safe. The surface contact point of the paper is
 ///       SCP = HIP + n·depth; this force is the spring towards it.

@@ -67,18 +67,24 @@ struct ProxyState {
 
 /// Output of one tick.
 struct ProxyOutput {
-  Vec3 force = Vec3::Zero();  ///< force on the handle [N], device frame; never NaN
-  ProxyStatus status = ProxyStatus::Free;
-  Contact contact;                       ///< contact at the proxy (slab, coords, surface point, normal) with
-                                         ///< depth = (proxy - HIP)·n [model units] > 0; slab -1 when free
-  double normal_force = 0;               ///< k·depth [N] before damping and clamping
-  double friction_force = 0;             ///< tangential spring force |F_t| [N]
-  double mu_static = 0, mu_dynamic = 0;  ///< friction coefficients interpolated at the proxy
+  Vec3 force = Vec3::Zero();               ///< force on the handle [N], device frame; never NaN
+  ProxyStatus status = ProxyStatus::Free;  ///< free, in contact, clamped or bad input
+  Contact contact;                         ///< contact at the proxy (slab, coords, surface point, normal) with
+                                           ///< depth = (proxy - HIP)·n [model units] > 0; slab -1 when free
+  double normal_force = 0;                 ///< k·depth [N] before damping and clamping
+  double friction_force = 0;               ///< tangential spring force |F_t| [N]
+  /// @{ Static and dynamic friction coefficients interpolated at the proxy.
+  double mu_static = 0, mu_dynamic = 0;
+  /// @}
 };
 
 /// @brief Interpolates a per-sample field at slab coordinates (the grid triangle and weights of
 /// evaluate_surface, design notes §4.1).
-/// @param field  #samples values (e.g. SlabModel::friction_static); empty: returns @p fallback.
+/// @param model     slab model with derived data.
+/// @param field     #samples values (e.g. SlabModel::friction_static); empty: returns @p fallback.
+/// @param slab      slab id in [0, #S).
+/// @param c         coordinates in that slab (locate_in_slab()).
+/// @param fallback  value returned for an empty @p field.
 /// @note noexcept, O(1), real-time safe.
 double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
                          double fallback) noexcept;

@@ -58,7 +58,9 @@ struct ForceEnvelope {
 
 /// Median, 99th percentile and maximum of a duration [ns].
 struct LatencyStats {
+  /// @{ Median, 99th percentile and maximum [ns].
   double median = 0, p99 = 0, max = 0;
+  /// @}
 };
 
 /// Timing of a finished run.
@@ -93,6 +95,9 @@ ServoStats run_servo_loop(const ServoOptions& options, ServoTickFn tick, void* u
 
 /// @brief Runs @p options.ticks ticks of @p tick on a new thread (best effort SCHED_FIFO when the
 /// process may use it) and waits for it.
+/// @param options  rate, ticks, stop flag, watchdog and envelope settings.
+/// @param tick     called once per tick on the servo thread (real-time rules).
+/// @param user     passed to @p tick unchanged.
 /// @param[out] realtime_note  set to a message when real-time scheduling was unavailable.
 /// @return timing statistics, computed after the loop from preallocated per-tick records.
 /// @note Allocates only before the loop starts (per-tick timing buffers).

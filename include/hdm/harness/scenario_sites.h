@@ -62,6 +62,7 @@ class ScenarioSites {
  public:
   /// @brief Precomputes vertex normals and @p options.samples area-weighted surface samples.
   /// @param reference  the exact input (must outlive this object); closed and outward-oriented.
+  /// @param options    sample count and the site searches' settings.
   /// @throws InvalidInput when the mesh has no face of positive area.
   ScenarioSites(const ExactMeshQuery& reference, const SiteOptions& options = {});
 

@@ -33,17 +33,17 @@ const char* scenario_name(Scenario s) noexcept;
 
 /// Settings of a scenario run. Paths are found on the exact input (model frame, any orientation).
 struct ScenarioOptions {
-  Scenario scenario = Scenario::Slide;
-  RenderMode mode = RenderMode::Proxy;
-  double rate_hz = 1000;          ///< servo rate [Hz]
-  ProxyParams proxy;              ///< force parameters (stiffness, damping, max force, friction)
-  bool friction = false;          ///< use the model's μs/μd fields (off: frictionless, so force
-                                  ///< direction = surface normal and normal_error is meaningful)
-  double workspace_m = 0.16;      ///< device workspace the model's diagonal maps to [m]
-  double speed_m_s = 0.1;         ///< slide / edges speed of the hand target [m/s]
-  double press_force_n = 1.0;     ///< slide / edges: hand force pressing into the surface [N]
-  SimulatedDeviceOptions device;  ///< handle mass, hand spring/damper (rate and max force are set from above)
-  bool keep_trace = false;        ///< fill ScenarioReport::trace
+  Scenario scenario = Scenario::Slide;  ///< which scripted motion to run
+  RenderMode mode = RenderMode::Proxy;  ///< proxy (god-object) or the paper's penalty force
+  double rate_hz = 1000;                ///< servo rate [Hz]
+  ProxyParams proxy;                    ///< force parameters (stiffness, damping, max force, friction)
+  bool friction = false;                ///< use the model's μs/μd fields (off: frictionless, so force
+                                        ///< direction = surface normal and normal_error is meaningful)
+  double workspace_m = 0.16;            ///< device workspace the model's diagonal maps to [m]
+  double speed_m_s = 0.1;               ///< slide / edges speed of the hand target [m/s]
+  double press_force_n = 1.0;           ///< slide / edges: hand force pressing into the surface [N]
+  SimulatedDeviceOptions device;        ///< handle mass, hand spring/damper (rate and max force are set from above)
+  bool keep_trace = false;              ///< fill ScenarioReport::trace
 };
 
 /// One traced tick (for plots).
@@ -60,9 +60,13 @@ struct ScenarioTraceRow {
 
 /// Scores of one run. Angles in degrees, forces in N, lengths in mm at the device.
 struct ScenarioReport {
+  /// @{ Scenario and render mode names (as `hdm feel` takes them).
   std::string scenario, mode;
-  double rate_hz = 0;
+  /// @}
+  double rate_hz = 0;  ///< servo rate simulated [Hz]
+  /// @{ Ticks run, ticks in contact, ticks with a non-finite device reading.
   int64_t ticks = 0, contact_ticks = 0, bad_input_ticks = 0;
+  /// @}
   int pop_throughs = 0;  ///< force reversed, or vanished with the HIP inside / passing through the input
   double max_force_step_pct =
       0;  ///< largest tick-to-tick |ΔF| as % of max force over ticks where the handle moved < 0.1 mm
@@ -90,14 +94,18 @@ struct ScenarioReport {
       0;  ///< stiff: highest stiffness whose press-and-hold settles (hand coupled); others: the stiffness used
   double passive_stiffness_n_per_m = 0;  ///< stiff: highest stiffness at which the rendered contact is also passive
                                          ///< (returned/absorbed work <= 1; theory: K < 2b/T, Colgate & Brown 1994)
+  /// @{ Largest force and mean force over the contact ticks [N].
   double max_force_n = 0, mean_contact_force_n = 0;
+  /// @}
   double force_cv = 0;                 ///< std/mean of |F| over the steady part (slide, edges)
   double max_penetration_mm = 0;       ///< largest (proxy - HIP)·n [mm]
   double proxy_surface_error_max = 0;  ///< max |proxy - evaluate_surface(proxy coords)| / diagonal (proxy mode)
   int64_t slab_crossings = 0;          ///< ticks on which the contact slab changed
-  double tick_ns_median = 0, tick_ns_p99 = 0, tick_ns_max = 0;  ///< render_step compute time [ns]
-  std::string note;                                             ///< scenario details (e.g. where the ear is)
-  std::vector<ScenarioTraceRow> trace;                          ///< per tick, when keep_trace
+  /// @{ render_step compute time: median, p99, max [ns].
+  double tick_ns_median = 0, tick_ns_p99 = 0, tick_ns_max = 0;
+  /// @}
+  std::string note;                     ///< scenario details (e.g. where the ear is)
+  std::vector<ScenarioTraceRow> trace;  ///< per tick, when keep_trace
 };
 
 /// @brief Runs one scenario on @p model, scored against @p reference (the input mesh the model was
@@ -110,6 +118,9 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
 
 /// @brief Plays a recorded trajectory (open loop) through the renderer and scores it like a
 /// scenario: pop-throughs, force steps, normal error against @p reference, energy.
+/// @param model      slab model baked from @p reference (derived data built).
+/// @param locator    search structure of @p model.
+/// @param reference  exact queries on the input mesh.
 /// @param device   the recording, positions in the device frame of hdm::fit_workspace(bounds of
 ///                 @p reference, options.workspace_m) (what `hdm feel --trace` writes; a CSV of
 ///                 `hdm sculpt --forces` uses the slab model's box, a few per cent larger).

@@ -36,6 +36,7 @@ enum class BvhQuality { high, medium };
 class ExactMeshQuery {
  public:
   /// @brief Builds the BVH over @p mesh (copied into Embree's buffers).
+  /// @param mesh     the triangle mesh [model units]; copied, need not outlive this object.
   /// @param quality  `high` (the default) for many queries; `medium` when the build dominates (a
   ///                 BVH used for about one query per triangle, such as the reconstructed surface
   ///                 in measure_fidelity(): 5.1 M triangles build in ~2 s instead of ~6 s).
@@ -57,6 +58,7 @@ class ExactMeshQuery {
   /// every BVH node farther away from the start: for points known to lie near the mesh (fidelity
   /// samples) this is several times faster than closest_point(p), which the caller uses as the
   /// fallback when face is -1.
+  /// @param p       query point [model units].
   /// @param radius  query radius [model units], > 0.
   /// @note Thread-safe (const); O(log #F) for a radius of the order of the local triangle size.
   ClosestPoint closest_point(const Vec3& p, double radius) const;

@@ -39,6 +39,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh);
 
 /// @brief Checks that @p mesh holds usable data: at least one face, finite coordinates, vertex ids
 /// in range.
+/// @param mesh  the mesh to check.
 /// @param name  file or argument name used in the error message.
 /// @throws InvalidInput naming @p name and the first defect found.
 /// @note O(#V + #F).

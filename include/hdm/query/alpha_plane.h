@@ -36,9 +36,13 @@ struct SlabCoordinates {
 bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, SlabCoordinates& c) noexcept;
 
 /// @brief locate_in_slab() with a starting guess for α and a hint where to look next.
+/// @param g            slab constants, as for locate_in_slab().
+/// @param p            point [model units, model frame].
+/// @param solver       root finder for the cubic.
 /// @param alpha_guess  starting point of the Newton iteration (e.g. the previous tick's α); used
 ///                     when inside (0,1), otherwise the secant of the bracket is used. Ignored by
 ///                     Bisection. The root found does not depend on it beyond rounding.
+/// @param[out] c       coordinates, written only when the point is inside.
 /// @param[out] exit_edge  when @p p is between the slab's inner and outer faces but outside its
 ///                     triangle: the edge it lies beyond (0: RS, 1: ST, 2: TR, the order of
 ///                     SlabModel::edge_neighbour); otherwise -1.

@@ -42,6 +42,7 @@ class SlabLocator {
   int find(const Vec3& p, int hint, AlphaSolver solver, double alpha_guess, SlabCoordinates& c) const noexcept;
 
   /// @brief Slabs sharing an edge or a corner with @p slab (edge neighbours first).
+  /// @param slab        slab id in [0, #S).
   /// @param[out] count  number of entries.
   const int32_t* neighbourhood(int slab, int& count) const noexcept {
     count = ring_offsets_[slab + 1] - ring_offsets_[slab];

@@ -18,7 +18,9 @@ struct Contact {
   Vec3 surface_point = Vec3::Zero();  ///< point at δ on the point's projection line [model units]
   Vec3 normal = Vec3::UnitZ();        ///< interpolated unit normal of the displaced surface (outward)
   Vec3 ray = Vec3::Zero();            ///< projection-line direction D(w) = P1(w) - P0(w) [model units]
+  /// True when the point lies in a slab.
   bool in_shell() const noexcept { return slab >= 0; }
+  /// True when the point lies in a slab below the displaced surface (depth > 0).
   bool penetrating() const noexcept { return slab >= 0 && depth > 0; }
   /// The paper's depth (§3.3): (δ - α)·|D(w)|, measured along the projection line [model units].
   double ray_depth() const noexcept { return (delta - coords.alpha) * ray.norm(); }
@@ -32,6 +34,9 @@ struct QueryCache {
 };
 
 /// @brief Evaluates the displaced surface at slab coordinates @p c of slab @p slab.
+/// @param model  slab model with derived data.
+/// @param slab   slab id in [0, #S).
+/// @param c      coordinates in that slab (α and barycentrics).
 /// @param[out] out  delta, depth, surface_point, normal, ray (slab and coords are set too).
 /// @note noexcept, no allocation, O(1). The displacement and normal are interpolated over the grid
 ///       triangle that holds (hx, hy) = (n·wT, n·wS), with the same up/down split the renderer draws

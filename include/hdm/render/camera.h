@@ -18,12 +18,16 @@ struct SlabModel;
 /// Frames: world = model units; view = right-handed, camera at the origin looking down −Z, Y up;
 /// clip = OpenGL clip space (NDC depth in [−1, 1]).
 struct RenderCamera {
-  Vec3 target = Vec3::Zero();               ///< point looked at: centre of the surface's bounding box [model units]
-  Vec3 eye = Vec3::UnitZ();                 ///< camera position [model units]
-  double fov_y_deg = 30;                    ///< vertical field of view [degrees]
-  double radius = 1;                        ///< radius of the framed sphere about `target` [model units]
-  double near_plane = 0.1, far_plane = 10;  ///< clip distances along the view axis [model units]
-  int width = 1, height = 1;                ///< image size [pixels]
+  Vec3 target = Vec3::Zero();  ///< point looked at: centre of the surface's bounding box [model units]
+  Vec3 eye = Vec3::UnitZ();    ///< camera position [model units]
+  double fov_y_deg = 30;       ///< vertical field of view [degrees]
+  double radius = 1;           ///< radius of the framed sphere about `target` [model units]
+  /// @{ Clip distances along the view axis [model units].
+  double near_plane = 0.1, far_plane = 10;
+  /// @}
+  /// @{ Image size [pixels].
+  int width = 1, height = 1;
+  /// @}
   Eigen::Matrix4f view = Eigen::Matrix4f::Identity();        ///< world -> view (rigid)
   Eigen::Matrix4f projection = Eigen::Matrix4f::Identity();  ///< view -> clip
 
@@ -66,7 +70,9 @@ RenderCamera fit_camera(const SlabModel& model, int width, int height, double az
 /// @brief The camera @p fitted moved to look at @p target from @p zoom times closer, along the
 /// same view direction with the same up vector; the clip planes still hold everything @p fitted
 /// framed.
-/// @param zoom  > 0 (1: the fitted distance).
+/// @param fitted  a camera from fit_camera().
+/// @param target  the new point looked at [model units].
+/// @param zoom    > 0 (1: the fitted distance).
 /// @throws InvalidInput when @p zoom is not positive or @p target is not finite.
 RenderCamera zoom_camera(const RenderCamera& fitted, const Vec3& target, double zoom);
 

@@ -12,7 +12,10 @@ namespace hdm {
 
 /// @brief Writes 8-bit RGB pixels as a PNG file, atomically (a temporary file renamed into place:
 /// an existing file is replaced only on success).
-/// @param rgb  width·height·3 bytes, top row first.
+/// @param path    destination file.
+/// @param width   image width [pixels], > 0.
+/// @param height  image height [pixels], > 0.
+/// @param rgb     width·height·3 bytes, top row first.
 /// @throws InvalidInput when the size and @p rgb disagree; IoError "<path>: <reason>" when the
 ///         file cannot be written.
 /// @note O(pixels); stb_image_write's encoder.

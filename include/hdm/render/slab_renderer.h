@@ -51,7 +51,8 @@ class SlabRenderer {
 
   /// @brief Re-uploads the vertices (positions, normals) and the atlas tile (colours) of one slab
   /// with glBufferSubData / glTexSubImage2D; other slabs keep what they had.
-  /// @param slab  slab id in [0, #S).
+  /// @param model  the model given to upload_all(), edited since.
+  /// @param slab   slab id in [0, #S).
   /// @pre upload_all() ran with a model of the same slabs, grid_n and texel_density; positions
   ///      come from the model's displacements, normals from `model.normals` (refresh them first
   ///      with update_positions() / update_normals()).
@@ -65,6 +66,7 @@ class SlabRenderer {
   /// @param model  the model the snapshots were made of: only its static members are read
   ///               (layouts, coarse vertices), which edits never change.
   /// @param view   the slab's data (displacements, normals, under-layer top, texels).
+  /// @param slab   slab id in [0, #S).
   /// @throws InvalidInput if @p slab is out of range, the layout changed since upload_all() or
   ///         @p view does not match the model's grids.
   /// @note O(n² + N²); no allocation after the first call.

@@ -40,7 +40,10 @@ struct SessionOptions {
 
 /// A command for the servo thread from another thread (post()).
 struct SessionCommand {
+  /// What the servo thread does: switch to `brush`, undo or redo the last stroke.
+  /// @{
   enum Kind : uint8_t { SetBrush, Undo, Redo } kind = SetBrush;
+  /// @}
   Brush brush;  ///< SetBrush: used from the next stroke on
 };
 
@@ -59,7 +62,9 @@ struct SessionTick {
 
 /// Counters of a session.
 struct SessionStats {
+  /// @{ Ticks run, ticks in contact, sweeps finished, samples / texels changed.
   int64_t ticks = 0, contact_ticks = 0, sweeps = 0, changed = 0;
+  /// @}
   int64_t publications = 0;      ///< epochs committed
   int64_t slabs_published = 0;   ///< slab versions copied
   int64_t publish_deferred = 0;  ///< ticks a publication waited for spare versions (readers held old epochs)
@@ -77,7 +82,9 @@ struct SessionStats {
 class SculptSession {
  public:
   /// @brief Takes @p model (derived data built), builds its locator, editor and snapshots.
-  /// @param ws  device ↔ model mapping.
+  /// @param model    slab model with derived data (moved in).
+  /// @param ws       device ↔ model mapping.
+  /// @param options  edit budget, undo memory, snapshots, command queue.
   /// @throws InvalidInput on a model without derived data or bad options.
   /// @note Allocates everything the ticks need: editor buffers (~60 B per sample, ~30 per texel,
   ///       plus the undo cap), snapshot versions (see SlabSnapshots) and the locator.
@@ -89,14 +96,16 @@ class SculptSession {
   /// @brief One servo tick: commands, device reading, force, device command (first, so edits
   /// never delay the force), stroke bookkeeping from the tool button, then edits and publication
   /// within SessionOptions::edit_budget_s.
-  /// @param tick  from the servo loop (its force_gain scales the force).
+  /// @param device  the haptic device, read and commanded once.
+  /// @param tick    from the servo loop (its force_gain scales the force).
   /// @note noexcept; no allocation, no lock, no I/O; servo thread only.
   SessionTick tick(HapticDevice& device, const ServoTick& tick) noexcept;
 
   /// @brief The brush used from the next stroke on (servo thread). noexcept.
   void set_brush(const Brush& brush) noexcept;
-  /// @brief Queues an undo / redo of the last stroke (servo thread). noexcept.
+  /// @brief Queues an undo of the last stroke (servo thread). noexcept.
   void undo() noexcept;
+  /// @brief Queues a redo of the last undone stroke (servo thread). noexcept.
   void redo() noexcept;
   /// @brief Sends a command to the servo thread from one other thread; false when the queue is
   /// full. noexcept, wait-free.
@@ -132,12 +141,16 @@ struct SessionHooks {
   void (*before)(void* user, SculptSession& session, const ServoTick& tick) noexcept = nullptr;
   /// After the tick, with what it did (e.g. recording into preallocated storage).
   void (*after)(void* user, const ServoTick& tick, const SessionTick& result) noexcept = nullptr;
-  void* user = nullptr;
+  void* user = nullptr;  ///< passed to both hooks unchanged
 };
 
 /// @brief Runs the servo loop (run_servo_loop: rate, envelope, watchdog, SCHED_FIFO when
 /// permitted) with @p session's tick on @p device until options.ticks, options.stop, or the
 /// device's end (a replay), then waits for it.
+/// @param session  the session whose tick runs.
+/// @param device   the haptic device (real, simulated or a replay).
+/// @param options  rate, ticks, stop flag, watchdog and envelope (as run_servo_loop).
+/// @param hooks    optional calls before and after each tick.
 /// @param[out] realtime_note  as run_servo_loop.
 /// @note Allocates only before the loop starts.
 ServoStats run_session(SculptSession& session, HapticDevice& device, const ServoOptions& options,

@@ -78,6 +78,9 @@ SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const Ba
 /// build less, about 3 s at 1.4 M input triangles on two cores).
 /// @param input    BVH over the mesh to bake; the mesh must pass validate_mesh_data() (checked
 ///                 before building @p input, since the BVH reads the vertex ids).
+/// @param name     file or argument name used in error messages.
+/// @param options  see BakeOptions.
+/// @param[out] report  counters of the bake (optional).
 /// Otherwise as bake_slabs(const TriangleMesh&, ...), with the same result.
 SlabModel bake_slabs(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
                      BakeReport* report = nullptr);

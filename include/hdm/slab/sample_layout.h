@@ -28,14 +28,22 @@ struct SampleLayout {
   std::vector<Tri> triangles;
   /// For each sample, one slab and packed grid index that hold it (its "home"), used to evaluate
   /// the sample's projection line with one fixed formula so shared samples agree bit for bit.
+  /// @{
   std::vector<int32_t> home_slab, home_index;
+  /// @}
   /// per_slab entries: grid coordinates (i, j) of each packed index (inverse of grid::index).
+  /// @{
   std::vector<int16_t> point_i, point_j;
+  /// @}
   /// CSR adjacency over grid edges: neighbours of sample s are
   /// neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]).
+  /// @{
   std::vector<int32_t> neighbour_offsets, neighbours;
+  /// @}
   /// CSR sample -> incident grid triangles (indices into `triangles`).
+  /// @{
   std::vector<int32_t> triangle_offsets, incident_triangles;
+  /// @}
   /// Samples with id >= first_interior are interior to their home slab: their only grid point is
   /// (home_slab, home_index). Corner and edge samples (ids below it) may be held by several slabs.
   /// INT32_MAX (no sample known to be interior) when the layout was not built by build_sample_layout.
@@ -44,7 +52,9 @@ struct SampleLayout {
   /// slot_of_shared[shared_slot_offsets[s] .. shared_slot_offsets[s+1]), a slot being
   /// slab·per_slab + grid index (an index into `ids`). Lets edits update slab-major copies of a
   /// sample's data (SlabModel::slab_samples) without a search.
+  /// @{
   std::vector<int32_t> shared_slot_offsets, slot_of_shared;
+  /// @}
 
   /// @brief Calls @p f(slot) for every grid point (slab·per_slab + grid index) that holds sample @p s.
   /// @note O(number of slabs holding s): 1 for interior samples; noexcept if @p f is.

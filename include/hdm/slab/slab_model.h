@@ -18,11 +18,19 @@ namespace hdm {
 /// Rα = R0 + α·dR, Eα1 = e1 + α·d1 (Sα - Rα), Eα2 = e2 + α·d2 (Tα - Rα); its plane normal is
 /// N(α) = N0 + N1·α + N2·α² (outward for a valid slab).
 struct SlabGeometry {
-  Vec3 R0, dR;              ///< inner R corner and R's ray
-  Vec3 e1, e2, d1, d2;      ///< S0-R0, T0-R0, dS-dR, dT-dR
-  Vec3 N0, N1, N2;          ///< alpha-plane normal coefficients
-  double N0dR, N1dR, N2dR;  ///< N0·dR, N1·dR, N2·dR
-  Aabb box;                 ///< box of the six corners: contains the whole slab
+  /// @{ Inner R corner and R's ray.
+  Vec3 R0, dR;
+  /// @}
+  /// @{ S0-R0, T0-R0, dS-dR, dT-dR.
+  Vec3 e1, e2, d1, d2;
+  /// @}
+  /// @{ Alpha-plane normal coefficients.
+  Vec3 N0, N1, N2;
+  /// @}
+  /// @{ N0·dR, N1·dR, N2·dR.
+  double N0dR, N1dR, N2dR;
+  /// @}
+  Aabb box;  ///< box of the six corners: contains the whole slab
 };
 
 /// One grid point of a slab as the haptic query reads it: the displacement and the unit normal of
@@ -90,9 +98,12 @@ struct SlabModel {
   /// grid normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
   /// update_normals() keeps it in sync with `normals` (the samples it is given and their ring).
   std::vector<Vec3f> haptic_normals;
-  std::vector<SlabGeometry> geometry;                      ///< #S slab constants
-  std::vector<std::array<int32_t, 3>> edge_neighbour;      ///< #S: slab across edge RS, ST, TR or -1
-  std::vector<int32_t> vertex_slab_offsets, vertex_slabs;  ///< CSR coarse vertex -> slabs
+  std::vector<SlabGeometry> geometry;                  ///< #S slab constants
+  std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
+  /// @{ CSR coarse vertex -> slabs: the slabs around vertex v are
+  /// vertex_slabs[vertex_slab_offsets[v] .. vertex_slab_offsets[v+1]).
+  std::vector<int32_t> vertex_slab_offsets, vertex_slabs;
+  /// @}
   /// #S·samples.per_slab: slab-major copy of `displacement` and `normals`, in grid::index order
   /// within a slab (slot slab·per_slab + index holds sample samples.ids[slot]). What the query
   /// interpolates; update_normals() keeps it in sync with `displacement` and `normals`.
@@ -106,6 +117,7 @@ struct SlabModel {
 
 /// @brief How far the under-layer shows at a point whose surface lies @p depth_below_layer below
 /// the top of the under-layer [model units] (negative above it): clamp(depth / band, 0, 1).
+/// @param depth_below_layer  depth of the surface below the under-layer's top [model units].
 /// @param band  depth over which the exposure ramps from 0 to 1 [model units], > 0; a narrow ramp
 ///              instead of a step keeps the force continuous when the proxy crosses the boundary.
 /// @note noexcept, O(1); NaN gives 0.
@@ -130,6 +142,9 @@ SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, 
                                 const Vec3& T1);
 
 /// @brief Ends of the projection line of grid point @p index of slab @p slab.
+/// @param model  slab model with derived data.
+/// @param slab   slab id in [0, #S).
+/// @param index  packed grid index in the slab (grid::index).
 /// @param[out] p0  inner end Σ wV·V0 [model units]
 /// @param[out] p1  outer end Σ wV·V1 [model units]
 /// @note O(1), noexcept; the sample's surface point is p0 + δ·(p1 - p0) (paper §2, §3.2).

@@ -62,7 +62,8 @@ enum class AtlasContent : uint8_t {
 };
 
 /// @brief Packs the colour texels of @p model into a texture atlas (layout: see TextureAtlas).
-/// @param model  slab model with derived data (rebuild_derived()); `colour` holds linear RGB.
+/// @param model    slab model with derived data (rebuild_derived()); `colour` holds linear RGB.
+/// @param content  what the pixels hold (see AtlasContent).
 /// @return the atlas; colours are clamped to [0,1] and encoded with the sRGB transfer function.
 /// @throws InvalidInput if the model has no slabs or its texel layout is missing.
 /// @note O(#S·N²) time and memory.
@@ -81,7 +82,12 @@ uint8_t linear_to_srgb8(float linear) noexcept;
 /// @brief Writes the tile×tile RGBA8 pixels of slab @p slab's tile (padding included, row 0
 /// first) of @p layout into @p out, whose rows are @p stride pixels apart. build_texture_atlas()
 /// uses it for every slab; a renderer uses it to re-upload one edited slab's colours.
-/// @param layout  an atlas of @p model (only its layout fields are read).
+/// @param model    slab model with derived data.
+/// @param layout   an atlas of @p model (only its layout fields are read).
+/// @param slab     slab id in [0, #S).
+/// @param out      first pixel of the tile in the destination (RGBA8).
+/// @param stride   distance between destination rows [pixels].
+/// @param content  what the pixels hold (see AtlasContent).
 /// @note O(tile²) plus O(N) per padding pixel; no allocation.
 void fill_atlas_tile(const SlabModel& model, const TextureAtlas& layout, int slab, uint8_t* out, int stride,
                      AtlasContent content = AtlasContent::Surface) noexcept;
@@ -91,6 +97,9 @@ void fill_atlas_tile(const SlabModel& model, const TextureAtlas& layout, int sla
 /// RGB and roughness in grid::index order of the slab's texel grid. Lets a renderer thread
 /// re-upload a slab from a snapshot while another thread edits the live model.
 /// @param layout  an atlas of the model (only its layout fields are read).
+/// @param texels  texels_per_slab × 4 floats (see above).
+/// @param out     first pixel of the tile in the destination (RGBA8).
+/// @param stride  distance between destination rows [pixels].
 /// @note O(tile²) plus O(N) per padding pixel; no allocation. Same pixels as the model overload
 ///       for the same data.
 void fill_atlas_tile(const TextureAtlas& layout, const float* texels, uint8_t* out, int stride) noexcept;
