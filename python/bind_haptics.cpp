@@ -127,6 +127,20 @@ py::dict run_device(Model& m, HapticDevice& device, int64_t ticks, const std::op
   return run.to_dict();
 }
 
+// Applies f to every row of an (N, 3) array.
+template <class F>
+py::array_t<double> map_rows(const Points& p, F&& f) {
+  require_rows_of_3(p, "points");
+  auto out = rows_of_3(p.shape(0));
+  const double* in = p.data();
+  double* o = out.mutable_data();
+  for (py::ssize_t i = 0; i < p.shape(0); ++i) {
+    const Vec3 y = f(Vec3(in[3 * i], in[3 * i + 1], in[3 * i + 2]));
+    for (int k = 0; k < 3; ++k) o[3 * i + k] = y[k];
+  }
+  return out;
+}
+
 // A SimulatedDevice with its own copy of the targets (the device keeps spans).
 struct PySimulatedDevice {
   std::vector<Vec3> targets;
@@ -169,22 +183,12 @@ void bind_haptics(py::module_& m) {
       .def_readonly("scale", &Workspace::scale, "model units per metre of device motion")
       .def(
           "to_model",
-          [](const Workspace& w, const Points& p) {
-            require_rows_of_3(p, "points");
-            auto out = rows_of_3(p.shape(0));
-            for (py::ssize_t i = 0; i < p.shape(0); ++i)
-              for (int k = 0; k < 3; ++k) out.mutable_at(i, k) = w.origin[k] + w.scale * p.at(i, k);
-            return out;
-          },
+          [](const Workspace& w, const Points& p) { return map_rows(p, [&](const Vec3& x) { return w.to_model(x); }); },
           py::arg("points"), "(N, 3) device points [m] to model points [model units]")
       .def(
           "to_device",
           [](const Workspace& w, const Points& p) {
-            require_rows_of_3(p, "points");
-            auto out = rows_of_3(p.shape(0));
-            for (py::ssize_t i = 0; i < p.shape(0); ++i)
-              for (int k = 0; k < 3; ++k) out.mutable_at(i, k) = (p.at(i, k) - w.origin[k]) / w.scale;
-            return out;
+            return map_rows(p, [&](const Vec3& x) { return w.to_device(x); });
           },
           py::arg("points"), "(N, 3) model points [model units] to device points [m]");
   m.def(
