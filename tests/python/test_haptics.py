@@ -147,3 +147,59 @@ def test_replaying_the_programs_trace_gives_its_forces(sphere_files, hdm_program
     err = np.linalg.norm(run["force"] - want, axis=1)
     assert np.median(err) < 0.005 and np.percentile(err, 99) < 0.05
     assert np.linalg.norm(want, axis=1).max() > 0.5
+
+
+def test_device_frames_by_hand():
+    device = hdm.ReplayDevice.from_csv("time_s,device_x_m,device_y_m,device_z_m\n0,0,0,0\n0.001,0.002,0,0\n",
+                                       "two rows")
+    assert len(device) == 2
+    first = device.begin_frame()
+    device.end_frame((0.0, 0.0, 1.0))
+    second = device.begin_frame()
+    device.end_frame((0.0, 0.5, 0.0))
+    assert first["position"] == (0, 0, 0) and second["position"] == (0.002, 0, 0)
+    assert second["velocity"] == pytest.approx((2.0, 0, 0))  # backward difference [m/s]
+    assert device.begin_frame() is None and device.last_force == (0.0, 0.5, 0.0)
+    with pytest.raises(ValueError, match="bad rows"):
+        hdm.ReplayDevice.from_csv("time_s,device_x_m,device_y_m,device_z_m\n0,0,0\n", "bad rows")
+    # A free handle (no rendered force) pulled by the hand spring towards a held target settles there.
+    hand = hdm.SimulatedDevice(np.array([[0.01, 0.0, 0.0]]), start=(0.0, 0.0, 0.0))
+    for _ in range(3000):
+        state = hand.begin_frame()
+        hand.end_frame((0.0, 0.0, 0.0))
+    assert state["position"] == pytest.approx((0.01, 0, 0), abs=1e-5)
+
+
+def test_an_exposed_under_layer_renders_its_stiffness(fresh_sphere):
+    model = fresh_sphere
+    model.set_under_layer(0.01, stiffness_scale=0.5)
+    assert len(model.field("layer_displacement")) == len(model.field("displacement"))
+    d = np.array([0.0, 0.3, 1.0]) / np.linalg.norm([0.0, 0.3, 1.0])
+    model.carve((0.97 * d)[None], 0.1)  # a pit 3 % deep: through the 1 % layer
+    ws = sphere_workspace(model)
+    params = hdm.ProxyParams(damping=0.0, friction_scale=0.0)
+    other = np.array([0.0, -0.3, 1.0]) / np.linalg.norm([0.0, -0.3, 1.0])
+    forces = []  # stiffness felt [N/m]
+    for direction, surface in ((d, 0.97), (other, 1.0)):  # the pit's floor, and the bare surface
+        hip = radial_path(direction, np.linspace(surface + 0.01, surface - 0.01, 400))
+        run = hdm.proxy_step(model, ws.to_device(hip), hdm.ProxyState(), params=params)
+        # The stiffness felt: |F| over the spring's stretch (proxy - HIP)·n [m at the device].
+        forces.append(np.linalg.norm(run["force"][-1]) / (run["depth"][-1] / ws.scale))
+    assert forces[1] == pytest.approx(params.stiffness, rel=0.02)
+    assert forces[0] == pytest.approx(0.5 * params.stiffness, rel=0.05)
+
+
+def test_bake_gives_the_programs_report(hdm_program, tmp_path):
+    import json
+    import os
+
+    path = os.path.join(os.environ.get("HDM_DATA_DIR", "data/meshes"), "sphere.off")
+    out = subprocess.run([hdm_program, "bake", path, "-o", str(tmp_path / "s.hdm"), "--json"], check=True,
+                         capture_output=True, text=True).stdout
+    theirs = json.loads(out)
+    model, mine = hdm.bake(path)
+    for key in ("slabs", "grid", "samples", "input_triangles", "invalid_slabs", "overlapping_pairs", "ray_misses"):
+        assert mine[key] == theirs[key], key
+    for key in ("max_pct", "rms_pct", "max_back_pct", "rms_back_pct"):
+        assert mine["fidelity"][key] == pytest.approx(theirs["fidelity"][key], rel=1e-9), key
+    assert model.slab_count == hdm.load(str(tmp_path / "s.hdm")).slab_count
