@@ -18,12 +18,11 @@
 #include <hdm/query/slab_query.h>
 #include <hdm/slab/bake.h>
 
-#include <pybind11/numpy.h>
-#include <pybind11/pybind11.h>
+#include "py_model.h"
+
 #include <pybind11/stl.h>
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <cmath>
 #include <limits>
@@ -33,30 +32,21 @@
 #include <variant>
 #include <vector>
 
-namespace py = pybind11;
+namespace hdm::python {
+
+Vec3 vec3_from(const py::handle& h, const char* what) {
+  const Points a = py::cast<Points>(h);
+  if (a.size() != 3) throw InvalidInput(std::string(what) + ": expected three numbers");
+  return Vec3(a.data()[0], a.data()[1], a.data()[2]);
+}
+
+}  // namespace hdm::python
+
 using namespace hdm;
+using namespace hdm::python;
 
 namespace {
 
-// A loaded or baked model with what queries need: the locator, and (built on first use) the
-// exact inside test over the inner shell for points in no slab, as `hdm check` classifies them.
-struct Model {
-  SlabModel model;
-  std::unique_ptr<SlabLocator> locator;
-  std::unique_ptr<ExactMeshQuery> core;
-  std::once_flag core_once;
-  Aabb box;  // of the slab vertices, for the query's spatial order
-
-  explicit Model(SlabModel m) : model(std::move(m)), locator(std::make_unique<SlabLocator>(model)) {
-    for (size_t v = 0; v < model.inner.size(); ++v) box.extend(model.inner[v]), box.extend(model.outer[v]);
-  }
-  const ExactMeshQuery& inner_shell() {
-    std::call_once(core_once, [&] { core = std::make_unique<ExactMeshQuery>(TriangleMesh{model.inner, model.slabs}); });
-    return *core;
-  }
-};
-
-using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Faces = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
 
 TriangleMesh mesh_from_arrays(const Points& v, const Faces& f) {
@@ -156,7 +146,7 @@ py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& i
 }
 
 py::dict query_points(Model& m, const Points& points) {
-  if (points.ndim() != 2 || points.shape(1) != 3) throw InvalidInput("points: expected an (N, 3) array");
+  require_rows_of_3(points, "points");
   const py::ssize_t n = points.shape(0);
   if (n > py::ssize_t(std::numeric_limits<uint32_t>::max())) throw InvalidInput("points: more than 2^32 rows");
   py::array_t<bool> inside(n);
@@ -166,16 +156,20 @@ py::dict query_points(Model& m, const Points& points) {
   bool* in = inside.mutable_data();
   double *d = depth.mutable_data(), *sp = surface.mutable_data(), *nm = normal.mutable_data();
   int32_t* sl = slab.mutable_data();
-  const ExactMeshQuery& core = m.inner_shell();  // built with the GIL held, once
   {
     py::gil_scoped_release release;
+    const std::shared_lock lock(m.mutex);
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    // Points in Morton order of a 1024³ grid over the model's box: neighbours in a chunk share
-    // slabs, so the query's coherence cache (previous slab, its neighbours) answers most of them,
-    // as it does along a servo path. Points in random order would each need the global lookup.
+    // Points in Morton order of a grid over the model's box, about two cells per point up to 128³
+    // (a counting sort: O(N + cells), no comparisons): neighbours in a chunk share slabs, so the
+    // query's coherence cache (previous slab, its neighbours) answers most of them, as it does
+    // along a servo path. Points in random order would each need the global lookup.
+    int bits = 1;
+    while (bits < 7 && (int64_t(1) << (3 * bits)) < 2 * int64_t(n)) ++bits;
+    const uint32_t cells = uint32_t(1) << (3 * bits), top = (uint32_t(1) << bits) - 1;
     const Aabb box = m.box;
-    const Vec3 scale = (box.max - box.min).cwiseMax(1e-300).cwiseInverse() * 1023.0;
-    std::vector<std::pair<uint32_t, uint32_t>> order(static_cast<size_t>(n));
+    const Vec3 scale = (box.max - box.min).cwiseMax(1e-300).cwiseInverse() * double(top);
+    std::vector<uint32_t> code(static_cast<size_t>(n)), order(static_cast<size_t>(n));
     auto spread = [](uint32_t v) {  // 10 bits -> every third bit
       v &= 0x3ff;
       v = (v | (v << 16)) & 0x030000ff;
@@ -188,16 +182,27 @@ py::dict query_points(Model& m, const Points& points) {
         uint32_t c[3];
         for (int k = 0; k < 3; ++k) {
           const double u = (p[3 * i + k] - box.min[k]) * scale[k];
-          c[k] = u >= 0 ? uint32_t(std::min(u, 1023.0)) : 0;  // NaN -> 0
+          c[k] = u >= 0 ? uint32_t(std::min(u, double(top))) : 0;  // NaN -> 0
         }
-        order[i] = {spread(c[0]) | (spread(c[1]) << 1) | (spread(c[2]) << 2), uint32_t(i)};
+        code[i] = spread(c[0]) | (spread(c[1]) << 1) | (spread(c[2]) << 2);
       }
     });
-    tbb::parallel_sort(order.begin(), order.end());
+    std::vector<uint32_t> start(size_t(cells) + 1, 0);
+    for (py::ssize_t i = 0; i < n; ++i) ++start[code[i] + 1];
+    for (uint32_t k = 0; k < cells; ++k) start[k + 1] += start[k];
+    for (py::ssize_t i = 0; i < n; ++i) order[start[code[i]]++] = uint32_t(i);
     tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, n, 4096), [&](const tbb::blocked_range<py::ssize_t>& r) {
       QueryCache cache;  // coherence within a chunk, as the servo loop has along a path
       for (py::ssize_t j = r.begin(); j < r.end(); ++j) {
-        const py::ssize_t i = order[j].second;
+        // The points are visited out of their memory order: fetch the input and output rows of the
+        // point 16 visits ahead, so that their cache misses overlap with this query.
+        if (j + 16 < r.end()) {
+          const py::ssize_t a = order[j + 16];
+          __builtin_prefetch(p + 3 * a);
+          __builtin_prefetch(sp + 3 * a, 1), __builtin_prefetch(nm + 3 * a, 1), __builtin_prefetch(d + a, 1);
+          __builtin_prefetch(sl + a, 1), __builtin_prefetch(in + a, 1);
+        }
+        const py::ssize_t i = order[j];
         const Vec3 x(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
         const Contact c = query(m.model, *m.locator, x, cache);
         sl[i] = c.slab;
@@ -206,7 +211,7 @@ py::dict query_points(Model& m, const Points& points) {
           d[i] = c.depth;
           for (int k = 0; k < 3; ++k) sp[3 * i + k] = c.surface_point[k], nm[3 * i + k] = c.normal[k];
         } else {
-          in[i] = x.allFinite() && core.inside(x);
+          in[i] = m.locator->inside_inner_shell(x);  // one cell lookup for most points
           d[i] = nan;
           for (int k = 0; k < 3; ++k) sp[3 * i + k] = nan, nm[3 * i + k] = nan;
         }
@@ -222,10 +227,13 @@ py::dict query_points(Model& m, const Points& points) {
   return out;
 }
 
-py::tuple surface_arrays(const Model& m) {
+py::tuple surface_arrays(Model& m) {
   std::vector<Vec3> v;
   std::vector<Tri> f;
-  displaced_surface(m.model, v, f);
+  {
+    const std::shared_lock lock(m.mutex);
+    displaced_surface(m.model, v, f);
+  }
   py::array_t<double> V({py::ssize_t(v.size()), py::ssize_t(3)});
   py::array_t<int32_t> F({py::ssize_t(f.size()), py::ssize_t(3)});
   auto vv = V.mutable_unchecked<2>();
@@ -256,6 +264,17 @@ PYBIND11_MODULE(hdm, mod) {
       .def_property_readonly(
           "source", [](const Model& m) { return m.model.source; }, "name of the baked input")
       .def_property_readonly(
+          "path", [](const Model& m) { return m.path; },
+          "the .hdm file it was loaded from or last saved to ('' for none)")
+      .def_property_readonly(
+          "box",
+          [](const Model& m) {
+            auto b = rows_of_3(2);
+            for (int k = 0; k < 3; ++k) b.mutable_at(0, k) = m.box.min[k], b.mutable_at(1, k) = m.box.max[k];
+            return b;
+          },
+          "bounding box of the slabs, (2, 3) float64 [model units]: min row, max row")
+      .def_property_readonly(
           "invalid_slabs", [](const Model& m) { return count_invalid_slabs(m.model); },
           "slabs whose Jacobian is not positive everywhere (0 for a valid model)")
       .def("query", &query_points, py::arg("points"),
@@ -270,14 +289,24 @@ PYBIND11_MODULE(hdm, mod) {
            "The displaced surface as arrays (vertices (V, 3) float64 [model units], faces (F, 3) int32): every "
            "slab's grid triangles.")
       .def(
-          "save", [](const Model& m, const std::string& path) { save_model(m.model, path); }, py::arg("path"),
-          "Writes the model to an .hdm file (atomically: a failure keeps the previous file).")
+          "save",
+          [](Model& m, const std::string& path) {
+            const std::shared_lock lock(m.mutex);
+            save_model(m.model, path);
+            m.path = path;
+          },
+          py::arg("path"), "Writes the model to an .hdm file (atomically: a failure keeps the previous file).")
       .def(
-          "export", [](const Model& m, const std::string& path) { export_mesh(m.model, path); }, py::arg("path"),
+          "export",
+          [](Model& m, const std::string& path) {
+            const std::shared_lock lock(m.mutex);
+            export_mesh(m.model, path);
+          },
+          py::arg("path"),
           "Writes the reconstructed surface with its colours: .obj (with .mtl and .png), .ply or .glb.");
 
   mod.def(
-      "load", [](const std::string& path) { return std::make_shared<Model>(load_model(path)); }, py::arg("path"),
+      "load", [](const std::string& path) { return std::make_shared<Model>(load_model(path), path); }, py::arg("path"),
       "Reads an .hdm file written by hdm bake or Model.save.");
   mod.def("bake", &bake_mesh, py::arg("mesh"), py::kw_only(), py::arg("slabs") = 0, py::arg("grid") = 16,
           py::arg("density") = 4.0, py::arg("texels") = 2, py::arg("max_error") = 0.2, py::arg("rms_error") = 0.02,
@@ -293,4 +322,7 @@ PYBIND11_MODULE(hdm, mod) {
           "and with the bound: bound_met, rounds).\n"
           "Raises ValueError (hdm.InvalidInput) for a mesh it cannot bake and OSError (hdm.IoError) for a file it "
           "cannot read, with hdm's message.");
+  bind_haptics(mod);
+  bind_edit(mod);
+  bind_feel(mod);
 }

@@ -52,6 +52,9 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
   filters_.resize(S);
   for (int s = 0; s < S; ++s) filters_[s] = {boxes[s], sides[s]};
   build_grid();
+  inner_ = model.inner;
+  inner_faces_ = model.slabs;
+  classify_cells();
   edge_ = model.edge_neighbour;
 
   // Neighbourhood: edge neighbours first (most likely next slab), then the rest of the corner rings.
@@ -142,8 +145,115 @@ int SlabLocator::find_grid(const Vec3& p, AlphaSolver solver, double guess, Slab
   return -1;
 }
 
+namespace {
+
+// Sign of the 2D edge function of q against the edge u -> v in the (y, z) plane, with q perturbed
+// by (ε, ε²) so that it is never zero for distinct u, v (simulation of simplicity): the edge is
+// evaluated in one canonical vertex order, so two faces sharing it see exactly opposite signs and
+// a ray through the edge or a vertex crosses one face of a closed shell, not zero or two.
+int edge_sign(const Vec3& u, const Vec3& v, double qy, double qz, double& value) noexcept {
+  const bool swap = u.y() > v.y() || (u.y() == v.y() && u.z() > v.z());
+  const Vec3& a = swap ? v : u;
+  const Vec3& b = swap ? u : v;
+  double e = (b.y() - a.y()) * (qz - a.z()) - (b.z() - a.z()) * (qy - a.y());
+  int s = e > 0 ? 1 : e < 0 ? -1 : 0;
+  if (s == 0) s = (b.z() - a.z()) < 0 ? 1 : (b.z() - a.z()) > 0 ? -1 : (b.y() - a.y()) > 0 ? 1 : -1;
+  if (swap) e = -e, s = -s;
+  value = e;
+  return s;
+}
+
+}  // namespace
+
+int SlabLocator::winding_along_x(const Vec3& p, bool stop_at_classified) const noexcept {
+  const float y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
+  const size_t row = (static_cast<size_t>(cell_coord(z, 2)) * grid_dim_[1] + cell_coord(y, 1)) * grid_dim_[0];
+  int winding = 0;
+  for (int i = cell_coord(static_cast<float>(p.x()), 0); i < grid_dim_[0]; ++i) {
+    const size_t k = row + i;
+    if (stop_at_classified && cell_winding_[k] != kMixed) return winding + cell_winding_[k];
+    for (int32_t e = grid_offsets_[k]; e < grid_offsets_[k + 1]; ++e) {
+      const GridEntry& ge = grid_entries_[e];
+      if (!(y >= ge.box.lo[1] && y <= ge.box.hi[1] && z >= ge.box.lo[2] && z <= ge.box.hi[2])) continue;
+      const Tri& t = inner_faces_[ge.slab];
+      const Vec3 &a = inner_[t[0]], &b = inner_[t[1]], &c = inner_[t[2]];
+      double wa, wb, wc;  // edge functions opposite a, b, c: barycentric weights of the hit
+      const int sa = edge_sign(b, c, p.y(), p.z(), wa), sb = edge_sign(c, a, p.y(), p.z(), wb),
+                sc = edge_sign(a, b, p.y(), p.z(), wc);
+      if (sa != sb || sb != sc) continue;  // the ray misses the face
+      const double sum = wa + wb + wc;     // twice the signed projected area: 0 for a face parallel to x
+      if (sum == 0) continue;
+      // Clamped to the face's x range: on a face almost parallel to x the quotient may round
+      // outside it, and then outside the cells that list the face.
+      const double hx = std::clamp((wa * a.x() + wb * b.x() + wc * c.x()) / sum, std::min({a.x(), b.x(), c.x()}),
+                                   std::max({a.x(), b.x(), c.x()}));
+      // Each crossing is counted in the one cell its x falls in (the function that listed the
+      // face's box), so a face listed in several cells of the row counts once.
+      if (!(hx > p.x()) || cell_coord(static_cast<float>(hx), 0) != i) continue;
+      winding += sa;  // sa > 0: the face's normal has n.x > 0, the ray leaves through its front
+    }
+  }
+  return winding;
+}
+
+void SlabLocator::classify_cells() {
+  const size_t total = grid_offsets_.empty() ? 0 : grid_offsets_.size() - 1;
+  cell_winding_.assign(total, kMixed);
+  if (total == 0) return;
+  constexpr int8_t kUnset = INT8_MIN + 1;
+  for (size_t k = 0; k < total; ++k)
+    if (grid_offsets_[k] == grid_offsets_[k + 1]) cell_winding_[k] = kUnset;
+  const int X = grid_dim_[0], Y = grid_dim_[1], Z = grid_dim_[2];
+  std::vector<size_t> queue;
+  // Flood fill of one component of empty cells (face neighbours) with winding w.
+  auto fill = [&](size_t seed, int8_t w) {
+    queue.assign(1, seed);
+    cell_winding_[seed] = w;
+    while (!queue.empty()) {
+      const size_t k = queue.back();
+      queue.pop_back();
+      const int x = int(k % X), y = int(k / X % Y), z = int(k / (size_t(X) * Y));
+      const int nb[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z}, {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+      for (const auto& n : nb) {
+        if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= X || n[1] >= Y || n[2] >= Z) continue;
+        const size_t m = (size_t(n[2]) * Y + n[1]) * X + n[0];
+        if (cell_winding_[m] == kUnset) cell_winding_[m] = w, queue.push_back(m);
+      }
+    }
+  };
+  // Empty cells on the grid's border touch the outside of every box, so no face separates them
+  // from infinity: winding 0, and so is every empty cell connected to them.
+  for (int z = 0; z < Z; ++z)
+    for (int y = 0; y < Y; ++y)
+      for (int x = 0; x < X; ++x) {
+        if (x != 0 && y != 0 && z != 0 && x != X - 1 && y != Y - 1 && z != Z - 1) continue;
+        const size_t k = (size_t(z) * Y + y) * X + x;
+        if (cell_winding_[k] == kUnset) fill(k, 0);
+      }
+  // Enclosed components (the body under the inner shell, pockets between parts): the winding of
+  // one cell centre, counted along the ray to the grid's end, holds for the whole component.
+  const double w[3] = {1.0 / grid_inv_[0], 1.0 / grid_inv_[1], 1.0 / grid_inv_[2]};
+  for (size_t k = 0; k < total; ++k) {
+    if (cell_winding_[k] != kUnset) continue;
+    const int x = int(k % X), y = int(k / X % Y), z = int(k / (size_t(X) * Y));
+    const Vec3 centre(grid_lo_[0] + (x + 0.5) * w[0], grid_lo_[1] + (y + 0.5) * w[1], grid_lo_[2] + (z + 0.5) * w[2]);
+    const int n = winding_along_x(centre, false);
+    fill(k, static_cast<int8_t>(std::clamp(n, -100, 100)));
+  }
+}
+
+bool SlabLocator::inside_inner_shell(const Vec3& p) const noexcept {
+  if (!p.allFinite() || cell_winding_.empty()) return false;
+  const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
+  if (!(x >= grid_lo_[0] && x <= grid_hi_[0] && y >= grid_lo_[1] && y <= grid_hi_[1] && z >= grid_lo_[2] &&
+        z <= grid_hi_[2]))
+    return false;  // outside every slab box, so outside the inner shell
+  return winding_along_x(p, true) != 0;
+}
+
 size_t SlabLocator::memory_bytes() const noexcept {
-  return filters_.capacity() * sizeof(Filter) + edge_.capacity() * sizeof(edge_[0]) +
+  return cell_winding_.capacity() + inner_.capacity() * sizeof(Vec3) + inner_faces_.capacity() * sizeof(Tri) +
+         filters_.capacity() * sizeof(Filter) + edge_.capacity() * sizeof(edge_[0]) +
          ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t) +
          grid_offsets_.capacity() * sizeof(int32_t) + grid_entries_.capacity() * sizeof(GridEntry);
 }
@@ -154,9 +264,12 @@ int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess,
   if (hint >= 0 && hint < static_cast<int>(g.size())) {
     const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
     int edge = -1;
-    if (locate_in_slab(g[hint], p, solver, guess, c, edge)) return hint;
+    // The hint's float filter first: a point that left the hint's box (most points of a batch in
+    // no slab, see inside_inner_shell) skips its cubic; the ring below is filtered the same way.
+    const bool near_hint = candidate(hint, x, y, z);
+    if (near_hint && locate_in_slab(g[hint], p, solver, guess, c, edge)) return hint;
     // The point left through `edge`: the slab across it is the likely one (design notes §3.6).
-    const int32_t across = edge >= 0 ? edge_[hint][edge] : -1;
+    const int32_t across = near_hint && edge >= 0 ? edge_[hint][edge] : -1;
     if (across >= 0 && candidate(across, x, y, z) && locate_in_slab(g[across], p, solver, guess, c, edge))
       return across;
     int count = 0;

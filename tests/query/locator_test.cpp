@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: MIT
 // The slab locator against a brute-force scan of every slab: the same answer for points in the
-// shell (a slab that holds the point) and outside it (none), with and without a hint.
+// shell (a slab that holds the point) and outside it (none), with and without a hint; its inner
+// shell enclosure test against Embree's and an analytic sphere.
 #include "support/test_models.h"
 
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/query/slab_locator.h>
+#include <hdm/slab/bake.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -49,4 +53,71 @@ TEST(LocatorTest, agrees_with_a_scan_of_every_slab) { check_against_brute_force(
 
 TEST(LocatorTest, agrees_with_a_scan_of_every_slab_at_3000_slabs) {
   check_against_brute_force(test::baked_bunny(3000, 4), 1500);
+}
+
+// SlabLocator::inside_inner_shell against Embree's winding-number test (ExactMeshQuery::inside) on
+// the same inner shell: every point of the slab grid's box and around it, in no slab or not, and
+// points on the cells' boundaries and on the shell's vertices' coordinates (ties of the ray test).
+namespace {
+
+void check_inner_shell_against_embree(const SlabModel& m, int points) {
+  const SlabLocator loc(m);
+  const ExactMeshQuery core(TriangleMesh{m.inner, m.slabs});
+  ASSERT_TRUE(core.closed());
+  Aabb box;
+  for (const Vec3& v : m.outer) box.extend(v);
+  const Vec3 lo = box.min - 0.05 * (box.max - box.min), hi = box.max + 0.05 * (box.max - box.min);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::uniform_int_distribution<int> vertex(0, int(m.inner.size()) - 1);
+  int enclosed = 0, mismatches = 0;
+  for (int k = 0; k < points; ++k) {
+    Vec3 p(lo.x() + u(rng) * (hi.x() - lo.x()), lo.y() + u(rng) * (hi.y() - lo.y()),
+           lo.z() + u(rng) * (hi.z() - lo.z()));
+    if (k % 8 == 0) {  // the ray passes exactly through an inner-shell vertex (a tie for the 2D test)
+      const Vec3& v = m.inner[vertex(rng)];
+      p.y() = v.y(), p.z() = v.z();
+    }
+    const bool want = core.inside(p);
+    enclosed += want;
+    if (loc.inside_inner_shell(p) != want) ++mismatches;
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(enclosed, points / 20);
+  EXPECT_LT(enclosed, points - points / 20);
+}
+
+}  // namespace
+
+TEST(LocatorTest, inside_inner_shell_agrees_with_embree_winding) {
+  check_inner_shell_against_embree(test::baked_bunny(0, 16), 20000);
+}
+
+TEST(LocatorTest, inside_inner_shell_agrees_with_embree_winding_at_3000_slabs) {
+  check_inner_shell_against_embree(test::baked_bunny(3000, 4), 20000);
+}
+
+TEST(LocatorTest, inside_inner_shell_of_a_sphere_is_the_ball_inside_it) {
+  BakeOptions o;
+  o.slabs = 200;
+  o.grid_n = 4;
+  const SlabModel m = bake_slabs(test::icosphere(3, 1.0), "sphere", o);
+  const SlabLocator loc(m);
+  // Analytic bounds of the inner shell: the inner corners' radii (the facets lie within a few
+  // per cent below them).
+  double r_min = INFINITY, r_max = 0;
+  for (const Vec3& v : m.inner) r_min = std::min(r_min, v.norm()), r_max = std::max(r_max, v.norm());
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> r(0, 1.6);
+  int checked = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 d = Vec3(g(rng), g(rng), g(rng)).normalized();
+    const double radius = r(rng);
+    if (radius > 0.9 * r_min && radius < r_max * 1.0001) continue;  // the facets' band
+    EXPECT_EQ(loc.inside_inner_shell(radius * d), radius < r_min) << radius;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10000);
+  EXPECT_FALSE(loc.inside_inner_shell(Vec3(NAN, 0, 0)));
 }

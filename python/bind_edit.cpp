@@ -1,0 +1,244 @@
+// SPDX-License-Identifier: MIT
+// The Python module's edits: brushes, strokes along a path of tool positions (carve, add, smooth,
+// flatten, paint through hdm::StrokeEditor), undo and redo, the under-layer, and the per-sample
+// and per-texel fields as arrays.
+#include <hdm/edit/brush.h>
+#include <hdm/edit/edit_tools.h>
+#include <hdm/edit/stroke_editor.h>
+#include <hdm/query/slab_query.h>
+
+#include "py_model.h"
+
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace hdm::python {
+namespace {
+
+StrokeEditor& editor_of(Model& m) {
+  if (!m.editor) m.editor = std::make_unique<StrokeEditor>(m.model);
+  return *m.editor;
+}
+
+// Runs the editor's queue to the end (no deadline: Python is not a servo thread).
+void drain(Model& m, EditWork* total = nullptr) {
+  StrokeEditor& e = editor_of(m);
+  e.flush();
+  for (;;) {
+    const EditWork w = e.work(m.model, std::numeric_limits<int64_t>::max());
+    if (total) total->sweeps += w.sweeps, total->visited += w.visited, total->changed += w.changed;
+    if (e.idle()) break;
+  }
+  clear_dirty(e.scratch());
+}
+
+void check_brush(const Brush& b) {
+  if (!(b.radius > 0) || !std::isfinite(b.radius)) throw InvalidInput("radius: must be positive and finite");
+  if (!(b.strength >= 0 && b.strength <= 1)) throw InvalidInput("strength: must be in [0, 1]");
+  if (!(b.resilience >= 0) || !std::isfinite(b.resilience)) throw InvalidInput("resilience: must be >= 0");
+  if (!std::isfinite(b.height) || b.height < 0) throw InvalidInput("height: must be >= 0 and finite");
+  if (!(b.pressure_force_n > 0)) throw InvalidInput("pressure_force_n: must be positive");
+}
+
+// One stroke: a tool position per row of `path` [model units], one servo tick each.
+py::dict stroke(Model& m, const Points& path, const Brush& brush, double rate_hz, std::optional<double> force_n) {
+  require_rows_of_3(path, "path");
+  check_brush(brush);
+  if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw InvalidInput("rate_hz: must be positive and finite");
+  const double force = force_n.value_or(brush.pressure_force_n);
+  if (!(force >= 0) || !std::isfinite(force)) throw InvalidInput("force_n: must be >= 0 and finite");
+  const py::ssize_t n = path.shape(0);
+  const double* p = path.data();
+  EditWork total;
+  int64_t in_slab = 0;
+  {
+    py::gil_scoped_release release;
+    const std::unique_lock lock(m.mutex);
+    StrokeEditor& e = editor_of(m);
+    e.begin_stroke(brush);
+    QueryCache cache;
+    for (py::ssize_t i = 0; i < n; ++i) {
+      ToolSample s;
+      s.hip = Vec3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+      s.contact = query(m.model, *m.locator, s.hip, cache);
+      if (!s.contact.in_shell()) continue;
+      ++in_slab;
+      s.normal_force_n = force;
+      s.time_s = double(i) / rate_hz;
+      e.add_sample(m.model, s);
+      // Sweep as the servo loop would: the tool's axis reads the surface the stroke started from.
+      const EditWork w = e.work(m.model, std::numeric_limits<int64_t>::max());
+      total.sweeps += w.sweeps, total.visited += w.visited, total.changed += w.changed;
+    }
+    e.end_stroke();
+    drain(m, &total);
+  }
+  py::dict d;
+  d["tool_positions"] = in_slab;  // rows whose position lies in a slab (the others are skipped)
+  d["sweeps"] = total.sweeps;
+  d["visited"] = total.visited;
+  d["changed"] = total.changed;
+  return d;
+}
+
+bool undo_redo(Model& m, bool undo) {
+  py::gil_scoped_release release;
+  const std::unique_lock lock(m.mutex);
+  StrokeEditor& e = editor_of(m);
+  drain(m);
+  if (undo ? !e.history().can_undo() : !e.history().can_redo()) return false;
+  if (undo ? !e.undo() : !e.redo()) return false;
+  drain(m);
+  return true;
+}
+
+constexpr const char* kStrokeReturns =
+    "Returns a dict: tool_positions (rows in a slab; rows outside the shell are skipped), sweeps, visited and "
+    "changed (samples, or texels for colour and roughness).";
+
+Brush make_brush(const std::string& tool, double radius, double strength, const std::string& falloff, double resilience,
+                 double height, const std::string& field, py::object colour, double value, double pressure_force_n) {
+  Brush b;
+  b.tool = parse_brush_tool(tool);
+  b.radius = radius;
+  b.strength = strength;
+  b.falloff = falloff.empty() ? (b.tool == BrushTool::Carve || b.tool == BrushTool::Add ? Falloff::Constant
+                                 : b.tool == BrushTool::Paint                           ? Falloff::Linear
+                                                                                        : Falloff::Smooth)
+                              : parse_falloff(falloff);
+  b.resilience = resilience;
+  b.height = height;
+  b.field = parse_brush_field(field);
+  if (!colour.is_none()) b.colour = vec3_from(colour, "colour").cast<float>();
+  if (!(b.colour.minCoeff() >= 0 && b.colour.maxCoeff() <= 1))
+    throw InvalidInput("colour: components must be in [0, 1]");
+  b.value = float(value);
+  b.pressure_force_n = pressure_force_n;
+  check_brush(b);
+  return b;
+}
+
+template <class T>
+py::array_t<T> copy_of(const std::vector<T>& v) {
+  return py::array_t<T>(py::ssize_t(v.size()), v.data());
+}
+
+}  // namespace
+
+void bind_edit(py::module_& m) {
+  py::class_<Brush>(m, "Brush",
+                    "A sculpting or painting brush. Lengths in model units. tool: 'carve' (remove material in the "
+                    "swept sphere whose bottom is the tool position; paper §4.1), 'add' (a ridge of `height` above "
+                    "the stroke's starting surface; §4.2), 'smooth', 'flatten' (relax towards the neighbours' mean "
+                    "or the tool's plane at strength·pressure·20 /s of contact), 'paint' (blend a field towards a "
+                    "value; §5). falloff: 'constant', 'linear' or 'smooth' (default: constant for carve and add, "
+                    "linear for paint, smooth otherwise). field (paint): 'colour', 'roughness', 'friction_static', "
+                    "'friction_dynamic', 'stiffness', 'layer_thickness'.")
+      .def(py::init(&make_brush), py::arg("tool"), py::arg("radius"), py::kw_only(), py::arg("strength") = 1.0,
+           py::arg("falloff") = "", py::arg("resilience") = 0.0, py::arg("height") = 0.0, py::arg("field") = "colour",
+           py::arg("colour") = py::none(), py::arg("value") = 0.0, py::arg("pressure_force_n") = 1.0,
+           "radius [model units] > 0; strength in [0, 1]; resilience: carve's resilient band [model units]; "
+           "height: add's ridge height [model units]; colour: (3,) linear RGB in [0, 1]; value: the painted value "
+           "of a scalar field (model units for layer_thickness); pressure_force_n: normal force [N] of full "
+           "pressure. Raises ValueError for an unknown name or a value out of range.")
+      .def_property_readonly("tool", [](const Brush& b) { return std::string(brush_tool_name(b.tool)); })
+      .def_readonly("radius", &Brush::radius)
+      .def_readonly("strength", &Brush::strength)
+      .def_readonly("height", &Brush::height)
+      .def_readonly("resilience", &Brush::resilience);
+
+  auto model = py::reinterpret_borrow<py::class_<Model, ModelPtr>>(m.attr("Model"));
+  model.def("stroke", &stroke, py::arg("path"), py::arg("brush"), py::kw_only(), py::arg("rate_hz") = 1000.0,
+            py::arg("force_n") = std::nullopt,
+            (std::string("Applies one stroke of `brush` along `path` as a sculpting session does (hdm::StrokeEditor: "
+                         "the brush swept between consecutive positions, once per stroke whatever the rate).\n\n"
+                         "path: (N, 3) float64 tool positions [model units, model frame], one per servo tick at "
+                         "rate_hz [Hz]: the haptic interaction point (carve cuts down to it; add, smooth, flatten "
+                         "and paint act around the surface point on its projection line). force_n: the normal "
+                         "force [N] giving the pressure of paint, smooth and flatten (default: the brush's full "
+                         "pressure). One undo step. ") +
+             kStrokeReturns)
+                .c_str());
+  auto tool = [&](const char* name, const char* tool_name, const char* doc) {
+    model.def(
+        name,
+        [tool_name](Model& self, const Points& path, double radius, double strength, const std::string& falloff,
+                    double resilience, double height, const std::string& field, py::object colour, double value,
+                    double rate_hz, std::optional<double> force_n) {
+          return stroke(self, path,
+                        make_brush(tool_name, radius, strength, falloff, resilience, height, field, colour, value, 1.0),
+                        rate_hz, force_n);
+        },
+        py::arg("path"), py::arg("radius"), py::kw_only(), py::arg("strength") = 1.0, py::arg("falloff") = "",
+        py::arg("resilience") = 0.0, py::arg("height") = 0.0, py::arg("field") = "colour",
+        py::arg("colour") = py::none(), py::arg("value") = 0.0, py::arg("rate_hz") = 1000.0,
+        py::arg("force_n") = std::nullopt, doc);
+  };
+  tool("carve", "carve",
+       "Carves along path ((N, 3) or (1, 3) float64 tool positions [model units]): Model.stroke with "
+       "Brush('carve', radius, ...). A single row is the paper's single stamp. Returns Model.stroke's dict.");
+  tool("add", "add", "Adds a ridge `height` [model units] high along path: Model.stroke with Brush('add', ...).");
+  tool("smooth", "smooth", "Smooths along path: Model.stroke with Brush('smooth', ...).");
+  tool("flatten", "flatten", "Flattens along path: Model.stroke with Brush('flatten', ...).");
+  tool("paint", "paint",
+       "Paints along path: Model.stroke with Brush('paint', ...); field= names the field, colour= (3,) linear RGB "
+       "or value= for a scalar field.");
+  model
+      .def(
+          "undo", [](Model& self) { return undo_redo(self, true); },
+          "Undoes the last stroke. Returns False when there is none to undo.")
+      .def(
+          "redo", [](Model& self) { return undo_redo(self, false); },
+          "Redoes the last undone stroke. Returns False when there is none (a new stroke discards the redo steps).")
+      .def(
+          "set_under_layer",
+          [](Model& self, double thickness, py::object colour, double stiffness_scale, double friction_static,
+             double friction_dynamic) {
+            if (!(thickness >= 0) || !std::isfinite(thickness)) throw InvalidInput("thickness: must be >= 0");
+            UnderLayer u;
+            if (!colour.is_none()) u.colour = vec3_from(colour, "colour").cast<float>();
+            u.stiffness_scale = float(stiffness_scale);
+            u.friction_static = float(friction_static), u.friction_dynamic = float(friction_dynamic);
+            py::gil_scoped_release release;
+            const std::unique_lock lock(self.mutex);
+            set_under_layer(self.model, thickness, u);
+          },
+          py::arg("thickness"), py::kw_only(), py::arg("colour") = py::none(), py::arg("stiffness_scale") = 0.5,
+          py::arg("friction_static") = 0.3, py::arg("friction_dynamic") = 0.2,
+          "Puts a second material `thickness` [model units] below the current surface (paper §2, e.g. enamel "
+          "over dentin): where carving exposes it, the renderer shows its colour (3,) linear RGB and the proxy "
+          "renders its stiffness scale in [0, 1] and friction.")
+      .def(
+          "field",
+          [](Model& self, const std::string& name) -> py::array {
+            const std::shared_lock lock(self.mutex);
+            const SlabModel& s = self.model;
+            if (name == "displacement") return copy_of(s.displacement);
+            if (name == "friction_static") return copy_of(s.friction_static);
+            if (name == "friction_dynamic") return copy_of(s.friction_dynamic);
+            if (name == "stiffness") return copy_of(s.stiffness_scale);
+            if (name == "roughness") return copy_of(s.roughness);
+            if (name == "layer_displacement") return copy_of(s.layer_displacement);
+            if (name == "colour" || name == "positions" || name == "normals") {
+              const auto& v = name == "colour" ? s.colour : name == "positions" ? s.positions : s.normals;
+              py::array_t<float> a({py::ssize_t(v.size()), py::ssize_t(3)});
+              float* d = a.mutable_data();
+              for (size_t i = 0; i < v.size(); ++i)
+                for (int k = 0; k < 3; ++k) d[3 * i + k] = v[i][k];
+              return a;
+            }
+            throw InvalidInput("field: '" + name +
+                               "' is not one of displacement, positions, normals, friction_static, friction_dynamic, "
+                               "stiffness, layer_displacement (per sample), colour, roughness (per texel)");
+          },
+          py::arg("name"),
+          "A copy of a stored field as a float32 array: per displacement sample (#samples,): displacement δ in [0, "
+          "1], friction_static, friction_dynamic, stiffness (scale in [0, 1]), layer_displacement (empty without "
+          "an under-layer); per sample (#samples, 3): positions [model units], normals (unit); per texel: colour "
+          "(#texels, 3) linear RGB, roughness (#texels,).");
+}
+
+}  // namespace hdm::python

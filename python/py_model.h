@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// What the binding files of the Python module share: the Model object (a slab model with its
+// locator, its stroke editor and a lock), the array types, and the binders of each part.
+#include <hdm/core/error.h>
+#include <hdm/edit/stroke_editor.h>
+#include <hdm/query/slab_locator.h>
+#include <hdm/slab/slab_model.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <mutex>
+#include <shared_mutex>
+#include <string>
+
+namespace hdm::python {
+
+namespace py = pybind11;
+
+/// A loaded or baked model and what queries and edits need. Queries hold the lock shared, edits
+/// exclusively (both with the GIL released), so Python threads may query and edit one model.
+struct Model {
+  SlabModel model;
+  std::unique_ptr<SlabLocator> locator;  ///< slab boxes never change while editing: built once
+  Aabb box;                              ///< of the slab vertices [model units]
+  std::string path;                      ///< .hdm file it was loaded from or last saved to ("" for none)
+  std::shared_mutex mutex;
+  std::unique_ptr<StrokeEditor> editor;  ///< built on the first edit (about 60 bytes per sample)
+
+  explicit Model(SlabModel m, std::string file = {})
+      : model(std::move(m)), locator(std::make_unique<SlabLocator>(model)), path(std::move(file)) {
+    for (size_t v = 0; v < model.inner.size(); ++v) box.extend(model.inner[v]), box.extend(model.outer[v]);
+  }
+};
+using ModelPtr = std::shared_ptr<Model>;
+
+using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// @brief Checks that @p a is an (N, 3) array; @throws InvalidInput naming @p what otherwise.
+inline void require_rows_of_3(const Points& a, const char* what) {
+  if (a.ndim() != 2 || a.shape(1) != 3)
+    throw InvalidInput(std::string(what) + ": expected an (N, 3) float64 array, got " + std::to_string(a.ndim()) +
+                       " dimension(s)" + (a.ndim() == 2 ? " with " + std::to_string(a.shape(1)) + " columns" : ""));
+}
+
+/// @brief A 3-vector from a sequence of three numbers; @throws InvalidInput naming @p what otherwise.
+Vec3 vec3_from(const py::handle& h, const char* what);
+
+/// An (N, 3) float64 array.
+inline py::array_t<double> rows_of_3(py::ssize_t n) { return py::array_t<double>({n, py::ssize_t(3)}); }
+
+void bind_haptics(py::module_& m);
+void bind_edit(py::module_& m);
+void bind_feel(py::module_& m);
+
+}  // namespace hdm::python
