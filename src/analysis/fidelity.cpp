@@ -21,7 +21,7 @@ struct Sum {
 // query starts with that radius; the others are queried again without a bound (same result).
 template <class PointAt>
 Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt point_at) {
-  return tbb::parallel_reduce(
+  return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<int64_t>(0, count, 1024), Sum{},
       [&](const tbb::blocked_range<int64_t>& r, Sum s) {
         for (int64_t k = r.begin(); k < r.end(); ++k) {
@@ -127,7 +127,7 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
     int64_t agree = 0, depth_n = 0, below = 0, above = 0, false_in = 0;
     double sq = 0, max = 0;
   };
-  const Acc acc = tbb::parallel_reduce(
+  const Acc acc = tbb::parallel_deterministic_reduce(
       tbb::blocked_range<int64_t>(0, count, 256), Acc{},
       [&](const tbb::blocked_range<int64_t>& r, Acc a) {
         QueryCache cache;
