@@ -119,10 +119,15 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         (u(rng) * 2 - 1) * offset_pct / 100 * diag * input.face_normal(static_cast<int32_t>(f));
   }
   const SlabLocator locator(model);
-  // A point in no slab is inside when the inner shell encloses it, by the same rule as the
-  // reference on the input: winding number for a closed model, the side of the surface for an
-  // open one.
-  const ExactMeshQuery core_test(TriangleMesh{model.inner, model.slabs});
+  // A point in no slab is inside when the inner shell encloses it (winding number), for a closed
+  // model. An open model encloses nothing: there the point is judged by the reference's own rule
+  // for an open input, the side of the nearest face, applied to the model's displaced surface. The
+  // inner shell would not do: it lies a shell thickness behind the surface, so between two sheets
+  // stacked close together (horizons.off) it is nearer than the sheet the point lies on, and puts
+  // the point behind the other sheet.
+  TriangleMesh core_mesh{model.inner, model.slabs};
+  if (analyze_topology(core_mesh).boundary_edges > 0) displaced_surface(model, core_mesh.vertices, core_mesh.faces);
+  const ExactMeshQuery core_test(core_mesh);
   struct Acc {
     int64_t agree = 0, depth_n = 0, below = 0, above = 0, false_in = 0;
     double sq = 0, max = 0;
