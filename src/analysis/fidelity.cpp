@@ -21,7 +21,7 @@ struct Sum {
 // query starts with that radius; the others are queried again without a bound (same result).
 template <class PointAt>
 Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt point_at) {
-  return tbb::parallel_reduce(
+  return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<int64_t>(0, count, 1024), Sum{},
       [&](const tbb::blocked_range<int64_t>& r, Sum s) {
         for (int64_t k = r.begin(); k < r.end(); ++k) {
@@ -119,15 +119,20 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         (u(rng) * 2 - 1) * offset_pct / 100 * diag * input.face_normal(static_cast<int32_t>(f));
   }
   const SlabLocator locator(model);
-  // A point in no slab is inside when the inner shell encloses it, by the same rule as the
-  // reference on the input: winding number for a closed model, the side of the surface for an
-  // open one.
-  const ExactMeshQuery core_test(TriangleMesh{model.inner, model.slabs});
+  // A point in no slab is inside when the inner shell encloses it (winding number), for a closed
+  // model. An open model encloses nothing: there the point is judged by the reference's own rule
+  // for an open input, the side of the nearest face, applied to the model's displaced surface. The
+  // inner shell would not do: it lies a shell thickness behind the surface, so between two sheets
+  // stacked close together (horizons.off) it is nearer than the sheet the point lies on, and puts
+  // the point behind the other sheet.
+  TriangleMesh core_mesh{model.inner, model.slabs};
+  if (analyze_topology(core_mesh).boundary_edges > 0) displaced_surface(model, core_mesh.vertices, core_mesh.faces);
+  const ExactMeshQuery core_test(core_mesh);
   struct Acc {
     int64_t agree = 0, depth_n = 0, below = 0, above = 0, false_in = 0;
     double sq = 0, max = 0;
   };
-  const Acc acc = tbb::parallel_reduce(
+  const Acc acc = tbb::parallel_deterministic_reduce(
       tbb::blocked_range<int64_t>(0, count, 256), Acc{},
       [&](const tbb::blocked_range<int64_t>& r, Acc a) {
         QueryCache cache;

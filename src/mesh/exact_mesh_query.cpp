@@ -59,7 +59,9 @@ ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
                    e2 = mesh.vertices[t[(k + 2) % 3]] - mesh.vertices[t[k]];
         impl_->vertex_normal[t[k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * u;
         const uint64_t a = uint64_t(t[k]), b = uint64_t(t[(k + 1) % 3]);
-        impl_->edge_normal[std::min(a, b) * nv + std::max(a, b)] += u;
+        // try_emplace with an explicit zero: operator[] would value-initialise an Eigen vector, which
+        // leaves it uninitialised, and the side of a point would then change from run to run.
+        impl_->edge_normal.try_emplace(std::min(a, b) * nv + std::max(a, b), Vec3::Zero()).first->second += u;
       }
     }
   }

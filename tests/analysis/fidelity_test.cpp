@@ -54,3 +54,48 @@ TEST(FidelityTest, matches_brute_force_on_a_small_mesh) {
   EXPECT_NEAR(f.max_back_pct, 100 * mx_back / diag, 1e-6);
   EXPECT_GT(f.max_pct, 0.0);
 }
+
+namespace {
+
+// An open square sheet over [-1, 1]² at height z = base + tilt·x, facing +z.
+void add_sheet(TriangleMesh& m, double base, double tilt) {
+  const int k = 16, first = static_cast<int>(m.vertices.size());
+  for (int j = 0; j <= k; ++j)
+    for (int i = 0; i <= k; ++i) {
+      const double x = -1 + 2.0 * i / k, y = -1 + 2.0 * j / k;
+      m.vertices.emplace_back(x, y, base + tilt * x);
+    }
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      const int a = first + j * (k + 1) + i, b = a + 1, c = a + k + 1, d = c + 1;
+      m.faces.push_back({a, b, d});
+      m.faces.push_back({a, d, c});
+    }
+}
+
+}  // namespace
+
+// Two open sheets stacked closer than the ±1 % band of the contact test (geological horizons, as
+// horizons.off of libcgal-demo): a point between them is inside exactly when it is behind the
+// sheet nearest to it (the reference: ExactMeshQuery::inside on the input, and here also the
+// analytic heights). hdm must agree there too, also where the point lies in no slab.
+TEST(FidelityTest, contact_agrees_between_two_stacked_open_sheets) {
+  TriangleMesh input;
+  add_sheet(input, 0.0, 0.0);
+  add_sheet(input, 0.03, 0.015);  // 0.015 to 0.045 above the first
+  const ExactMeshQuery exact(input);
+  ASSERT_FALSE(exact.closed());
+  // The reference itself against the analytic sheets, between them.
+  for (double x = -0.9; x < 0.9; x += 0.1)
+    for (const double f : {0.2, 0.4, 0.6, 0.8}) {
+      const double top = 0.03 + 0.015 * x;
+      EXPECT_EQ(exact.inside(Vec3(x, 0.1, f * top)), f > 0.5) << x << " " << f;
+    }
+  BakeOptions o;
+  o.slabs = 128;
+  o.grid_n = 6;
+  const SlabModel m = bake_slabs(input, "two sheets", o);
+  const ContactAccuracy c = measure_contact(m, exact, 20000, 7);
+  EXPECT_GE(c.agreement, 0.995) << "false inside " << c.false_inside << ", missed below the shell "
+                                << c.missed_below_shell << ", missed in the shell " << c.missed_in_shell;
+}

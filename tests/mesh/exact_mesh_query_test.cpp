@@ -67,3 +67,55 @@ TEST(ExactMeshQueryTest, closest_point_within_a_radius_matches_brute_force) {
   EXPECT_GT(found, 20);
   EXPECT_GT(none, 20);
 }
+
+namespace {
+
+// An open height field z = h(x, y) on a grid of [-1, 1]², faces facing +z: a ridge (h = -0.5|y|)
+// or a valley (h = +0.5|y|) along the x axis, with grid lines on y = 0.
+TriangleMesh height_field(double slope) {
+  TriangleMesh m;
+  const int k = 8;
+  for (int j = 0; j <= k; ++j)
+    for (int i = 0; i <= k; ++i) {
+      const double x = -1 + 2.0 * i / k, y = -1 + 2.0 * j / k;
+      m.vertices.emplace_back(x, y, slope * std::abs(y));
+    }
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      const int a = j * (k + 1) + i, b = a + 1, c = a + k + 1, d = c + 1;
+      m.faces.push_back({a, b, d});
+      m.faces.push_back({a, d, c});
+    }
+  return m;
+}
+
+}  // namespace
+
+// The side of a point for an open mesh uses the pseudonormal of the feature nearest to it (face,
+// edge or vertex; Bærentzen & Aanæs 2005). Points straight above or below the crease have their
+// nearest point on an edge; the reference is the height field itself. The heap is dirtied first,
+// so a pseudonormal summed into uninitialised memory shows (it did: the answers changed from run
+// to run, and with them the bake).
+TEST(ExactMeshQueryTest, side_of_an_open_sheet_matches_the_height_field_at_edges_and_vertices) {
+  for (const double slope : {-0.5, 0.5}) {
+    const TriangleMesh m = height_field(slope);
+    for (int build = 0; build < 4; ++build) {
+      {
+        std::vector<std::vector<double>> junk;
+        for (int i = 0; i < 4000; ++i) junk.emplace_back(6, (i % 2 ? 1 : -1) * 1e30);
+      }
+      const ExactMeshQuery q(m);
+      ASSERT_FALSE(q.closed());
+      for (int i = 1; i < 8; ++i)
+        for (const double y : {0.0, 0.25, 0.5, -0.25}) {  // on the crease, on grid lines, between
+          for (const double h : {0.05, 0.2}) {
+            const double x = -1 + 2.0 * i / 8 + (build % 2 ? 0.0 : 0.125);
+            const double z = slope * std::abs(y);
+            EXPECT_FALSE(q.behind(Vec3(x, y, z + h))) << "slope " << slope << " at " << x << ", " << y << " +" << h;
+            EXPECT_TRUE(q.behind(Vec3(x, y, z - h))) << "slope " << slope << " at " << x << ", " << y << " -" << h;
+            EXPECT_EQ(q.inside(Vec3(x, y, z - h)), q.behind(Vec3(x, y, z - h)));
+          }
+        }
+    }
+  }
+}

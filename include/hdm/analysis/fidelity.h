@@ -45,22 +45,22 @@ std::vector<uint8_t> buried_faces(const ExactMeshQuery& input);
 
 /// Contact accuracy near the surface.
 struct ContactAccuracy {
-  int64_t points = 0;        ///< query points
-  double agreement = 0;      ///< fraction whose inside/outside matches the exact test on the input
-  double depth_rms_pct = 0;  ///< RMS |hdm depth - exact distance| over points inside both, % of diagonal
-  double depth_max_pct = 0;  ///< maximum of those
-  int64_t missed_below_shell =
-      0;                        ///< disagreements: exactly inside, but in no slab and not enclosed by the inner shell
-  int64_t missed_in_shell = 0;  ///< disagreements: exactly inside, in a slab, but above the displaced surface
+  int64_t points = 0;              ///< query points
+  double agreement = 0;            ///< fraction whose inside/outside matches the exact test on the input
+  double depth_rms_pct = 0;        ///< RMS |hdm depth - exact distance| over points inside both, % of diagonal
+  double depth_max_pct = 0;        ///< maximum of those
+  int64_t missed_below_shell = 0;  ///< disagreements: exactly inside, but in no slab and not inside the core test
+  int64_t missed_in_shell = 0;     ///< disagreements: exactly inside, in a slab, but above the displaced surface
   int64_t false_inside =
-      0;  ///< disagreements: exactly outside, but below the displaced surface or enclosed by the inner shell
+      0;  ///< disagreements: exactly outside, but below the displaced surface or inside the core test
 };
 
 /// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)
 /// offset along the face normal by a uniform amount in ±@p offset_pct % of the diagonal (1% in the
 /// design README's definition); hdm's inside/outside (penetration > 0 in a slab, or, in no slab,
-/// ExactMeshQuery::inside on the inner shell's triangles) against ExactMeshQuery::inside on the
-/// input, hdm's depth against the exact distance.
+/// ExactMeshQuery::inside on the inner shell's triangles for a closed model, on the displaced
+/// surface's triangles for an open one: the side of the nearest face, the reference's own rule)
+/// against ExactMeshQuery::inside on the input, hdm's depth against the exact distance.
 /// @pre @p input is oriented as orient_outward() orients it (an open input's inside is the back
 ///      of its surface).
 /// @note Parallel (TBB).
