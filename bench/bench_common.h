@@ -19,8 +19,8 @@ struct Fixture {
   SlabModel model;                       ///< baked model (derived data built)
   std::unique_ptr<SlabLocator> locator;  ///< its search structure
   double diagonal = 0;                   ///< input bounding-box diagonal
-  std::vector<Vec3> path_points;         ///< coherent path, ≤ diagonal/1600 between points
-  std::vector<Vec3> global_points;       ///< random points within 1% of the diagonal of the surface
+  std::vector<Vec3> path_points;         ///< coherent_path (workloads.h), ≤ diagonal/1600 between points
+  std::vector<Vec3> global_points;       ///< global_points (workloads.h), within 1% of the diagonal of the surface
 };
 
 /// The process-wide fixture (baked on first use; not thread-safe to initialise).

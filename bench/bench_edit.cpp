@@ -37,7 +37,7 @@ void restore(SlabModel& m, const SlabModel& from) {
 }
 
 // A 1 kHz tool path at 20 mm/s (device scale) over the surface: surface points found by walking the
-// sample graph (bench_common's walk), the HIP `depth` under each along the normal, and the
+// sample graph (coherent_path, workloads.h), the HIP `depth` under each along the normal, and the
 // contact of the HIP on the unedited model.
 struct Path {
   std::vector<Vec3> hip;

@@ -19,7 +19,7 @@ void coherent(benchmark::State& state, AlphaSolver solver) {
     if (++k == f.path_points.size()) k = 0;
   }
   state.SetItemsProcessed(state.iterations());
-  // Points in no slab need a full BVH descent to prove it: they set the cost at 10^5 slabs.
+  // Points in no slab need the hint's neighbourhood and a grid cell to prove it: they set the cost at 10^5 slabs.
   state.counters["in_shell"] = double(hits) / double(state.iterations());
 }
 

@@ -119,7 +119,7 @@ int32_t add_with_neighbours(const SampleLayout& L, int32_t c, std::vector<uint32
 }
 
 // After displacements changed (positions already refreshed by the visit): normals of the changed
-// samples and their one-ring (design notes §4.4), dirty flags of every slab that holds a changed
+// samples and their one-ring (docs/design.md#normals), dirty flags of every slab that holds a changed
 // sample.
 void finish_geometry_edit(SlabModel& m, EditScratch& s, int32_t changed) noexcept {
   if (changed == 0) return;
@@ -162,7 +162,7 @@ EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec
   r.visited = flood_samples(m, s, contact, [&](int32_t id) {
     Vec3 p0, p1;
     line_of(id, p0, p1);
-    // Line P(t) = p0 + t·L against the sphere: a t² + b t + c = 0 (design notes §5.1).
+    // Line P(t) = p0 + t·L against the sphere: a t² + b t + c = 0 (docs/design.md#carving).
     const Vec3 L = p1 - p0, w = p0 - centre;
     const double a = L.squaredNorm(), b = 2 * L.dot(w), c = w.squaredNorm() - r2;
     const double disc = b * b - 4 * a * c;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // hdm check MODEL.hdm --against INPUT: independent measurement of a slab model against its input
-// (design README, "How we measure"): exact queries on the input with Embree, never the slab code.
+// (docs/design.md#how-we-measure): exact queries on the input with Embree, never the slab code.
 #include "commands.h"
 #include "input_mesh.h"
 

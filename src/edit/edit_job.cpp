@@ -541,7 +541,7 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
 }
 
 // After displacements changed (positions already refreshed): normals of the changed samples and
-// their one-ring (design notes §4.4), the slab-major copy, then the force-shading normals of the
+// their one-ring (docs/design.md#normals), the slab-major copy, then the force-shading normals of the
 // ring and its neighbours; dirty flags of every slab holding a ring sample (its normal changed).
 bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   const SampleLayout& L = m.samples;

@@ -11,8 +11,8 @@ namespace hdm {
 namespace {
 
 // A re-projected candidate is accepted only if its surface faces the same way as the proxy's:
-// this keeps the proxy on its own side of a thin part even when the locator's BVH fallback finds
-// a slab of the opposite side (design notes §4.5, gap 1).
+// this keeps the proxy on its own side of a thin part even when the locator's grid fallback finds
+// a slab of the opposite side (docs/design.md#force-and-proxy).
 constexpr double kMinNormalAgreement = 0.0;
 
 // A sliding proxy sticks again once the tangential offset is back within μd·depth (plus this
@@ -149,7 +149,7 @@ void finish_force(Vec3 f, const Vec3& n, const Vec3& velocity, const ProxyParams
 double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
                          double fallback) noexcept {
   if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
-  // Same grid triangle and weights as evaluate_surface (design notes §4.1).
+  // Same grid triangle and weights as evaluate_surface (docs/design.md#query).
   const detail::GridCell cell = detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
   const double v = cell.wa * field[cell.a] + cell.wb * field[cell.b] + cell.wd * field[cell.d];
   return std::isfinite(v) ? v : fallback;

@@ -59,7 +59,7 @@ double solve(const Cubic& f, double lo, double hi, double flo, double fhi, doubl
   return a;
 }
 
-// Barycentrics of p on the alpha-triangle at α (design notes §3.4). Returns the edge beyond which
+// Barycentrics of p on the alpha-triangle at α (docs/design.md#barycentrics). Returns the edge beyond which
 // p lies (0 RS, 1 ST, 2 TR) or -1 when every barycentric is >= -eps.
 int barycentrics(const SlabGeometry& g, const Vec3& p, double alpha, Vec3& bary) noexcept {
   const Vec3 E1 = g.e1 + alpha * g.d1, E2 = g.e2 + alpha * g.d2;

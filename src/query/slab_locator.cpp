@@ -268,7 +268,7 @@ int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess,
     // no slab, see inside_inner_shell) skips its cubic; the ring below is filtered the same way.
     const bool near_hint = candidate(hint, x, y, z);
     if (near_hint && locate_in_slab(g[hint], p, solver, guess, c, edge)) return hint;
-    // The point left through `edge`: the slab across it is the likely one (design notes §3.6).
+    // The point left through `edge`: the slab across it is the likely one (docs/design.md#slab-locator).
     const int32_t across = near_hint && edge >= 0 ? edge_[hint][edge] : -1;
     if (across >= 0 && candidate(across, x, y, z) && locate_in_slab(g[across], p, solver, guess, c, edge))
       return across;

@@ -86,7 +86,7 @@ Vec3 max_min_direction(const Vec3& start, const std::vector<Vec3>& normals) {
 }
 
 // Per-vertex directions with a positive dot product against every incident face normal
-// (design notes §2.2: guarantees a positive Jacobian for a thin enough shell).
+// (docs/design.md#ray-directions: guarantees a positive Jacobian for a thin enough shell).
 VertexFrame vertex_frames(const Coarse& c, int smoothing) {
   const size_t nv = c.vertices.size();
   VertexFrame fr;
@@ -330,7 +330,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       }
       cap_in[v] = std::min(cap_in[v], 0.45 * clear_in);
       cap_out[v] = std::min(cap_out[v], 0.45 * clear_out);
-      // Headroom for edits and for the cursor's penetration (design notes §9-Q1), at least
+      // Headroom for edits and for the cursor's penetration (docs/design.md#shell-thickness), at least
       // options.min_thickness of the diagonal where the model is thick enough.
       const double floor = std::max(o.headroom * fr.edge[v], o.min_thickness * diag);
       min_off[v] = std::min({1e-3 * fr.edge[v], cap_in[v], cap_out[v]});
@@ -384,9 +384,9 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       if (!hopeless[fr.faces[k]] && !slab_ok(fr.faces[k])) return false;
     return true;
   };
-  // Grow while valid (thin-to-thick, as in the shell literature, design notes §10): from a thin
-  // valid shell, raise each vertex's offset towards its target, keeping the largest value (found by
-  // bisection) for which every slab around the vertex stays valid. Gauss-Seidel sweeps.
+  // Grow while valid (thin-to-thick, as in the shell literature, docs/design.md#growing-the-shell):
+  // from a thin valid shell, raise each vertex's offset towards its target, keeping the largest value
+  // (found by bisection) for which every slab around the vertex stays valid. Gauss-Seidel sweeps.
   auto grow = [&] {
     // Every vertex grows by a bounded step per sweep (at most doubling, or a sixth of its
     // target), so neighbours rise together and the alpha-planes stay parallel; a vertex that
@@ -486,9 +486,9 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       cast_inner = model.inner;
       cast_outer = model.outer;
       // One ray per distinct sample, from the outer end inward; of the hits whose triangle faces
-      // outward, keep the one nearest the coarse surface (design notes §2.2 keep the outermost: in a
-      // thick shell between close parts, fingers or the walls of a hole, the outermost hit can be
-      // another part's surface, while the coarse surface follows the local one).
+      // outward, keep the one nearest the coarse surface, not the outermost: in a thick shell
+      // between close parts, fingers or the walls of a hole, the outermost hit can be another
+      // part's surface, while the coarse surface follows the local one (docs/design.md#casting-the-displacements).
       const int blocks = 20;
       for (int b = 0; b < blocks; ++b) {
         const int lo = int(int64_t(ns) * b / blocks), hi = int(int64_t(ns) * (b + 1) / blocks);

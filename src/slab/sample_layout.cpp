@@ -123,7 +123,7 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
     if (L.home_slab[id] < 0) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
   L.first_interior = interior_base;
 
-  // Grid triangles, counter-clockwise from outside (design notes §1.3).
+  // Grid triangles, counter-clockwise from outside (docs/design.md#sample-grid).
   L.triangles.reserve(static_cast<size_t>(S) * n * n);
   for (int32_t s = 0; s < S; ++s) {
     const int32_t* g = &L.ids[static_cast<size_t>(s) * L.per_slab];

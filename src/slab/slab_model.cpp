@@ -33,7 +33,7 @@ SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, 
 
 double slab_min_jacobian(const SlabGeometry& g, const Vec3& dS, const Vec3& dT) noexcept {
   // gV(α) = N(α)·dV is quadratic; the Jacobian N(α)·D(w) is linear in w, so its minimum over the
-  // slab is the minimum of the three quadratics over α in [0,1] (design notes §3.7).
+  // slab is the minimum of the three quadratics over α in [0,1] (docs/design.md#slab-validity).
   const double scale = std::max(g.N0.norm(), 1e-300);
   double lowest = 1e300;
   for (const Vec3* d : {&g.dR, &dS, &dT}) {

@@ -3,8 +3,8 @@
 /// @file
 /// How closely an edited slab model follows the exact boolean of its input with the swept tools:
 /// an independent reference for carve and add (Embree distances and inside tests on the input
-/// combined with analytic capsule distances), as for the bake's fidelity (design README, "How we
-/// measure").
+/// combined with analytic capsule distances), as for the bake's fidelity
+/// (docs/design.md#how-we-measure).
 
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/slab/slab_model.h>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file
-/// Analyzers that measure a slab model against its input with exact queries on the input (design
-/// README, "How we measure"). Tests, `hdm bake`, `hdm check` and benchmarks all use these.
+/// Analyzers that measure a slab model against its input with exact queries on the input
+/// (docs/design.md#how-we-measure). Tests, `hdm bake`, `hdm check` and benchmarks all use these.
 
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/slab/slab_model.h>
@@ -56,8 +56,8 @@ struct ContactAccuracy {
 };
 
 /// @brief Contact accuracy: @p count points on the input surface (uniform by area, fixed @p seed)
-/// offset along the face normal by a uniform amount in ±@p offset_pct % of the diagonal (1% in the
-/// design README's definition); hdm's inside/outside (penetration > 0 in a slab, or, in no slab,
+/// offset along the face normal by a uniform amount in ±@p offset_pct % of the diagonal (1% in
+/// docs/design.md#how-we-measure); hdm's inside/outside (penetration > 0 in a slab, or, in no slab,
 /// ExactMeshQuery::inside on the inner shell's triangles for a closed model, on the displaced
 /// surface's triangles for an open one: the side of the nearest face, the reference's own rule)
 /// against ExactMeshQuery::inside on the input, hdm's depth against the exact distance.

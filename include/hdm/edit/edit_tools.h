@@ -3,8 +3,8 @@
 /// @file
 /// Sculpting and painting kernels: one application of a brush swept between two tool positions
 /// (a sphere when they coincide, a capsule otherwise), by flood fill over the global sample (or
-/// texel) graph, which crosses slab edges and corners by construction (paper §4-5; design notes
-/// §5). The paper's single-stamp tools (carve, add_material, paint) are the same kernels with
+/// texel) graph, which crosses slab edges and corners by construction (paper §4-5;
+/// docs/design.md#edits). The paper's single-stamp tools (carve, add_material, paint) are the same kernels with
 /// both ends at one point. Strokes, the per-tick work budget and undo are in stroke_editor.h.
 
 #include <hdm/edit/brush.h>
@@ -114,7 +114,7 @@ EditResult carve(SlabModel& model, EditScratch& scratch, const Contact& contact,
 
 /// @brief Add material: a cone of height @p height and radius @p radius centred at the surface
 /// contact point: δ += height·max(0, 1 - d/r)/|P1 - P0|, clamped to 1 (paper §4.2; the cone falls
-/// linearly with distance, design notes §5.2). The paper's cumulative deposit (each call adds),
+/// linearly with distance, docs/design.md#adding-material). The paper's cumulative deposit (each call adds),
 /// kept for comparison; strokes use BrushTool::Add (a swept boolean union).
 /// @note Never lowers a sample. No allocation; O(visited·valence).
 EditResult add_material(SlabModel& model, EditScratch& scratch, const Contact& contact, double radius,
@@ -133,7 +133,7 @@ EditResult add_material(SlabModel& model, EditScratch& scratch, const Contact& c
 EditResult paint(SlabModel& model, EditScratch& scratch, const Contact& contact, double radius, const Vec3f& colour,
                  double pressure) noexcept;
 
-/// @brief Paint pressure from penetration depth: clamp((depth - d0)/(d1 - d0), 0, 1) (design notes §5.3).
+/// @brief Paint pressure from penetration depth: clamp((depth - d0)/(d1 - d0), 0, 1) (docs/design.md#painting).
 /// @param depth  penetration depth [model units] (or a normal force [N], with d0, d1 in N).
 /// @param d0  dead zone [model units]: lighter touches do not paint. @param d1 depth of full pressure.
 /// The same ramp maps a normal force to pressure (hdm::StrokeEditor: d0 = 0.1·F1, d1 = F1).

@@ -3,7 +3,7 @@
 /// @file
 /// The proxy (god-object) held on the reconstructed displacement surface: no pop-through, force
 /// shading and static/dynamic friction, with the paper's memoryless penalty force kept as a mode
-/// (Zilles & Salisbury 1995; Ruspini, Kolarov & Khatib 1997; design notes §4.5, §9-Q10).
+/// (Zilles & Salisbury 1995; Ruspini, Kolarov & Khatib 1997; docs/design.md#force-and-proxy).
 ///
 /// Frames: the device reports the haptic interaction point (HIP) in metres (device frame); the
 /// proxy lives in the model frame [model units]; hdm::Workspace maps between them. Forces are
@@ -79,7 +79,7 @@ struct ProxyOutput {
 };
 
 /// @brief Interpolates a per-sample field at slab coordinates (the grid triangle and weights of
-/// evaluate_surface, design notes §4.1).
+/// evaluate_surface, docs/design.md#query).
 /// @param model     slab model with derived data.
 /// @param field     #samples values (e.g. SlabModel::friction_static); empty: returns @p fallback.
 /// @param slab      slab id in [0, #S).
@@ -118,7 +118,7 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
 /// @note noexcept, no allocation, no locks, no I/O. Cost: params.iterations locator finds
 ///       (one slab test each when coherent) and evaluate_surface calls.
 /// @see Zilles & Salisbury 1995; Ruspini et al. 1997 (proxy, force shading, friction);
-///      Melder & Harwin 2005 (friction cone); design notes §4.5.
+///      Melder & Harwin 2005 (friction cone); docs/design.md#force-and-proxy.
 ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const Vec3& hip_device,
                        const Vec3& velocity, const ProxyParams& params, ProxyState& state) noexcept;
 

@@ -3,7 +3,7 @@
 /// @file
 /// Scripted haptic scenarios ("does it feel right?"): a simulated device and hand drive the proxy
 /// or penalty renderer on a slab model, and the run is scored against an independent reference,
-/// the exact input mesh (design README, "How we measure").
+/// the exact input mesh (docs/design.md#how-we-measure).
 
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/haptics/device.h>

@@ -2,7 +2,7 @@
 #pragma once
 /// @file
 /// The `.hdm` file: a slab model's stored data in a versioned little-endian binary format
-/// (design notes §9-Q18).
+/// (docs/design.md#file-format).
 ///
 /// Format version 2, all integers and floats little-endian, IEEE-754:
 ///

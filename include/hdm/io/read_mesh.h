@@ -50,7 +50,7 @@ struct MeshReadOptions {
 ///         64 corners.
 /// @note O(file size) time (plus O(#V log #V) for welding) and memory; allocates.
 /// @see Turk, "The PLY polygon file format" (1994); Geomview's OFF(5) manual page; Wavefront's
-///      OBJ specification (Appendix B1 of the Advanced Visualizer manual); design notes §1.4
+///      OBJ specification (Appendix B1 of the Advanced Visualizer manual); docs/design.md#sample-layout-and-seams
 ///      (shared vertices).
 TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options = {});
 

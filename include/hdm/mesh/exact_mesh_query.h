@@ -2,8 +2,8 @@
 #pragma once
 /// @file
 /// Exact queries on a triangle mesh with Embree: closest point, inside test and all hits along a
-/// segment. This is the independent reference hdm is measured against (design README, "How we
-/// measure"), and the ray caster of the bake. It never uses slab code.
+/// segment. This is the independent reference hdm is measured against
+/// (docs/design.md#how-we-measure), and the ray caster of the bake. It never uses slab code.
 
 #include <hdm/mesh/triangle_mesh.h>
 

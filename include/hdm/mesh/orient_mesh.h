@@ -21,7 +21,7 @@ struct OrientReport {
 };
 
 /// @brief Orients every connected component of @p mesh outward, so that faces are counter-clockwise
-/// seen from outside the material, as the slab model needs (paper §2; design notes §1.3).
+/// seen from outside the material, as the slab model needs (paper §2; docs/design.md#slab-geometry).
 ///
 /// - A closed component bounds a volume; it faces outward when its signed volume is positive at
 ///   an even nesting depth (not inside another closed component) and negative at an odd one (the

@@ -34,7 +34,7 @@ struct MeshTopology {
 
 /// @brief Counts boundary, non-manifold and inconsistently oriented edges, degenerate faces and
 /// components of @p mesh.
-/// @note O(#F log #F), allocates; the edge sort is parallel (TBB).
+/// @note O(#F log #F), allocates; single-threaded (one sort of the edges).
 MeshTopology analyze_topology(const TriangleMesh& mesh);
 
 /// @brief Checks that @p mesh holds usable data: at least one face, finite coordinates, vertex ids
@@ -51,7 +51,7 @@ void validate_mesh_data(const TriangleMesh& mesh, const std::string& name);
 /// @throws InvalidInput naming @p name when the mesh is empty, has non-finite coordinates,
 ///         out-of-range vertex ids, non-manifold edges (used by three or more faces) or
 ///         inconsistently oriented faces.
-/// @see design notes §1.4: the coarse mesh must be edge-manifold.
+/// @see docs/design.md#sample-layout-and-seams: the coarse mesh must be edge-manifold.
 void validate_for_bake(const TriangleMesh& mesh, const std::string& name);
 
 }  // namespace hdm

@@ -2,7 +2,7 @@
 #pragma once
 /// @file
 /// Point inversion inside one slab: the alpha-plane cubic (paper §3.1, eq. 1-2) and barycentrics in
-/// a local frame (design notes §3.4; the paper's H·M⁻¹ is singular when an alpha-plane passes
+/// a local frame (docs/design.md#barycentrics; the paper's H·M⁻¹ is singular when an alpha-plane passes
 /// through the origin).
 
 #include <hdm/slab/slab_model.h>
@@ -32,7 +32,7 @@ struct SlabCoordinates {
 /// @note noexcept, no allocation, O(1): AABB test, cubic coefficients (3 dot products), 2-4
 ///       Halley steps or 15 bisection steps, one cross-product solve. When the cubic has several
 ///       roots in [0,1] (possible only in strongly curved slabs), each monotone interval is tried.
-/// @see Jagnow & Dorsey 2002 §3.1 eq. 1-2; design notes §3.2-3.5.
+/// @see Jagnow & Dorsey 2002 §3.1 eq. 1-2; docs/design.md#alpha-plane and #barycentrics.
 bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, SlabCoordinates& c) noexcept;
 
 /// @brief locate_in_slab() with a starting guess for α and a hint where to look next.

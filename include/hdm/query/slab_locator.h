@@ -4,7 +4,7 @@
 /// Finding the slab that holds a point: previous slab, its neighbours, then a uniform grid over
 /// slab boxes (paper §3.1 suggests a hierarchy; a grid with cells of half a slab box needs one
 /// lookup and a short contiguous list, where a BVH descent missed the cache at every level at
-/// 10^5 slabs; design notes §3.6).
+/// 10^5 slabs; docs/design.md#slab-locator).
 
 #include <hdm/query/alpha_plane.h>
 
@@ -120,7 +120,7 @@ class SlabLocator {
   std::vector<int32_t> ring_offsets_, ring_;
   // Uniform grid over the slab boxes, cells half a slab box wide: cell k lists, inline, the
   // boxes of every slab whose box overlaps it (grid_entries_[grid_offsets_[k] .. [k+1])). A
-  // global query reads one offset and one contiguous run instead of descending the BVH, and a
+  // global query reads one offset and one contiguous run instead of descending a BVH, and a
   // point in no slab (a quarter of a coherent path at 10^5 slabs) is rejected as cheaply.
   float grid_lo_[3] = {0, 0, 0}, grid_hi_[3] = {0, 0, 0}, grid_inv_[3] = {0, 0, 0};
   int grid_dim_[3] = {1, 1, 1};

@@ -40,7 +40,7 @@ struct QueryCache {
 /// @param[out] out  delta, depth, surface_point, normal, ray (slab and coords are set too).
 /// @note noexcept, no allocation, O(1). The displacement and normal are interpolated over the grid
 ///       triangle that holds (hx, hy) = (n·wT, n·wS), with the same up/down split the renderer draws
-///       (design notes §4.1).
+///       (docs/design.md#query).
 /// @see Jagnow & Dorsey 2002 §3.2-3.4.
 void evaluate_surface(const SlabModel& model, int slab, const SlabCoordinates& c, Contact& out) noexcept;
 

@@ -47,7 +47,7 @@ struct BakeReport {
   int64_t input_triangles = 0;    ///< triangles of the input
   int64_t submesh_triangles = 0;  ///< slabs·n², the triangles of the reconstructed surface
   int64_t samples = 0;            ///< distinct displacement samples
-  int invalid_slabs = 0;          ///< slabs whose Jacobian is not positive everywhere (design notes §3.7)
+  int invalid_slabs = 0;          ///< slabs whose Jacobian is not positive everywhere (docs/design.md#slab-validity)
   int64_t ray_misses = 0;  ///< sample rays that found no outward-facing input surface (filled at the point of their
                            ///< line nearest the input)
   int64_t overlapping_pairs = 0;  ///< slab pairs of different parts that overlap (0 when separation converged)
@@ -63,13 +63,13 @@ struct BakeReport {
 /// @param options  see BakeOptions.
 /// @param[out] report  counters of the bake (optional).
 /// @return the model with derived data built; displacements δ in [0,1] with δ the parameter of
-///         the outermost outward-facing hit of the sample's projection line (design notes §2.2).
+///         the outermost outward-facing hit of the sample's projection line (docs/design.md#casting-the-displacements).
 /// @throws InvalidInput (naming @p name) for an invalid mesh or options. A shell that cannot
 ///         enclose the input everywhere at this slab count is not an error: the report counts the
 ///         rays that missed, the invalid slabs and the overlapping pairs, and bake_to_tolerance()
 ///         bakes again with more slabs.
 /// @note Parallel (TBB) ray casting; O(#F log #F + #S·n²).
-/// @see Jagnow & Dorsey 2002 §2 and §7; design notes §2.2, §3.7, §9-Q1..Q3.
+/// @see Jagnow & Dorsey 2002 §2 and §7; docs/design.md#bake and #slab-validity.
 SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& options,
                      BakeReport* report = nullptr);
 

@@ -2,7 +2,7 @@
 #pragma once
 /// @file
 /// Global sample ids for a triangular grid laid over every slab, with the samples on slab edges
-/// and corners stored once (design notes §1.4, "global vertex id" layout). The same layout is used
+/// and corners stored once (docs/design.md#sample-layout-and-seams). The same layout is used
 /// for displacement samples (grid n) and colour texels (grid n·m).
 
 #include <hdm/core/types.h>
@@ -75,7 +75,7 @@ struct SampleLayout {
 /// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
 ///         the whole one-ring (boundary edges belong to one slab).
 /// @throws InvalidInput if n < 1, an id is out of range, or an edge is used by more than two slabs.
-/// @note O(#S·n²) time and memory; the CSR rows are sorted in parallel (TBB), and the (sample,
+/// @note O(#S·n²) time and memory; the CSR rows are sorted in parallel (std::thread), and the (sample,
 ///       neighbour) pairs are listed twice rather than stored (at 20,000 slabs and n = 32, the
 ///       colour texels of `hdm bake --slabs 20000`, they would take 1 GB).
 SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n);

@@ -12,7 +12,7 @@
 
 namespace hdm {
 
-/// @brief Slabs whose Jacobian is not positive everywhere (exact test, design notes §3.7).
+/// @brief Slabs whose Jacobian is not positive everywhere (exact test, docs/design.md#slab-validity).
 /// @note O(#S).
 int count_invalid_slabs(const SlabModel& model);
 

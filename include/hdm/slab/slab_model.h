@@ -12,7 +12,7 @@
 
 namespace hdm {
 
-/// Precomputed constants of one slab (paper §3.1; design notes §1.7, §3.2), model units.
+/// Precomputed constants of one slab (paper §3.1; docs/design.md#alpha-plane), model units.
 ///
 /// Corner V in {R, S, T} has inner point V0 and ray dV = V1 - V0. The alpha-triangle is
 /// Rα = R0 + α·dR, Eα1 = e1 + α·d1 (Sα - Rα), Eα2 = e2 + α·d2 (Tα - Rα); its plane normal is
@@ -133,11 +133,11 @@ inline double layer_exposure(double depth_below_layer, double band) noexcept {
 /// @throws InvalidInput when the stored data are inconsistent (sizes, ids, non-finite values,
 ///         displacements or layer displacements outside [0,1], roughness outside [0,1],
 ///         grid_n < 1 or texel_density < 1), naming the member.
-/// @note O(#S·n²·m²); allocates; positions, normals and the layouts' CSR rows in parallel (TBB).
+/// @note O(#S·n²·m²); allocates; positions, normals and the layouts' CSR rows in parallel (std::thread).
 void rebuild_derived(SlabModel& model);
 
 /// @brief Slab constants of the slab with corners (R0,S0,T0) and (R1,S1,T1) [model units].
-/// @see design notes §3.2 (simplified cubic constants, checked against paper eq. 1-2).
+/// @see docs/design.md#alpha-plane (the cubic's constants, paper eq. 1-2 expanded).
 SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, const Vec3& R1, const Vec3& S1,
                                 const Vec3& T1);
 
@@ -159,7 +159,7 @@ Vec3 sample_position(const SlabModel& model, int sample) noexcept;
 void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
-/// triangles of every slab, across seams) (paper §3.4; design notes §4.4), and refreshes their
+/// triangles of every slab, across seams) (paper §3.4; docs/design.md#normals), and refreshes their
 /// displacement and normal in `slab_samples` (when it is built) and `haptic_normals` of them and
 /// their grid neighbours (when it is built).
 /// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
@@ -206,7 +206,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
                     bool haptic_ring = true) noexcept;
 
 /// @brief Exact per-slab validity: the Jacobian N(α)·D(w) is positive over the whole slab
-/// (design notes §3.7: three quadratics positive on [0,1]).
+/// (docs/design.md#slab-validity: three quadratics positive on [0,1]).
 /// @return the minimum over the slab of the Jacobian, normalised by |N0|·|dV| scale; > 0 iff valid.
 double slab_min_jacobian(const SlabGeometry& g, const Vec3& dS, const Vec3& dT) noexcept;
 

@@ -7,7 +7,7 @@
 /// wR = 1 - (i+j)/n: R is (0,0), T is (n,0), S is (0,n). Points are packed row by row
 /// (row j holds n+1-j points). Grid triangles: for each cell (i, j) with i + j <= n-1 an "up"
 /// triangle (i,j),(i,j+1),(i+1,j) and, where i + j <= n-2, a "down" triangle
-/// (i+1,j),(i,j+1),(i+1,j+1); both counter-clockwise seen from outside (design notes §1.2-1.3).
+/// (i+1,j),(i,j+1),(i+1,j+1); both counter-clockwise seen from outside (docs/design.md#sample-grid).
 /// Haptics, normals, rendering and export all use this one split.
 
 #include <cstdint>

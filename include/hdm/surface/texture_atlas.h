@@ -2,7 +2,7 @@
 #pragma once
 /// @file
 /// One texture image holding the colour texels of every slab (paper §6: colour is a texture per
-/// slab; design notes §6: texel centres on the grid points, padding against bilinear bleeding).
+/// slab; docs/design.md#texture-atlas: texel centres on the grid points, padding against bilinear bleeding).
 
 #include <hdm/slab/slab_model.h>
 

@@ -15,7 +15,7 @@
 namespace hdm::detail {
 
 /// Grid triangle under (wS, wT) of a slab with n intervals per edge: its three grid indices
-/// (grid::index order within the slab) and their weights (design notes §4.1: the renderer's
+/// (grid::index order within the slab) and their weights (docs/design.md#query: the renderer's
 /// up/down split). Depends on the slab's grid only, not on its data.
 struct LocalCell {
   int32_t la, lb, ld;
