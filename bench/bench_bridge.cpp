@@ -6,6 +6,8 @@
 // period ("late": the driver then sends its next packet late) or never came within 100 ms ("lost").
 //
 //   bench_bridge [seconds per case=3]
+//   bench_bridge --serve ENDPOINT SECONDS   (only the hdm side, for another driver such as
+//                                            examples/python/bridge_client.py)
 // Both threads spin, so the two cores of a small machine are busy; the figures are the transport's
 // plus the scheduler's (other processes' load shows in the p99 and the maximum).
 #include <hdm/bridge/bridge_device.h>
@@ -85,7 +87,24 @@ Result run(const std::string& endpoint, double rate_hz, double seconds) {
 
 }  // namespace
 
+int serve(const std::string& endpoint, double seconds) {
+  auto device = BridgeDevice::open(endpoint);
+  std::printf("serving %s for %.0f s\n", device->endpoint().c_str(), seconds);
+  std::fflush(stdout);
+  DeviceState st;
+  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  while (Clock::now() < end) {
+    if (!device->receive()) continue;
+    if (!device->begin_frame(st)) break;
+    device->end_frame(-200.0 * st.position);
+  }
+  const BridgeCounters c = device->counters();
+  std::printf("accepted %lld, dropped %lld\n", static_cast<long long>(c.accepted), static_cast<long long>(c.dropped()));
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 4 && std::string(argv[1]) == "--serve") return serve(argv[2], std::atof(argv[3]));
   const double seconds = argc > 1 ? std::atof(argv[1]) : 3.0;
   if (!(seconds > 0)) {
     std::fprintf(stderr, "usage: bench_bridge [seconds per case > 0]\n");

@@ -83,7 +83,10 @@ class Udp:
         self.s.setblocking(False)
 
     def send(self, data):
-        self.s.send(data)
+        try:
+            self.s.send(data)
+        except (ConnectionRefusedError, BlockingIOError):
+            pass  # nobody listening yet, or the socket buffer is full: this packet is lost, as UDP may
 
     def force(self, timeout):
         """The newest force packet that arrived (waiting up to timeout seconds for one), or None."""

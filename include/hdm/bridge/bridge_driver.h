@@ -28,7 +28,8 @@ class BridgeDriver {
   /// (UDP: drains the socket without waiting; shm: one seqlocked read).
   virtual bool poll_force(ForcePacket& out) noexcept = 0;
   /// @brief Waits up to @p timeout_s for a force packet answering @p sequence or a later one (UDP:
-  /// poll(2); shm: spins). noexcept; false on timeout.
+  /// ppoll(2); shm: spins). Only forces that come after the call count: one poll_force() already
+  /// returned is not seen again. noexcept; false on timeout.
   bool wait_force(ForcePacket& out, uint64_t sequence, double timeout_s) noexcept;
 
  protected:

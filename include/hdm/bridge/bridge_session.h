@@ -20,7 +20,8 @@ struct BridgeLoopOptions {
   /// While the watchdog holds (packets overdue), tick anyway every this many seconds so the force
   /// ramps out and the stroke ends [s].
   double idle_period_s = 0.001;
-  /// Ends the loop when set (from another thread); the loop also ends on the driver's kDeviceEnd.
+  /// Ends the loop when set (from another thread), at once: the driver's own watchdog then ramps its
+  /// force out. The loop also ends on the driver's kDeviceEnd.
   std::atomic<bool>* stop = nullptr;
   /// Ends the loop after this long without any device packet [s] (0: never).
   double give_up_s = 0;
