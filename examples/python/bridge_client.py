@@ -24,7 +24,7 @@ import struct
 import sys
 import time
 
-MAGIC, VERSION, DEVICE, FORCE, SIZE = 0x424D4448, 1, 1, 2, 88
+MAGIC, VERSION, DEVICE, FORCE, SIZE = 0x424D4448, 1, 1, 2, 88  # docs/bridge.md
 DEVICE_FMT = "<IHHIIQd3d3dII"  # magic version kind size flags sequence time position velocity buttons reserved
 FORCE_FMT = "<IHHIIQQ3d3dd"  # magic version kind size flags sequence tick force contact gain
 DEVICE_END, FORCE_CONTACT, FORCE_WATCHDOG = 1, 1, 2
@@ -118,6 +118,10 @@ class Shm:
                 time.sleep(0.01)
         self.m = mmap.mmap(fd, 4096)
         os.close(fd)
+        # The blocks' sequence words as aligned 64-bit words: one load or store each (struct would
+        # write them byte by byte, and a reader could see a half-carried word).
+        self.words = memoryview(self.m).cast("Q")
+        self.dev_word, self.force_word = DEVICE_BLOCK // 8, FORCE_BLOCK // 8
         while struct.unpack_from("<I", self.m, 0)[0] != REGION_MAGIC:
             if time.monotonic() > deadline:
                 sys.exit(f"shm:{name}: the region has no bridge header")
@@ -125,17 +129,17 @@ class Shm:
 
     def send(self, data):
         # Seqlock writer: odd while writing, even again after (x86-64 keeps stores in order).
-        c = struct.unpack_from("<Q", self.m, DEVICE_BLOCK)[0]
-        struct.pack_into("<Q", self.m, DEVICE_BLOCK, c + 1)
+        c = self.words[self.dev_word]
+        self.words[self.dev_word] = c + 1
         self.m[DEVICE_BLOCK + 8 : DEVICE_BLOCK + 8 + SIZE] = data
-        struct.pack_into("<Q", self.m, DEVICE_BLOCK, c + 2)
+        self.words[self.dev_word] = c + 2
 
     def force(self, timeout):
         deadline = time.perf_counter() + timeout
         while True:
-            c1 = struct.unpack_from("<Q", self.m, FORCE_BLOCK)[0]
+            c1 = self.words[self.force_word]
             data = self.m[FORCE_BLOCK + 8 : FORCE_BLOCK + 8 + SIZE]
-            c2 = struct.unpack_from("<Q", self.m, FORCE_BLOCK)[0]
+            c2 = self.words[self.force_word]
             if c1 == c2 and c1 % 2 == 0 and c1 > 0:
                 f = decode_force(data)
                 if f is not None:
@@ -167,11 +171,19 @@ def main():
     period, start = 1.0 / a.rate, time.perf_counter()
     sent_at, rtt, records, lost = {}, [], [], 0
     last = None
+
+    def take(f):  # a force packet received: the newest, and the round trip of the packet it answers
+        nonlocal last
+        if f is not None:
+            if f["sequence"] in sent_at:
+                rtt.append(time.perf_counter() - sent_at.pop(f["sequence"]))
+            last = f
+
     for k, (t, p, v, b) in enumerate(rows):
         seq = k + 1
         if not a.lockstep:
             while time.perf_counter() < start + k * period:
-                pass
+                take(link.force(0))  # forces come while waiting for the next row's time
         sent_at[seq] = time.perf_counter()
         link.send(device_packet(seq, t, p, v, b))
         if a.lockstep:
@@ -184,12 +196,9 @@ def main():
             if f is None or f["sequence"] < seq:
                 lost += 1
                 f = None
+            take(f)
         else:
-            f = link.force(0)
-        if f is not None:
-            if f["sequence"] in sent_at and f is not last:
-                rtt.append(time.perf_counter() - sent_at.pop(f["sequence"]))
-            last = f
+            take(link.force(0))
         records.append((seq, t, last))
     if not a.no_end and rows:
         link.send(device_packet(len(rows) + 1, rows[-1][0], rows[-1][1], (0.0, 0.0, 0.0), 0, DEVICE_END))
@@ -206,7 +215,7 @@ def main():
                             f"{(r['flags'] & FORCE_WATCHDOG) >> 1},{r['gain']!r},{r['sequence']},{r['tick']}\n")
         os.replace(a.forces + ".tmp", a.forces)
     rtt_us = sorted(x * 1e6 for x in rtt)
-    summary = {"packets": len(rows), "forces": len(rtt_us), "lost": lost,
+    summary = {"packets": len(rows), "answered": len(rtt_us), "lost": lost,
                "rtt_median_us": rtt_us[len(rtt_us) // 2] if rtt_us else None,
                "rtt_p99_us": rtt_us[min(len(rtt_us) - 1, int(0.99 * len(rtt_us)))] if rtt_us else None}
     print(json.dumps(summary))

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/bridge/bridge_session.h>
 
+#include <pthread.h>
+#include <sched.h>
+
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -24,6 +28,14 @@ int64_t steady_ns() noexcept {
 BridgeLoopStats run_bridge_session(SculptSession& session, BridgeDevice& device, const BridgeLoopOptions& o,
                                    const SessionHooks& hooks) {
   BridgeLoopStats st;
+  int policy = SCHED_OTHER;
+  sched_param before{};
+  pthread_getschedparam(pthread_self(), &policy, &before);
+  if (o.realtime) {
+    sched_param sp{};
+    sp.sched_priority = std::max(1, sched_get_priority_max(SCHED_FIFO) - 1);
+    st.realtime = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
+  }
   const int64_t start = steady_ns();
   const int64_t idle_ns = static_cast<int64_t>(o.idle_period_s * 1e9);
   const int64_t give_up_ns = static_cast<int64_t>(o.give_up_s * 1e9);
@@ -70,6 +82,7 @@ BridgeLoopStats run_bridge_session(SculptSession& session, BridgeDevice& device,
     st.idle_ticks += !fresh;
     last_tick = now;
   }
+  if (st.realtime) pthread_setschedparam(pthread_self(), policy, &before);
   return st;
 }
 

@@ -27,6 +27,11 @@ struct BridgeLoopOptions {
   double give_up_s = 0;
   /// true: spin between packets (lowest latency, one core busy); false: sleep 50 µs between looks.
   bool spin = true;
+  /// Run the loop at SCHED_FIFO (priority max - 1, as hdm::run_servo_loop) when the process may,
+  /// restoring the thread's policy after: on a loaded machine a normal thread waits for the
+  /// scheduler's slices (milliseconds) and the watchdog trips. With spin, the thread then keeps a
+  /// core to itself (up to the kernel's real-time throttling).
+  bool realtime = false;
 };
 
 /// What run_bridge_session did.
@@ -35,6 +40,7 @@ struct BridgeLoopStats {
   int64_t idle_ticks = 0;  ///< ticks without a new packet (watchdog held)
   bool ended = false;      ///< the driver sent kDeviceEnd
   bool gave_up = false;    ///< give_up_s passed without a packet
+  bool realtime = false;   ///< the loop ran at SCHED_FIFO
 };
 
 /// @brief Runs @p session on the calling thread, one tick per new device packet of @p device (and
