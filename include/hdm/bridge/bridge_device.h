@@ -53,6 +53,7 @@ class BridgeDevice final : public HapticDevice {
   ///                  "shm:NAME": creates the POSIX shared-memory region "/NAME" (shm_open; NAME of
   ///                  letters, digits, '.', '_', '-'; an existing one is taken over and cleared),
   ///                  unlinked when the device is destroyed.
+  /// @param options   watchdog, ramp and the device spec reported to the session.
   /// @throws InvalidInput on a malformed endpoint or options (naming them); IoError when the socket
   /// or region cannot be created (with the system's reason).
   /// @note Starts the receiver and sender threads (UDP); allocates. Not real-time.
