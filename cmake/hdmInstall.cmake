@@ -12,7 +12,7 @@ set(HDM_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/hdm)
 
 # component: CMake target. Each component is its own export set (hdm-<component>-targets.cmake):
 # the config loads only the components asked for and the third-party packages they need.
-set(hdm_components core bake analysis repair reference io render harness hdm)
+set(hdm_components core bake analysis repair reference io render harness bridge hdm)
 set(hdm_target_core hdm_core)
 set(hdm_target_bake hdm_bake)
 set(hdm_target_analysis hdm_analysis)
@@ -21,6 +21,7 @@ set(hdm_target_reference hdm_reference)
 set(hdm_target_io hdm_io)
 set(hdm_target_render hdm_render)
 set(hdm_target_harness hdm_harness)
+set(hdm_target_bridge hdm_bridge)
 set(hdm_target_hdm hdm)
 
 foreach(component IN LISTS hdm_components)

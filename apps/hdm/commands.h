@@ -28,4 +28,5 @@ void add_feel_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_subdivide_command(CLI::App& app);
 void add_studio_command(CLI::App& app);
+void add_bridge_command(CLI::App& app);
 }  // namespace hdm::app

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   hdm::app::add_bench_command(app);
   hdm::app::add_subdivide_command(app);
   hdm::app::add_studio_command(app);
+  hdm::app::add_bridge_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

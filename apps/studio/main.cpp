@@ -27,6 +27,10 @@ int main(int argc, char** argv) {
   app.add_option("--script", o.script, "scripted session (JSON, docs/studio.md): device and UI actions, then exit");
   app.add_option("--replay", o.replay,
                  "play this recorded trajectory (hdm sculpt --forces CSV) as the device instead of the mouse");
+  app.add_option("--device", o.device,
+                 "take the device from the bridge (docs/bridge.md): udp:PORT (127.0.0.1) or shm:NAME, fed by a driver "
+                 "process such as examples/python/bridge_client.py")
+      ->excludes("--replay");
   app.add_option("--frames", o.frames, "stop after this many frames")->check(CLI::Range(1L, 100000000L));
   app.add_option("--screenshot", o.screenshot, "write the model view of the last frame here (PNG)");
   app.add_option("--report", o.report, "write the session's figures here (JSON): frame times, uploads, servo timing");

@@ -35,6 +35,8 @@ struct StatusFigures {
   double force_n = 0;                            ///< force rendered [N] (not sent to a mouse)
   int slabs = 0;                                 ///< slabs of the model
   int level = 0, grid = 0;                       ///< level of detail drawn and its grid intervals per slab edge
+  const char* bridge = nullptr;                  ///< the bridge's endpoint when the device comes through it
+  int64_t bridge_accepted = 0, bridge_dropped = 0, bridge_watchdog_trips = 0;  ///< BridgeCounters
 };
 
 /// @brief Draws the tools panel; @p message is shown under it (the last save or error).

@@ -11,6 +11,7 @@
 #include "snapshot_uploader.h"
 #include "studio_script.h"
 
+#include <hdm/bridge/bridge_device.h>
 #include <hdm/core/error.h>
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>
@@ -124,7 +125,13 @@ class Studio final : public ScriptHost {
     camera_.centre = camera_.target = fitted.target;
     camera_.radius = fitted.radius;
     last_distance_ = (fitted.eye - fitted.target).norm();
-    if (o.replay.empty()) {
+    if (!o.device.empty()) {
+      auto bridge = bridge::BridgeDevice::open(o.device);
+      bridge_ = bridge.get();
+      device_ = std::move(bridge);
+      settings_.kind = ToolSettings::Carve;  // the driver's tool button strokes with the panel's brush
+      post_brush_if_changed();
+    } else if (o.replay.empty()) {
       auto mouse = std::make_unique<MouseDevice>(o.rate_hz);
       mouse_ = mouse.get();
       device_ = std::move(mouse);
@@ -394,6 +401,13 @@ class Studio final : public ScriptHost {
     s.target_rate_hz = o_.rate_hz;
     s.tick_p99_us = figures_.tick_p99_ns / 1e3;
     s.late_ticks = figures_.late_ticks;
+    if (bridge_) {
+      const bridge::BridgeCounters c = bridge_->counters();
+      s.bridge = bridge_->endpoint().c_str();
+      s.bridge_accepted = c.accepted;
+      s.bridge_dropped = c.dropped();
+      s.bridge_watchdog_trips = c.watchdog_trips;
+    }
     if (!frame_ms_.empty()) {
       std::vector<double> recent(frame_ms_.end() - std::min<size_t>(frame_ms_.size(), 120), frame_ms_.end());
       std::sort(recent.begin(), recent.end());
@@ -499,7 +513,8 @@ class Studio final : public ScriptHost {
   std::unique_ptr<SlabRenderer> renderer_;
   std::unique_ptr<SnapshotUploader> uploader_;
   std::unique_ptr<HapticDevice> device_;
-  MouseDevice* mouse_ = nullptr;  // the device when it is the mouse
+  MouseDevice* mouse_ = nullptr;            // the device when it is the mouse
+  bridge::BridgeDevice* bridge_ = nullptr;  // the device when it comes through the bridge
   std::unique_ptr<ServoThread> servo_;
   OrbitCamera camera_;
   ToolSettings settings_;

@@ -22,6 +22,9 @@ struct StudioOptions {
   /// Replay this recording (`hdm sculpt --forces` CSV: positions and the tool button) as the
   /// device instead of the mouse; the strokes use the panel's brush (carve unless changed).
   std::string replay;
+  /// Take the device from the bridge (docs/bridge.md): "udp:PORT" or "shm:NAME"; the strokes use
+  /// the panel's brush (carve unless changed). Empty: the mouse (or the replay).
+  std::string device;
   long frames = -1;             ///< stop after this many frames (-1: when the script ends or the window closes)
   std::string screenshot;       ///< write the last frame's model view here (PNG)
   std::string report;           ///< write the session's figures here (JSON)

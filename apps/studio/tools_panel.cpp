@@ -114,6 +114,10 @@ void draw_status_overlay(const StatusFigures& s, float width) {
               static_cast<long long>(s.uploaded_total), s.slabs);
   ImGui::Text("edits      %6.0f sweeps/s, epoch %llu", s.edits_per_s, static_cast<unsigned long long>(s.epoch));
   ImGui::Text("contact    %s, force %.2f N", s.contact ? "yes" : "no ", s.force_n);
+  if (s.bridge)
+    ImGui::Text("bridge     %s: %lld packets, %lld dropped, %lld watchdog trips", s.bridge,
+                static_cast<long long>(s.bridge_accepted), static_cast<long long>(s.bridge_dropped),
+                static_cast<long long>(s.bridge_watchdog_trips));
   ImGui::End();
 }
 

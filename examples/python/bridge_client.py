@@ -1,0 +1,226 @@
+#!/usr/bin/env python3
+"""Reference driver for hdm's device bridge (docs/bridge.md), Python standard library only.
+
+Plays a recorded trajectory (the CSV of `hdm sculpt --forces` / `hdm feel --replay`: columns
+time_s, device_x_m, device_y_m, device_z_m and optionally tool_on) into hdm as device packets over
+UDP on localhost or POSIX shared memory, at a chosen rate, and records the force packets it gets
+back. A vendor driver does the same with its device's readings instead of the file's rows.
+
+    python3 bridge_client.py --udp 47000 trajectory.csv --rate 1000 --forces forces.csv
+    python3 bridge_client.py --shm hdm-bridge trajectory.csv --lockstep
+
+--lockstep waits for the force that answers each packet before sending the next (one servo tick
+per row, as a replay; the tests use it); otherwise rows go out on the rate's clock and the newest
+force is kept. A summary (packets, forces, round trip median and p99 in µs) is printed as JSON.
+"""
+import argparse
+import json
+import math
+import mmap
+import os
+import select
+import socket
+import struct
+import sys
+import time
+
+MAGIC, VERSION, DEVICE, FORCE, SIZE = 0x424D4448, 1, 1, 2, 88  # docs/bridge.md
+DEVICE_FMT = "<IHHIIQd3d3dII"  # magic version kind size flags sequence time position velocity buttons reserved
+FORCE_FMT = "<IHHIIQQ3d3dd"  # magic version kind size flags sequence tick force contact gain
+DEVICE_END, FORCE_CONTACT, FORCE_WATCHDOG = 1, 1, 2
+REGION_MAGIC, DEVICE_BLOCK, FORCE_BLOCK = 0x524D4448, 64, 192
+assert struct.calcsize(DEVICE_FMT) == SIZE and struct.calcsize(FORCE_FMT) == SIZE
+
+
+def device_packet(seq, t, pos, vel, buttons, flags=0):
+    return struct.pack(DEVICE_FMT, MAGIC, VERSION, DEVICE, SIZE, flags, seq, t, *pos, *vel, buttons, 0)
+
+
+def decode_force(data):
+    """A force packet as a dict, or None when it is not a valid one."""
+    if len(data) != SIZE:
+        return None
+    f = struct.unpack(FORCE_FMT, data)
+    if f[0] != MAGIC or f[1] != VERSION or f[2] != FORCE or f[3] != SIZE:
+        return None
+    if not all(math.isfinite(x) for x in f[7:14]):
+        return None
+    return {"flags": f[4], "sequence": f[5], "tick": f[6], "force": f[7:10], "contact": f[10:13], "gain": f[13]}
+
+
+def read_trajectory(path):
+    """Rows (time, position, buttons) of a replay CSV; velocities as hdm's ReplayDevice makes them."""
+    with open(path) as f:
+        header = [c.strip() for c in f.readline().split(",")]
+        try:
+            it, ix, iy, iz = (header.index(c) for c in ("time_s", "device_x_m", "device_y_m", "device_z_m"))
+        except ValueError:
+            sys.exit(f"{path}: the header lacks time_s, device_x_m, device_y_m or device_z_m")
+        ib = header.index("tool_on") if "tool_on" in header else None
+        rows = []
+        for n, line in enumerate(f, start=2):
+            if not line.strip():
+                continue
+            c = line.split(",")
+            try:
+                t, p = float(c[it]), (float(c[ix]), float(c[iy]), float(c[iz]))
+                b = int(c[ib]) if ib is not None else 0
+            except (ValueError, IndexError):
+                sys.exit(f"{path}:{n}: malformed row")
+            rows.append((t, p, b))
+    out = []
+    for k, (t, p, b) in enumerate(rows):
+        dt = t - rows[k - 1][0] if k > 0 else 0.0
+        v = tuple((p[i] - rows[k - 1][1][i]) / dt for i in range(3)) if dt > 0 else (0.0, 0.0, 0.0)
+        out.append((t, p, v, b))
+    return out
+
+
+class Udp:
+    def __init__(self, port):
+        self.s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.s.connect(("127.0.0.1", port))
+        self.s.setblocking(False)
+
+    def send(self, data):
+        try:
+            self.s.send(data)
+        except (ConnectionRefusedError, BlockingIOError):
+            pass  # nobody listening yet, or the socket buffer is full: this packet is lost, as UDP may
+
+    def force(self, timeout):
+        """The newest force packet that arrived (waiting up to timeout seconds for one), or None."""
+        newest = None
+        while True:
+            try:
+                newest = decode_force(self.s.recv(256)) or newest
+                continue
+            except (BlockingIOError, ConnectionRefusedError):
+                pass
+            if newest is not None or timeout <= 0:
+                return newest
+            ready, _, _ = select.select([self.s], [], [], timeout)
+            if not ready:
+                return None
+            timeout = 0
+
+
+class Shm:
+    def __init__(self, name, wait_s=5.0):
+        path, deadline = "/dev/shm/" + name, time.monotonic() + wait_s
+        while True:
+            try:
+                fd = os.open(path, os.O_RDWR)
+                break
+            except FileNotFoundError:
+                if time.monotonic() > deadline:
+                    sys.exit(f"shm:{name}: no such region (is hdm listening?)")
+                time.sleep(0.01)
+        self.m = mmap.mmap(fd, 4096)
+        os.close(fd)
+        # The blocks' sequence words as aligned 64-bit words: one load or store each (struct would
+        # write them byte by byte, and a reader could see a half-carried word).
+        self.words = memoryview(self.m).cast("Q")
+        self.dev_word, self.force_word = DEVICE_BLOCK // 8, FORCE_BLOCK // 8
+        while struct.unpack_from("<I", self.m, 0)[0] != REGION_MAGIC:
+            if time.monotonic() > deadline:
+                sys.exit(f"shm:{name}: the region has no bridge header")
+            time.sleep(0.001)
+
+    def send(self, data):
+        # Seqlock writer: odd while writing, even again after (x86-64 keeps stores in order).
+        c = self.words[self.dev_word]
+        self.words[self.dev_word] = c + 1
+        self.m[DEVICE_BLOCK + 8 : DEVICE_BLOCK + 8 + SIZE] = data
+        self.words[self.dev_word] = c + 2
+
+    def force(self, timeout):
+        deadline = time.perf_counter() + timeout
+        while True:
+            c1 = self.words[self.force_word]
+            data = self.m[FORCE_BLOCK + 8 : FORCE_BLOCK + 8 + SIZE]
+            c2 = self.words[self.force_word]
+            if c1 == c2 and c1 % 2 == 0 and c1 > 0:
+                f = decode_force(data)
+                if f is not None:
+                    return f
+            if time.perf_counter() >= deadline:
+                return None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    g = ap.add_mutually_exclusive_group(required=True)
+    g.add_argument("--udp", type=int, metavar="PORT", help="hdm's bridge on udp:PORT (127.0.0.1)")
+    g.add_argument("--shm", metavar="NAME", help="hdm's bridge on shm:NAME (/dev/shm/NAME)")
+    ap.add_argument("csv", help="trajectory (time_s, device_x_m, device_y_m, device_z_m[, tool_on])")
+    ap.add_argument("--rate", type=float, default=1000.0, help="packets per second [Hz] (default 1000)")
+    ap.add_argument("--lockstep", action="store_true", help="wait for each packet's force before the next")
+    ap.add_argument("--timeout", type=float, default=2.0, help="lockstep: give up on a force after this [s]")
+    ap.add_argument("--forces", help="write the forces received, one row per packet sent, to this CSV")
+    ap.add_argument("--stop-after", type=int, default=0, help="send only this many rows, then go silent")
+    ap.add_argument("--no-end", action="store_true", help="do not send the end packet")
+    a = ap.parse_args()
+    if not (a.rate > 0):
+        sys.exit("--rate must be positive")
+
+    rows = read_trajectory(a.csv)
+    if a.stop_after > 0:
+        rows = rows[: a.stop_after]
+    link = Udp(a.udp) if a.udp is not None else Shm(a.shm)
+    period, start = 1.0 / a.rate, time.perf_counter()
+    sent_at, rtt, records, lost = {}, [], [], 0
+    last = None
+
+    def take(f):  # a force packet received: the newest, and the round trip of the packet it answers
+        nonlocal last
+        if f is not None:
+            if f["sequence"] in sent_at:
+                rtt.append(time.perf_counter() - sent_at.pop(f["sequence"]))
+            last = f
+
+    for k, (t, p, v, b) in enumerate(rows):
+        seq = k + 1
+        if not a.lockstep:
+            while time.perf_counter() < start + k * period:
+                take(link.force(0))  # forces come while waiting for the next row's time
+        sent_at[seq] = time.perf_counter()
+        link.send(device_packet(seq, t, p, v, b))
+        if a.lockstep:
+            deadline = sent_at[seq] + a.timeout
+            f = None
+            while time.perf_counter() < deadline:
+                f = link.force(deadline - time.perf_counter())
+                if f is not None and f["sequence"] >= seq:
+                    break
+            if f is None or f["sequence"] < seq:
+                lost += 1
+                f = None
+            take(f)
+        else:
+            take(link.force(0))
+        records.append((seq, t, last))
+    if not a.no_end and rows:
+        link.send(device_packet(len(rows) + 1, rows[-1][0], rows[-1][1], (0.0, 0.0, 0.0), 0, DEVICE_END))
+
+    if a.forces:
+        with open(a.forces + ".tmp", "w") as f:
+            f.write("sequence,time_s,force_x_n,force_y_n,force_z_n,contact,watchdog,gain,answered_sequence,tick\n")
+            for seq, t, r in records:
+                if r is None:
+                    f.write(f"{seq},{t!r},0,0,0,0,0,0,0,0\n")
+                else:
+                    fx, fy, fz = r["force"]
+                    f.write(f"{seq},{t!r},{fx!r},{fy!r},{fz!r},{r['flags'] & FORCE_CONTACT},"
+                            f"{(r['flags'] & FORCE_WATCHDOG) >> 1},{r['gain']!r},{r['sequence']},{r['tick']}\n")
+        os.replace(a.forces + ".tmp", a.forces)
+    rtt_us = sorted(x * 1e6 for x in rtt)
+    summary = {"packets": len(rows), "answered": len(rtt_us), "lost": lost,
+               "rtt_median_us": rtt_us[len(rtt_us) // 2] if rtt_us else None,
+               "rtt_p99_us": rtt_us[min(len(rtt_us) - 1, int(0.99 * len(rtt_us)))] if rtt_us else None}
+    print(json.dumps(summary))
+    return 1 if a.lockstep and lost else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

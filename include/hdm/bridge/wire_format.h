@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// The device bridge's wire format (docs/bridge.md): fixed-size, little-endian packets with a
+/// versioned header, the same bytes over UDP and in the shared-memory region. A device packet
+/// (handle position, velocity, buttons, time, sequence number) goes from the driver process to hdm;
+/// a force packet (force, surface contact point, the sequence number echoed, the servo tick) comes
+/// back.
+
+#include <hdm/core/types.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace hdm::bridge {
+
+/// First four bytes of every packet: "HDMB" (0x42 0x4D 0x44 0x48 as a little-endian u32 is 0x424D4448).
+inline constexpr uint32_t kMagic = 0x424D4448u;
+/// Wire format version; a packet of another version is dropped (counted as bad_version).
+inline constexpr uint16_t kVersion = 1;
+/// Size of every packet [bytes], device and force alike (a multiple of 8: the shared-memory region
+/// copies it as 64-bit words).
+inline constexpr size_t kPacketBytes = 88;
+
+/// Packet kinds (header field `kind`).
+enum class PacketKind : uint16_t { Device = 1, Force = 2 };
+
+/// Flags of a device packet.
+enum DeviceFlags : uint32_t {
+  kDeviceEnd = 1u << 0,  ///< the driver is closing: the packet's state is not applied, the session ends
+};
+
+/// Flags of a force packet.
+enum ForceFlags : uint32_t {
+  kForceContact = 1u << 0,   ///< the proxy is on the surface (contact_m is the surface contact point)
+  kForceWatchdog = 1u << 1,  ///< packets stopped: the force is ramping out and the tool is released
+  kForceToolOn = 1u << 2,    ///< the tool button is held as hdm sees it
+};
+
+/// Device → hdm: one reading of the handle, hdm's device frame (right-handed, metres, the
+/// workspace centre at the origin; the driver maps its vendor's axes and units).
+struct DevicePacket {
+  uint32_t flags = 0;            ///< DeviceFlags
+  uint64_t sequence = 0;         ///< strictly increasing per driver session (≥ 1); older or equal ones are dropped
+  double time_s = 0;             ///< device time of the reading [s] (informative)
+  Vec3 position = Vec3::Zero();  ///< handle position [m]
+  Vec3 velocity = Vec3::Zero();  ///< handle velocity [m/s]
+  uint32_t buttons = 0;          ///< button bit mask (bit 0: the tool button)
+};
+
+/// hdm → device: the force to command until the next packet.
+struct ForcePacket {
+  uint32_t flags = 0;             ///< ForceFlags
+  uint64_t sequence = 0;          ///< sequence number of the device packet this force answers (0: none yet)
+  uint64_t tick = 0;              ///< servo tick that computed it
+  Vec3 force = Vec3::Zero();      ///< force [N], device frame, after the watchdog's gain
+  Vec3 contact_m = Vec3::Zero();  ///< surface contact point of the proxy [m, device frame] of the previous
+                                  ///< tick (kForceContact), else the handle position
+  double gain = 1;                ///< watchdog gain applied to the force, in [0, 1]
+};
+
+/// Why a packet was refused (or Ok).
+enum class DecodeStatus : uint8_t {
+  Ok,
+  BadSize,     ///< not kPacketBytes long, or the header's size field disagrees
+  BadMagic,    ///< the first four bytes are not "HDMB"
+  BadVersion,  ///< another version of the format
+  BadKind,     ///< not the kind expected here
+  NonFinite,   ///< a NaN or infinite time, position, velocity or force
+};
+
+/// @brief Writes @p p as kPacketBytes little-endian bytes into @p out. noexcept, O(1), no allocation.
+void encode(const DevicePacket& p, std::byte* out) noexcept;
+/// @brief Writes @p p as kPacketBytes little-endian bytes into @p out. noexcept, O(1), no allocation.
+void encode(const ForcePacket& p, std::byte* out) noexcept;
+/// @brief Reads a device packet from @p size bytes at @p in, checking size, magic, version, kind and
+/// that every number is finite; @p p is written only when the result is Ok. noexcept, O(1).
+DecodeStatus decode(const std::byte* in, size_t size, DevicePacket& p) noexcept;
+/// @brief Reads a force packet, with the same checks as the device packet's decode. noexcept, O(1).
+DecodeStatus decode(const std::byte* in, size_t size, ForcePacket& p) noexcept;
+
+}  // namespace hdm::bridge
