@@ -256,7 +256,9 @@ void expect_tiles(const std::vector<Vec3>& poly, const std::string& what) {
     area += 0.5 * z;
     EXPECT_TRUE(inside(poly, (a + b + c) / 3)) << what << ": a triangle lies outside the polygon";
   }
-  EXPECT_NEAR(area, shoelace(poly), 1e-9 * std::abs(shoelace(poly))) << what;
+  // The readers round coordinates to float (polygon_soup.cpp), so the tiles' area may differ from the
+  // exact outline's by float rounding (~1e-8 relative here); a missing or doubled tile is far more.
+  EXPECT_NEAR(area, shoelace(poly), 1e-6 * std::abs(shoelace(poly))) << what;
 }
 
 TEST(MeshReaders, TriangulatesConcavePolygonsInsideTheirOutline) {
