@@ -194,8 +194,9 @@ def main():
                 if f is not None and f["sequence"] >= seq:
                     break
             if f is None or f["sequence"] < seq:
-                lost += 1
-                f = None
+                lost += 1  # hdm is gone (or stopped answering): stop rather than wait per row
+                records.append((seq, t, last))
+                break
             take(f)
         else:
             take(link.force(0))

@@ -39,6 +39,8 @@ BridgeLoopStats run_bridge_session(SculptSession& session, BridgeDevice& device,
   const int64_t start = steady_ns();
   const int64_t idle_ns = static_cast<int64_t>(o.idle_period_s * 1e9);
   const int64_t give_up_ns = static_cast<int64_t>(o.give_up_s * 1e9);
+  const int64_t first_packet_ns = static_cast<int64_t>(o.first_packet_s * 1e9);
+  bool seen_packet = false;
   const int64_t watchdog_ns = static_cast<int64_t>(device.options().watchdog_s * 1e9);
   int64_t last_tick = start, last_packet_ns = start;
   int spins = 0;
@@ -46,8 +48,9 @@ BridgeLoopStats run_bridge_session(SculptSession& session, BridgeDevice& device,
     if (o.stop && o.stop->load(std::memory_order_relaxed)) break;
     const bool fresh = device.receive();
     const int64_t now = steady_ns();
-    if (fresh) last_packet_ns = now;
-    if (!fresh && give_up_ns > 0 && now - last_packet_ns > give_up_ns) {
+    if (fresh) last_packet_ns = now, seen_packet = true;
+    const int64_t limit = !seen_packet && first_packet_ns > 0 ? first_packet_ns : give_up_ns;
+    if (!fresh && limit > 0 && now - last_packet_ns > limit) {
       st.gave_up = true;
       break;
     }

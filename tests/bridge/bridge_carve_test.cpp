@@ -189,7 +189,8 @@ TEST(BridgeCarve, LostPacketsEndTheStrokeAndRampTheForceOut) {
   probe.last_packet_s = 0.001 * double(rows - 1);
   probe.window_s = bo.watchdog_s + bo.ramp_s;
   BridgeLoopOptions lo;
-  lo.give_up_s = 0.4;  // then the loop ends
+  lo.give_up_s = 0.4;      // then the loop ends
+  lo.first_packet_s = 30;  // the Python client may take seconds to start beside other tests
   lo.spin = false;
   const BridgeLoopStats st =
       run_bridge_session(session, *device, lo, SessionHooks{nullptr, WatchdogProbe::after, &probe});

@@ -25,6 +25,9 @@ struct BridgeLoopOptions {
   std::atomic<bool>* stop = nullptr;
   /// Ends the loop after this long without any device packet [s] (0: never).
   double give_up_s = 0;
+  /// Before the first packet, ends the loop after this long instead of give_up_s [s] (0: give_up_s
+  /// applies from the start too): a driver process may take seconds to start on a loaded machine.
+  double first_packet_s = 0;
   /// true: spin between packets (lowest latency, one core busy); false: sleep 50 µs between looks.
   bool spin = true;
   /// Run the loop at SCHED_FIFO (priority max - 1, as hdm::run_servo_loop) when the process may,
