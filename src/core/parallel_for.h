@@ -12,6 +12,12 @@
 
 namespace hdm::detail {
 
+/// Number of `worker` values parallel_blocks() may pass for @p count elements in blocks of @p grain.
+inline size_t parallel_workers(size_t count, size_t grain) {
+  const size_t blocks = (count + grain - 1) / std::max<size_t>(grain, 1);
+  return std::max<size_t>(1, std::min<size_t>(blocks, std::max(1u, std::thread::hardware_concurrency())));
+}
+
 /// Calls `body(begin, end, worker)` over disjoint blocks covering [0, count), each at least
 /// `grain` long, on up to std::thread::hardware_concurrency() threads (the caller's among them);
 /// `worker` in [0, workers) is the same for every block one thread runs, for per-thread scratch.
@@ -19,8 +25,7 @@ namespace hdm::detail {
 /// Cost: one thread start per extra worker (tens of µs), so use it for loops of milliseconds.
 template <class Body>
 void parallel_blocks(size_t count, size_t grain, Body&& body) {
-  const size_t blocks = (count + grain - 1) / std::max<size_t>(grain, 1);
-  const size_t workers = std::min<size_t>(blocks, std::max(1u, std::thread::hardware_concurrency()));
+  const size_t workers = parallel_workers(count, grain);
   if (workers <= 1) {
     if (count > 0) body(size_t(0), count, size_t(0));
     return;
@@ -44,10 +49,5 @@ void parallel_blocks(size_t count, size_t grain, Body&& body) {
     if (e) std::rethrow_exception(e);
 }
 
-/// Number of `worker` values parallel_blocks() may pass for @p count elements in blocks of @p grain.
-inline size_t parallel_workers(size_t count, size_t grain) {
-  const size_t blocks = (count + grain - 1) / std::max<size_t>(grain, 1);
-  return std::max<size_t>(1, std::min<size_t>(blocks, std::max(1u, std::thread::hardware_concurrency())));
-}
 
 }  // namespace hdm::detail

@@ -6,7 +6,8 @@
 
 namespace hdm {
 
-SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
+SlabLocator::SlabLocator(const SlabModel& model)
+    : geometry_(&model.geometry), inner_(&model.inner), inner_faces_(&model.slabs) {
   const int S = model.slab_count();
   std::vector<Box> boxes(S);
   std::vector<Sides> sides(S);
@@ -52,8 +53,6 @@ SlabLocator::SlabLocator(const SlabModel& model) : geometry_(&model.geometry) {
   filters_.resize(S);
   for (int s = 0; s < S; ++s) filters_[s] = {boxes[s], sides[s]};
   build_grid();
-  inner_ = model.inner;
-  inner_faces_ = model.slabs;
   classify_cells();
   edge_ = model.edge_neighbour;
 
@@ -175,8 +174,8 @@ int SlabLocator::winding_along_x(const Vec3& p, bool stop_at_classified) const n
     for (int32_t e = grid_offsets_[k]; e < grid_offsets_[k + 1]; ++e) {
       const GridEntry& ge = grid_entries_[e];
       if (!(y >= ge.box.lo[1] && y <= ge.box.hi[1] && z >= ge.box.lo[2] && z <= ge.box.hi[2])) continue;
-      const Tri& t = inner_faces_[ge.slab];
-      const Vec3 &a = inner_[t[0]], &b = inner_[t[1]], &c = inner_[t[2]];
+      const Tri& t = (*inner_faces_)[ge.slab];
+      const Vec3 &a = (*inner_)[t[0]], &b = (*inner_)[t[1]], &c = (*inner_)[t[2]];
       double wa, wb, wc;  // edge functions opposite a, b, c: barycentric weights of the hit
       const int sa = edge_sign(b, c, p.y(), p.z(), wa), sb = edge_sign(c, a, p.y(), p.z(), wb),
                 sc = edge_sign(a, b, p.y(), p.z(), wc);
@@ -252,8 +251,7 @@ bool SlabLocator::inside_inner_shell(const Vec3& p) const noexcept {
 }
 
 size_t SlabLocator::memory_bytes() const noexcept {
-  return cell_winding_.capacity() + inner_.capacity() * sizeof(Vec3) + inner_faces_.capacity() * sizeof(Tri) +
-         filters_.capacity() * sizeof(Filter) + edge_.capacity() * sizeof(edge_[0]) +
+  return cell_winding_.capacity() + filters_.capacity() * sizeof(Filter) + edge_.capacity() * sizeof(edge_[0]) +
          ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t) +
          grid_offsets_.capacity() * sizeof(int32_t) + grid_entries_.capacity() * sizeof(GridEntry);
 }

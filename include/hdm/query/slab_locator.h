@@ -20,7 +20,8 @@ namespace hdm {
 class SlabLocator {
  public:
   /// @brief Builds the search grid and per-slab neighbourhoods of @p model (its derived data must
-  /// be built).
+  /// be built). Keeps pointers to @p model's slab geometry and inner shell: the model must outlive
+  /// the locator and keep those arrays (edits change displacements and fields, never them).
   /// @note O(#S) time; about 1 KB per slab (mostly the grid's cell lists).
   explicit SlabLocator(const SlabModel& model);
 
@@ -134,8 +135,8 @@ class SlabLocator {
   // box overlaps (the shell does not pass through it), or kMixed for a cell that lists slabs.
   static constexpr int8_t kMixed = INT8_MIN;
   std::vector<int8_t> cell_winding_;
-  std::vector<Vec3> inner_;  // inner shell vertices (SlabModel::inner) and faces (SlabModel::slabs)
-  std::vector<Tri> inner_faces_;
+  const std::vector<Vec3>* inner_;       // the model's inner shell vertices (SlabModel::inner) and
+  const std::vector<Tri>* inner_faces_;  // faces (SlabModel::slabs), read like geometry_
 };
 
 }  // namespace hdm
