@@ -113,10 +113,16 @@ PositionBits bits_of(const Vec3& p) {
 
 TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name) {
   // Coordinates are rounded to float, as hdm has always read them (assimp's ai_real), so a mesh
-  // gives the same bake whatever its format; then widened exactly to double.
+  // gives the same bake whatever its format; then widened exactly to double. The float goes
+  // through a volatile: GCC 12's vectorizer drops a double -> float -> double round trip at -O2
+  // (Eigen's cast) and -O3 (a plain loop), which left some coordinates unrounded in release builds
+  // only, so builds of the same source baked different models.
   std::vector<Vec3>& positions = soup.positions;
   for (size_t v = 0; v < positions.size(); ++v) {
-    positions[v] = positions[v].cast<float>().cast<double>();
+    for (int a = 0; a < 3; ++a) {
+      const volatile float rounded = static_cast<float>(positions[v][a]);
+      positions[v][a] = rounded;
+    }
     if (!positions[v].allFinite())
       throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
   }

@@ -289,6 +289,29 @@ TEST(MeshReaders, TriangulatesConcavePolygonsInsideTheirOutline) {
   EXPECT_TRUE(has(error_of<InvalidInput>(polygon_obj(big_star), "big_star.obj"), "up to 64 corners"));
 }
 
+TEST(MeshReaders, EveryCoordinateIsRoundedToFloat) {
+  // A 20 x 20 grid whose coordinates are small integers plus 2^-30: exact in double, below half a
+  // float ulp above 1, so float rounding gives the integers back exactly. (GCC 12's vectorizer once
+  // dropped the rounding in release builds for two coordinates of three.)
+  const double tiny = std::ldexp(1.0, -30);
+  std::ostringstream s;
+  s.precision(17);
+  s << "OFF\n400 722 0\n";
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) s << 1 + i + tiny << ' ' << 1 + j + tiny << ' ' << 1 + (i * 7 + j * 3) % 5 + tiny << '\n';
+  for (int j = 0; j + 1 < 20; ++j)
+    for (int i = 0; i + 1 < 20; ++i) {
+      const int v = 20 * j + i;
+      s << "3 " << v << ' ' << v + 1 << ' ' << v + 21 << "\n3 " << v << ' ' << v + 21 << ' ' << v + 20 << '\n';
+    }
+  const TriangleMesh m = read_mesh_from_memory(s.str(), "grid.off");
+  ASSERT_EQ(m.vertices.size(), 400u);
+  int unrounded = 0;
+  for (const Vec3& p : m.vertices)
+    for (int c = 0; c < 3; ++c) unrounded += p[c] != std::round(p[c]);
+  EXPECT_EQ(unrounded, 0) << "coordinates not rounded to float";
+}
+
 // ---- refusals ----
 
 TEST(MeshReaders, HeadersClaimingMoreThanTheFileHoldsAreRefused) {
