@@ -60,7 +60,6 @@ struct StrokeEditor::Impl {
     log->push_back(e);
   }
   bool flush_requested = false;
-  int64_t normals_ns = 0;   // clock of the last normal refresh
   double normals_time = 0;  // stroke time of the last normal refresh
 
   // The pending normals are refreshed on request, before a command (stroke end, undo, a new
@@ -73,8 +72,9 @@ struct StrokeEditor::Impl {
     if (flush_requested || !open) return true;
     if (count > 0 && queue[head].kind != Event::Sample) return true;
     const double interval = options.normals_interval_s;
-    const double elapsed =
-        std::max(last_time - normals_time, double(now_ns() - normals_ns) * 1e-9);  // stroke time, or the clock
+    // Stroke time (the servo's), never the wall clock: the normals the proxy stands on steer later
+    // sweeps, so a refresh timed by the clock made two replays of one stroke differ.
+    const double elapsed = last_time - normals_time;
     return elapsed >= 12 * interval || (elapsed >= interval && motion >= 0.05 * scratch.sample_spacing);
   }
 
@@ -306,7 +306,6 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
         return w;
       }
       s.job.start_normals(s.scratch);
-      s.normals_ns = now_ns();
       s.normals_time = s.last_time;
       s.motion = 0;
       s.flush_requested = false;

@@ -69,10 +69,7 @@ SessionOptions session_options() {
   o.publish = false;
   // Every tick finishes its edits: the proxy then feels the same model on every tick whatever the
   // machine's speed, so the result depends on the inputs only.
-  o.edit_budget_s = 1.0;
-  // Normals after every sweep: the editor otherwise refreshes them by the wall clock as well as the
-  // stroke's time, which would make the proxy's normals (and the carve) depend on the machine's speed.
-  o.editor.normals_interval_s = 0;
+  o.edit_budget_s = 1.0;  // normals are refreshed by the stroke's time (the default interval)
   return o;
 }
 
