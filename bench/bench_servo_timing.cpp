@@ -38,8 +38,7 @@ int64_t now_ns() {
 
 void sleep_until_ns(int64_t t) {
   timespec ts{static_cast<time_t>(t / 1000000000), static_cast<long>(t % 1000000000)};
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {
-  }
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {}
 }
 
 enum Method { Sleep, Slack, Spin, SpinLock, SpinPin, kMethods };
@@ -106,8 +105,7 @@ int main(int argc, char** argv) {
         x.late += late >= period;
         x.over100us += late > 100000;
         ++x.ticks;
-        while (now_ns() - start < 3000) {
-        }
+        while (now_ns() - start < 3000) {}
       }
     }
     munlockall();

@@ -155,6 +155,15 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
   return steps;
 }
 
+bool ScriptPlayer::waited(bool done, double limit_s, const char* what) {
+  if (settle_started_ < 0) settle_started_ = seconds_now();
+  if (!done && seconds_now() - settle_started_ > limit_s)
+    throw InvalidInput("script: step " + std::to_string(next_ + 1) + ": " + what + " in " +
+                       std::to_string(static_cast<int>(limit_s)) + " s");
+  if (done) settle_started_ = -1;
+  return done;
+}
+
 bool ScriptPlayer::frame(ScriptHost& host) {
   while (next_ < steps_.size()) {
     const ScriptStep& s = steps_[next_];
@@ -187,13 +196,7 @@ bool ScriptPlayer::frame(ScriptHost& host) {
         host.probe(s.path);
         break;
       case ScriptStep::DeviceEnd:
-        if (settle_started_ < 0) settle_started_ = seconds_now();
-        if (!host.device_ended()) {
-          if (seconds_now() - settle_started_ > 60)
-            throw InvalidInput("script: step " + std::to_string(next_ + 1) + ": the device did not end in 60 s");
-          return true;
-        }
-        settle_started_ = -1;
+        if (!waited(host.device_ended(), 60, "the device did not end")) return true;
         break;
       case ScriptStep::Stroke: {
         // Frames 0..frames with the button held along the path, then one frame to release it.
@@ -216,13 +219,7 @@ bool ScriptPlayer::frame(ScriptHost& host) {
         frame_in_step_ = 0;
         break;
       case ScriptStep::Settle:
-        if (settle_started_ < 0) settle_started_ = seconds_now();
-        if (!host.settled()) {
-          if (seconds_now() - settle_started_ > 20)
-            throw InvalidInput("script: step " + std::to_string(next_ + 1) + ": the session did not settle in 20 s");
-          return true;
-        }
-        settle_started_ = -1;
+        if (!waited(host.settled(), 20, "the session did not settle")) return true;
         break;
     }
     ++next_;

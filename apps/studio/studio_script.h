@@ -79,13 +79,18 @@ class ScriptPlayer {
   explicit ScriptPlayer(std::vector<ScriptStep> steps) : steps_(std::move(steps)) {}
   /// @brief Runs the steps due at this frame (instant steps run together; a stroke, a wait or a
   /// settle takes frames). @return false once every step has run.
-  /// @throws InvalidInput when a settle waits longer than 20 s (the session never goes idle).
+  /// @throws InvalidInput when a settle waits longer than 20 s (the session never goes idle) or a
+  /// device_end longer than 60 s.
   bool frame(ScriptHost& host);
   bool done() const noexcept { return next_ >= steps_.size(); }
   /// Index of the step running or next.
   size_t step() const noexcept { return next_; }
 
  private:
+  // A waiting step: true once @p done (the step ends); throws InvalidInput naming @p what after
+  // @p limit_s seconds of waiting.
+  bool waited(bool done, double limit_s, const char* what);
+
   std::vector<ScriptStep> steps_;
   size_t next_ = 0;
   int frame_in_step_ = 0;

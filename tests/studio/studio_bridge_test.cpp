@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Checks of `hdm studio MESH --device shm:...` driven by the reference Python driver (run by
 // studio_bridge.sh under Xvfb): every force packet in contact carries a surface contact point on
-// the input mesh's surface (distance measured here by brute force over the input's triangles) and
+// the input mesh's surface (distance measured here by brute force over the input's triangles, with
+// hdm's closest point on a triangle, Ericson's) and
 // not the handle's position; the studio baked the mesh first and drew its progress in the window.
+#include <hdm/mesh/exact_mesh_query.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -50,30 +53,9 @@ Mesh read_off(const std::string& path) {
   return m;
 }
 
-// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
 double distance_to_mesh(const Mesh& m, const Vec3& p) {
   double best = INFINITY;
-  for (const auto& t : m.f) best = std::min(best, (closest_on_triangle(p, m.v[t[0]], m.v[t[1]], m.v[t[2]]) - p).norm());
+  for (const auto& t : m.f) best = std::min(best, (hdm::closest_point_on_triangle(p, m.v[t[0]], m.v[t[1]], m.v[t[2]]) - p).norm());
   return best;
 }
 
