@@ -77,7 +77,7 @@ SlabModel bake_in_window(GLFWwindow* window, const std::string& mesh_path, Windo
     done.store(true, std::memory_order_release);
   });
   const std::string name = std::filesystem::path(mesh_path).filename().string();
-  while (!done.load(std::memory_order_acquire)) {
+  do {  // at least one frame, however quick the bake
     glfwPollEvents();
     report.closed = report.closed || glfwWindowShouldClose(window);
     std::string stage;
@@ -109,7 +109,7 @@ SlabModel bake_in_window(GLFWwindow* window, const std::string& mesh_path, Windo
     glfwSwapBuffers(window);
     ++report.frames;
     std::this_thread::sleep_for(std::chrono::milliseconds(30));  // leave the cores to the bake
-  }
+  } while (!done.load(std::memory_order_acquire));
   worker.join();
   if (error) std::rethrow_exception(error);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

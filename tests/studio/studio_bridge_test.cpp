@@ -55,7 +55,8 @@ Mesh read_off(const std::string& path) {
 
 double distance_to_mesh(const Mesh& m, const Vec3& p) {
   double best = INFINITY;
-  for (const auto& t : m.f) best = std::min(best, (hdm::closest_point_on_triangle(p, m.v[t[0]], m.v[t[1]], m.v[t[2]]) - p).norm());
+  for (const auto& t : m.f)
+    best = std::min(best, (hdm::closest_point_on_triangle(p, m.v[t[0]], m.v[t[1]], m.v[t[2]]) - p).norm());
   return best;
 }
 
