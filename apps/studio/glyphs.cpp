@@ -34,11 +34,6 @@ void circle(ImDrawList* list, const RenderCamera& cam, const Vec3& c, const Vec3
   list->AddPolyline(pts.data(), kSegments, colour, ImDrawFlags_Closed, thickness);
 }
 
-void basis(const Vec3& n, Vec3& u, Vec3& v) {
-  u = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
-  v = n.cross(u);
-}
-
 }  // namespace
 
 void draw_tool_glyphs(ImDrawList* list, const RenderCamera& cam, const ToolState& t, const GlyphOptions& o) {
@@ -48,10 +43,8 @@ void draw_tool_glyphs(ImDrawList* list, const RenderCamera& cam, const ToolState
   const Vec3 axes[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
   for (int k = 0; k < 3; ++k) circle(list, cam, t.hip, axes[k], axes[(k + 1) % 3], o.brush_radius, tool_colour, 1.0f);
   if (!t.contact || !t.proxy.allFinite()) return;
-  // The footprint in the tangent plane at the proxy, the proxy, the HIP–proxy link and the force.
-  Vec3 u, v;
-  basis(t.normal, u, v);
-  circle(list, cam, t.proxy, u, v, o.brush_radius, IM_COL32(255, 255, 255, 220), 2.0f);
+  // The proxy, the HIP–proxy link and the force (the brush's footprint is drawn on the surface by
+  // the slab renderer: SlabRenderer::set_footprint).
   if (!in_front(cam, t.proxy) || !in_front(cam, t.hip)) return;
   const ImVec2 proxy = to_screen(cam, t.proxy);
   list->AddCircleFilled(proxy, 4.0f, IM_COL32(255, 230, 0, 255));

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The tool drawn over the model: the tool sphere at the device position, the proxy on the
-// surface, the brush's footprint around it and the force as an arrow. Drawn as projected
-// polylines into a Dear ImGui draw list, so they stay out of the model's pixels (and screenshots).
+// surface and the force as an arrow. Drawn as projected polylines into a Dear ImGui draw list, so
+// they stay out of the model's pixels (and screenshots); the brush's footprint is drawn on the
+// surface itself by the slab renderer (SlabRenderer::set_footprint).
 #include "servo_thread.h"
 
 #include <hdm/render/camera.h>
@@ -13,11 +14,11 @@ namespace hdm::studio {
 
 /// How the glyphs are sized.
 struct GlyphOptions {
-  double brush_radius = 1;   ///< tool sphere and footprint radius [model units]
+  double brush_radius = 1;   ///< tool sphere radius [model units]
   double newton_length = 1;  ///< arrow length per newton of force [model units / N]
 };
 
-/// @brief Adds the tool sphere, proxy, footprint and force arrow of @p tool to @p list, seen by
+/// @brief Adds the tool sphere, proxy and force arrow of @p tool to @p list, seen by
 /// @p camera (points behind the camera are left out).
 void draw_tool_glyphs(ImDrawList* list, const RenderCamera& camera, const ToolState& tool, const GlyphOptions& o);
 

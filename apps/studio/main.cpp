@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // hdm-studio MODEL.hdm: sculpt and paint a slab model in a window, with the mouse as a 3-DOF
 // haptic device and the servo loop on its own thread; or run a scripted session and exit.
+#include "bake_window.h"
 #include "studio.h"
 
 #include <hdm/core/error.h>
@@ -16,7 +17,10 @@ int main(int argc, char** argv) {
   CLI::App app{"hdm studio: sculpt and paint a slab model interactively (GLFW window, OpenGL 4.5 core)"};
   hdm::studio::StudioOptions o;
   std::string model, size = "1280x720";
-  app.add_option("model", model, "slab model (.hdm); bake a mesh first with `hdm bake MESH -o MODEL.hdm`")->required();
+  app.add_option("model", model,
+                 "slab model (.hdm), or a mesh (OBJ, PLY, OFF, STL, ...) baked first as `hdm bake` does, with its "
+                 "progress in the window")
+      ->required();
   app.add_option("--size", size, "window size WxH [pixels]");
   app.add_option("--rate", o.rate_hz, "servo rate [Hz]: 1000 (default) or 10000")
       ->check(CLI::IsMember({1000.0, 10000.0}));
@@ -57,6 +61,7 @@ int main(int argc, char** argv) {
         throw hdm::InvalidInput("--lod " + lod + ": expected auto or a level 0, 1, 2, ...");
       o.lod = std::stoi(lod);
     }
+    if (!hdm::studio::is_slab_model_path(model)) return hdm::studio::run_studio_baking(model, o);
     hdm::SlabModel m = hdm::load_model(model);
     return hdm::studio::run_studio(std::move(m), o);
   } catch (const CLI::ParseError& e) {

@@ -16,8 +16,8 @@ int64_t now_ns() noexcept {
 
 }  // namespace
 
-ServoThread::ServoThread(SculptSession& session, HapticDevice& device, double rate_hz)
-    : session_(session), rate_hz_(rate_hz) {
+ServoThread::ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge)
+    : session_(session), bridge_(bridge), rate_hz_(rate_hz) {
   thread_ = std::thread([this, &device] {
     ServoOptions o;
     o.rate_hz = rate_hz_;
@@ -45,6 +45,10 @@ void ServoThread::before(void* user, SculptSession&, const ServoTick&) noexcept 
 
 void ServoThread::after(void* user, const ServoTick& t, const SessionTick& r) noexcept {
   ServoThread& s = *static_cast<ServoThread*>(user);
+  if (r.ended) {
+    s.ended_.store(true, std::memory_order_release);
+    return;
+  }
   const int64_t end = now_ns();
   const size_t slot = static_cast<size_t>(t.tick % kRing);
   s.work_ns_[slot].store(static_cast<uint32_t>(std::min<int64_t>(end - s.tick_start_ns_, UINT32_MAX)),
@@ -65,6 +69,8 @@ void ServoThread::after(void* user, const ServoTick& t, const SessionTick& r) no
   tool.edit_pending = r.edit_pending;
   tool.tick = t.tick;
   s.tool_.write(tool);
+  // The force packet of the next tick carries this tick's surface contact point (device frame).
+  if (s.bridge_) s.bridge_->set_contact(ws.to_device(tool.proxy), tool.contact);
 }
 
 ServoFigures ServoThread::figures() const {

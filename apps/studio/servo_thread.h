@@ -5,6 +5,7 @@
 // blocks it (everything it reads is written wait-free, the model only through SlabSnapshots).
 #include "latest_value.h"
 
+#include <hdm/bridge/bridge_device.h>
 #include <hdm/haptics/device.h>
 #include <hdm/session/sculpt_session.h>
 
@@ -40,7 +41,9 @@ struct ServoFigures {
 class ServoThread {
  public:
   /// @brief Starts the loop at @p rate_hz with @p session and @p device, which must outlive it.
-  ServoThread(SculptSession& session, HapticDevice& device, double rate_hz);
+  /// @p bridge: the same device when it comes through the bridge, so that each force packet carries
+  /// the surface contact point of the tick before (as run_bridge_session sends it); else null.
+  ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge = nullptr);
   /// Stops the loop (ramping the force out) and joins.
   ~ServoThread();
   /// Requests the end, waits for it and returns the run's statistics (the kept window's
@@ -50,6 +53,9 @@ class ServoThread {
   const ToolState& tool() noexcept { return tool_.read(); }
   /// Figures over the last second. Any one thread; O(ring).
   ServoFigures figures() const;
+  /// True once the device has ended (a replay's last row, the bridge driver's end packet): the loop
+  /// then ramps the force out and stops. Any thread.
+  bool ended() const noexcept { return ended_.load(std::memory_order_acquire); }
   /// Ticks run so far.
   int64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
   double rate_hz() const noexcept { return rate_hz_; }
@@ -62,6 +68,7 @@ class ServoThread {
 
   static constexpr int kRing = 16384;  // ≥ one second at 10 kHz
   SculptSession& session_;
+  bridge::BridgeDevice* bridge_;
   double rate_hz_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
@@ -75,6 +82,7 @@ class ServoThread {
   std::array<std::atomic<uint32_t>, kRing> work_ns_{};
   std::array<std::atomic<int64_t>, kRing> start_ns_{};  // tick start, steady clock [ns]
   std::atomic<int64_t> ticks_{0}, late_{0}, sweeps_{0};
+  std::atomic<bool> ended_{false};
 };
 
 }  // namespace hdm::studio

@@ -3,6 +3,7 @@
 // snapshots, the mouse as a device, scripted sessions. Threads and figures: docs/studio.md.
 #include "studio.h"
 
+#include "bake_window.h"
 #include "glyphs.h"
 #include "mouse_device.h"
 #include "orbit_camera.h"
@@ -106,8 +107,9 @@ struct KeyEdge {
 
 class Studio final : public ScriptHost {
  public:
-  Studio(SlabModel model, const StudioOptions& o)
-      : o_(o), window_(o.width, o.height, "hdm studio - " + o.model_name, o.vsync && o.script.empty()) {
+  Studio(Window& window, SlabModel model, const StudioOptions& o, const WindowBake* bake = nullptr)
+      : o_(o), window_(window) {
+    if (bake) bake_ = *bake;
     if (!o.script.empty()) player_.emplace(read_studio_script(o.script));
     Aabb box;
     for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
@@ -116,6 +118,10 @@ class Studio final : public ScriptHost {
     SessionOptions so;
     so.proxy.force.stiffness = o.stiffness;
     so.proxy.friction_scale = o.friction_scale;
+    posted_proxy_ = so.proxy;
+    settings_.stiffness = static_cast<float>(o.stiffness);
+    settings_.friction = static_cast<float>(o.friction_scale);
+    workspace_ = ws;
     slabs_ = model.slab_count();
     session_ = std::make_unique<SculptSession>(std::move(model), ws, so);
     renderer_ = std::make_unique<SlabRenderer>();
@@ -140,7 +146,7 @@ class Studio final : public ScriptHost {
       settings_.kind = ToolSettings::Carve;  // the recording's tool button strokes with the panel's brush
       post_brush_if_changed();
     }
-    servo_ = std::make_unique<ServoThread>(*session_, *device_, o.rate_hz);
+    servo_ = std::make_unique<ServoThread>(*session_, *device_, o.rate_hz, bridge_);
   }
 
   ~Studio() override {
@@ -175,6 +181,7 @@ class Studio final : public ScriptHost {
         interactive_input();
       }
       post_brush_if_changed();
+      post_proxy_if_changed();
 
       const UploadFrame up = uploader_->update();
       uploads_.push_back(up.uploaded);
@@ -193,10 +200,18 @@ class Studio final : public ScriptHost {
       glClearColor(1, 1, 1, 1);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       choose_level();
+      const ToolState& tool = servo_->tool();
+      const bool footprint = set_footprint(tool);
       renderer_->draw(cam, false, level_);
       levels_.push_back(level_);
       drive_device(cam);
-      if (!screenshots_.empty() && level_ > 0) {  // screenshots at full detail
+      if (!footprint_screenshots_.empty()) {  // the model view with the footprint, at full detail
+        if (level_ > 0) glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT), renderer_->draw(cam);
+        for (const std::string& path : footprint_screenshots_) write_screenshot(path, w, h);
+        footprint_screenshots_.clear();
+      }
+      if (!screenshots_.empty() && (level_ > 0 || footprint)) {  // screenshots at full detail, no footprint
+        renderer_->set_footprint(Vec3::Zero(), 0);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         renderer_->draw(cam);
       }
@@ -204,7 +219,6 @@ class Studio final : public ScriptHost {
       screenshots_.clear();
 
       // Panels and glyphs.
-      const ToolState& tool = servo_->tool();
       GlyphOptions g;
       g.brush_radius = settings_.radius_mm * mm_;
       g.newton_length = 5 * mm_;  // 5 mm per newton
@@ -246,10 +260,32 @@ class Studio final : public ScriptHost {
   }
   bool settled() override {
     const ToolState& t = servo_->tool();
-    return !button_ && !t.tool_on && !t.edit_pending && t.tick >= quiet_after_tick_ &&
+    // The mouse's button reaches the servo up to a frame late (MouseDevice's smoothing): count the
+    // quiet ticks from the first tick seen with the tool off.
+    if (t.tool_on)
+      tool_off_since_ = -1;
+    else if (tool_off_since_ < 0)
+      tool_off_since_ = t.tick;
+    const bool quiet = tool_off_since_ >= 0 && t.tick - tool_off_since_ >= static_cast<int64_t>(0.03 * o_.rate_hz);
+    return !button_ && !t.tool_on && quiet && !t.edit_pending && t.tick >= quiet_after_tick_ &&
            session_->snapshots()->epoch() == drawn_epoch_ && seconds_now() - epoch_changed_at_ > 0.05;
   }
-  void screenshot(const std::string& path, bool ui) override { (ui ? ui_screenshots_ : screenshots_).push_back(path); }
+  void screenshot(const std::string& path, bool ui, bool footprint) override {
+    (ui ? ui_screenshots_ : footprint ? footprint_screenshots_ : screenshots_).push_back(path);
+  }
+  void probe(const std::string& name) override {
+    const ToolState& t = servo_->tool();
+    auto v = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
+    probes_[name] = {{"tick", t.tick},
+                     {"contact", t.contact},
+                     {"hip_m", v(workspace_.to_device(t.hip))},
+                     {"proxy_m", v(workspace_.to_device(t.proxy))},
+                     {"normal", v(t.normal)},
+                     {"force_n", v(t.force)},
+                     {"stiffness_n_per_m", settings_.stiffness},
+                     {"friction", settings_.friction}};
+  }
+  bool device_ended() override { return servo_->ended(); }
   void undo() override { command(SessionCommand::Undo); }
   void redo() override { command(SessionCommand::Redo); }
   void save(const std::string& path) override {
@@ -275,6 +311,36 @@ class Studio final : public ScriptHost {
     c.kind = kind;
     if (!session_->post(c)) message_ = "the servo's command queue is full";
     quiet_after_tick_ = servo_->ticks() + static_cast<int64_t>(0.03 * o_.rate_hz) + 1;
+  }
+
+  // Stiffness and friction from the panel (or a script) to the servo thread: a command it applies
+  // at its next tick, so the servo never waits and never allocates for it.
+  void post_proxy_if_changed() {
+    if (settings_.stiffness == posted_proxy_.force.stiffness && settings_.friction == posted_proxy_.friction_scale)
+      return;
+    SessionCommand c;
+    c.kind = SessionCommand::SetProxy;
+    c.proxy = posted_proxy_;
+    c.proxy.force.stiffness = settings_.stiffness;
+    c.proxy.friction_scale = settings_.friction;
+    if (!session_->post(c)) return;  // the queue is full: try again next frame
+    posted_proxy_ = c.proxy;
+    quiet_after_tick_ = servo_->ticks() + static_cast<int64_t>(0.03 * o_.rate_hz) + 1;
+  }
+
+  // The footprint of the brush on the surface: the surface points the brush sphere holds (carve:
+  // the sphere whose deepest point is the HIP; add: the one standing `height` above the surface;
+  // the others: the sphere about the surface contact point). False when there is none to draw.
+  bool set_footprint(const ToolState& t) {
+    const double r = settings_.radius_mm * mm_;
+    Vec3 centre = t.proxy;
+    if (settings_.kind == ToolSettings::Carve)
+      centre = t.hip + t.normal * (r + settings_.resilience_mm * mm_);
+    else if (settings_.kind == ToolSettings::Add)
+      centre = t.proxy + t.normal * (settings_.height_mm * mm_ - r);
+    const bool on = t.contact && settings_.kind != ToolSettings::Probe && centre.allFinite();
+    renderer_->set_footprint(centre, on ? r : 0.0);
+    return on;
   }
 
   void set_button(bool down) {
@@ -336,7 +402,8 @@ class Studio final : public ScriptHost {
       if (a.fit) camera_.fit();
       if (a.save) save(files_.save);
       if (a.export_model) export_model(files_.export_path);
-      if (a.screenshot) screenshot(files_.screenshot, false), message_ = std::string("screenshot ") + files_.screenshot;
+      if (a.screenshot)
+        screenshot(files_.screenshot, false, false), message_ = std::string("screenshot ") + files_.screenshot;
     } catch (const std::exception& e) {
       message_ = e.what();  // a failed save keeps the previous file (save_model is atomic)
     }
@@ -372,6 +439,8 @@ class Studio final : public ScriptHost {
     MouseHandle m;
     m.position = session_->workspace().to_device(hip);
     m.buttons = editing ? 1u : 0u;
+    if (have_last_set_) max_frame_step_m_ = std::max(max_frame_step_m_, (m.position - last_set_).norm());
+    last_set_ = m.position, have_last_set_ = true;
     mouse_->set(m);
   }
 
@@ -497,14 +566,33 @@ class Studio final : public ScriptHost {
           {"publications", ss.publications},
           {"slabs_published", ss.slabs_published},
           {"publish_deferred", ss.publish_deferred}}},
-        {"screenshots", screenshot_files_}};
+        {"screenshots", screenshot_files_},
+        {"workspace",
+         {{"origin", {workspace_.origin.x(), workspace_.origin.y(), workspace_.origin.z()}},
+          {"scale", workspace_.scale}}},
+        {"probes", probes_}};
+    if (mouse_)  // the mouse's smoothing: the handle's largest move per tick against per frame
+      j["mouse"] = {{"max_tick_step_m", mouse_->max_tick_step_m()}, {"max_frame_step_m", max_frame_step_m_}};
+    if (bake_)
+      j["bake"] = {{"input", bake_->input},
+                   {"seconds", bake_->seconds},
+                   {"frames", bake_->frames},
+                   {"stages", bake_->stages},
+                   {"slabs", bake_->slabs},
+                   {"grid", bake_->grid},
+                   {"met", bake_->met},
+                   {"max_pct", bake_->max_pct},
+                   {"max_back_pct", bake_->max_back_pct},
+                   {"rms_pct", bake_->rms_pct},
+                   {"rms_back_pct", bake_->rms_back_pct}};
     if (o_.verify_uploads) j["uploads"]["dirty_total"] = dirty_total_, j["uploads"]["mismatched"] = mismatched_total_;
     const std::string text = j.dump(1);
     write_file_atomic(o_.report, text.data(), text.size());
   }
 
   StudioOptions o_;
-  Window window_;
+  Window& window_;
+  std::optional<WindowBake> bake_;
   std::optional<ScriptPlayer> player_;
   bool script_done_ = false;
   double mm_ = 1;
@@ -520,6 +608,9 @@ class Studio final : public ScriptHost {
   ToolSettings settings_;
   Brush posted_brush_;
   bool posted_ = false;
+  ProxyParams posted_proxy_;
+  Workspace workspace_;
+  nlohmann::json probes_ = nlohmann::json::object();
   PanelFiles files_;
   std::string message_;
   KeyEdge key_z_, key_y_, key_f_;
@@ -530,7 +621,10 @@ class Studio final : public ScriptHost {
   std::vector<float> frozen_;
   RenderCamera frozen_cam_;
   int frozen_w_ = 0, frozen_h_ = 0;
-  int64_t quiet_after_tick_ = 0;
+  int64_t quiet_after_tick_ = 0, tool_off_since_ = -1;
+  Vec3 last_set_ = Vec3::Zero();
+  bool have_last_set_ = false;
+  double max_frame_step_m_ = 0;
   // figures
   std::vector<double> frame_ms_;
   std::vector<int> uploads_;
@@ -542,17 +636,38 @@ class Studio final : public ScriptHost {
   uint64_t drawn_epoch_ = 0;
   double epoch_changed_at_ = 0, edits_per_s_ = 0;
   ServoFigures figures_;
-  std::vector<std::string> screenshots_, ui_screenshots_, screenshot_files_;
+  std::vector<std::string> screenshots_, ui_screenshots_, footprint_screenshots_, screenshot_files_;
 };
 
 }  // namespace
 
-int run_studio(SlabModel model, const StudioOptions& options) {
+namespace {
+
+void check_options(const StudioOptions& options) {
   if (!(options.rate_hz >= 100 && options.rate_hz <= 20000))
     throw InvalidInput("--rate " + std::to_string(options.rate_hz) + ": the servo rate must be in [100, 20000] Hz");
   if (options.width < 64 || options.height < 64 || options.width > 8192 || options.height > 8192)
     throw InvalidInput("--size: the window must be 64..8192 pixels on each side");
-  Studio studio(std::move(model), options);
+}
+
+}  // namespace
+
+int run_studio(SlabModel model, const StudioOptions& options) {
+  check_options(options);
+  Window window(options.width, options.height, "hdm studio - " + options.model_name,
+                options.vsync && options.script.empty());
+  Studio studio(window, std::move(model), options);
+  return studio.run();
+}
+
+int run_studio_baking(const std::string& mesh_path, const StudioOptions& options) {
+  check_options(options);
+  Window window(options.width, options.height, "hdm studio - " + options.model_name,
+                options.vsync && options.script.empty());
+  WindowBake bake;
+  SlabModel model = bake_in_window(window.handle, mesh_path, bake);
+  if (bake.closed) return 0;
+  Studio studio(window, std::move(model), options, &bake);
   return studio.run();
 }
 

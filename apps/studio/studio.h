@@ -48,6 +48,8 @@ struct ToolSettings {
   int field = 0;                         ///< paint: hdm::BrushField
   float colour[3] = {0.8f, 0.1f, 0.1f};  ///< paint colour: linear RGB
   float value = 0.5f;                    ///< paint of a scalar field (layer thickness in mm)
+  float stiffness = 1000;  ///< proxy stiffness as felt at the device [N/m] (live: SessionCommand::SetProxy)
+  float friction = 1;      ///< factor on the model's friction coefficients (live)
 };
 
 /// @brief The brush of @p t for a model with @p mm model units per device millimetre
@@ -65,5 +67,11 @@ ToolSettings::Kind parse_tool_kind(const std::string& name);
 ///         context can be made (no display: run under Xvfb); IoError from saves and screenshots.
 /// @return the process exit code (0: the session ran; 1: the script could not finish).
 int run_studio(SlabModel model, const StudioOptions& options);
+
+/// @brief As run_studio(), on the model `hdm bake` makes of the mesh @p mesh_path with its
+/// defaults (repair, the error-bounded bake), baked on a worker thread while the window shows the
+/// stage and its progress; the report gets the bake's figures ("bake"). Save keeps the result.
+/// @throws what run_studio() throws, and what `hdm bake` throws for the mesh.
+int run_studio_baking(const std::string& mesh_path, const StudioOptions& options);
 
 }  // namespace hdm::studio

@@ -65,6 +65,10 @@ void apply_tool_json(const nlohmann::json& j, ToolSettings& t, const std::string
       t.resilience_mm = number(v, at, 0, 50);
     else if (key == "value")
       t.value = number(v, at, -1e6, 1e6);
+    else if (key == "stiffness")
+      t.stiffness = number(v, at, 1, 1e5);
+    else if (key == "friction")
+      t.friction = number(v, at, 0, 10);
     else if (key == "field") {
       if (!v.is_string()) throw InvalidInput(at + " must be a field name");
       t.field = static_cast<int>(parse_brush_field(v.get<std::string>()));
@@ -74,7 +78,7 @@ void apply_tool_json(const nlohmann::json& j, ToolSettings& t, const std::string
     } else if (key != "do") {
       throw InvalidInput(at +
                          " is not a tool setting (tool, radius_mm, strength, depth_mm, height_mm, "
-                         "resilience_mm, field, colour, value)");
+                         "resilience_mm, field, colour, value, stiffness, friction)");
     }
   }
 }
@@ -129,6 +133,13 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
         throw InvalidInput(where + ": \"" + action + "\" needs \"path\"");
       s.path = j["path"].get<std::string>();
       s.ui = j.value("ui", false);
+      s.footprint = j.value("footprint", false);
+    } else if (action == "probe") {
+      s.kind = ScriptStep::Probe;
+      if (!j.contains("name") || !j["name"].is_string()) throw InvalidInput(where + ": \"probe\" needs \"name\"");
+      s.path = j["name"].get<std::string>();
+    } else if (action == "device_end") {
+      s.kind = ScriptStep::DeviceEnd;
     } else if (action == "view") {
       s.kind = ScriptStep::View;
       s.azimuth_deg = number(j.value("azimuth", nlohmann::json(0)), where + ": \"azimuth\"", -360, 360);
@@ -136,11 +147,21 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
       s.zoom = number(j.value("zoom", nlohmann::json(1)), where + ": \"zoom\"", 0.2, 200);
     } else {
       throw InvalidInput(where + ": unknown action \"" + action +
-                         "\" (tool, cursor, stroke, wait, settle, screenshot, undo, redo, save, export, view)");
+                         "\" (tool, cursor, stroke, wait, settle, screenshot, undo, redo, save, export, view, probe, "
+                         "device_end)");
     }
     steps.push_back(std::move(s));
   }
   return steps;
+}
+
+bool ScriptPlayer::waited(bool done, double limit_s, const char* what) {
+  if (settle_started_ < 0) settle_started_ = seconds_now();
+  if (!done && seconds_now() - settle_started_ > limit_s)
+    throw InvalidInput("script: step " + std::to_string(next_ + 1) + ": " + what + " in " +
+                       std::to_string(static_cast<int>(limit_s)) + " s");
+  if (done) settle_started_ = -1;
+  return done;
 }
 
 bool ScriptPlayer::frame(ScriptHost& host) {
@@ -154,7 +175,7 @@ bool ScriptPlayer::frame(ScriptHost& host) {
         host.set_cursor(s.points[0].x(), s.points[0].y(), false);
         break;
       case ScriptStep::Screenshot:
-        host.screenshot(s.path, s.ui);
+        host.screenshot(s.path, s.ui, s.footprint);
         break;
       case ScriptStep::Undo:
         host.undo();
@@ -170,6 +191,12 @@ bool ScriptPlayer::frame(ScriptHost& host) {
         break;
       case ScriptStep::View:
         host.view(s.azimuth_deg, s.elevation_deg, s.zoom);
+        break;
+      case ScriptStep::Probe:
+        host.probe(s.path);
+        break;
+      case ScriptStep::DeviceEnd:
+        if (!waited(host.device_ended(), 60, "the device did not end")) return true;
         break;
       case ScriptStep::Stroke: {
         // Frames 0..frames with the button held along the path, then one frame to release it.
@@ -192,13 +219,7 @@ bool ScriptPlayer::frame(ScriptHost& host) {
         frame_in_step_ = 0;
         break;
       case ScriptStep::Settle:
-        if (settle_started_ < 0) settle_started_ = seconds_now();
-        if (!host.settled()) {
-          if (seconds_now() - settle_started_ > 20)
-            throw InvalidInput("script: step " + std::to_string(next_ + 1) + ": the session did not settle in 20 s");
-          return true;
-        }
-        settle_started_ = -1;
+        if (!waited(host.settled(), 20, "the session did not settle")) return true;
         break;
     }
     ++next_;

@@ -14,12 +14,27 @@ namespace hdm::studio {
 
 /// One step of a script.
 struct ScriptStep {
-  enum Kind { Tool, Cursor, Stroke, Wait, Settle, Screenshot, Undo, Redo, Save, Export, View } kind = Wait;
+  enum Kind {
+    Tool,
+    Cursor,
+    Stroke,
+    Wait,
+    Settle,
+    Screenshot,
+    Undo,
+    Redo,
+    Save,
+    Export,
+    View,
+    Probe,
+    DeviceEnd
+  } kind = Wait;
   nlohmann::json tool;                  ///< Tool: the settings it changes
   std::vector<Eigen::Vector2d> points;  ///< Cursor (one) / Stroke (two or more): window coordinates in [0,1], y down
   int frames = 0;                       ///< Stroke: frames the cursor takes along the points; Wait: frames
-  std::string path;                     ///< Screenshot, Save, Export: output file
+  std::string path;                     ///< Screenshot, Save, Export: output file; Probe: the record's name
   bool ui = false;                      ///< Screenshot: the whole window, panels and tool glyphs included
+  bool footprint = false;               ///< Screenshot: the model view with the brush's footprint on the surface
   double azimuth_deg = 0, elevation_deg = 15, zoom = 1;  ///< View
 };
 
@@ -29,7 +44,7 @@ struct ScriptStep {
 std::vector<ScriptStep> read_studio_script(const std::string& path);
 
 /// @brief Applies the settings of a "tool" step (`tool`, `radius_mm`, `strength`, `depth_mm`,
-/// `height_mm`, `resilience_mm`, `field`, `colour`, `value`) to @p t.
+/// `height_mm`, `resilience_mm`, `field`, `colour`, `value`, `stiffness`, `friction`) to @p t.
 /// @throws InvalidInput naming @p where and the key on an unknown key or a value out of range.
 void apply_tool_json(const nlohmann::json& j, ToolSettings& t, const std::string& where);
 
@@ -42,8 +57,15 @@ class ScriptHost {
   virtual void set_cursor(double x, double y, bool button) = 0;
   /// True when the tool is off, the servo has no edit work left and the newest epoch is drawn.
   virtual bool settled() = 0;
-  /// A PNG of this frame's model view (@p ui: of the whole window, panels and glyphs included).
-  virtual void screenshot(const std::string& path, bool ui) = 0;
+  /// A PNG of this frame's model view (@p ui: of the whole window, panels and glyphs included;
+  /// @p footprint: the model view with the brush's footprint drawn on the surface).
+  virtual void screenshot(const std::string& path, bool ui, bool footprint) = 0;
+  /// Records the tool state the servo thread left (HIP, proxy, normal, force, contact) under
+  /// @p name in the report.
+  virtual void probe(const std::string& name) = 0;
+  /// True once the device has ended (a replay's last row, the bridge driver's end packet) and the
+  /// servo loop has stopped.
+  virtual bool device_ended() = 0;
   virtual void undo() = 0;
   virtual void redo() = 0;
   virtual void save(const std::string& path) = 0;
@@ -57,13 +79,18 @@ class ScriptPlayer {
   explicit ScriptPlayer(std::vector<ScriptStep> steps) : steps_(std::move(steps)) {}
   /// @brief Runs the steps due at this frame (instant steps run together; a stroke, a wait or a
   /// settle takes frames). @return false once every step has run.
-  /// @throws InvalidInput when a settle waits longer than 20 s (the session never goes idle).
+  /// @throws InvalidInput when a settle waits longer than 20 s (the session never goes idle) or a
+  /// device_end longer than 60 s.
   bool frame(ScriptHost& host);
   bool done() const noexcept { return next_ >= steps_.size(); }
   /// Index of the step running or next.
   size_t step() const noexcept { return next_; }
 
  private:
+  // A waiting step: true once @p done (the step ends); throws InvalidInput naming @p what after
+  // @p limit_s seconds of waiting.
+  bool waited(bool done, double limit_s, const char* what);
+
   std::vector<ScriptStep> steps_;
   size_t next_ = 0;
   int frame_in_step_ = 0;

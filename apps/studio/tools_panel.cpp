@@ -77,6 +77,12 @@ PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::str
       ImGui::InputFloat(t.field == static_cast<int>(BrushField::LayerThickness) ? "thickness [mm]" : "value", &t.value);
   }
   ImGui::Separator();
+  // Applied by the servo thread from its next tick (a command, never a lock).
+  ImGui::SliderFloat("stiffness [N/m]", &t.stiffness, 50.0f, 5000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderFloat("friction", &t.friction, 0.0f, 2.0f, "%.2f");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("factor on the surface's static and dynamic friction (painted with the friction fields)");
+  ImGui::Separator();
   a.undo = ImGui::Button("undo");
   ImGui::SameLine();
   a.redo = ImGui::Button("redo");

@@ -206,14 +206,17 @@ def main():
 
     if a.forces:
         with open(a.forces + ".tmp", "w") as f:
-            f.write("sequence,time_s,force_x_n,force_y_n,force_z_n,contact,watchdog,gain,answered_sequence,tick\n")
+            f.write("sequence,time_s,force_x_n,force_y_n,force_z_n,contact,watchdog,gain,answered_sequence,tick,"
+                    "contact_x_m,contact_y_m,contact_z_m\n")
             for seq, t, r in records:
                 if r is None:
-                    f.write(f"{seq},{t!r},0,0,0,0,0,0,0,0\n")
+                    f.write(f"{seq},{t!r},0,0,0,0,0,0,0,0,0,0,0\n")
                 else:
                     fx, fy, fz = r["force"]
+                    cx, cy, cz = r["contact"]
                     f.write(f"{seq},{t!r},{fx!r},{fy!r},{fz!r},{r['flags'] & FORCE_CONTACT},"
-                            f"{(r['flags'] & FORCE_WATCHDOG) >> 1},{r['gain']!r},{r['sequence']},{r['tick']}\n")
+                            f"{(r['flags'] & FORCE_WATCHDOG) >> 1},{r['gain']!r},{r['sequence']},{r['tick']},"
+                            f"{cx!r},{cy!r},{cz!r}\n")
         os.replace(a.forces + ".tmp", a.forces)
     rtt_us = sorted(x * 1e6 for x in rtt)
     summary = {"packets": len(rows), "answered": len(rtt_us), "lost": lost,

@@ -11,6 +11,7 @@
 #include "model_check.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -44,8 +45,10 @@ out vec3 v_view;
 out vec2 v_uv;
 out vec2 v_bary;
 out float v_layer;
+out vec3 v_model;
 void main() {
   v_normal = mat3(u_view) * a_normal;  // the view matrix is rigid
+  v_model = a_position;
   v_uv = a_uv;
   v_bary = a_bary;
   v_layer = a_layer;
@@ -61,8 +64,10 @@ in vec3 v_view;
 in vec2 v_uv;
 in vec2 v_bary;
 in float v_layer;
+in vec3 v_model;
 layout(location = 2) uniform int u_edges;
 layout(location = 3) uniform vec4 u_layer;  // the under-layer's linear colour and roughness
+layout(location = 4) uniform vec4 u_footprint;  // brush sphere: centre [model units], radius (<= 0: none)
 layout(binding = 0) uniform sampler2D u_atlas;
 out vec4 o_colour;
 // View space: +Z points at the viewer.
@@ -94,6 +99,15 @@ void main() {
     float d = min(pixels.x, min(pixels.y, pixels.z));
     colour = mix(vec3(0.02), colour, clamp(d - 1.0, 0.0, 1.0));
   }
+  if (u_footprint.w > 0.0) {
+    // The brush's footprint: the surface inside the brush sphere lightly tinted, its rim (where the
+    // surface crosses the sphere) a line about 2 pixels wide.
+    float d = distance(v_model, u_footprint.xyz) - u_footprint.w;
+    // (and never farther than a quarter radius from it: at silhouettes fwidth can span the model)
+    float rim = (1.0 - clamp(abs(d) / max(fwidth(d), 1e-12) - 1.0, 0.0, 1.0)) * step(abs(d), 0.25 * u_footprint.w);
+    colour = mix(colour, vec3(1.0, 0.45, 0.0), 0.15 * step(d, 0.0));
+    colour = mix(colour, vec3(1.0, 0.35, 0.0), rim);
+  }
   o_colour = vec4(encode_srgb(colour), 1.0);
 }
 )";
@@ -103,7 +117,8 @@ void main() {
 struct SlabRenderer::State {
   GLuint program = 0, vao = 0, vbo = 0, ebo = 0, atlas = 0;
   int slabs = 0, n = 0, texel_density = 0, per_slab = 0;
-  float layer[4] = {0, 0, 0, 1};  // the under-layer's colour and roughness
+  float layer[4] = {0, 0, 0, 1};      // the under-layer's colour and roughness
+  float footprint[4] = {0, 0, 0, 0};  // brush sphere (centre, radius); radius 0: none
   struct Level {
     size_t first;   // first index in the element buffer
     GLsizei count;  // indices
@@ -308,6 +323,7 @@ void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges, int le
   glProgramUniformMatrix4fv(st.program, 1, 1, GL_FALSE, camera.projection.data());
   glProgramUniform1i(st.program, 2, show_slab_edges ? 1 : 0);
   glProgramUniform4f(st.program, 3, st.layer[0], st.layer[1], st.layer[2], st.layer[3]);
+  glProgramUniform4f(st.program, 4, st.footprint[0], st.footprint[1], st.footprint[2], st.footprint[3]);
   glBindTextureUnit(0, st.atlas);
   glBindVertexArray(st.vao);
   const State::Level& l = st.levels[static_cast<size_t>(std::clamp(level, 0, static_cast<int>(st.levels.size()) - 1))];
@@ -315,6 +331,13 @@ void SlabRenderer::draw(const RenderCamera& camera, bool show_slab_edges, int le
   glBindVertexArray(0);
   glUseProgram(0);
   render_detail::check_gl("drawing the slab model");
+}
+
+void SlabRenderer::set_footprint(const Vec3& centre, double radius) noexcept {
+  float* f = state_->footprint;
+  const bool on = centre.allFinite() && std::isfinite(radius) && radius > 0;
+  for (int k = 0; k < 3; ++k) f[k] = on ? static_cast<float>(centre[k]) : 0.0f;
+  f[3] = on ? static_cast<float>(radius) : 0.0f;
 }
 
 int SlabRenderer::slab_count() const noexcept { return state_->slabs; }

@@ -118,8 +118,10 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
       s.brush = c.brush;
     else if (c.kind == SessionCommand::Undo)
       s.editor.undo();
-    else
+    else if (c.kind == SessionCommand::Redo)
       s.editor.redo();
+    else
+      s.options.proxy = c.proxy;
   }
   if (!device.begin_frame(r.device)) {
     r.ended = true;
@@ -173,6 +175,8 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
 void SculptSession::set_brush(const Brush& brush) noexcept { impl_->brush = brush; }
 void SculptSession::undo() noexcept { impl_->editor.undo(); }
 void SculptSession::redo() noexcept { impl_->editor.redo(); }
+void SculptSession::set_proxy_params(const ProxyParams& params) noexcept { impl_->options.proxy = params; }
+const ProxyParams& SculptSession::proxy_params() const noexcept { return impl_->options.proxy; }
 bool SculptSession::post(const SessionCommand& command) noexcept { return impl_->commands.push(command); }
 const SlabSnapshots* SculptSession::snapshots() const noexcept { return impl_->snapshots.get(); }
 const Workspace& SculptSession::workspace() const noexcept { return impl_->ws; }

@@ -171,8 +171,8 @@ TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
     t.tick = static_cast<int64_t>(k);
     t.time_s = 1e-4 * double(k);
     if (rig.stroke[k] >= 0 && rig.stroke[k] != current) session.set_brush(rig.brushes[current = rig.stroke[k]]);
-    if (k == rig.targets.size() / 2) session.post(SessionCommand{SessionCommand::Undo, {}});
-    if (k == rig.targets.size() / 2 + 100) session.post(SessionCommand{SessionCommand::Redo, {}});
+    if (k == rig.targets.size() / 2) session.post(SessionCommand{SessionCommand::Undo, {}, {}});
+    if (k == rig.targets.size() / 2 + 100) session.post(SessionCommand{SessionCommand::Redo, {}, {}});
     const SessionTick out = session.tick(device, t);
     sweeps += out.sweeps, published += out.published, contact += out.out.status != ProxyStatus::Free;
   }

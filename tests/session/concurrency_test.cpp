@@ -22,6 +22,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -224,7 +225,7 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   auto control = [&] {  // undo and redo from the user's hand, off the servo thread
     for (int k = 0; !done.load(); ++k) {
       std::this_thread::sleep_for(std::chrono::milliseconds(150));
-      session.post(SessionCommand{k % 3 == 2 ? SessionCommand::Redo : SessionCommand::Undo, {}});
+      session.post(SessionCommand{k % 3 == 2 ? SessionCommand::Redo : SessionCommand::Undo, {}, {}});
     }
   };
   std::thread r1(renderer), r2(renderer), s1(saver), c1(control);
@@ -313,6 +314,13 @@ TEST(Concurrency, StudioServoThreadAndRenderThread) {
         c.kind = SessionCommand::Undo;
         session.post(c);
       }
+      if (frame % 30 == 15) {  // the panel's live stiffness and friction
+        SessionCommand c;
+        c.kind = SessionCommand::SetProxy;
+        c.proxy.force.stiffness = frame % 60 == 15 ? 2000 : 1000;
+        c.proxy.friction_scale = frame % 60 == 15 ? 0.5 : 1.0;
+        session.post(c);
+      }
       // The cursor sweeps over the sphere 0.04 model units deep, the button held in strokes.
       const double a = 0.05 * frame;
       studio::MouseHandle h;
@@ -339,6 +347,103 @@ TEST(Concurrency, StudioServoThreadAndRenderThread) {
   EXPECT_EQ(torn, 0);
   EXPECT_GT(read_epochs, 0) << "nothing was published";
   EXPECT_GT(session.stats().sweeps, 0);
+}
+
+namespace {
+
+// A handle that follows a given path, one point per tick (1 kHz).
+class PathDevice final : public HapticDevice {
+ public:
+  explicit PathDevice(std::vector<Vec3> path) : path_(std::move(path)) {}
+  bool begin_frame(DeviceState& s) noexcept override {
+    if (k_ >= path_.size()) return false;
+    s.velocity = k_ > 0 ? Vec3((path_[k_] - path_[k_ - 1]) * 1000.0) : Vec3::Zero();
+    s.position = path_[k_++];
+    return true;
+  }
+  void end_frame(const Vec3&) noexcept override {}
+  DeviceSpec spec() const noexcept override { return {}; }
+
+ private:
+  std::vector<Vec3> path_;
+  size_t k_ = 0;
+};
+
+}  // namespace
+
+// The studio's live stiffness and friction (SessionCommand::SetProxy, posted as the panel does):
+// applied from the next tick, the proxy's contact kept. Doubling the stiffness doubles the force at
+// the same penetration; scaling the friction scales the ratio of tangential to normal force while
+// the handle slides (stick-slip between the painted μd and μs).
+TEST(Session, LiveStiffnessAndFriction) {
+  SlabModel m = sphere_shell();
+  m.friction_static.assign(m.samples.count, 0.5f);
+  m.friction_dynamic.assign(m.samples.count, 0.4f);
+  SessionOptions o;
+  o.publish = false;
+  SculptSession session(std::move(m), Workspace{Vec3::Zero(), 10.0}, o);  // 1 model unit = 0.1 m
+  // Press in 1 mm below the top vertex (on the surface), hold, then slide along a great circle.
+  std::vector<Vec3> path;
+  for (int k = 0; k <= 100; ++k) path.push_back(Vec3(0, 0, 0.102 - 0.003 * k / 100.0));
+  for (int k = 0; k < 200; ++k) path.push_back(path.back());
+  const double depth = 0.099;
+  for (int k = 1; k <= 3100; ++k) {
+    const double a = 1e-4 * k;  // 0.01 mm per tick: 10 mm/s
+    path.push_back(depth * Vec3(std::sin(a), 0, std::cos(a)));
+  }
+  PathDevice device(path);
+  ServoTick t;
+  auto tick = [&] {
+    const SessionTick r = session.tick(device, t);
+    t.time_s = 1e-3 * double(++t.tick);
+    return r;
+  };
+  auto post = [&](double stiffness, double friction) {
+    SessionCommand c;
+    c.kind = SessionCommand::SetProxy;
+    c.proxy = session.proxy_params();
+    c.proxy.force.stiffness = stiffness;
+    c.proxy.friction_scale = friction;
+    EXPECT_TRUE(session.post(c));
+  };
+  SessionTick held;
+  for (int k = 0; k < 300; ++k) held = tick();
+  ASSERT_EQ(session.proxy_params().force.stiffness, 1000.0);
+  const double f1 = held.force.norm();
+  // 1000 N/m at about 1 mm (the surface is flat between the coarse vertices, at most 0.4 mm lower)
+  EXPECT_GT(f1, 0.6);
+  EXPECT_LT(f1, 1.05);
+  post(2000, 1.0);
+  const SessionTick doubled = tick();  // the same handle position (the path holds)
+  EXPECT_EQ(session.proxy_params().force.stiffness, 2000.0);
+  EXPECT_NEAR(doubled.force.norm() / f1, 2.0, 1e-3) << "doubling the stiffness must double the force";
+  EXPECT_LT((doubled.out.contact.surface_point - held.out.contact.surface_point).norm(), 1e-9)
+      << "the contact must go on where it was";
+
+  // Tangential / normal force about the proxy's normal, averaged over 900 ticks of sliding.
+  auto slide_ratio = [&](double friction) {
+    post(1000, friction);
+    double sum = 0;
+    int n = 0;
+    for (int k = 0; k < 1000; ++k) {
+      const SessionTick r = tick();
+      if (k < 100 || !r.out.contact.in_shell()) continue;  // the proxy settles into the new friction
+      const Vec3 nrm = r.out.contact.normal.normalized();
+      const double fn = r.force.dot(nrm);
+      if (fn <= 1e-3) continue;
+      sum += (r.force - fn * nrm).norm() / fn, ++n;
+    }
+    EXPECT_GT(n, 800);
+    return n > 0 ? sum / n : -1.0;
+  };
+  const double full = slide_ratio(1.0), half = slide_ratio(0.5), none = slide_ratio(0.0);
+  EXPECT_GE(full, 0.4 * 0.95) << "sliding with μd = 0.4, μs = 0.5";
+  EXPECT_LE(full, 0.5 * 1.05);
+  EXPECT_GE(half, 0.2 * 0.95) << "friction × 0.5: μd = 0.2, μs = 0.25";
+  EXPECT_LE(half, 0.25 * 1.05);
+  EXPECT_LT(none, 0.02) << "frictionless";
+  std::printf("force %.3f N at 1000 N/m, x%.4f at 2000 N/m; tangential/normal while sliding: %.3f, %.3f, %.3f\n", f1,
+              doubled.force.norm() / f1, full, half, none);
 }
 
 }  // namespace hdm

@@ -191,6 +191,64 @@ TEST_F(StudioSession, ServoKeptItsRateWhileRenderingAndEditing) {
               report["frame_ms"]["median"].get<double>());
 }
 
+// The live stiffness (a "tool" step, as the panel's slider): at the same handle position and
+// contact, doubling the stiffness doubles the force, and the force is k times the penetration.
+TEST_F(StudioSession, LiveStiffnessScalesTheForce) {
+  const auto& p = report["probes"];
+  ASSERT_TRUE(p.contains("soft") && p.contains("stiff")) << "the script's probes are missing";
+  const auto v = [](const nlohmann::json& j) {
+    return Eigen::Vector3d(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  };
+  const auto& a = p["soft"];
+  const auto& b = p["stiff"];
+  ASSERT_TRUE(a["contact"].get<bool>() && b["contact"].get<bool>()) << "the probe is not on the surface";
+  const double depth = (v(a["hip_m"]) - v(a["proxy_m"])).norm();  // [m]
+  EXPECT_GT(depth, 0.5e-3) << "the tool should be about 1 mm deep";
+  EXPECT_LT((v(a["hip_m"]) - v(b["hip_m"])).norm(), 1e-9) << "the handle moved between the probes";
+  EXPECT_LT((v(a["proxy_m"]) - v(b["proxy_m"])).norm(), 1e-6) << "the contact moved between the probes";
+  const double fa = v(a["force_n"]).norm(), fb = v(b["force_n"]).norm();
+  EXPECT_NEAR(fa, 500 * depth, 0.01 * fa) << "500 N/m at " << depth * 1e3 << " mm";
+  EXPECT_NEAR(fb / fa, 2.0, 0.01) << "doubling the stiffness must double the force";
+}
+
+// The brush's footprint is drawn on the surface: the pixels it changes lie within the brush's
+// reach of the cursor and all on the model (none on the white background, where a circle in the
+// tangent plane would stick out over a curved surface). The reach: the carve sphere of radius r
+// has its deepest point at the handle, `depth` below the surface point under the cursor, so its
+// centre is within r + depth of that point and the footprint within 2r + depth.
+TEST_F(StudioSession, FootprintIsDrawnOnTheSurface) {
+  const Image plain = load("plain.png"), mark = load("footprint.png");
+  ASSERT_EQ(plain.w, before.w);
+  ASSERT_EQ(mark.w, before.w);
+  const int w = plain.w, h = plain.h;
+  const double px_per_mm_max = 1.31 * (0.9 * h / 2) / (80 * 0.8);  // as in the strokes' test
+  const Eigen::Vector2d cursor(0.46 * w, 0.46 * h);
+  int64_t changed = 0, far = 0, background = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (plain.diff(mark, x, y) <= kChanged) continue;
+      ++changed;
+      const bool beyond = (Eigen::Vector2d(x + 0.5, y + 0.5) - cursor).norm() > (2 * 4 + 1) * px_per_mm_max + 4;
+      if (beyond && far < 5) std::printf("footprint pixel beyond the reach at (%d, %d)\n", x, y);
+      far += beyond;
+      const size_t k = (static_cast<size_t>(y) * w + x) * 3;
+      background += plain.rgb[k] == 255 && plain.rgb[k + 1] == 255 && plain.rgb[k + 2] == 255;
+    }
+  EXPECT_GT(changed, 30) << "no footprint drawn";
+  EXPECT_EQ(far, 0) << "footprint pixels beyond the brush's reach";
+  EXPECT_EQ(background, 0) << "footprint pixels off the model";
+}
+
+// The mouse's smoothing: the handle moves along each frame's motion over the servo's ticks
+// instead of jumping by it in one tick (so the damping never sees a one-tick velocity spike).
+TEST_F(StudioSession, MouseMotionIsSmoothedBetweenFrames) {
+  const auto& m = report["mouse"];
+  const double frame = m["max_frame_step_m"].get<double>(), tick = m["max_tick_step_m"].get<double>();
+  ASSERT_GT(frame, 1e-3) << "the cursor never moved";
+  EXPECT_LE(tick, 0.5 * frame) << "the handle jumped by a frame's motion in one tick";
+  std::printf("mouse: largest move per frame %.3f mm, per servo tick %.4f mm\n", frame * 1e3, tick * 1e3);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {

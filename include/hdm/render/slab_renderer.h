@@ -5,6 +5,8 @@
 /// editor re-uploads only the slabs it changed (paper §6: one display list per slab, rebuilt when
 /// the haptic process flags the slab).
 
+#include <hdm/core/types.h>
+
 #include <memory>
 
 namespace hdm {
@@ -81,6 +83,12 @@ class SlabRenderer {
   ///                          vertices, normals and colours); clamped to [0, level_count()).
   /// @throws RenderError if OpenGL reports an error. Draws nothing before upload_all().
   void draw(const RenderCamera& camera, bool show_slab_edges = false, int level = 0) const;
+
+  /// @brief The brush's footprint for the next draws: the surface inside the sphere of @p radius
+  /// [model units] about @p centre [model units] is tinted and its rim (where the surface crosses the
+  /// sphere) drawn as a line about 2 pixels wide, on the surface itself, so it follows every bump.
+  /// A radius <= 0 or a non-finite argument turns it off (the default). noexcept, O(1): a uniform.
+  void set_footprint(const Vec3& centre, double radius) noexcept;
 
   /// Levels of detail available: 1 + the number of times n halves evenly (n = 16: 5 levels,
   /// the coarsest one triangle per slab); 0 before upload_all().

@@ -40,11 +40,13 @@ struct SessionOptions {
 
 /// A command for the servo thread from another thread (post()).
 struct SessionCommand {
-  /// What the servo thread does: switch to `brush`, undo or redo the last stroke.
+  /// What the servo thread does: switch to `brush`, undo or redo the last stroke, or render with
+  /// `proxy` (stiffness, friction, ...: the studio's live controls).
   /// @{
-  enum Kind : uint8_t { SetBrush, Undo, Redo } kind = SetBrush;
+  enum Kind : uint8_t { SetBrush, Undo, Redo, SetProxy } kind = SetBrush;
   /// @}
-  Brush brush;  ///< SetBrush: used from the next stroke on
+  Brush brush;        ///< SetBrush: used from the next stroke on
+  ProxyParams proxy;  ///< SetProxy: the force and proxy parameters from this tick on (the proxy's state is kept)
 };
 
 /// What one tick did (for the caller's records).
@@ -107,6 +109,11 @@ class SculptSession {
   void undo() noexcept;
   /// @brief Queues a redo of the last undone stroke (servo thread). noexcept.
   void redo() noexcept;
+  /// @brief Renders with @p params from the next tick on (servo thread; SessionCommand::SetProxy from
+  /// another thread). The proxy's state is kept, so a contact goes on at the new stiffness. noexcept.
+  void set_proxy_params(const ProxyParams& params) noexcept;
+  /// The force and proxy parameters in use. Servo thread, or while no servo loop runs.
+  const ProxyParams& proxy_params() const noexcept;
   /// @brief Sends a command to the servo thread from one other thread; false when the queue is
   /// full. noexcept, wait-free.
   bool post(const SessionCommand& command) noexcept;
