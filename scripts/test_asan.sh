@@ -12,7 +12,11 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$here/build-asan"
 start=$(date +%s)
 flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+# -O1 and line tables only (-g1): the level the sanitizers recommend, and a quicker build (with the
+# CLI's unity batches, 1,298 s of compiler CPU, about 11 min on 2 cores, against 19 min at -O2 -g);
+# reports still name the file and line.
 cmake -S "$here" -B "$out" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="$flags" \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DHDM_BUILD_APPS=ON -DHDM_BUILD_STUDIO=ON -DHDM_BUILD_TESTS=ON -DHDM_BUILD_BENCH=OFF -DHDM_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$out" -j "$(nproc)"
@@ -23,7 +27,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1:hard_rss_li
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$here/scripts/lsan.supp:print_suppressions=0"
 export HDM_SANITIZED=1
-gl='^studio_session$|^RenderPng\.|^SlabRenderer\.'
+gl='^studio_session$|^studio_bridge$|^RenderPng\.|^SlabRenderer\.'
 (cd "$out" && ctest --output-on-failure -j "$(nproc)" -E "^python\\.|$gl")
 # The tests that open OpenGL (EGL or Xvfb): Mesa's drivers are dlopen'd and unloaded, so
 # LeakSanitizer cannot name the module of their leaks, and its tracer has crashed at exit beside
