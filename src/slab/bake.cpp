@@ -5,6 +5,7 @@
 #include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/mesh/decimate_mesh.h>
+#include <hdm/mesh/flip_slivers.h>
 #include <hdm/slab/bake.h>
 
 #include <tbb/blocked_range.h>
@@ -33,11 +34,13 @@ void progress(const BakeOptions& o, const char* stage, double f) {
 }
 
 // Decimate to about `target` triangles (decimate_mesh(): edge collapses under the link condition,
-// so the coarse mesh keeps the input's topology and orientation).
+// so the coarse mesh keeps the input's topology and orientation), then flip the caps the
+// decimation kept (an input vertex on another face's edge): no slab over a cap is valid.
 Coarse decimate(const TriangleMesh& mesh, int target) {
   DecimateOptions o;
   o.target_faces = target;
   TriangleMesh m = decimate_mesh(mesh, o);
+  flip_slivers(m, o.min_angle_deg);
   return Coarse{std::move(m.vertices), std::move(m.faces)};
 }
 
