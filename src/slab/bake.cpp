@@ -35,12 +35,14 @@ void progress(const BakeOptions& o, const char* stage, double f) {
 
 // Decimate to about `target` triangles (decimate_mesh(): edge collapses under the link condition,
 // so the coarse mesh keeps the input's topology and orientation), then flip the caps the
-// decimation kept (an input vertex on another face's edge): no slab over a cap is valid.
+// decimation kept (an input vertex on another face's edge): no slab over a cap is valid. Only
+// near-degenerate caps (smallest angle below half a degree): flipping the milder caps along the
+// crossing curves of a resolved union made slabs overlap there (bones.off).
 Coarse decimate(const TriangleMesh& mesh, int target) {
   DecimateOptions o;
   o.target_faces = target;
   TriangleMesh m = decimate_mesh(mesh, o);
-  flip_slivers(m, o.min_angle_deg);
+  flip_slivers(m, 0.5);
   return Coarse{std::move(m.vertices), std::move(m.faces)};
 }
 
