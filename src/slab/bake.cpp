@@ -563,15 +563,22 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
         progress(o, "cast rays", double(b + 1) / blocks);
       }
       // Grow the shell where rays missed: outward if the outer end is inside the input, else inward.
+      // (The inside tests, three long rays each, run in parallel; the flags are gathered after.)
       int64_t misses = 0;
       std::vector<uint8_t> grow_in(nv, 0), grow_out(nv, 0);
+      std::vector<uint8_t> outer_inside(ns, 0);
+      tbb::parallel_for(tbb::blocked_range<int>(0, ns, 512), [&](const tbb::blocked_range<int>& r) {
+        for (int s = r.begin(); s < r.end(); ++s) {
+          if (!missed[s]) continue;
+          Vec3 p0, p1;
+          projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+          outer_inside[s] = input.inside(p1);
+        }
+      });
       for (int s = 0; s < ns; ++s) {
         if (!missed[s]) continue;
         ++misses;
-        Vec3 p0, p1;
-        projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
-        const bool out = input.inside(p1);
-        for (int32_t v : model.slabs[model.samples.home_slab[s]]) (out ? grow_out : grow_in)[v] = 1;
+        for (int32_t v : model.slabs[model.samples.home_slab[s]]) (outer_inside[s] ? grow_out : grow_in)[v] = 1;
       }
       rep.ray_misses = misses;
       if (misses == 0 || round == 7) break;
@@ -604,9 +611,10 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       if (const double d = dist(k / 16.0); d < best) best = d, best_t = k / 16.0;
     double lo = std::max(0.0, best_t - 1 / 16.0), hi = std::min(1.0, best_t + 1 / 16.0);
     const double g = (std::sqrt(5.0) - 1) / 2;
-    for (int it = 0; it < 20; ++it) {
+    for (int it = 0; it < 20; ++it) {  // each distance once (two closest-point queries per step)
       const double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-      (dist(x1) < dist(x2) ? hi : lo) = dist(x1) < dist(x2) ? x2 : x1;
+      const bool left = dist(x1) < dist(x2);
+      (left ? hi : lo) = left ? x2 : x1;
     }
     model.displacement[s] = static_cast<float>(std::clamp(0.5 * (lo + hi), 0.0, 1.0));
   });
