@@ -227,29 +227,6 @@ void untangle(Coarse& c) {
   }
 }
 
-// Whether segment pq meets triangle abc (Möller–Trumbore, endpoints included).
-bool segment_meets(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 d = q - p, e1 = b - a, e2 = c - a, h = d.cross(e2);
-  const double det = e1.dot(h);
-  if (!(std::abs(det) > 1e-300)) return false;
-  const Vec3 s = p - a;
-  const double u = s.dot(h) / det;
-  if (u < 0 || u > 1) return false;
-  const Vec3 r = s.cross(e1);
-  const double v = d.dot(r) / det;
-  if (v < 0 || u + v > 1) return false;
-  const double t = e2.dot(r) / det;
-  return t >= 0 && t <= 1;
-}
-
-// Whether two triangles cross (an edge of one meets the other).
-bool triangles_cross(const Vec3 (&x)[3], const Vec3 (&y)[3]) {
-  for (int k = 0; k < 3; ++k)
-    if (segment_meets(x[k], x[(k + 1) % 3], y[0], y[1], y[2]) || segment_meets(y[k], y[(k + 1) % 3], x[0], x[1], x[2]))
-      return true;
-  return false;
-}
-
 // Distance along ray x + t·d (t > 0) to the coarse surface, ignoring faces around vertex v.
 double free_distance(const ExactMeshQuery& coarse, const VertexFrame& fr, int32_t v, const Vec3& x, const Vec3& d,
                      double far, std::vector<SegmentHit>& hits) {
@@ -510,27 +487,13 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
     checked_outer = model.outer;
     return known_pairs;
   };
-  // Pairs whose coarse triangles cross (a coarse mesh too coarse where parts touch, or an open
-  // input that crosses itself) overlap at any thickness: thinning their shell cannot separate them
-  // and only costs rays (man.off's first round: 34 such pairs were thinned 12 times in each of 8
-  // shell rounds). They are left as they are and reported; the next round's finer mesh may part them.
-  auto coarse_cross = [&](int32_t a, int32_t b) {
-    const Tri &s = model.slabs[a], &t = model.slabs[b];
-    const Vec3 x[3] = {coarse.vertices[s[0]], coarse.vertices[s[1]], coarse.vertices[s[2]]};
-    const Vec3 y[3] = {coarse.vertices[t[0]], coarse.vertices[t[1]], coarse.vertices[t[2]]};
-    return triangles_cross(x, y);
-  };
   auto separate = [&] {
     for (int it = 0; it < 12; ++it) {
       const auto pairs = current_pairs();
-      bool any = false;
-      for (const auto& [a, b] : pairs) {
-        if (coarse_cross(a, b)) continue;
-        any = true;
+      if (pairs.empty()) break;
+      for (const auto& [a, b] : pairs)
         for (int32_t f : {a, b})
           for (int32_t v : model.slabs[f]) shrink(v, 0.9);
-      }
-      if (!any) break;
       for (int fix = 0; fix < 40; ++fix) {
         bool bad = false;
         for (size_t f = 0; f < model.slabs.size(); ++f)
