@@ -71,11 +71,21 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
   std::vector<Vec3> back_points;
   if (buried) {
     std::vector<uint8_t> exposed(in.vertices.size(), 0);
+    std::vector<Vec3> normal(in.vertices.size(), Vec3::Zero());
     for (size_t t = 0; t < in.faces.size(); ++t)
       if (!(*buried)[t]) {
-        for (int32_t v : in.faces[t]) exposed[v] = 1;
+        const Tri& f = in.faces[t];
+        const Vec3 n = (in.vertices[f[1]] - in.vertices[f[0]]).cross(in.vertices[f[2]] - in.vertices[f[0]]);
+        for (int32_t v : f) exposed[v] = 1, normal[v] += n;
         back_points.push_back(centroid(in, static_cast<int64_t>(t)));
       }
+    // A vertex of an exposed face may itself lie inside another part (the face crosses it): it is
+    // on the material's surface only if the point just in front of it is outside, as for faces.
+    const double eps = 1e-5 * diag;
+    tbb::parallel_for(size_t(0), in.vertices.size(), [&](size_t v) {
+      if (exposed[v] && normal[v].norm() > 0 && input.inside(in.vertices[v] + eps * normal[v].normalized()))
+        exposed[v] = 0;
+    });
     for (size_t v = 0; v < in.vertices.size(); ++v)
       if (exposed[v]) back_points.push_back(in.vertices[v]);
   } else {

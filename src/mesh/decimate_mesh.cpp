@@ -88,6 +88,41 @@ double visibility(const std::vector<Vec3>& normals) {
   return best;
 }
 
+// visibility(), made exact where it is below 0.5: the max-min optimum is fixed by one, two or three
+// active normals (that normal, a pair's bisector, a triple's circumcentre; triples only up to 24
+// normals). Whether a star is folded is decided on this: the quick estimate took barely seen stars
+// of a resolved union for folded ones, and the "unfolding" collapses then folded good stars
+// (bones.off: a star seen at 0.03 merged into one seen at -0.09). The acceptance of ordinary
+// collapses stays on the quick, conservative estimate (more collapses near barely seen stars
+// cost fidelity: ChineseDragon-10kv.off needed one more round).
+double exact_visibility_of(const std::vector<Vec3>& normals) {
+  double best = visibility(normals);
+  if (best > 0.5) return best;
+  auto consider = [&](Vec3 c) {
+    const double len = c.norm();
+    if (!(len > 1e-12)) return;
+    c /= len;
+    double worst = 2;
+    for (const Vec3& n : normals)
+      if ((worst = std::min(worst, c.dot(n))) <= best) return;
+    best = worst;
+  };
+  const size_t k = normals.size();
+  for (size_t a = 0; a < k; ++a) {
+    consider(normals[a]);
+    for (size_t b = a + 1; b < k; ++b) {
+      consider(normals[a] + normals[b]);
+      if (k > 24) continue;
+      for (size_t c = b + 1; c < k; ++c) {
+        Vec3 x = (normals[a] - normals[b]).cross(normals[a] - normals[c]);
+        if (x.dot(normals[a]) < 0) x = -x;
+        consider(x);
+      }
+    }
+  }
+  return best;
+}
+
 // One vertex per fan: a vertex whose faces form several edge-connected fans (a pinch) is split,
 // since the link condition is defined on manifold vertices. Faces keep their orientation.
 TriangleMesh split_pinched_vertices(const TriangleMesh& mesh) {
@@ -573,14 +608,14 @@ class Simplifier {
     return true;
   }
 
-  // Exact (as visibility() measures it) visibility of v's star.
+  // Visibility of v's star as it is (exact_visibility_of()).
   double exact_visibility(int32_t v) {
     before_.clear();
     for_faces(v, [&](int32_t f, int) {
       const Vec3 n = face_normal(f);
       if (n.norm() > 0) before_.push_back(n.normalized());
     });
-    return visibility(before_);
+    return exact_visibility_of(before_);
   }
 
   // Whether link vertex w's faces stay visible (DecimateOptions::min_visibility) with a and b
@@ -610,7 +645,12 @@ class Simplifier {
     const double was = visibility(before_);
     vis_[w] = std::acos(std::clamp(was, -1.0, 1.0));
     const double will = visibility(after_);
-    return will >= o_.min_visibility || will >= was;
+    if (will >= o_.min_visibility) return true;
+    // "No worse seen" on the quick estimate alone let a barely seen star fold (the estimate is a
+    // bound, not a measure): the exact values must not fold it either.
+    if (!(will >= was)) return false;
+    const double will_exact = exact_visibility_of(after_);
+    return will_exact > kFold || will_exact >= exact_visibility_of(before_);
   }
 
   DecimateOptions o_;

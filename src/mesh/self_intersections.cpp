@@ -16,6 +16,7 @@
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/stitch_borders.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/Polygon_mesh_processing/repair.h>
 
 #include <array>
 #include <string>
@@ -110,6 +111,27 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
       if (sm.is_border(h)) PMP::triangulate_hole(sm, h, CGAL::Emptyset_iterator());
     sm.collect_garbage();
     rep.closed_cracks = static_cast<int64_t>(cycles.size());
+  }
+  // Parts that touch at a point leave a pinch: one copy per fan, each moved a little into its own
+  // fan so the copies do not coincide (the bake finds no room for a shell between coincident corners).
+  {
+    std::vector<std::vector<Mesh::Vertex_index>> copies;
+    PMP::duplicate_non_manifold_vertices(sm, CGAL::parameters::output_iterator(std::back_inserter(copies)));
+    for (const auto& group : copies) {
+      std::vector<Point> moved;
+      for (Mesh::Vertex_index v : group) {
+        double c[3] = {0, 0, 0};
+        int k = 0;
+        for (Mesh::Vertex_index u : CGAL::vertices_around_target(sm.halfedge(v), sm))
+          c[0] += sm.point(u).x(), c[1] += sm.point(u).y(), c[2] += sm.point(u).z(), ++k;
+        const Point& p = sm.point(v);
+        moved.push_back(k ? Point(p.x() + 0.01 * (c[0] / k - p.x()), p.y() + 0.01 * (c[1] / k - p.y()),
+                                  p.z() + 0.01 * (c[2] / k - p.z()))
+                          : p);
+      }
+      for (size_t i = 0; i < group.size(); ++i) sm.point(group[i]) = moved[i];
+    }
+    rep.split_pinches = static_cast<int64_t>(copies.size());
   }
   if (!CGAL::is_closed(sm) || sm.number_of_faces() == 0) return keep();
   rep.pairs_after = count(sm);

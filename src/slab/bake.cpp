@@ -5,6 +5,7 @@
 #include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/mesh/decimate_mesh.h>
+#include <hdm/mesh/flip_slivers.h>
 #include <hdm/slab/bake.h>
 
 #include <tbb/blocked_range.h>
@@ -33,11 +34,15 @@ void progress(const BakeOptions& o, const char* stage, double f) {
 }
 
 // Decimate to about `target` triangles (decimate_mesh(): edge collapses under the link condition,
-// so the coarse mesh keeps the input's topology and orientation).
+// so the coarse mesh keeps the input's topology and orientation), then flip the caps the
+// decimation kept (an input vertex on another face's edge): no slab over a cap is valid. Only
+// near-degenerate caps (smallest angle below half a degree): flipping the milder caps along the
+// crossing curves of a resolved union made slabs overlap there (bones.off).
 Coarse decimate(const TriangleMesh& mesh, int target) {
   DecimateOptions o;
   o.target_faces = target;
   TriangleMesh m = decimate_mesh(mesh, o);
+  flip_slivers(m, 0.5);
   return Coarse{std::move(m.vertices), std::move(m.faces)};
 }
 
@@ -143,44 +148,82 @@ VertexFrame vertex_frames(const Coarse& c, int smoothing) {
 
 // A vertex whose incident face normals do not fit in an open hemisphere (a star folded by the
 // decimation) admits no ray direction that sees every face, so no thickness makes its slabs valid.
-// Move such vertices towards the centroid of their one-ring until every star is visible from one
-// direction; the displacement map records the input surface wherever the vertex goes.
+// Move such vertices towards the centroid of their one-ring (alone first, then with the ring)
+// until every star is visible from one direction; the displacement map records the input surface
+// wherever the vertex goes. A move is kept only when it leaves the worst seen star around it
+// (the moved vertices and their neighbours) better seen than before: an unchecked Laplacian step
+// folds the neighbours' stars (bones.off: 5 folded stars became 6).
 void untangle(Coarse& c) {
   const size_t nv = c.vertices.size();
-  std::vector<uint8_t> region(nv);
-  // The vertex alone moves first; its ring follows gently for a few steps only, since every step
-  // of the ring also moves good vertices off the input.
+  const VertexFrame topo = vertex_frames(c, 0);  // the CSR vertex -> faces; positions change below
+  std::vector<Vec3> normals;
+  auto seen = [&](int32_t v) {
+    normals.clear();
+    for (int32_t k = topo.offsets[v]; k < topo.offsets[v + 1]; ++k) {
+      const Tri& t = c.faces[topo.faces[k]];
+      const Vec3 n = (c.vertices[t[1]] - c.vertices[t[0]]).cross(c.vertices[t[2]] - c.vertices[t[0]]);
+      if (n.norm() > 0) normals.push_back(n.normalized());
+    }
+    if (normals.empty()) return 1.0;
+    Vec3 mean = Vec3::Zero();
+    for (const Vec3& n : normals) mean += n;
+    return min_dot(max_min_direction(mean.norm() > 0 ? Vec3(mean.normalized()) : normals[0], normals), normals);
+  };
+  std::vector<int32_t> ring, around;
+  auto ring_of = [&](int32_t v, std::vector<int32_t>& out) {
+    out.clear();
+    for (int32_t k = topo.offsets[v]; k < topo.offsets[v + 1]; ++k)
+      for (int32_t u : c.faces[topo.faces[k]])
+        if (u != v) out.push_back(u);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  };
+  auto centroid = [&](int32_t v) {
+    ring_of(v, ring);
+    Vec3 m = Vec3::Zero();
+    for (int32_t u : ring) m += c.vertices[u];
+    return ring.empty() ? c.vertices[v] : Vec3(m / double(ring.size()));
+  };
   for (int it = 0; it < 20; ++it) {
-    const VertexFrame fr = vertex_frames(c, 0);
-    // A vertex needs moving when its best direction sees some incident face at a grazing angle or
-    // not at all. Moving it alone cannot help when its neighbours are folded too, so the one-ring
-    // moves with it (a local Laplacian step, Jacobi order).
-    std::fill(region.begin(), region.end(), uint8_t(0));
-    bool any = false;
-    for (size_t v = 0; v < nv; ++v) {
-      double worst = 2;
-      for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
-        worst = std::min(worst, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
-      if (worst > 0.02) continue;
-      any = true;
-      region[v] = 2;
-      if (it >= 10)  // the vertex alone first; its ring too when that was not enough
-        for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
-          for (int32_t u : c.faces[fr.faces[k]]) region[u] = std::max<uint8_t>(region[u], 1);
+    bool moved = false;
+    for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) {
+      if (seen(v) > 0.02) continue;
+      // The vertices a move of v (and, from the 10th sweep, of its ring) changes the stars of.
+      std::vector<int32_t> movers{v};
+      if (it >= 10) {
+        ring_of(v, ring);
+        movers.insert(movers.end(), ring.begin(), ring.end());
+      }
+      std::vector<int32_t> affected;
+      for (int32_t m : movers) {
+        ring_of(m, around);
+        affected.push_back(m);
+        affected.insert(affected.end(), around.begin(), around.end());
+      }
+      std::sort(affected.begin(), affected.end());
+      affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+      auto worst = [&] {
+        double w = 2;
+        for (int32_t u : affected) w = std::min(w, seen(u));
+        return w;
+      };
+      const double before = worst();
+      std::vector<Vec3> old(movers.size()), target(movers.size());
+      for (size_t k = 0; k < movers.size(); ++k) old[k] = c.vertices[movers[k]], target[k] = centroid(movers[k]);
+      for (const double step : {0.5, 0.25, 0.1}) {
+        for (size_t k = 0; k < movers.size(); ++k) {
+          const double s = k ? 0.5 * step : step;  // the ring follows gently
+          c.vertices[movers[k]] = (1 - s) * old[k] + s * target[k];
+        }
+        if (worst() > before + 1e-6) {
+          moved = true;
+          break;
+        }
+        for (size_t k = 0; k < movers.size(); ++k) c.vertices[movers[k]] = old[k];
+      }
     }
-    if (!any) return;
-    std::vector<Vec3> next = c.vertices;
-    for (size_t v = 0; v < nv; ++v) {
-      if (!region[v]) continue;
-      Vec3 centroid = Vec3::Zero();
-      int count = 0;
-      for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
-        for (int32_t u : c.faces[fr.faces[k]])
-          if (u != static_cast<int32_t>(v)) centroid += c.vertices[u], ++count;
-      const double step = region[v] == 2 || it < 10 ? 0.5 : 0.25;  // the ring follows gently
-      if (count) next[v] = (1 - step) * c.vertices[v] + step * centroid / count;
-    }
-    c.vertices = std::move(next);
+    if (!moved && it >= 10) return;
+    if (!moved) it = 9;  // the vertex alone no longer helps: move its ring with it
   }
 }
 
@@ -520,15 +563,22 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
         progress(o, "cast rays", double(b + 1) / blocks);
       }
       // Grow the shell where rays missed: outward if the outer end is inside the input, else inward.
+      // (The inside tests, three long rays each, run in parallel; the flags are gathered after.)
       int64_t misses = 0;
       std::vector<uint8_t> grow_in(nv, 0), grow_out(nv, 0);
+      std::vector<uint8_t> outer_inside(ns, 0);
+      tbb::parallel_for(tbb::blocked_range<int>(0, ns, 512), [&](const tbb::blocked_range<int>& r) {
+        for (int s = r.begin(); s < r.end(); ++s) {
+          if (!missed[s]) continue;
+          Vec3 p0, p1;
+          projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+          outer_inside[s] = input.inside(p1);
+        }
+      });
       for (int s = 0; s < ns; ++s) {
         if (!missed[s]) continue;
         ++misses;
-        Vec3 p0, p1;
-        projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
-        const bool out = input.inside(p1);
-        for (int32_t v : model.slabs[model.samples.home_slab[s]]) (out ? grow_out : grow_in)[v] = 1;
+        for (int32_t v : model.slabs[model.samples.home_slab[s]]) (outer_inside[s] ? grow_out : grow_in)[v] = 1;
       }
       rep.ray_misses = misses;
       if (misses == 0 || round == 7) break;
@@ -561,9 +611,10 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       if (const double d = dist(k / 16.0); d < best) best = d, best_t = k / 16.0;
     double lo = std::max(0.0, best_t - 1 / 16.0), hi = std::min(1.0, best_t + 1 / 16.0);
     const double g = (std::sqrt(5.0) - 1) / 2;
-    for (int it = 0; it < 20; ++it) {
+    for (int it = 0; it < 20; ++it) {  // each distance once (two closest-point queries per step)
       const double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-      (dist(x1) < dist(x2) ? hi : lo) = dist(x1) < dist(x2) ? x2 : x1;
+      const bool left = dist(x1) < dist(x2);
+      (left ? hi : lo) = left ? x2 : x1;
     }
     model.displacement[s] = static_cast<float>(std::clamp(0.5 * (lo + hi), 0.0, 1.0));
   });

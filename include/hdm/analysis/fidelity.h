@@ -28,8 +28,10 @@ struct Fidelity {
 /// @param model   slab model with derived data (rebuild_derived()).
 /// @param input   exact queries on the mesh @p model was baked from (same frame and units).
 /// @param buried  optional #F flags of input faces that are not on the surface of the material
-///                (buried_faces()): their centroids, and vertices all of whose faces are buried,
-///                are left out of the input-to-model direction.
+///                (buried_faces()): their centroids, vertices all of whose faces are buried, and
+///                vertices inside the material (the point 10⁻⁵ of the diagonal in front of the
+///                vertex, along its exposed faces' normal, is inside: a vertex of a face that
+///                crosses another part) are left out of the input-to-model direction.
 /// @note Parallel (TBB); O((#samples + #V + #F) log #F).
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
                           const std::vector<uint8_t>* buried = nullptr);

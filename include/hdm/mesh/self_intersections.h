@@ -25,6 +25,7 @@ struct SelfIntersectionReport {
   int64_t faces_after = 0;    ///< faces of the result
   int64_t buried_faces = 0;   ///< faces (after refinement) dropped as inside the union
   int64_t closed_cracks = 0;  ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
+  int64_t split_pinches = 0;  ///< vertices where parts of the union touch at a point, split in one copy per fan
   bool resolved = false;      ///< the result is the union's boundary; false: the input was kept
 };
 
@@ -35,7 +36,11 @@ struct SelfIntersectionReport {
 /// stitched along the curves (`stitch_borders`). Faces away from the crossings are unchanged, so
 /// the result is the input's own exposed surface, cut exactly where the parts meet. Where parts
 /// touch along an edge or a vertex, stitching leaves cracks of a few edges (man.off: 7 of 3 to 4
-/// edges); those of at most 12 edges are triangulated flat (`triangulate_hole`).
+/// edges); those of at most 12 edges are triangulated flat (`triangulate_hole`). Where they touch
+/// at a vertex (a pinch: its faces form several fans, cow.off), the vertex gets one copy per fan
+/// (`duplicate_non_manifold_vertices`), each moved by 1% towards the centroid of its own fan's
+/// ring: the copies no longer coincide, so each part gets a shell of its own (two coincident
+/// corners leave no room for one) and the result is a manifold surface.
 /// @param mesh  closed, edge-manifold triangles, oriented by orient_outward() [model units].
 /// @param[out] report  counts (optional).
 /// @return the union's boundary; @p mesh itself when it does not cross itself, is open, or the
