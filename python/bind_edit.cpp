@@ -57,6 +57,7 @@ py::dict stroke(Model& m, const Points& path, const Brush& brush, double rate_hz
   {
     py::gil_scoped_release release;
     const std::unique_lock lock(m.mutex);
+    ++m.edits;
     StrokeEditor& e = editor_of(m);
     e.begin_stroke(brush);
     QueryCache cache;
@@ -87,6 +88,7 @@ py::dict stroke(Model& m, const Points& path, const Brush& brush, double rate_hz
 bool undo_redo(Model& m, bool undo) {
   py::gil_scoped_release release;
   const std::unique_lock lock(m.mutex);
+  ++m.edits;
   StrokeEditor& e = editor_of(m);
   drain(m);
   if (undo ? !e.history().can_undo() : !e.history().can_redo()) return false;
@@ -204,6 +206,7 @@ void bind_edit(py::module_& m) {
             u.friction_static = float(friction_static), u.friction_dynamic = float(friction_dynamic);
             py::gil_scoped_release release;
             const std::unique_lock lock(self.mutex);
+            ++self.edits;
             set_under_layer(self.model, thickness, u);
           },
           py::arg("thickness"), py::kw_only(), py::arg("colour") = py::none(), py::arg("stiffness_scale") = 0.5,

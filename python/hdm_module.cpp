@@ -40,6 +40,23 @@ Vec3 vec3_from(const py::handle& h, const char* what) {
   return Vec3(a.data()[0], a.data()[1], a.data()[2]);
 }
 
+Model::Model(SlabModel m, std::string file)
+    : model(std::move(m)), locator(std::make_unique<SlabLocator>(model)), path(std::move(file)) {
+  for (size_t v = 0; v < model.inner.size(); ++v) box.extend(model.inner[v]), box.extend(model.outer[v]);
+  open = analyze_topology(TriangleMesh{model.inner, model.slabs}).boundary_edges > 0;
+}
+
+const ExactMeshQuery& Model::displaced_side() {
+  const std::lock_guard lock(side_mutex);
+  if (!side || side_edits != edits) {
+    TriangleMesh surface;
+    displaced_surface(model, surface.vertices, surface.faces);
+    side = std::make_unique<ExactMeshQuery>(surface);
+    side_edits = edits;
+  }
+  return *side;
+}
+
 }  // namespace hdm::python
 
 using namespace hdm;
@@ -167,6 +184,7 @@ py::dict query_points(Model& m, const Points& points) {
     int bits = 1;
     while (bits < 7 && (int64_t(1) << (3 * bits)) < 2 * int64_t(n)) ++bits;
     const uint32_t cells = uint32_t(1) << (3 * bits), top = (uint32_t(1) << bits) - 1;
+    const ExactMeshQuery* side = m.open ? &m.displaced_side() : nullptr;
     const Aabb box = m.box;
     const Vec3 scale = (box.max - box.min).cwiseMax(1e-300).cwiseInverse() * double(top);
     std::vector<uint32_t> code(static_cast<size_t>(n)), order(static_cast<size_t>(n));
@@ -211,7 +229,9 @@ py::dict query_points(Model& m, const Points& points) {
           d[i] = c.depth;
           for (int k = 0; k < 3; ++k) sp[3 * i + k] = c.surface_point[k], nm[3 * i + k] = c.normal[k];
         } else {
-          in[i] = m.locator->inside_inner_shell(x);  // one cell lookup for most points
+          // One cell lookup for most points of a closed model; the displaced surface's side for an
+          // open one (Model::open).
+          in[i] = side ? x.allFinite() && side->inside(x) : m.locator->inside_inner_shell(x);
           d[i] = nan;
           for (int k = 0; k < 3; ++k) sp[3 * i + k] = nan, nm[3 * i + k] = nan;
         }
@@ -280,8 +300,10 @@ PYBIND11_MODULE(hdm, mod) {
       .def("query", &query_points, py::arg("points"),
            "Haptic query of many points at once (parallel, the GIL released).\n\n"
            "points: (N, 3) float64 array [model units].\n"
-           "Returns a dict of arrays: inside (N,) bool (below the displaced surface in a slab, or enclosed by the "
-           "inner shell when in no slab); depth (N,) float64 [model units], > 0 inside, the distance to the "
+           "Returns a dict of arrays: inside (N,) bool (below the displaced surface in a slab; in no slab, enclosed by "
+           "the inner shell for a closed model, behind the nearest face of the displaced surface for an open one, "
+           "as hdm check judges it: that surface's Embree BVH is built on the first such query after an edit); depth "
+           "(N,) float64 [model units], > 0 inside, the distance to the "
            "surface's tangent plane, NaN in no slab; surface_point (N, 3) float64, the surface point on the point's "
            "projection line, NaN in no slab; normal (N, 3) float64, unit outward normal there, NaN in no slab; slab "
            "(N,) int32, the slab holding the point or -1 (also for non-finite points).")

@@ -4,12 +4,14 @@
 // locator, its stroke editor and a lock), the array types, and the binders of each part.
 #include <hdm/core/error.h>
 #include <hdm/edit/stroke_editor.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/query/slab_locator.h>
 #include <hdm/slab/slab_model.h>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
@@ -28,11 +30,21 @@ struct Model {
   std::string path;                      ///< .hdm file it was loaded from or last saved to ("" for none)
   std::shared_mutex mutex;
   std::unique_ptr<StrokeEditor> editor;  ///< built on the first edit (about 60 bytes per sample)
+  uint64_t edits = 0;                    ///< changes of the surface so far (under the exclusive lock)
 
-  explicit Model(SlabModel m, std::string file = {})
-      : model(std::move(m)), locator(std::make_unique<SlabLocator>(model)), path(std::move(file)) {
-    for (size_t v = 0; v < model.inner.size(); ++v) box.extend(model.inner[v]), box.extend(model.outer[v]);
-  }
+  /// An open model (its inner shell has a boundary) encloses nothing: a point in no slab is inside
+  /// when it lies behind the nearest face of the displaced surface, the rule `hdm check` and the
+  /// fidelity measurement judge an open input by. That surface's query is built on the first such
+  /// query after an edit.
+  bool open = false;
+  std::mutex side_mutex;
+  std::unique_ptr<ExactMeshQuery> side;  ///< of the displaced surface, as it was after side_edits edits
+  uint64_t side_edits = 0;
+
+  explicit Model(SlabModel m, std::string file = {});
+  /// The displaced surface's query for the current edits (builds it when stale: O(#S n^2 log)).
+  /// Precondition: the caller holds #mutex (shared or exclusive).
+  const ExactMeshQuery& displaced_side();
 };
 using ModelPtr = std::shared_ptr<Model>;
 

@@ -84,6 +84,31 @@ def test_non_finite_points_are_in_no_slab(sphere):
     assert q["inside"][2]
 
 
+def test_an_open_sheet_is_judged_by_the_side_of_its_surface(tmp_path):
+    """An open model encloses nothing: a point in no slab is inside when it lies behind the nearest
+    face of the surface (hdm check's rule for open inputs). Reference: the analytic height field."""
+    from conftest import write_off
+    n = 40
+    x, y = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1), indexing="ij")
+    height = lambda x, y: 0.05 * np.sin(2 * np.pi * x) * np.sin(2 * np.pi * y)
+    v = np.column_stack([x.ravel(), y.ravel(), height(x, y).ravel()])
+    f = []
+    for i in range(n):
+        for j in range(n):
+            a = i * (n + 1) + j  # counter-clockwise seen from +z: the material lies below
+            f += [(a, a + n + 1, a + n + 2), (a, a + n + 2, a + 1)]
+    off = str(tmp_path / "sheet.off")
+    write_off(off, v, f)
+    model, _ = hdm.bake(off)
+    rng = np.random.default_rng(11)
+    p = np.column_stack([rng.uniform(0.2, 0.8, 4000), rng.uniform(0.2, 0.8, 4000), rng.uniform(-0.5, 0.5, 4000)])
+    q = model.query(p)
+    outside_shells = q["slab"] < 0
+    assert outside_shells.sum() > 2000  # most points lie beyond the slabs' shells
+    below = p[:, 2] < height(p[:, 0], p[:, 1])
+    np.testing.assert_array_equal(q["inside"][outside_shells], below[outside_shells])
+
+
 def test_save_and_load_round_trip(sphere, tmp_path):
     model, _ = sphere
     path = str(tmp_path / "sphere.hdm")
