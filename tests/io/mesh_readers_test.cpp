@@ -185,6 +185,122 @@ TEST(MeshReaders, ObjVariants) {
   EXPECT_EQ(w.vertices.size(), 3u);
 }
 
+// Counts of the mesh as read, each computed here: edges by their number of faces, and the
+// components through shared edges.
+struct EdgeCounts {
+  size_t vertices = 0, edges = 0, boundary = 0, manifold = 0, non_manifold = 0, components = 0;
+  long euler() const { return long(vertices) - long(edges); }  // + faces by the caller
+};
+EdgeCounts count_edges(const TriangleMesh& m) {
+  std::vector<std::array<int32_t, 3>> e;  // (a, b, face), a < b
+  for (size_t f = 0; f < m.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k)
+      e.push_back({std::min(m.faces[f][k], m.faces[f][(k + 1) % 3]), std::max(m.faces[f][k], m.faces[f][(k + 1) % 3]),
+                   int32_t(f)});
+  std::sort(e.begin(), e.end());
+  std::vector<int32_t> parent(m.faces.size());
+  for (size_t f = 0; f < parent.size(); ++f) parent[f] = int32_t(f);
+  auto root = [&](int32_t f) {
+    while (parent[f] != f) f = parent[f];
+    return f;
+  };
+  EdgeCounts c;
+  c.vertices = m.vertices.size();
+  for (size_t i = 0; i < e.size();) {
+    size_t j = i;
+    while (j < e.size() && e[j][0] == e[i][0] && e[j][1] == e[i][1]) ++j;
+    ++c.edges;
+    (j - i == 1 ? c.boundary : j - i == 2 ? c.manifold : c.non_manifold)++;
+    for (size_t k = i + 1; k < j; ++k) parent[root(e[k][2])] = root(e[i][2]);
+    i = j;
+  }
+  for (size_t f = 0; f < parent.size(); ++f) c.components += root(int32_t(f)) == int32_t(f);
+  return c;
+}
+
+// A closed tetrahedron on the edge (0,0,0)-(0,0,1), apex towards +x (side +1) or -x (side -1),
+// written as OFF vertices and faces starting at vertex id @p base.
+void tet_on_edge(std::ostringstream& v, std::ostringstream& f, int base, double side) {
+  v << "0 0 0\n0 0 1\n" << side << " 0.5 0.5\n" << side << " -0.5 0.5\n";
+  const int a = base, b = base + 1, c = base + 2, d = base + 3;
+  // Outward for side +1; mirrored (reversed) for side -1.
+  const int faces[4][3] = {{a, b, c}, {a, d, b}, {a, c, d}, {b, d, c}};
+  for (const auto& t : faces)
+    if (side > 0)
+      f << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    else
+      f << "3 " << t[0] << ' ' << t[2] << ' ' << t[1] << '\n';
+}
+
+// Two closed shapes that touch along an edge, each written with its own vertices (as
+// diplodocus.off of libcgal-demo writes two vertex pairs): welding the equal positions would put
+// four faces on the shared edge, and repair could only split it arbitrarily. The reader keeps the
+// pairing the file wrote: two closed tetrahedra, every edge on two faces, Euler characteristic 4.
+TEST(MeshReaders, WeldingKeepsTheEdgePairingTheFileWrote) {
+  {
+    std::ostringstream v, f;
+    tet_on_edge(v, f, 0, 1);
+    tet_on_edge(v, f, 4, -1);
+    const TriangleMesh m = read_mesh_from_memory("OFF\n8 8 0\n" + v.str() + f.str(), "two_tets.off");
+    const EdgeCounts c = count_edges(m);
+    EXPECT_EQ(c.non_manifold, 0u);
+    EXPECT_EQ(c.boundary, 0u);
+    EXPECT_EQ(c.manifold, 12u);
+    EXPECT_EQ(c.components, 2u);
+    EXPECT_EQ(c.euler() + long(m.faces.size()), 4) << "two spheres";
+    EXPECT_EQ(m.vertices.size(), 8u) << "no vertex welded: each tetrahedron keeps its own";
+  }
+  {
+    // The same, the second tetrahedron sharing the file's vertex 0 and repeating only (0,0,1): a
+    // surface pinched at vertex 0, as the file says, every edge still on two faces.
+    std::ostringstream v, f;
+    tet_on_edge(v, f, 0, 1);
+    std::ostringstream v2, f2;
+    tet_on_edge(v2, f2, 4, -1);
+    std::string faces = f2.str();
+    for (size_t at = 0; (at = faces.find(" 4", at)) != std::string::npos;) faces.replace(at, 2, " 0");
+    const std::string verts = v.str() + "0 0 1\n-1 0.5 0.5\n-1 -0.5 0.5\n";
+    // The second tetrahedron's ids 5, 6, 7 become 4, 5, 6.
+    for (char& ch : faces)
+      if (ch >= '5' && ch <= '7') --ch;
+    const TriangleMesh m = read_mesh_from_memory("OFF\n7 8 0\n" + verts + f.str() + faces, "pinched.off");
+    const EdgeCounts c = count_edges(m);
+    EXPECT_EQ(c.non_manifold, 0u);
+    EXPECT_EQ(c.boundary, 0u);
+    EXPECT_EQ(c.manifold, 12u);
+    EXPECT_EQ(c.components, 2u);
+    EXPECT_EQ(m.vertices.size(), 7u);
+  }
+  {
+    // A welded copy the file needs: an octahedron whose top vertex is written twice, one half of
+    // its fan on each copy. Welding closes it (the file's own ids leave four boundary edges).
+    const std::string oct =
+        "OFF\n7 8 0\n1 0 0\n0 1 0\n-1 0 0\n0 -1 0\n0 0 1\n0 0 -1\n0 0 1\n"
+        "3 0 1 4\n3 1 2 4\n3 2 3 6\n3 3 0 6\n3 1 0 5\n3 2 1 5\n3 3 2 5\n3 0 3 5\n";
+    const TriangleMesh m = read_mesh_from_memory(oct, "octahedron.off");
+    const EdgeCounts c = count_edges(m);
+    EXPECT_EQ(m.vertices.size(), 6u);
+    EXPECT_EQ(c.boundary, 0u);
+    EXPECT_EQ(c.manifold, 12u);
+    EXPECT_EQ(c.euler() + long(m.faces.size()), 2);
+  }
+  {
+    // A file that is itself non-manifold (three faces on one edge, by its own ids) is read as
+    // written and left to repair; so is an STL soup whose welding makes such an edge.
+    const std::string fin = "OFF\n5 3 0\n0 0 0\n0 0 1\n1 0 0\n-1 0 0\n0 1 0\n3 0 1 2\n3 1 0 3\n3 0 1 4\n";
+    EXPECT_EQ(count_edges(read_mesh_from_memory(fin, "fins.off")).non_manifold, 1u);
+    const std::string stl =
+        "solid s\n"
+        "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 1 0 0\nendloop\nendfacet\n"
+        "facet normal 0 0 0\nouter loop\nvertex 0 0 1\nvertex 0 0 0\nvertex -1 0 0\nendloop\nendfacet\n"
+        "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
+        "endsolid s\n";
+    const TriangleMesh s = read_mesh_from_memory(stl, "fins.stl");
+    EXPECT_EQ(s.vertices.size(), 5u);
+    EXPECT_EQ(count_edges(s).non_manifold, 1u);
+  }
+}
+
 TEST(MeshReaders, StlVariants) {
   const TriangleMesh t = tet();
   // Binary STL whose header starts with "solid" (as some exporters write): the exact size decides.
@@ -298,7 +414,8 @@ TEST(MeshReaders, EveryCoordinateIsRoundedToFloat) {
   s.precision(17);
   s << "OFF\n400 722 0\n";
   for (int j = 0; j < 20; ++j)
-    for (int i = 0; i < 20; ++i) s << 1 + i + tiny << ' ' << 1 + j + tiny << ' ' << 1 + (i * 7 + j * 3) % 5 + tiny << '\n';
+    for (int i = 0; i < 20; ++i)
+      s << 1 + i + tiny << ' ' << 1 + j + tiny << ' ' << 1 + (i * 7 + j * 3) % 5 + tiny << '\n';
   for (int j = 0; j + 1 < 20; ++j)
     for (int i = 0; i + 1 < 20; ++i) {
       const int v = 20 * j + i;

@@ -32,11 +32,13 @@ struct MeshReadOptions {
 /// rest of the file can hold, never size an allocation by an unchecked field, and run in time
 /// linear in the file size. They triangulate polygons (convex ones as fans, concave ones of up to
 /// 64 corners by ear clipping in their best-fit plane, keeping the winding), weld vertices with
-/// identical positions, drop the vertices no triangle uses and number the rest in file order; faces
-/// keep the file's order and winding. Coordinates are rounded to float, as hdm has always read
-/// them (so an OFF and its binary STL give the same mesh and the same bake), then widened exactly
-/// to double. STL's per-face normals, OBJ's texture coordinates
-/// and normals, and colours are ignored. Each reader's header comment lists what it accepts.
+/// identical positions (except where welding would put more than two faces on an edge whose faces
+/// the file's own ids pair: those vertices are welded only as far as each keeps one fan, so a
+/// closed manifold file stays one; docs/readers.md), drop the vertices no triangle uses and number the rest in file
+/// order; faces keep the file's order and winding. Coordinates are rounded to float, as hdm has always read them (so an
+/// OFF and its binary STL give the same mesh and the same bake), then widened exactly to double. STL's per-face
+/// normals, OBJ's texture coordinates and normals, and colours are ignored. Each reader's header comment lists what it
+/// accepts.
 ///
 /// @param path     file name; its extension selects the reader.
 /// @param options  size limit.
