@@ -173,8 +173,10 @@ void keep_file_pairing(const std::vector<Tri>& triangles, std::vector<int32_t>& 
     for (int32_t v : triangles[f])
       if (weld_to[v] >= 0 && undo[weld_to[v]]) faces_of[v].push_back(static_cast<int32_t>(f));
   std::vector<std::vector<int32_t>> groups;
+  // A position shared by more than 64 file vertices stays welded (left to repair): re-welding is
+  // quadratic in the vertices of one position, and no real file puts that many on one point.
   for (size_t c = 0; c < members.size(); ++c)
-    if (undo[c] && members[c].size() > 1) {
+    if (undo[c] && members[c].size() > 1 && members[c].size() <= 64) {
       for (int32_t v : members[c]) weld_to[v] = v;
       groups.push_back(std::move(members[c]));
     }
