@@ -4,6 +4,8 @@
 #include <hdm/core/error.h>
 #include <hdm/mesh/decimate_mesh.h>
 
+#include "max_min_direction.h"
+
 #include <algorithm>
 #include <cmath>
 #include <queue>
@@ -88,38 +90,14 @@ double visibility(const std::vector<Vec3>& normals) {
   return best;
 }
 
-// visibility(), made exact where it is below 0.5: the max-min optimum is fixed by one, two or three
-// active normals (that normal, a pair's bisector, a triple's circumcentre; triples only up to 24
-// normals). Whether a star is folded is decided on this: the quick estimate took barely seen stars
-// of a resolved union for folded ones, and the "unfolding" collapses then folded good stars
-// (bones.off: a star seen at 0.03 merged into one seen at -0.09). The acceptance of ordinary
-// collapses stays on the quick, conservative estimate (more collapses near barely seen stars
-// cost fidelity: ChineseDragon-10kv.off needed one more round).
+// visibility(), made exact where it is below 0.5 (improve_max_min()). Whether a star is folded is decided on this: the
+// quick estimate took barely seen stars of a resolved union for folded ones, and the "unfolding" collapses then folded
+// good stars (bones.off: a star seen at 0.03 merged into one seen at -0.09). The acceptance of ordinary collapses stays
+// on the quick, conservative estimate (more collapses near barely seen stars cost fidelity: ChineseDragon-10kv.off
+// needed one more round).
 double exact_visibility_of(const std::vector<Vec3>& normals) {
   double best = visibility(normals);
-  if (best > 0.5) return best;
-  auto consider = [&](Vec3 c) {
-    const double len = c.norm();
-    if (!(len > 1e-12)) return;
-    c /= len;
-    double worst = 2;
-    for (const Vec3& n : normals)
-      if ((worst = std::min(worst, c.dot(n))) <= best) return;
-    best = worst;
-  };
-  const size_t k = normals.size();
-  for (size_t a = 0; a < k; ++a) {
-    consider(normals[a]);
-    for (size_t b = a + 1; b < k; ++b) {
-      consider(normals[a] + normals[b]);
-      if (k > 24) continue;
-      for (size_t c = b + 1; c < k; ++c) {
-        Vec3 x = (normals[a] - normals[b]).cross(normals[a] - normals[c]);
-        if (x.dot(normals[a]) < 0) x = -x;
-        consider(x);
-      }
-    }
-  }
+  if (best <= 0.5) detail::improve_max_min(normals, best, nullptr);
   return best;
 }
 

@@ -8,6 +8,8 @@
 #include <hdm/mesh/flip_slivers.h>
 #include <hdm/slab/bake.h>
 
+#include "../mesh/max_min_direction.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -67,26 +69,7 @@ Vec3 max_min_direction(const Vec3& start, const std::vector<Vec3>& normals) {
   Vec3 best = start;
   double best_val = min_dot(start, normals);
   if (best_val > 0.5) return best;  // the area-weighted normal is good enough: keep it (smooth field)
-  auto consider = [&](Vec3 d) {
-    const double len = d.norm();
-    if (!(len > 1e-12)) return;
-    d /= len;
-    const double v = min_dot(d, normals);
-    if (v > best_val) best_val = v, best = d;
-  };
-  const size_t k = normals.size();
-  for (size_t a = 0; a < k; ++a) {
-    consider(normals[a]);
-    for (size_t b = a + 1; b < k; ++b) {
-      consider(normals[a] + normals[b]);
-      if (k > 24) continue;
-      for (size_t c = b + 1; c < k; ++c) {
-        Vec3 d = (normals[a] - normals[b]).cross(normals[a] - normals[c]);
-        if (d.dot(normals[a]) < 0) d = -d;
-        consider(d);
-      }
-    }
-  }
+  detail::improve_max_min(normals, best_val, &best);
   return best;
 }
 
