@@ -154,9 +154,12 @@ bool BridgeDevice::begin_frame(DeviceState& state) noexcept {
   if (ended_) return false;
   const bool stale = !have_ || double(now - last_new_ns_) * 1e-9 > options_.watchdog_s;
   if (stale && !stale_ && have_) link_->counters.watchdog_trips.fetch_add(1, std::memory_order_relaxed);
+  const bool resumed = stale_ && !stale;
   stale_ = stale;
-  // The gain moves towards its target at 1/ramp_s per second of servo time.
-  const double dt = last_frame_ns_ > 0 ? std::max(0.0, double(now - last_frame_ns_) * 1e-9) : 0.0;
+  // The gain moves towards its target at 1/ramp_s per second of servo time. The ramp in starts at
+  // the first frame that sees packets again: the time the servo spent before it (a stalled tick)
+  // must not count, or the force would come back as a step.
+  const double dt = last_frame_ns_ > 0 && !resumed ? std::max(0.0, double(now - last_frame_ns_) * 1e-9) : 0.0;
   last_frame_ns_ = now;
   const double step = dt / options_.ramp_s;
   gain_ = stale ? std::max(0.0, gain_ - step) : std::min(1.0, gain_ + step);

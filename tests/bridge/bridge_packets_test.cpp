@@ -275,7 +275,9 @@ TEST(BridgeDevice, WatchdogReleasesTheToolAndRampsTheForceOut) {
   }
   EXPECT_TRUE(zero_seen);
   EXPECT_EQ(dev->counters().watchdog_trips, 1);
-  // Packets again: the tool is back and the force ramps in from zero.
+  // Packets again after a servo stall of 4 ms: the tool is back and the force ramps in from zero,
+  // with no step for the stalled time.
+  std::this_thread::sleep_for(std::chrono::milliseconds(4));
   drv.write(raw_device(seq++, Vec3(0, 0, 0.01), 1));
   ASSERT_TRUE(dev->begin_frame(st));
   dev->end_frame(asked);
