@@ -10,6 +10,7 @@
 #include <cmath>
 #include <queue>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace hdm {
@@ -218,10 +219,139 @@ class Simplifier {
             break;
           }
         if (!done) done = remove_vertex(v);
+        if (!done) done = collapse_cluster(v);
         any |= done;
       }
       if (!any) break;
     }
+  }
+
+  // Merges the crumple around folded vertex v into v: the vertices within distance r of v that
+  // edges connect to it through such vertices (r = 1/4, 1/2, 1 of v's mean edge length), by
+  // collapses that check only the link condition. Kept when the stars around end up with fewer
+  // folded ones and none newly folded; undone otherwise. Why: at a crumpled tip (diplodocus.off's
+  // tail) every single collapse or removal leaves the merged star as folded as before, while the
+  // crumple as a whole is a few tiny faces whose removal leaves a cone seen from its axis.
+  bool collapse_cluster(int32_t v) {
+    std::vector<int32_t> around, cluster, region, near;
+    ring(v, around);
+    if (around.empty()) return false;
+    double mean = 0;
+    for (int32_t u : around) mean += (pos_[u] - pos_[v]).norm();
+    mean /= double(around.size());
+    auto has = [](const std::vector<int32_t>& s, int32_t x) { return std::find(s.begin(), s.end(), x) != s.end(); };
+    for (const double r : {0.25 * mean, 0.5 * mean, mean}) {
+      cluster.assign(1, v);
+      for (size_t i = 0; i < cluster.size() && cluster.size() <= 32; ++i) {
+        ring(cluster[i], near);
+        for (int32_t w : near)
+          if ((pos_[w] - pos_[v]).norm() < r && !has(cluster, w)) cluster.push_back(w);
+      }
+      if (cluster.size() < 2) continue;
+      if (cluster.size() > 32) break;
+      region = cluster;
+      for (int32_t c : cluster) {
+        ring(c, near);
+        for (int32_t w : near)
+          if (!has(region, w)) region.push_back(w);
+      }
+      std::vector<uint8_t> was(region.size());
+      int64_t before = 0;
+      for (size_t i = 0; i < region.size(); ++i) before += was[i] = exact_visibility(region[i]) <= kFold;
+      const Journal saved = journal(region);  // region starts with the cluster
+      forced_ = true;
+      for (bool merged = true; merged;) {
+        merged = false;
+        for (size_t i = 1; i < cluster.size(); ++i) {
+          if (!alive_[cluster[i]]) continue;
+          ring(v, near);
+          if (std::binary_search(near.begin(), near.end(), cluster[i]) && collapse(v, cluster[i])) merged = true;
+        }
+      }
+      forced_ = false;
+      bool all = true;
+      for (size_t i = 1; i < cluster.size(); ++i) all &= !alive_[cluster[i]];
+      ring(v, near);
+      near.push_back(v);
+      // The merged vertex at each cluster vertex's place and at the cluster's centroid; the place
+      // with the fewest folded stars around, then the best seen worst star, is kept.
+      std::vector<Vec3> places;
+      Vec3 centroid = Vec3::Zero();
+      for (size_t i = 0; i < cluster.size(); ++i) places.push_back(saved.pos[i]), centroid += saved.pos[i];
+      places.push_back(centroid / double(cluster.size()));
+      int64_t after = 0;
+      bool newly = false;
+      double worst = -2;
+      Vec3 best_place = pos_[v];
+      for (size_t p = 0; p < places.size(); ++p) {
+        pos_[v] = places[p];
+        int64_t count = 0;
+        bool fresh = false;
+        double low = 2;
+        for (int32_t w : near) {
+          const double seen = exact_visibility(w);
+          const bool f = seen <= kFold;
+          count += f;
+          low = std::min(low, seen);
+          const auto it = std::find(region.begin(), region.end(), w);
+          fresh |= f && (it == region.end() || !was[it - region.begin()]);
+        }
+        if (p > 0 && std::make_tuple(fresh, count, -low) >= std::make_tuple(newly, after, -worst)) continue;
+        after = count, newly = fresh, worst = low, best_place = places[p];
+      }
+      pos_[v] = best_place;
+      if (all && after < before && !newly) {
+        for (int32_t w : near) folded_[w] = exact_visibility(w) <= kFold;
+        return true;
+      }
+      restore(saved);
+    }
+    return false;
+  }
+
+  // What the merges of collapse_cluster() may change, to undo them: they walk and change only the
+  // stars of the cluster's and the region's vertices (the heap is not used after run()).
+  struct Journal {
+    std::vector<int32_t> vertices, faces;
+    std::vector<Vec3> pos;
+    std::vector<Quadric> quadric;
+    std::vector<int32_t> head, next;
+    std::vector<uint32_t> version;
+    std::vector<double> vis;
+    std::vector<uint8_t> alive, folded, retry, alive_face;
+    std::vector<Tri> face;
+    int64_t faces_left = 0, collapses = 0;
+  };
+  Journal journal(const std::vector<int32_t>& region) {
+    Journal j;
+    j.vertices = region;  // the cluster first: collapse_cluster() reads its places
+    for (int32_t v : j.vertices) {
+      for_faces(v, [&](int32_t f, int) { j.faces.push_back(f); });
+      j.pos.push_back(pos_[v]), j.quadric.push_back(quadric_[v]), j.head.push_back(head_[v]);
+      j.version.push_back(version_[v]), j.vis.push_back(vis_[v]), j.alive.push_back(alive_[v]);
+      j.folded.push_back(folded_[v]), j.retry.push_back(retry_[v]);
+    }
+    std::sort(j.faces.begin(), j.faces.end());
+    j.faces.erase(std::unique(j.faces.begin(), j.faces.end()), j.faces.end());
+    for (int32_t f : j.faces) {
+      j.face.push_back(faces_[f]), j.alive_face.push_back(alive_face_[f]);
+      for (int k = 0; k < 3; ++k) j.next.push_back(next_[3 * f + k]);
+    }
+    j.faces_left = faces_left_, j.collapses = collapses_;
+    return j;
+  }
+  void restore(const Journal& j) {
+    for (size_t i = 0; i < j.vertices.size(); ++i) {
+      const int32_t v = j.vertices[i];
+      pos_[v] = j.pos[i], quadric_[v] = j.quadric[i], head_[v] = j.head[i], version_[v] = j.version[i];
+      vis_[v] = j.vis[i], alive_[v] = j.alive[i], folded_[v] = j.folded[i], retry_[v] = j.retry[i];
+    }
+    for (size_t i = 0; i < j.faces.size(); ++i) {
+      const int32_t f = j.faces[i];
+      faces_[f] = j.face[i], alive_face_[f] = j.alive_face[i];
+      for (int k = 0; k < 3; ++k) next_[3 * f + k] = j.next[3 * i + k];
+    }
+    faces_left_ = j.faces_left, collapses_ = j.collapses;
   }
 
   // Removes interior vertex v and fills its ring with the fan from one ring vertex (the one whose
@@ -480,6 +610,7 @@ class Simplifier {
     }
 
     const Quadric q = quadric_[a] + quadric_[b];
+    if (forced_) return merge(a, b, pos_[a], q, -2, M_PI), true;
     // Geometry: no face of the star turns by more than max_normal_turn or becomes a new sliver;
     // every vertex whose star changes (the new vertex and the link) stays visible. An unfolding
     // collapse may turn faces as it likes, and tries several places for the new vertex.
@@ -538,7 +669,14 @@ class Simplifier {
       if (!link_visible(w, a, b, x, max_turn)) return false;
     }
 
-    // Collapse: kill the faces on edge ab, relabel b's corners, splice b's list into a's.
+    merge(a, b, x, q, seen, max_turn);
+    return true;
+  }
+
+  // Collapses b into a at x (the checks passed): kills the faces on edge ab, relabels b's corners,
+  // splices b's list into a's. @p seen is the new star's visibility (-2: unknown), @p max_turn the
+  // largest turn of a link face [rad].
+  void merge(int32_t a, int32_t b, const Vec3& x, const Quadric& q, double seen, double max_turn) {
     for_faces(a, [&](int32_t f, int) {
       const Tri& t = faces_[f];
       if (t[0] == b || t[1] == b || t[2] == b) alive_face_[f] = 0, --faces_left_;
@@ -566,6 +704,7 @@ class Simplifier {
     for (int32_t w : ra_) vis_[w] += max_turn;
     for (int32_t w : rb_)
       if (!std::binary_search(ra_.begin(), ra_.end(), w)) vis_[w] += max_turn;
+    if (seen == -2) seen = exact_visibility(a);
     vis_[a] = std::acos(std::clamp(seen, -1.0, 1.0));
     folded_[a] = seen <= kFold;
     // Folded link vertices may have unfolded: their edges lose the priority (new version).
@@ -583,7 +722,6 @@ class Simplifier {
     ring(a, ra_);
     for (int32_t w : ra_)
       if (retry_[w]) retry_[w] = 0, push_edges(w, a, false);
-    return true;
   }
 
   // Visibility of v's star as it is (exact_visibility_of()).
@@ -632,6 +770,7 @@ class Simplifier {
   }
 
   DecimateOptions o_;
+  bool forced_ = false;  // collapse() checks only the link condition (collapse_cluster())
   std::vector<Vec3> pos_;
   std::vector<Tri> faces_;
   std::vector<int32_t> head_, next_;

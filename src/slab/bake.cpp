@@ -6,6 +6,7 @@
 #include <hdm/core/error.h>
 #include <hdm/mesh/decimate_mesh.h>
 #include <hdm/mesh/flip_slivers.h>
+#include <hdm/mesh/unfold_stars.h>
 #include <hdm/slab/bake.h>
 
 #include "../mesh/max_min_direction.h"
@@ -248,6 +249,12 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   Coarse coarse = decimate(mesh, target);
   // A vertex whose star no direction sees whole cannot have valid slabs at any thickness.
   untangle(coarse);
+  {
+    // Crumples the moves above could not unfold: smoothed towards harmonic discs (unfold_stars()).
+    TriangleMesh m{std::move(coarse.vertices), std::move(coarse.faces)};
+    unfold_stars(m);
+    coarse = Coarse{std::move(m.vertices), std::move(m.faces)};
+  }
   progress(o, "decimate", 1);
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   const size_t nv = coarse.vertices.size();

@@ -216,6 +216,16 @@ TEST(DecimateMeshTest, thin_tubed_knot_keeps_a_closed_tube) {
   EXPECT_GT(signed_volume(out), 0);
 }
 
+TEST(DecimateMeshTest, a_crumple_is_merged_away) {
+  // The ring of one vertex shrunk to a tenth of an edge and turned by 150 degrees: the faces from
+  // it to the next ring twist over each other, so the ring's stars are folded, and no single
+  // collapse or vertex removal unfolds them (the merged star keeps the twist).
+  const TriangleMesh in = test::crumpled_icosphere(3, 0.1, 150);
+  ASSERT_GT(test::count_folded_stars(in), 0);
+  const TriangleMesh out = check_decimation(in, 600, "crumpled icosphere");
+  EXPECT_EQ(test::count_folded_stars(out), 0);
+}
+
 TEST(DecimateMeshTest, refuses_what_it_cannot_decimate) {
   const TriangleMesh sphere = test::icosphere(2, 1.0);
   DecimateOptions o;

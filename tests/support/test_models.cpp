@@ -7,8 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cmath>
 #include <map>
 #include <memory>
+#include <random>
+#include <set>
 
 namespace hdm::test {
 
@@ -33,6 +36,63 @@ const SlabModel& baked_bunny(int slabs, int grid) {
     slot = std::make_unique<SlabModel>(bake_slabs(bunny(), "bunny00.off", o));
   }
   return *slot;
+}
+
+TriangleMesh crumpled_icosphere(int subdivisions, double size, double twist_deg) {
+  TriangleMesh m = icosphere(subdivisions, 1.0);
+  const Vec3 c = m.vertices[0], n = c.normalized();
+  std::set<int32_t> ring;
+  for (const Tri& t : m.faces)
+    if (t[0] == 0 || t[1] == 0 || t[2] == 0)
+      for (int32_t v : t)
+        if (v != 0) ring.insert(v);
+  const double a = twist_deg * M_PI / 180;
+  for (int32_t r : ring) {
+    Vec3 d = m.vertices[r] - c;
+    d -= d.dot(n) * n;  // in the tangent plane, then turned about n (Rodrigues) and shrunk
+    const Vec3 turned = d * std::cos(a) + n.cross(d) * std::sin(a);
+    m.vertices[r] = c + size * turned;
+  }
+  return m;
+}
+
+int count_folded_stars(const TriangleMesh& mesh, double margin) {
+  constexpr int kDirections = 40000;
+  std::vector<Vec3> dirs(kDirections);
+  const double golden = M_PI * (3 - std::sqrt(5.0));
+  for (int i = 0; i < kDirections; ++i) {
+    const double z = 1 - 2 * (i + 0.5) / kDirections, r = std::sqrt(1 - z * z);
+    dirs[i] = Vec3(r * std::cos(golden * i), r * std::sin(golden * i), z);
+  }
+  std::vector<std::vector<Vec3>> star(mesh.vertices.size());
+  for (const Tri& t : mesh.faces) {
+    const Vec3 nrm = (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+    if (nrm.norm() > 0)
+      for (int32_t v : t) star[v].push_back(nrm.normalized());
+  }
+  auto worst = [](const std::vector<Vec3>& normals, const Vec3& d) {
+    double w = 2;
+    for (const Vec3& x : normals) w = std::min(w, d.dot(x));
+    return w;
+  };
+  int folded = 0;
+  for (const std::vector<Vec3>& normals : star) {
+    if (normals.empty()) continue;
+    double best = -2;
+    Vec3 best_d = dirs[0];
+    for (const Vec3& d : dirs)
+      if (const double w = worst(normals, d); w > best) best = w, best_d = d;
+    // Refine around the best sample: random steps of shrinking size, kept when better.
+    std::mt19937 rng(1);
+    std::normal_distribution<double> g(0, 1);
+    for (double step = 0.02; step > 1e-5; step *= 0.7)
+      for (int k = 0; k < 20; ++k) {
+        const Vec3 d = (best_d + step * Vec3(g(rng), g(rng), g(rng))).normalized();
+        if (const double w = worst(normals, d); w > best) best = w, best_d = d;
+      }
+    folded += !(best > margin);
+  }
+  return folded;
 }
 
 TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre) {

@@ -65,6 +65,14 @@ struct DecimateReport {
 /// - every vertex whose star changes keeps a direction that sees all its faces
 ///   (DecimateOptions::min_visibility): thin parts, tubes and tips stop the decimation early
 ///   instead of giving vertices no valid slab direction, so the face count follows the shape.
+///
+/// Stars of the input that no direction sees (folded: a crumple of a scanned surface) are collapsed
+/// first; those left at the end are merged into a neighbour, or the vertex removed and its ring
+/// filled, beyond the target; a crumple that neither unfolds (its ring twists over itself) is
+/// merged whole into its folded vertex when that leaves fewer folded stars around it and folds no
+/// other (its vertices within 1/4, 1/2 or 1 of the vertex's mean edge length, by collapses under
+/// the link condition alone, placed at the best of their places and their centroid; undone
+/// otherwise).
 /// @param mesh  input [model units]: edge-manifold, consistently oriented triangles (as after
 ///              repair_mesh()); closed or open; any genus and number of components. A vertex shared
 ///              by two fans of faces (a pinch) is split into one vertex per fan first.
