@@ -68,10 +68,14 @@ TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
       if (uses.at({std::min(a, b), std::max(a, b)}) == 1) edges.push_back({int32_t(f), k, a, b});
     }
   if (edges.empty()) return done(m);
-  // Uniform grid over the boundary edges, cells as large as the longest one: a vertex near an
-  // edge is in one of the 27 cells around the edge's midpoint.
-  double cell = 0;
-  for (const BoundaryEdge& e : edges) cell = std::max(cell, (m.vertices[e.b] - m.vertices[e.a]).norm());
+  // Uniform grid over the boundary edges, cells of the median boundary edge length; each edge is
+  // listed in every cell its box grown by a quarter of its length meets (the farthest a vertex
+  // stitched into it can be), so a vertex looks in its own cell only. An edge that would cover
+  // more than 4,096 cells (far longer than its neighbours) is not stitched into.
+  std::vector<double> lengths;
+  for (const BoundaryEdge& e : edges) lengths.push_back((m.vertices[e.b] - m.vertices[e.a]).norm());
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  const double cell = lengths[lengths.size() / 2];
   if (!(cell > 0)) return done(m);
   auto key = [&](const Vec3& p) {
     const Vec3 q = (p / cell).array().floor();
@@ -83,8 +87,15 @@ TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
     }
   };
   std::unordered_map<std::array<int64_t, 3>, std::vector<int32_t>, Hash> grid;
-  for (size_t i = 0; i < edges.size(); ++i)
-    grid[key(0.5 * (m.vertices[edges[i].a] + m.vertices[edges[i].b]))].push_back(int32_t(i));
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const Vec3 &a = m.vertices[edges[i].a], &b = m.vertices[edges[i].b];
+    const Vec3 grow = Vec3::Constant(0.25 * (b - a).norm());
+    const auto lo = key(a.cwiseMin(b) - grow), hi = key(a.cwiseMax(b) + grow);
+    if ((hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1) > 4096) continue;
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) grid[{x, y, z}].push_back(int32_t(i));
+  }
   std::vector<uint8_t> on_boundary(m.vertices.size(), 0);
   for (const BoundaryEdge& e : edges) on_boundary[e.a] = on_boundary[e.b] = 1;
   // Each boundary vertex goes into the nearest boundary edge it lies on.
@@ -92,26 +103,21 @@ TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
   for (size_t v = 0; v < m.vertices.size(); ++v) {
     if (!on_boundary[v]) continue;
     const Vec3& p = m.vertices[v];
-    const auto c = key(p);
     double best = INFINITY, best_t = 0;
     int32_t best_e = -1;
-    for (int64_t dx = -1; dx <= 1; ++dx)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
-          if (it == grid.end()) continue;
-          for (int32_t i : it->second) {
-            const BoundaryEdge& e = edges[i];
-            if (e.a == int32_t(v) || e.b == int32_t(v)) continue;
-            const Vec3 &a = m.vertices[e.a], &b = m.vertices[e.b];
-            const Vec3 d = b - a;
-            const double len2 = d.squaredNorm(), t = (p - a).dot(d) / len2;
-            if (!(t > 0 && t < 1)) continue;
-            const double dist = (p - (a + t * d)).norm();
-            if (dist > 0.25 * std::sqrt(len2) || dist >= 0.5 * std::min((p - a).norm(), (p - b).norm())) continue;
-            if (dist < best) best = dist, best_t = t, best_e = i;
-          }
-        }
+    const auto it = grid.find(key(p));
+    if (it != grid.end())
+      for (int32_t i : it->second) {
+        const BoundaryEdge& e = edges[i];
+        if (e.a == int32_t(v) || e.b == int32_t(v)) continue;
+        const Vec3 &a = m.vertices[e.a], &b = m.vertices[e.b];
+        const Vec3 d = b - a;
+        const double len2 = d.squaredNorm(), t = (p - a).dot(d) / len2;
+        if (!(t > 0 && t < 1)) continue;
+        const double dist = (p - (a + t * d)).norm();
+        if (dist > 0.25 * std::sqrt(len2) || dist >= 0.5 * std::min((p - a).norm(), (p - b).norm())) continue;
+        if (dist < best) best = dist, best_t = t, best_e = i;
+      }
     if (best_e >= 0) inserts[best_e].push_back({best_t, int32_t(v)}), ++rep.inserted;
   }
   if (rep.inserted == 0) return done(m);

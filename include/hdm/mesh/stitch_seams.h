@@ -30,7 +30,8 @@ struct SeamReport {
 ///         triangles welded by position when no vertex is inserted or stitching would make an
 ///         edge with three or more faces.
 /// @throws InvalidInput for invalid mesh data (validate_mesh_data()).
-/// @note O(#F log #F + B·k) for B boundary vertices and k boundary edges per grid cell.
+/// @note O(#F log #F + B·k) for B boundary vertices and k boundary edges per grid cell (cells of
+///       the median boundary edge length).
 TriangleMesh stitch_seams(const TriangleMesh& mesh, SeamReport* report = nullptr);
 
 }  // namespace hdm
