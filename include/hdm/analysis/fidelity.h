@@ -65,6 +65,11 @@ struct ContactAccuracy {
 /// ExactMeshQuery::inside on the inner shell's triangles for a closed model, on the displaced
 /// surface's triangles for an open one: the side of the nearest face, the reference's own rule)
 /// against ExactMeshQuery::inside on the input, hdm's depth against the exact distance.
+/// @param model       the slab model [model units].
+/// @param input       the exact input (Embree).
+/// @param count       number of points.
+/// @param seed        random seed of the sampling.
+/// @param offset_pct  half-range of the offset along the normal, % of the diagonal.
 /// @param buried  optional #F flags of buried input faces (buried_faces()). For an open input that
 ///                crosses itself, the points are drawn from the exposed faces only and judged
 ///                against them alone (the side of the nearest exposed face): buried faces are not
