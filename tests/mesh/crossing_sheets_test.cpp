@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Open inputs made of sheets that cross or meet each other, resolved into the surface a user
-// touches: checked by counting (no crossing left, CGAL's count; boundary, non-manifold and
-// inconsistent edges), against analytic areas and volumes, and with Embree on the input (every
-// face of the result lies on an input face).
+// touches, and the buried faces hdm check leaves out: checked by counting (no crossing left, CGAL's count; boundary,
+// non-manifold and inconsistent edges), against analytic areas and volumes, and with Embree on the input (every face of
+// the result lies on an input face).
+#include <hdm/analysis/fidelity.h>
 #include <hdm/mesh/crossing_sheets.h>
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/stitch_seams.h>
@@ -157,6 +158,37 @@ TEST(CrossingSheets, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
   const double r = 0.3;
   add_tube(in, Vec3(0.2, 0.1, 0.05), Vec3(2.2, 0.1, 0.05), r, n);  // along +x, out through x = 1
   add_tube(in, Vec3(-0.5, 0.1, 0.4), Vec3(-0.5, 0.1, 2.4), r, n);  // along +z, out through z = 1
+  // hdm check's rule for the input's own faces (buried_faces(), the winding number in front of a
+  // face): a tube face wholly inside the box is buried, a face wholly outside every part is not.
+  const std::vector<uint8_t> buried = buried_faces(ExactMeshQuery(in));
+  const size_t box_faces = 6 * 2 * 16;
+  auto in_box = [](const Vec3& p) { return p.cwiseAbs().maxCoeff() < 1 - 1e-9; };
+  // Near a tube: within its radius plus a box triangle's circumradius (0.36) of its axis.
+  auto near_tube = [&](const Vec3& p) {
+    return (std::hypot(p.y() - 0.1, p.z() - 0.05) < r + 0.36 && p.x() > 0.2 - 0.36) ||
+           (std::hypot(p.x() + 0.5, p.y() - 0.1) < r + 0.36 && p.z() > 0.4 - 0.36);
+  };
+  int inside = 0, outside = 0;
+  for (size_t f = 0; f < in.faces.size(); ++f) {
+    const Tri& t = in.faces[f];
+    const bool all_in = in_box(in.vertices[t[0]]) && in_box(in.vertices[t[1]]) && in_box(in.vertices[t[2]]);
+    const bool none_in = !in_box(in.vertices[t[0]]) && !in_box(in.vertices[t[1]]) && !in_box(in.vertices[t[2]]);
+    if (f >= box_faces && all_in) {
+      EXPECT_TRUE(buried[f]) << f;
+      ++inside;
+    }
+    if (f >= box_faces && none_in) {
+      EXPECT_FALSE(buried[f]) << f;
+      ++outside;
+    }
+    if (f < box_faces && !near_tube(in.vertices[t[0]]) && !near_tube(in.vertices[t[1]]) &&
+        !near_tube(in.vertices[t[2]])) {
+      EXPECT_FALSE(buried[f]) << f;
+      ++outside;
+    }
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_GT(outside, 300);
   SelfIntersectionReport rep;
   const TriangleMesh out = resolve_crossing_sheets(in, &rep);
   ASSERT_TRUE(rep.resolved);
