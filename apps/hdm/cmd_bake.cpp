@@ -120,6 +120,7 @@ void run_bake(const BakeArgs& a) {
         {"open_boundaries", fixed.open_boundaries}}},
       {"self_intersections", prepared.self_intersections},
       {"self_intersections_left", prepared.resolved.pairs_after},
+      {"seam_vertices", prepared.resolved.seam_vertices},
       {"orient",
        {{"components", prepared.orient.components},
         {"closed", prepared.orient.closed},
@@ -175,10 +176,11 @@ void run_bake(const BakeArgs& a) {
         (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
   if (prepared.self_intersections > 0)
     std::printf(
-        "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces); "
-        "buried faces left out of the fidelity\n",
+        "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces, %lld "
+        "seam vertices stitched); buried faces left out of the fidelity\n",
         (long long)prepared.self_intersections, (long long)prepared.resolved.pairs_after,
-        (long long)prepared.resolved.faces_before, (long long)prepared.resolved.faces_after);
+        (long long)prepared.resolved.faces_before, (long long)prepared.resolved.faces_after,
+        (long long)prepared.resolved.seam_vertices);
   if (prepared.orient.flipped)
     std::printf("  oriented outward    %d of %d parts reversed (%lld faces)\n", prepared.orient.flipped,
                 prepared.orient.components, (long long)prepared.orient.flipped_faces);

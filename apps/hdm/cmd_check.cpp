@@ -34,7 +34,7 @@ void run_check(const CheckArgs& a) {
   std::vector<uint8_t> buried;
   if (prepared.self_intersections > 0) buried = buried_faces(exact);
   const Fidelity f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);
-  const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0);
+  const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0, buried.empty() ? nullptr : &buried);
   const int invalid = count_invalid_slabs(model);
   const int64_t overlapping = count_overlapping_pairs(model);
   const int64_t undercut = count_undercut_columns(model, exact);

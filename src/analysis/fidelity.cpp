@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/analysis/fidelity.h>
+#include <hdm/mesh/winding_number.h>
 #include <hdm/query/slab_query.h>
 
 #include <tbb/blocked_range.h>
@@ -7,6 +8,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 
 namespace hdm {
@@ -42,12 +44,16 @@ Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt 
 std::vector<uint8_t> buried_faces(const ExactMeshQuery& input) {
   const TriangleMesh& m = input.mesh();
   std::vector<uint8_t> buried(m.faces.size(), 0);
-  if (!input.closed()) return buried;
   const double eps = 1e-5 * bounds(m).diagonal();
+  // Open: rays leave through the openings, so the inside is where the generalized winding number
+  // is at least 1/2 (the rule resolve_crossing_sheets() drops faces by).
+  const bool open = !input.closed();
+  const WindingNumber winding(open ? m : TriangleMesh{});
   tbb::parallel_for(size_t(0), m.faces.size(), [&](size_t f) {
     const Tri& t = m.faces[f];
     const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
-    buried[f] = input.inside(c + eps * input.face_normal(static_cast<int32_t>(f)));
+    const Vec3 p = c + eps * input.face_normal(static_cast<int32_t>(f));
+    buried[f] = open ? winding.inside(p) : input.inside(p);
   });
   return buried;
 }
@@ -82,9 +88,12 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
     // A vertex of an exposed face may itself lie inside another part (the face crosses it): it is
     // on the material's surface only if the point just in front of it is outside, as for faces.
     const double eps = 1e-5 * diag;
+    const bool open = !input.closed();
+    const WindingNumber winding(open ? in : TriangleMesh{});
     tbb::parallel_for(size_t(0), in.vertices.size(), [&](size_t v) {
-      if (exposed[v] && normal[v].norm() > 0 && input.inside(in.vertices[v] + eps * normal[v].normalized()))
-        exposed[v] = 0;
+      if (!exposed[v] || !(normal[v].norm() > 0)) return;
+      const Vec3 p = in.vertices[v] + eps * normal[v].normalized();
+      if (open ? winding.inside(p) : input.inside(p)) exposed[v] = 0;
     });
     for (size_t v = 0; v < in.vertices.size(); ++v)
       if (exposed[v]) back_points.push_back(in.vertices[v]);
@@ -105,15 +114,36 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
 }
 
 ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
-                                double offset_pct) {
+                                double offset_pct, const std::vector<uint8_t>* buried) {
   const TriangleMesh& m = input.mesh();
   const double diag = bounds(m).diagonal();
+  // An open input that crosses itself: the buried faces are not on the surface a user touches,
+  // and an open surface's inside is the back of its nearest face, so the reference is the
+  // exposed faces alone (a closed input's inside, the union's winding, needs no such care).
+  const bool exposed_only = buried && buried->size() == m.faces.size() && !input.closed();
+  std::unique_ptr<ExactMeshQuery> exposed;
+  if (exposed_only) {
+    TriangleMesh e;
+    std::vector<int32_t> id(m.vertices.size(), -1);
+    for (size_t f = 0; f < m.faces.size(); ++f) {
+      if ((*buried)[f]) continue;
+      Tri t = m.faces[f];
+      for (int32_t& v : t) {
+        if (id[v] < 0) id[v] = static_cast<int32_t>(e.vertices.size()), e.vertices.push_back(m.vertices[v]);
+        v = id[v];
+      }
+      e.faces.push_back(t);
+    }
+    if (!e.faces.empty()) exposed = std::make_unique<ExactMeshQuery>(e);
+  }
+  const ExactMeshQuery& reference = exposed ? *exposed : input;
   // Area-weighted face sampling.
   std::vector<double> cdf(m.faces.size());
   double total = 0;
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const Tri& t = m.faces[f];
-    total += (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
+    if (!exposed || !(*buried)[f])
+      total += (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
     cdf[f] = total;
   }
   std::mt19937_64 rng(seed);
@@ -148,14 +178,14 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
         QueryCache cache;
         for (int64_t k = r.begin(); k < r.end(); ++k) {
           const Contact c = query(model, locator, points[k], cache);
-          const bool exact_in = input.inside(points[k]);
+          const bool exact_in = reference.inside(points[k]);
           const bool core = !c.in_shell() && core_test.inside(points[k]);
           a.agree += (c.penetrating() || core) == exact_in;
           a.below += exact_in && !c.in_shell() && !core;
           a.above += exact_in && c.in_shell() && !c.penetrating();
           a.false_in += !exact_in && (c.penetrating() || core);
           if (c.penetrating() && exact_in) {
-            const double e = std::abs(c.depth - input.closest_point(points[k]).distance);
+            const double e = std::abs(c.depth - reference.closest_point(points[k]).distance);
             a.sq += e * e;
             a.max = std::max(a.max, e);
             ++a.depth_n;

@@ -4,6 +4,7 @@
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/mesh/self_intersections.h>
+#include <hdm/mesh/crossing_sheets.h>
 
 #include "surface_mesh_copy.h"
 
@@ -73,7 +74,8 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
     if (report) *report = rep;
     return mesh;
   };
-  if (rep.pairs_before == 0 || !CGAL::is_closed(sm)) return keep();
+  if (rep.pairs_before == 0) return keep();
+  if (!CGAL::is_closed(sm)) return resolve_crossing_sheets(mesh, report);
   try {
     PMP::experimental::autorefine(sm);
   } catch (const std::exception&) {

@@ -36,13 +36,15 @@ struct Fidelity {
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
                           const std::vector<uint8_t>* buried = nullptr);
 
-/// @brief Faces of a closed input that lie inside the material it bounds: faces of a part pushed
+/// @brief Faces of an input that lie inside the material it bounds: faces of a part pushed
 /// into another (a mesh that crosses itself), whose outside is still inside the union. A face is
-/// buried when the point 10⁻⁵ of the diagonal in front of its centroid is inside
-/// (ExactMeshQuery::inside, the winding number along rays). No face of an open mesh, or of a
-/// closed mesh that does not cross itself, is buried.
+/// buried when the point 10⁻⁵ of the diagonal in front of its centroid is inside: for a closed
+/// mesh ExactMeshQuery::inside (the winding number along rays), for an open one the generalized
+/// winding number is at least ½ (WindingNumber; rays leave through the openings), the rule
+/// resolve_crossing_sheets() drops faces by. No face of a closed mesh that does not cross
+/// itself is buried.
 /// @return #F flags (1: buried).
-/// @note Parallel (TBB); three rays per face.
+/// @note Parallel (TBB); three rays per face, or O(log #F) winding-number terms.
 std::vector<uint8_t> buried_faces(const ExactMeshQuery& input);
 
 /// Contact accuracy near the surface.
@@ -63,10 +65,20 @@ struct ContactAccuracy {
 /// ExactMeshQuery::inside on the inner shell's triangles for a closed model, on the displaced
 /// surface's triangles for an open one: the side of the nearest face, the reference's own rule)
 /// against ExactMeshQuery::inside on the input, hdm's depth against the exact distance.
+/// @param model       the slab model [model units].
+/// @param input       the exact input (Embree).
+/// @param count       number of points.
+/// @param seed        random seed of the sampling.
+/// @param offset_pct  half-range of the offset along the normal, % of the diagonal.
+/// @param buried  optional #F flags of buried input faces (buried_faces()). For an open input that
+///                crosses itself, the points are drawn from the exposed faces only and judged
+///                against them alone (the side of the nearest exposed face): buried faces are not
+///                on the surface a user touches (resolve_crossing_sheets() drops them). Ignored for
+///                a closed input, whose inside (the union's winding) already accounts for them.
 /// @pre @p input is oriented as orient_outward() orients it (an open input's inside is the back
 ///      of its surface).
 /// @note Parallel (TBB).
 ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
-                                double offset_pct = 1.0);
+                                double offset_pct = 1.0, const std::vector<uint8_t>* buried = nullptr);
 
 }  // namespace hdm

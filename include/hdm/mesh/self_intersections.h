@@ -26,6 +26,7 @@ struct SelfIntersectionReport {
   int64_t buried_faces = 0;   ///< faces (after refinement) dropped as inside the union
   int64_t closed_cracks = 0;  ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
   int64_t split_pinches = 0;  ///< vertices where parts of the union touch at a point, split in one copy per fan
+  int64_t seam_vertices = 0;  ///< open input: boundary vertices stitched into a facing boundary edge (stitch_seams())
   bool resolved = false;      ///< the result is the union's boundary; false: the input was kept
 };
 
@@ -41,9 +42,11 @@ struct SelfIntersectionReport {
 /// (`duplicate_non_manifold_vertices`), each moved by 1% towards the centroid of its own fan's
 /// ring: the copies no longer coincide, so each part gets a shell of its own (two coincident
 /// corners leave no room for one) and the result is a manifold surface.
-/// @param mesh  closed, edge-manifold triangles, oriented by orient_outward() [model units].
+/// @param mesh  edge-manifold triangles, oriented by orient_outward() [model units].
 /// @param[out] report  counts (optional).
-/// @return the union's boundary; @p mesh itself when it does not cross itself, is open, or the
+/// An open mesh that crosses itself goes to resolve_crossing_sheets() (sheets pushed into each
+/// other, pig.stl).
+/// @return the union's boundary; @p mesh itself when it does not cross itself, or the
 ///         refinement fails or leaves a surface that is not closed (report->resolved false).
 /// @throws InvalidInput for invalid mesh data.
 /// @note O((#F + k) log #F) for k crossings; single-threaded refinement.
