@@ -35,7 +35,7 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
   if (in.self_intersections > 0 && analyze_topology(in.mesh).boundary_edges > 0) {
     TriangleMesh joined = stitch_seams(in.mesh, &in.seams);
     if (in.seams.inserted + in.seams.snapped > 0) {
-      in.orient = orient_outward(joined);
+      orient_outward(joined);  // in.orient keeps the report of the input's own parts
       in.mesh = std::move(joined);
       closed_by_seams = in.seams.boundary_edges_after == 0;
       in.resolved.seam_vertices = in.seams.inserted + in.seams.snapped;
