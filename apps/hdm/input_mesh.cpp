@@ -2,6 +2,7 @@
 #include "input_mesh.h"
 
 #include <hdm/io/read_mesh.h>
+#include <hdm/mesh/stitch_seams.h>
 
 namespace hdm::app {
 
@@ -28,7 +29,29 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
   }
   in.orient = orient_outward(in.mesh);
   in.self_intersections = count_self_intersections(in.mesh);
-  if (resolve && in.self_intersections > 0) in.mesh = resolve_self_intersections(in.mesh, &in.resolved);
+  // Open patches that cross where they should meet (CAD patch soups, game assets in parts) are
+  // first joined at their seams and oriented as one surface, for the bake and the check alike.
+  bool closed_by_seams = false;
+  if (in.self_intersections > 0 && analyze_topology(in.mesh).boundary_edges > 0) {
+    TriangleMesh joined = stitch_seams(in.mesh, &in.seams);
+    if (in.seams.inserted + in.seams.snapped > 0) {
+      orient_outward(joined);  // in.orient keeps the report of the input's own parts
+      in.mesh = std::move(joined);
+      closed_by_seams = in.seams.boundary_edges_after == 0;
+      in.resolved.seam_vertices = in.seams.inserted + in.seams.snapped;
+    }
+  }
+  if (resolve && in.self_intersections > 0) {
+    if (closed_by_seams) {
+      // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL
+      // 5.5's refinement of a closed union crashes on some such surfaces.
+      in.resolved.pairs_before = in.self_intersections;
+      in.resolved.pairs_after = count_self_intersections(in.mesh);
+    } else {
+      in.mesh = resolve_self_intersections(in.mesh, &in.resolved);
+      if (in.seams.inserted + in.seams.snapped > 0) in.resolved.seam_vertices = in.seams.inserted + in.seams.snapped;
+    }
+  }
   return in;
 }
 

@@ -5,6 +5,7 @@
 #include <hdm/mesh/orient_mesh.h>
 #include <hdm/mesh/self_intersections.h>
 #include <hdm/mesh/repair_mesh.h>
+#include <hdm/mesh/stitch_seams.h>
 
 #include <CLI/CLI.hpp>
 
@@ -23,6 +24,7 @@ struct PreparedInput {
   RepairReport repair;
   OrientReport orient;
   int64_t self_intersections = 0;   // face pairs of the mesh (as read, repaired and oriented) that cross
+  SeamReport seams;                 // open input that crosses itself: what stitch_seams() joined
   SelfIntersectionReport resolved;  // with `resolve`: what resolve_self_intersections() did
 };
 
@@ -30,10 +32,12 @@ struct PreparedInput {
 void add_input_options(CLI::App& cmd, InputOptions& o);
 
 // Reads @p path, repairs it when needs_repair() (validate_for_bake() with --no-repair), then
-// orient_outward(), and counts its self-intersections; with @p resolve, replaces the mesh by
-// resolve_self_intersections() of it (what `hdm bake` bakes; `hdm check` measures against the
-// mesh before that). @p max_file_bytes is read_mesh()'s size limit. Throws what read_mesh() and
-// repair_mesh() throw.
+// orient_outward(), and counts its self-intersections. An open mesh that crosses itself is then
+// stitched at its seams (stitch_seams()) and oriented again as one surface, for `hdm bake` and
+// `hdm check` alike (the same orientation, so the same buried faces). With @p resolve, replaces
+// the mesh by resolve_self_intersections() of it (what `hdm bake` bakes; `hdm check` measures
+// against the mesh before that), except when stitching closed it. @p max_file_bytes is read_mesh()'s size limit. Throws
+// what read_mesh() and repair_mesh() throw.
 PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint64_t max_file_bytes,
                             bool resolve = false);
 

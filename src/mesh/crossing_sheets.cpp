@@ -111,10 +111,11 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
   // again (orient_outward() oriented the patches one by one).
   SeamReport seams;
   TriangleMesh stitched = stitch_seams(mesh, &seams);
-  if (seams.inserted > 0) orient_outward(stitched);
-  rep.seam_vertices = seams.inserted;
-  const TriangleMesh& work = seams.inserted > 0 ? stitched : mesh;
-  if (seams.inserted > 0 && seams.boundary_edges_after == 0) {
+  const bool joined = seams.inserted > 0 || seams.snapped > 0;
+  if (joined) orient_outward(stitched);
+  rep.seam_vertices = seams.inserted + seams.snapped;
+  const TriangleMesh& work = joined ? stitched : mesh;
+  if (joined && seams.boundary_edges_after == 0) {
     // One closed surface now. What still crosses (folds inside a patch: pig.stl has three) is
     // left as the input has it; the closed union's refinement is not tried on it (CGAL 5.5's
     // autorefine crashes on some such surfaces).

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -45,14 +46,112 @@ int64_t count_boundary(const std::map<EdgeKey, int>& uses) {
   return std::count_if(uses.begin(), uses.end(), [](const auto& u) { return u.second == 1; });
 }
 
+bool edge_manifold(const std::map<EdgeKey, int>& uses) {
+  return std::all_of(uses.begin(), uses.end(), [](const auto& u) { return u.second <= 2; });
+}
+
+// Boundary vertices of different sheets (faces joined by edges) that nearly coincide, within
+// kSnap of the shorter boundary edge at either, become one vertex (at the position of the one
+// with the lower index). Pairs are taken nearest first; a cluster never holds two vertices of one
+// sheet, so no face collapses. @p snapped counts the vertices merged away.
+constexpr double kSnap = 0.05;
+
+TriangleMesh snap_near_vertices(const TriangleMesh& m, const std::map<EdgeKey, int>& uses, int64_t& snapped) {
+  snapped = 0;
+  const size_t nv = m.vertices.size();
+  std::vector<double> shortest(nv, INFINITY);
+  std::vector<double> lengths;
+  for (const auto& [e, n] : uses) {
+    if (n != 1) continue;
+    const double l = (m.vertices[e.first] - m.vertices[e.second]).norm();
+    shortest[e.first] = std::min(shortest[e.first], l);
+    shortest[e.second] = std::min(shortest[e.second], l);
+    lengths.push_back(l);
+  }
+  if (lengths.empty()) return m;
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  const double cell = lengths[lengths.size() / 2];
+  if (!(cell > 0)) return m;
+  // Sheet of each vertex (union-find over vertices joined by a face).
+  std::vector<int32_t> parent(nv);
+  for (size_t i = 0; i < nv; ++i) parent[i] = int32_t(i);
+  auto find = [&](int32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Tri& t : m.faces) parent[find(t[1])] = find(t[0]), parent[find(t[2])] = find(t[0]);
+  std::vector<int32_t> sheet(nv);
+  for (size_t i = 0; i < nv; ++i) sheet[i] = find(int32_t(i));
+  // Candidate pairs from a grid of median-length cells (the snap distance is capped at one cell).
+  auto key = [&](const Vec3& p) {
+    const Vec3 q = (p / cell).array().floor();
+    return std::array<int64_t, 3>{int64_t(q.x()), int64_t(q.y()), int64_t(q.z())};
+  };
+  std::map<std::array<int64_t, 3>, std::vector<int32_t>> grid;
+  for (size_t v = 0; v < nv; ++v)
+    if (std::isfinite(shortest[v])) grid[key(m.vertices[v])].push_back(int32_t(v));
+  std::vector<std::tuple<double, int32_t, int32_t>> pairs;
+  for (size_t v = 0; v < nv; ++v) {
+    if (!std::isfinite(shortest[v])) continue;
+    const auto k = key(m.vertices[v]);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find({k[0] + dx, k[1] + dy, k[2] + dz});
+          if (it == grid.end()) continue;
+          for (int32_t u : it->second) {
+            if (u <= int32_t(v) || sheet[u] == sheet[v]) continue;
+            const double d = (m.vertices[u] - m.vertices[v]).norm();
+            if (d <= std::min(cell, kSnap * std::min(shortest[u], shortest[v]))) pairs.emplace_back(d, int32_t(v), u);
+          }
+        }
+  }
+  if (pairs.empty()) return m;
+  std::sort(pairs.begin(), pairs.end());
+  // Clusters: a representative and the sheets it holds.
+  std::vector<int32_t> rep(nv);
+  for (size_t i = 0; i < nv; ++i) rep[i] = int32_t(i);
+  std::vector<std::vector<int32_t>> sheets(nv);
+  for (size_t i = 0; i < nv; ++i) sheets[i] = {sheet[i]};
+  auto root = [&](int32_t v) {
+    while (rep[v] != v) v = rep[v] = rep[rep[v]];
+    return v;
+  };
+  for (const auto& [d, v, u] : pairs) {
+    int32_t a = root(v), b = root(u);
+    if (a == b) continue;
+    bool shared = false;
+    for (int32_t s : sheets[b]) shared |= std::find(sheets[a].begin(), sheets[a].end(), s) != sheets[a].end();
+    if (shared) continue;
+    if (b < a) std::swap(a, b);
+    rep[b] = a;
+    sheets[a].insert(sheets[a].end(), sheets[b].begin(), sheets[b].end());
+    ++snapped;
+  }
+  TriangleMesh out;
+  out.vertices = m.vertices;
+  for (const Tri& t : m.faces) {
+    const Tri w{root(t[0]), root(t[1]), root(t[2])};
+    if (w[0] != w[1] && w[1] != w[2] && w[2] != w[0]) out.faces.push_back(w);
+  }
+  return out;
+}
+
 }  // namespace
 
 TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
   validate_mesh_data(input, "stitch_seams input");
   SeamReport rep;
-  const TriangleMesh m = weld(input);
-  const std::map<EdgeKey, int> uses = edge_uses(m);
-  rep.boundary_edges_before = rep.boundary_edges_after = count_boundary(uses);
+  const TriangleMesh welded = weld(input);
+  const std::map<EdgeKey, int> welded_uses = edge_uses(welded);
+  rep.boundary_edges_before = rep.boundary_edges_after = count_boundary(welded_uses);
+  // Seams whose vertices nearly coincide first; kept only if every edge still has at most two faces.
+  TriangleMesh m = snap_near_vertices(welded, welded_uses, rep.snapped);
+  std::map<EdgeKey, int> uses = edge_uses(m);
+  if (rep.snapped > 0 && (!edge_manifold(uses) || m.faces.size() != welded.faces.size()))
+    m = welded, uses = welded_uses, rep.snapped = 0;
+  if (rep.snapped > 0) m = weld(m), uses = edge_uses(m);
+  rep.boundary_edges_after = count_boundary(uses);
   auto done = [&](TriangleMesh r) {
     if (report) *report = rep;
     return r;

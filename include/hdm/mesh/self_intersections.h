@@ -26,7 +26,8 @@ struct SelfIntersectionReport {
   int64_t buried_faces = 0;   ///< faces (after refinement) dropped as inside the union
   int64_t closed_cracks = 0;  ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
   int64_t split_pinches = 0;  ///< vertices where parts of the union touch at a point, split in one copy per fan
-  int64_t seam_vertices = 0;  ///< open input: boundary vertices stitched into a facing boundary edge (stitch_seams())
+  int64_t seam_vertices = 0;  ///< open input: boundary vertices stitched into a facing boundary edge or merged into a
+                              ///< nearly coincident one (stitch_seams())
   bool resolved = false;      ///< the result is the union's boundary; false: the input was kept
 };
 

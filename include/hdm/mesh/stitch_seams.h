@@ -14,6 +14,7 @@ struct SeamReport {
   int64_t boundary_edges_before = 0;  ///< edges used by one face, vertices welded by position
   int64_t boundary_edges_after = 0;   ///< the same after stitching
   int64_t inserted = 0;               ///< boundary vertices inserted into a facing boundary edge
+  int64_t snapped = 0;                ///< boundary vertices merged into a nearly coincident one of another sheet
 };
 
 /// @brief Closes seams where patches meet with T-junctions: one side of a curve has a vertex
@@ -23,7 +24,12 @@ struct SeamReport {
 /// boundary edge ab, projects strictly inside it, and is nearer to it than half its distance to
 /// a and to b, is inserted into ab: the face of ab is split into a fan through v (at v's own
 /// position, so the edge kinks to meet it), and after the weld the two sides share edges.
-/// Faces are kept in their order and orientation; no vertex moves.
+/// Before that, seams whose vertices nearly coincide (patches written with rounded coordinates:
+/// ALSTOM_TEST4.off's six CAD patches) are merged: boundary vertices of different sheets (faces
+/// joined by edges) within 5% of the shortest boundary edge at either become one vertex (the
+/// lower index's position; nearest pairs first, never two vertices of one sheet), kept only if
+/// every edge still has at most two faces. Faces are kept in their order and orientation; no
+/// vertex moves farther than that 5%.
 /// @param mesh  triangles [model units].
 /// @param[out] report  counts (optional).
 /// @return the stitched mesh, vertices welded by position (unused ones dropped); @p mesh's
