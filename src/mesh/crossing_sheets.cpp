@@ -76,18 +76,6 @@ Mesh sheet_mesh(const TriangleMesh& mesh, const std::vector<int32_t>& sheet, int
 
 Vec3 to_vec(const Point& p) { return Vec3(p.x(), p.y(), p.z()); }
 
-// A halfedge mesh of the same triangles (pinched vertices get one copy per fan).
-Mesh soup_mesh(const TriangleMesh& mesh) {
-  std::vector<Point> points;
-  for (const Vec3& p : mesh.vertices) points.emplace_back(p.x(), p.y(), p.z());
-  std::vector<std::vector<std::size_t>> polygons;
-  for (const Tri& t : mesh.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
-  PMP::orient_polygon_soup(points, polygons);
-  Mesh sm;
-  PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
-  return sm;
-}
-
 int64_t crossing_pairs(const Mesh& sm) {
   std::vector<std::pair<Face, Face>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
@@ -105,7 +93,7 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
     return mesh;
   };
   if (analyze_topology(mesh).boundary_edges == 0) return keep();
-  rep.pairs_before = rep.pairs_after = crossing_pairs(soup_mesh(mesh));
+  rep.pairs_before = rep.pairs_after = crossing_pairs(detail::to_surface_mesh<Mesh>(mesh));
   if (rep.pairs_before == 0) return keep();
   // Patches that meet with T-junctions are one surface: stitch them first, and orient the result
   // again (orient_outward() oriented the patches one by one).
@@ -119,7 +107,7 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
     // One closed surface now. What still crosses (folds inside a patch: pig.stl has three) is
     // left as the input has it; the closed union's refinement is not tried on it (CGAL 5.5's
     // autorefine crashes on some such surfaces).
-    rep.pairs_after = crossing_pairs(soup_mesh(stitched));
+    rep.pairs_after = crossing_pairs(detail::to_surface_mesh<Mesh>(stitched));
     if (rep.pairs_after >= rep.pairs_before) {
       rep.pairs_after = rep.pairs_before;
       return keep();

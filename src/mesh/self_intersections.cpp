@@ -31,21 +31,6 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 
-// A halfedge mesh of the same triangles; vertices shared by several fans (pinches) are
-// duplicated, which leaves the faces, and so their intersections, unchanged.
-Mesh to_surface_mesh(const TriangleMesh& mesh) {
-  std::vector<Point> points;
-  points.reserve(mesh.vertices.size());
-  for (const Vec3& p : mesh.vertices) points.emplace_back(p.x(), p.y(), p.z());
-  std::vector<std::vector<std::size_t>> polygons;
-  polygons.reserve(mesh.faces.size());
-  for (const Tri& t : mesh.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
-  PMP::orient_polygon_soup(points, polygons);
-  Mesh sm;
-  PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
-  return sm;
-}
-
 // Longest crack (boundary cycle left after stitching the union) that resolve_self_intersections() closes.
 constexpr int kMaxCrackEdges = 12;
 
@@ -53,7 +38,7 @@ constexpr int kMaxCrackEdges = 12;
 
 int64_t count_self_intersections(const TriangleMesh& mesh) {
   validate_mesh_data(mesh, "count_self_intersections input");
-  const Mesh sm = to_surface_mesh(mesh);
+  const Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
   return static_cast<int64_t>(pairs.size());
@@ -63,7 +48,7 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
   validate_mesh_data(mesh, "resolve_self_intersections input");
   SelfIntersectionReport rep;
   rep.faces_before = rep.faces_after = static_cast<int64_t>(mesh.faces.size());
-  Mesh sm = to_surface_mesh(mesh);
+  Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
   auto count = [](const Mesh& m) {
     std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
     PMP::self_intersections<CGAL::Parallel_if_available_tag>(m, std::back_inserter(pairs));

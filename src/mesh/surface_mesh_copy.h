@@ -1,15 +1,36 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal, for the CGAL translation units only: a CGAL::Surface_mesh back to a TriangleMesh.
+// Internal, for the CGAL translation units only: a TriangleMesh to a CGAL::Surface_mesh and back.
 
 #include <hdm/core/error.h>
 #include <hdm/mesh/triangle_mesh.h>
 
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/boost/graph/iterator.h>
+
+#include <vector>
 
 #include <string>
 
 namespace hdm::detail {
+
+// A halfedge mesh of the same triangles; vertices shared by several fans (pinches) are
+// duplicated, which leaves the faces, and so their intersections, unchanged. O(F log F).
+template <class SurfaceMesh>
+SurfaceMesh to_surface_mesh(const TriangleMesh& mesh) {
+  using Point = typename SurfaceMesh::Point;
+  std::vector<Point> points;
+  points.reserve(mesh.vertices.size());
+  for (const Vec3& p : mesh.vertices) points.emplace_back(p.x(), p.y(), p.z());
+  std::vector<std::vector<std::size_t>> polygons;
+  polygons.reserve(mesh.faces.size());
+  for (const Tri& t : mesh.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+  CGAL::Polygon_mesh_processing::orient_polygon_soup(points, polygons);
+  SurfaceMesh sm;
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, polygons, sm);
+  return sm;
+}
 
 // Vertex k of the result is Surface_mesh vertex index k, so @p sm must have no garbage
 // (collect_garbage() first). Throws NumericalError naming @p who for a face that is not a triangle.
