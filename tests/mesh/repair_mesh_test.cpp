@@ -7,6 +7,7 @@
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/mesh/repair_mesh.h>
+#include <hdm/mesh/self_intersections.h>
 #include <hdm/slab/bake.h>
 
 #include <gtest/gtest.h>
@@ -139,4 +140,172 @@ TEST(RepairMesh, bad_input_is_refused_with_the_name_and_reason) {
   only_slivers.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
   only_slivers.faces = {{0, 1, 2}, {0, 0, 1}};
   EXPECT_THROW(repair_mesh(only_slivers, "slivers.off"), InvalidInput);
+}
+
+namespace {
+
+// @p m without the faces that use a vertex of @p removed.
+TriangleMesh without_faces_at(const TriangleMesh& m, const std::set<int32_t>& removed) {
+  TriangleMesh out;
+  out.vertices = m.vertices;
+  for (const Tri& t : m.faces)
+    if (!removed.count(t[0]) && !removed.count(t[1]) && !removed.count(t[2])) out.faces.push_back(t);
+  return out;
+}
+
+// Appends @p part to @p m as a component of its own.
+void append(TriangleMesh& m, const TriangleMesh& part) {
+  const auto k = static_cast<int32_t>(m.vertices.size());
+  m.vertices.insert(m.vertices.end(), part.vertices.begin(), part.vertices.end());
+  for (const Tri& t : part.faces) m.faces.push_back({t[0] + k, t[1] + k, t[2] + k});
+}
+
+// The one-ring neighbours of vertex @p v.
+std::set<int32_t> ring(const TriangleMesh& m, int32_t v) {
+  std::set<int32_t> r;
+  for (const Tri& t : m.faces)
+    if (t[0] == v || t[1] == v || t[2] == v)
+      for (int32_t w : t)
+        if (w != v) r.insert(w);
+  return r;
+}
+
+}  // namespace
+
+TEST(RepairMesh, holes_that_touch_at_a_vertex_are_filled_into_one_manifold_vertex) {
+  // Two faces of one star removed, on either side of its centre: two triangular holes that share
+  // that vertex (a pinch, as where elephant-with-holes.off's holes meet). Filled, the sphere is
+  // whole again: the same vertices, closed, nothing crossing.
+  const TriangleMesh sphere = test::icosphere(3, 1.0);
+  std::vector<size_t> star;
+  for (size_t f = 0; f < sphere.faces.size(); ++f)
+    for (int32_t w : sphere.faces[f])
+      if (w == 0) star.push_back(f);
+  ASSERT_GE(star.size(), 5u);
+  // Two faces of the star that share only vertex 0.
+  size_t a = star[0], b = star[0];
+  for (size_t f : star) {
+    int shared = 0;
+    for (int32_t x : sphere.faces[a])
+      for (int32_t y : sphere.faces[f]) shared += x == y;
+    if (shared == 1) b = f;
+  }
+  ASSERT_NE(a, b);
+  TriangleMesh m;
+  m.vertices = sphere.vertices;
+  for (size_t f = 0; f < sphere.faces.size(); ++f)
+    if (f != a && f != b) m.faces.push_back(sphere.faces[f]);
+  RepairReport r;
+  const TriangleMesh out = repair_mesh(m, "pinch", {}, &r);
+  EXPECT_EQ(r.filled_holes, 2);
+  EXPECT_EQ(r.split_vertices, 0);
+  EXPECT_EQ(out.vertices.size(), sphere.vertices.size());
+  expect_clean_and_closed(out);
+  EXPECT_EQ(count_self_intersections(out), 0);
+  // Each triangular hole has one fill, the removed face itself.
+  EXPECT_NEAR(signed_volume(out), signed_volume(sphere), 1e-12);
+}
+
+TEST(RepairMesh, a_fill_never_crosses_the_mesh) {
+  const TriangleMesh sphere = test::icosphere(4, 1.0);
+  const int32_t pole = 0;
+  std::set<int32_t> disk = ring(sphere, pole);  // the hole: the faces at the pole and its ring
+  disk.insert(pole);
+  std::set<int32_t> rim;
+  for (int32_t v : disk)
+    for (int32_t w : ring(sphere, v))
+      if (!disk.count(w)) rim.insert(w);
+  Vec3 c = Vec3::Zero();  // centre of the hole's rim; the flat fill passes close to it
+  for (int32_t v : rim) c += sphere.vertices[v] / double(rim.size());
+  const double sag = 1 - c.norm();  // from the rim's plane to the sphere
+  ASSERT_GT(sag, 0);
+
+  // A small ball in the hole, through the flat fill's plane and clear of the sphere: the flat fill
+  // would cross it; a faired fill follows the sphere over it.
+  {
+    TriangleMesh m = without_faces_at(sphere, disk);
+    append(m, test::icosphere(2, 0.4 * sag, c));
+    ASSERT_EQ(count_self_intersections(m), 0);
+    RepairReport r;
+    const TriangleMesh out = repair_mesh(m, "ball in a hole", {}, &r);
+    EXPECT_EQ(r.filled_holes, 1);
+    expect_clean_and_closed(out);
+    EXPECT_EQ(count_self_intersections(out), 0);
+    for (const Vec3& v : out.vertices)  // the fill stays near the sphere, above the ball
+      if ((v - c).norm() > 0.41 * sag) EXPECT_GT(v.norm(), 1 - 0.6 * sag);
+  }
+  // A stick through the hole: every fill would cross it, so the hole stays open.
+  {
+    TriangleMesh m = without_faces_at(sphere, {pole});
+    const Vec3 d = c.normalized();
+    const Vec3 u = d.unitOrthogonal() * 0.01, w = d.cross(u);
+    TriangleMesh stick;  // a thin closed box from 0.5 d to 1.5 d
+    for (double s : {0.5, 1.5})
+      for (int i = 0; i < 4; ++i) {
+        const double sx = (i == 1 || i == 2) ? 1 : -1, sy = i >= 2 ? 1 : -1;
+        stick.vertices.push_back(s * d + sx * u + sy * w);
+      }
+    for (int i = 0; i < 4; ++i) {  // sides, outward
+      const int32_t j = (i + 1) % 4;
+      stick.faces.push_back({i, j, j + 4});
+      stick.faces.push_back({i, j + 4, i + 4});
+    }
+    stick.faces.push_back({0, 2, 1});
+    stick.faces.push_back({0, 3, 2});
+    stick.faces.push_back({4, 5, 6});
+    stick.faces.push_back({4, 6, 7});
+    append(m, stick);
+    ASSERT_EQ(count_self_intersections(m), 0);
+    RepairReport r;
+    const TriangleMesh out = repair_mesh(m, "stick through a hole", {}, &r);
+    EXPECT_EQ(r.filled_holes, 0);
+    EXPECT_EQ(r.open_boundaries, 1);
+    EXPECT_EQ(analyze_topology(out).boundary_edges, static_cast<int>(ring(sphere, pole).size()));
+    EXPECT_EQ(count_self_intersections(out), 0);
+  }
+}
+
+TEST(RepairMesh, a_closed_model_with_holes_gets_all_of_them_filled_smoothly) {
+  // Holes longer than max_hole_edges on a closed model (the two-rings of two vertices, well under
+  // a quarter of the diagonal): a model with holes cut into it, not an open shell, so all are
+  // filled, faired to follow the sphere.
+  const TriangleMesh sphere = test::icosphere(4, 1.0);
+  std::set<int32_t> gone = ring(sphere, 0);
+  gone.insert(0);
+  std::set<int32_t> two = gone;
+  for (int32_t v : gone)
+    for (int32_t w : ring(sphere, v)) two.insert(w);
+  const Vec3 far = -sphere.vertices[0];  // a second hole on the other side
+  int32_t opposite = 0;
+  for (int32_t v = 0; v < int32_t(sphere.vertices.size()); ++v)
+    if ((sphere.vertices[v] - far).norm() < (sphere.vertices[opposite] - far).norm()) opposite = v;
+  std::set<int32_t> removed = gone;
+  removed.insert(opposite);
+  const TriangleMesh m = without_faces_at(sphere, removed);
+  RepairOptions o;
+  o.max_hole_edges = 8;  // the first hole (a two-ring's rim) is longer
+  RepairReport r;
+  const TriangleMesh out = repair_mesh(m, "holes", o, &r);
+  EXPECT_EQ(r.filled_holes, 2);
+  EXPECT_EQ(r.open_boundaries, 0);
+  expect_clean_and_closed(out);
+  EXPECT_EQ(count_self_intersections(out), 0);
+  // Faired: the new vertices lie much nearer the sphere than the rim's plane does.
+  Vec3 c = Vec3::Zero();
+  int n = 0;
+  for (int32_t v : two)
+    if (!gone.count(v)) c += sphere.vertices[v], ++n;
+  const double sag = 1 - (c / n).norm();
+  ASSERT_GT(sag, 0.005);
+  for (const Vec3& v : out.vertices) EXPECT_LT(std::abs(v.norm() - 1), 0.5 * sag);
+
+  // An open shell (a hemisphere: its rim spans the whole model) keeps its boundary.
+  TriangleMesh half;
+  half.vertices = sphere.vertices;
+  for (const Tri& t : sphere.faces)
+    if (sphere.vertices[t[0]].z() + sphere.vertices[t[1]].z() + sphere.vertices[t[2]].z() > 0) half.faces.push_back(t);
+  RepairReport hr;
+  repair_mesh(half, "hemisphere", o, &hr);
+  EXPECT_EQ(hr.filled_holes, 0);
+  EXPECT_EQ(hr.open_boundaries, 1);
 }
