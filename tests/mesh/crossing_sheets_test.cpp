@@ -218,3 +218,60 @@ TEST(CrossingSheets, TwoCrossingFlatSheetsHaveNoInsideAndAreKept) {
   EXPECT_EQ(out.faces.size(), in.faces.size());
   EXPECT_EQ(out.vertices, in.vertices);
 }
+
+TEST(CrossingSheets, CrumpledFlatSheetIsTriangulatedAgain) {
+  // An 8 x 8 grid of the unit square (one open sheet) with one inner vertex dragged in the plane
+  // past its right-hand neighbour: its faces fold over their neighbours (a crumpled
+  // triangulation). The surface is still the flat square: the crumpled spot is cut out and
+  // triangulated again, so nothing crosses, the square's border is kept, the area is exactly 1,
+  // and every face faces +z.
+  const int n = 8;
+  TriangleMesh in;
+  add_patch(in, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), n);
+  in.vertices[4 * (n + 1) + 4] = Vec3(5.5 / n, 4.4 / n, 0);
+  ASSERT_GT(count_self_intersections(in), 0);
+  SelfIntersectionReport rep;
+  const TriangleMesh out = resolve_crossing_sheets(in, &rep);
+  ASSERT_TRUE(rep.resolved);
+  EXPECT_GT(rep.retriangulated_faces, 0);
+  EXPECT_EQ(count_self_intersections(out), 0);
+  const MeshTopology topo = analyze_topology(out);
+  EXPECT_EQ(topo.non_manifold_edges, 0);
+  EXPECT_EQ(topo.inconsistent_edges, 0);
+  EXPECT_EQ(topo.boundary_edges, 4 * n);
+  EXPECT_NEAR(area(out), 1.0, 1e-12);
+  for (const Tri& t : out.faces) {
+    const Vec3 normal = (out.vertices[t[1]] - out.vertices[t[0]]).cross(out.vertices[t[2]] - out.vertices[t[0]]);
+    EXPECT_GT(normal.z(), 0);
+    EXPECT_NEAR(normal.x(), 0, 1e-15);
+    EXPECT_NEAR(normal.y(), 0, 1e-15);
+  }
+  expect_on_input(out, in);
+}
+
+TEST(CrossingSheets, SheetPassingThroughItselfIsKept) {
+  // The "+" of two open squares above, joined into one sheet by a strip from the edge y = 1 of
+  // the horizontal square to the edge z = 1 of the vertical one: a part of the sheet passes
+  // through another along the whole x axis. Cutting the crossing out would move the surface far
+  // more than 0.1 % of the diagonal, so the input is kept.
+  const int n = 6;
+  TriangleMesh in;
+  add_patch(in, Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), n);
+  const auto second = static_cast<int32_t>(in.vertices.size());
+  add_patch(in, Vec3(-1, 0, -1), Vec3(0, 0, 2), Vec3(2, 0, 0), n);
+  auto a = [&](int k) { return n * (n + 1) + k; };           // (x = -1 + 2k/n, 1, 0)
+  auto b = [&](int k) { return second + k * (n + 1) + n; };  // (x = -1 + 2k/n, 0, 1)
+  for (int k = 0; k < n; ++k) {
+    in.faces.push_back({a(k), b(k + 1), a(k + 1)});
+    in.faces.push_back({a(k), b(k), b(k + 1)});
+  }
+  ASSERT_EQ(analyze_topology(in).non_manifold_edges, 0);
+  const int64_t before = count_self_intersections(in);
+  ASSERT_GT(before, 0);
+  SelfIntersectionReport rep;
+  const TriangleMesh out = resolve_crossing_sheets(in, &rep);
+  EXPECT_FALSE(rep.resolved);
+  EXPECT_EQ(rep.pairs_after, before);
+  EXPECT_EQ(out.faces.size(), in.faces.size());
+  EXPECT_EQ(out.vertices, in.vertices);
+}

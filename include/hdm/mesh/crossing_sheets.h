@@ -11,25 +11,34 @@ namespace hdm {
 /// @brief The surface a user touches from outside on an open mesh whose parts (connected sheets:
 /// a body, limbs pushed into it, each open where it enters another) cross each other.
 ///
-/// Every connected component (faces joined by edges) is one sheet; each must not cross itself
-/// (CGAL's `does_self_intersect`). Sheets whose boxes meet are split along their intersection
-/// curves with CGAL's `Polygon_mesh_processing::corefine` (exact intersection points, the same
-/// rounded point in both sheets). The curves and the sheets' own boundaries cut every sheet into
-/// patches; a patch is buried, and dropped, when the generalized winding number (WindingNumber,
-/// of the whole input) just in front of its faces is at least ½ (area-weighted vote of its faces):
-/// the front of a buried face is inside material. The kept patches are welded at equal points
-/// along the curves. This is the rule `buried_faces()` uses to leave input faces out of the
+/// Every connected component (faces joined by edges) is one sheet. When a sheet crosses itself
+/// (CGAL's `does_self_intersect`), the crossings are taken as a crumpled triangulation of one
+/// surface (faces folded over or overlapping their neighbours, as in polygon_mesh.off): the faces
+/// of the crossing pairs, grown by 1 to 6 vertex rings (the fewest that work; plus the islands they
+/// enclose, and every face around a vertex their boundary passes twice), are cut out, and each
+/// boundary loop of the cut that is not a loop of the input's own border is triangulated again
+/// without new vertices (CGAL's `triangulate_hole_polyline`). The result is kept only if nothing
+/// crosses any more, no edge is doubled, every removed input vertex lies within 0.1 % of the
+/// diagonal of the new faces and every new face (corners, edge midpoints, centroid) within 0.1 %
+/// of the input; else the input is kept. (CGAL 5.5's `autorefine`, which would split the sheet
+/// along its own curves, crashes on some real sheets.) Otherwise sheets whose boxes meet are split along their
+/// intersection curves with CGAL's `Polygon_mesh_processing::corefine` (exact intersection points, the same rounded
+/// point in both sheets). The curves and the sheets' own boundaries cut every sheet into patches; a patch is buried,
+/// and dropped, when the generalized winding number (WindingNumber, of the whole input) just in front of its faces is
+/// at least ½ (area-weighted vote of its faces): the front of a buried face is inside material. The kept patches are
+/// welded at equal points along the curves. This is the rule `buried_faces()` uses to leave input faces out of the
 /// fidelity, so the bake and `hdm check` agree on what the surface is.
 ///
 /// Sheets where "inside" is not defined (an open mask with a cone through its nose: the cone's
 /// part behind the mask is in front of nothing) keep both sides of a curve; the result would have
 /// an edge with more than two faces, and the input is kept (report->resolved false).
 /// @param mesh  edge-manifold triangles, oriented by orient_outward() [model units].
-/// @param[out] report  counts (optional); buried_faces counts faces after the split.
+/// @param[out] report  counts (optional); buried_faces counts faces after the split,
+///                     retriangulated_faces the input faces cut out of crumpled spots.
 /// @return the welded exposed surface (open where the sheets' exposed boundaries are), or
 ///         @p mesh itself when it is closed, does not cross itself, has a sheet that crosses
-///         itself, CGAL throws, or the result is not an edge-manifold consistently oriented surface
-///         free of crossings.
+///         itself where retriangulation fails, CGAL throws, or the result is not an edge-manifold consistently oriented
+///         surface free of crossings.
 /// @throws InvalidInput for invalid mesh data.
 /// @note O(#F log #F + k) for k crossing pairs, single-threaded corefinement; pig.stl (16,848
 ///       faces, 17 sheets): well under a second.

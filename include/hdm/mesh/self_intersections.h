@@ -28,7 +28,9 @@ struct SelfIntersectionReport {
   int64_t split_pinches = 0;  ///< vertices where parts of the union touch at a point, split in one copy per fan
   int64_t seam_vertices = 0;  ///< open input: boundary vertices stitched into a facing boundary edge or merged into a
                               ///< nearly coincident one (stitch_seams())
-  bool resolved = false;      ///< the result is the union's boundary; false: the input was kept
+  int64_t retriangulated_faces = 0;  ///< open input: faces of crumpled spots cut out and triangulated again
+                                     ///< (resolve_crossing_sheets())
+  bool resolved = false;             ///< the result is the union's boundary; false: the input was kept
 };
 
 /// @brief The boundary of the solid a closed mesh that crosses itself bounds: the union of its
