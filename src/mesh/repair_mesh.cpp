@@ -8,6 +8,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -121,15 +122,31 @@ TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, cons
   const double diag = bounds(mesh).diagonal();
   std::vector<Mesh::Halfedge_index> cycles;
   PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
+  // Vertices of each part (faces joined by edges), to tell a hole from a patch's outline.
+  auto part = sm.add_property_map<Mesh::Face_index, std::size_t>("f:part").first;
+  std::vector<std::size_t> part_vertices(PMP::connected_components(sm, part));
+  for (Mesh::Vertex_index v : sm.vertices())
+    if (Mesh::Halfedge_index k = sm.halfedge(v); k != Mesh::null_halfedge()) {
+      Mesh::Face_index f = sm.face(k);
+      if (f == Mesh::null_face()) f = sm.face(sm.opposite(k));
+      ++part_vertices[part[f]];
+    }
   for (Mesh::Halfedge_index h : cycles) {
     int edges = 0;
     Aabb box;
+    std::set<Mesh::Vertex_index> on_cycle;
     for (Mesh::Halfedge_index k = h; edges == 0 || k != h; k = sm.next(k)) {
       ++edges;
+      on_cycle.insert(sm.target(k));
       const Point& p = sm.point(sm.target(k));
       box.extend(Vec3(p.x(), p.y(), p.z()));
     }
-    if (edges > options.max_hole_edges || box.diagonal() > options.max_hole_size * diag) {
+    // A cycle through every vertex of its part is the outline of a patch with no interior vertex (a
+    // lone triangle, a strip), not a hole in a surface: its fill would be a second copy of the
+    // patch, back to back with it, enclosing nothing (b9_mesh.off's stray triangles), and such a
+    // closed part of no thickness has no valid slab. The patch stays an open sheet.
+    const bool outline = on_cycle.size() == part_vertices[part[sm.face(sm.opposite(h))]];
+    if (outline || edges > options.max_hole_edges || box.diagonal() > options.max_hole_size * diag) {
       ++rep.open_boundaries;
       continue;
     }
@@ -143,6 +160,7 @@ TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, cons
     ++rep.filled_holes;
     rep.added_faces += static_cast<int64_t>(new_faces.size());
   }
+  sm.remove_property_map(part);
   if (CGAL::is_closed(sm)) PMP::orient_to_bound_a_volume(sm);
   sm.collect_garbage();
 

@@ -26,7 +26,7 @@ struct RepairReport {
   int64_t flipped_faces = 0;    ///< faces whose orientation was reversed for consistency or outward normals
   int filled_holes = 0;         ///< boundary cycles closed
   int64_t added_faces = 0;      ///< faces added by hole filling
-  int open_boundaries = 0;      ///< boundary cycles left open (longer than max_hole_edges)
+  int open_boundaries = 0;      ///< boundary cycles left open (longer than max_hole_edges, or a patch's outline)
   /// True when the mesh changed.
   bool changed() const noexcept {
     return merged_vertices || removed_faces || split_vertices || flipped_faces || filled_holes;
@@ -46,7 +46,10 @@ bool needs_repair(const TriangleMesh& mesh);
 /// across the long edge so that no gap opens;
 /// fill boundary cycles of at most options.max_hole_edges edges and options.max_hole_size extent
 /// with a triangulation refined to the
-/// surrounding density (triangulate_and_refine_hole, Liepa 2003); orient closed meshes so they
+/// surrounding density (triangulate_and_refine_hole, Liepa 2003), except a cycle through every
+/// vertex of its part (faces joined by edges): the outline of a patch with no interior vertex (a
+/// lone triangle, a strip), whose fill would be a back-to-back copy of it enclosing nothing, is
+/// kept open (counted in RepairReport::open_boundaries); orient closed meshes so they
 /// bound a volume with outward normals (orient_to_bound_a_volume).
 /// @param mesh     input mesh [model units]; positions are kept (new vertices only inside holes).
 /// @param name     file or argument name used in error messages.
