@@ -307,9 +307,23 @@ Mesh fill_holes(std::vector<Point>& points, Soup& polygons, double diag, const R
   std::map<std::size_t, double> largest;
   for (const Hole& h : holes) largest[h.component] = std::max(largest[h.component], h.extent);
 
+  // Vertices of each component, to tell a hole from a patch's outline.
+  std::map<std::size_t, std::size_t> component_vertices;
+  {
+    std::vector<uint8_t> used(points.size(), 0);
+    for (const auto& f : polygons)
+      for (std::size_t v : f)
+        if (!used[v]) used[v] = 1, ++component_vertices[component[v]];
+  }
+
   std::vector<Soup> patches;
   std::set<Point> wanted;  // positions on the holes to fill
   for (const Hole& h : holes) {
+    // A cycle through every vertex of its component is the outline of a patch with no interior
+    // vertex (a lone triangle, a strip), not a hole in a surface: its fill would be a second copy of
+    // the patch, back to back with it, enclosing nothing (b9_mesh.off's stray triangles), and such a
+    // closed part of no thickness has no valid slab. The patch stays an open sheet.
+    if (std::set<std::size_t>(h.loop.begin(), h.loop.end()).size() == component_vertices[h.component]) continue;
     const bool small =
         static_cast<int>(h.loop.size()) <= options.max_hole_edges && h.extent <= options.max_hole_size * diag;
     const bool closed_model = largest[h.component] <= kClosedButForHoles * component_box[h.component].diagonal();

@@ -126,6 +126,66 @@ TEST(RepairMesh, small_holes_are_filled_on_the_surface_and_open_boundaries_kept)
   EXPECT_GT(analyze_topology(lion).boundary_edges, 0);
 }
 
+TEST(RepairMesh, a_patch_with_no_interior_vertex_stays_open_and_holes_are_still_filled) {
+  // Four parts far apart (CAD debris as in b9_mesh.off): a sphere with a face missing (a hole), a
+  // lone triangle and a strip of three triangles (no interior vertex: their boundary is their
+  // outline, its fill would be a back-to-back copy enclosing nothing), and a hexagonal pyramid
+  // without its base (the apex is interior: the base is a hole, filled into a closed pyramid).
+  TriangleMesh m = test::icosphere(3, 1.0);
+  const size_t sphere_faces = m.faces.size() - 1;
+  m.faces.erase(m.faces.begin());
+  auto add = [&](const Vec3& p) {
+    m.vertices.push_back(p);
+    return static_cast<int32_t>(m.vertices.size() - 1);
+  };
+  const int32_t a = add({5, 0, 0}), b = add({5.3, 0, 0}), c = add({5, 0.3, 0.1});
+  m.faces.push_back({a, b, c});
+  const int32_t s0 = add({10, 0, 0}), s1 = add({10, 0.2, 0}), s2 = add({10.2, 0, 0.05}), s3 = add({10.2, 0.2, 0}),
+                s4 = add({10.4, 0, 0});
+  m.faces.push_back({s0, s2, s1});
+  m.faces.push_back({s1, s2, s3});
+  m.faces.push_back({s2, s4, s3});
+  const double r = 0.3, h = 0.2;
+  const int32_t apex = add({15, 0, h});
+  int32_t ring[6];
+  for (int k = 0; k < 6; ++k) ring[k] = add({15 + r * std::cos(k * M_PI / 3), r * std::sin(k * M_PI / 3), 0});
+  for (int k = 0; k < 6; ++k) m.faces.push_back({apex, ring[k], ring[(k + 1) % 6]});
+  ASSERT_EQ(analyze_topology(m).boundary_edges, 3 + 3 + 5 + 6);
+
+  RepairReport rep;
+  const TriangleMesh out = repair_mesh(m, "debris", {}, &rep);
+  EXPECT_EQ(rep.filled_holes, 2);     // the sphere's hole and the pyramid's base
+  EXPECT_EQ(rep.open_boundaries, 2);  // the triangle's and the strip's outlines
+  const MeshTopology t = analyze_topology(out);
+  EXPECT_EQ(t.boundary_edges, 3 + 5);
+  EXPECT_EQ(t.non_manifold_edges, 0);
+  EXPECT_EQ(t.inconsistent_edges, 0);
+  EXPECT_EQ(count_self_intersections(out), 0) << "no face back to back with another";
+  // Faces per part, by position: the triangle and the strip as they were.
+  size_t sphere = 0, lone = 0, strip = 0, pyramid = 0;
+  double pyramid_volume = 0;
+  for (const Tri& f : out.faces) {
+    const double x = out.vertices[f[0]].x();
+    if (x < 2)
+      ++sphere;
+    else if (x < 7)
+      ++lone;
+    else if (x < 12)
+      ++strip;
+    else {
+      ++pyramid;
+      const Vec3 o(15, 0, 0);  // divergence theorem about a point of the part
+      pyramid_volume += (out.vertices[f[0]] - o).dot((out.vertices[f[1]] - o).cross(out.vertices[f[2]] - o)) / 6;
+    }
+  }
+  EXPECT_GT(sphere, sphere_faces);
+  EXPECT_EQ(lone, 1u);
+  EXPECT_EQ(strip, 3u);
+  EXPECT_GE(pyramid, 10u);
+  // Closed and outward: (1/3) base area * height, base a regular hexagon of circumradius r.
+  EXPECT_NEAR(std::abs(pyramid_volume), (3 * std::sqrt(3.0) / 2 * r * r) * h / 3, 1e-9);
+}
+
 TEST(RepairMesh, bad_input_is_refused_with_the_name_and_reason) {
   TriangleMesh m = test::icosphere(1, 1.0);
   m.vertices[3].x() = NAN;

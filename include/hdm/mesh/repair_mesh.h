@@ -30,8 +30,8 @@ struct RepairReport {
   int64_t flipped_faces = 0;    ///< faces whose orientation was reversed for consistency or outward normals
   int filled_holes = 0;         ///< boundary cycles closed
   int64_t added_faces = 0;      ///< faces added by hole filling
-  int open_boundaries = 0;      ///< boundary cycles left open (open boundaries, or holes no fill closes
-                                ///< without crossing the mesh)
+  int open_boundaries = 0;      ///< boundary cycles left open (open boundaries, a patch's outline, or
+                                ///< holes no fill closes without crossing the mesh)
   /// True when the mesh changed.
   bool changed() const noexcept {
     return merged_vertices || removed_faces || split_vertices || flipped_faces || filled_holes;
@@ -56,9 +56,11 @@ bool needs_repair(const TriangleMesh& mesh);
 /// face (self_intersections on the faces near it; a fairing that crosses is undone); else a
 /// refined, or faired, fill in the mesh (triangulate_and_refine_hole first for a planar rim,
 /// triangulate_refine_and_fair_hole first otherwise) is tried, and the hole stays open when none
-/// avoids crossing. Copies of a pinched vertex left (holes not filled) are moved apart by 1 %
-/// towards their own fan's ring, so the fans no longer touch. Closed meshes are then
-/// oriented to bound a volume with outward normals (orient_to_bound_a_volume).
+/// avoids crossing. A cycle through every vertex of its part (faces joined by edges) is the
+/// outline of a patch with no interior vertex (a lone triangle, a strip), whose fill would be a
+/// back-to-back copy of it enclosing nothing: it is kept open. Copies of a pinched vertex left (holes not filled) are
+/// moved apart by 1 % towards their own fan's ring, so the fans no longer touch. Closed meshes are then oriented to
+/// bound a volume with outward normals (orient_to_bound_a_volume).
 /// @param mesh     input mesh [model units]; positions are kept (new vertices only inside holes), but
 ///                 for pinched-vertex copies moved by 1 % of their ring.
 /// @param name     file or argument name used in error messages.
