@@ -165,6 +165,16 @@ int64_t count_self_intersections(const TriangleMesh& mesh) {
   return static_cast<int64_t>(pairs.size());
 }
 
+TriangleMesh fill_nearly_closed(const TriangleMesh& mesh) {
+  validate_mesh_data(mesh, "fill_nearly_closed input");
+  Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
+  if (CGAL::is_closed(sm) || !nearly_closed(sm)) return {};
+  const double area = PMP::area(sm);
+  const double caps = fill_holes(sm);
+  if (!CGAL::is_closed(sm) || !(caps < kNearlyClosedCapFraction * area)) return {};
+  return detail::to_triangle_mesh(sm, "fill_nearly_closed");
+}
+
 TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report) {
   validate_mesh_data(mesh, "resolve_self_intersections input");
   SelfIntersectionReport rep;
