@@ -57,7 +57,10 @@ std::vector<uint8_t> buried_faces(const ExactMeshQuery& input) {
   tbb::parallel_for(size_t(0), m.faces.size(), [&](size_t f) {
     const Tri& t = m.faces[f];
     const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
-    buried[f] = winding.inside(c + eps * input.face_normal(static_cast<int32_t>(f)));
+    const Vec3 n = input.face_normal(static_cast<int32_t>(f));
+    // Closed: a face with no material behind it either (a fin, a part turned inside out where it
+    // crosses) is not on the material's boundary; resolve_self_intersections() drops it too.
+    buried[f] = winding.inside(c + eps * n) || (!open && !winding.inside(c - eps * n));
   });
   return buried;
 }

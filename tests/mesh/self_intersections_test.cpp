@@ -176,3 +176,33 @@ TEST(SelfIntersections, a_nearly_closed_input_is_filled_and_a_sheet_is_not) {
   sheet.faces.resize(2);
   EXPECT_TRUE(fill_nearly_closed(sheet).faces.empty());
 }
+
+// A box turned inside out half pushed into another (winding 1 in the outer box, 0 in the overlap,
+// -1 in the inverted box's part outside): a face is on the material's boundary only where the
+// material (analytic winding >= 1/2) is behind it and not in front of it.
+TEST(SelfIntersections, faces_with_no_material_behind_them_are_buried) {
+  TriangleMesh m;
+  add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
+  add_box(m, Vec3(1, 0.5, 0.5), Vec3(3, 1.5, 1.5));
+  for (size_t f = 12; f < 24; ++f) std::swap(m.faces[f][1], m.faces[f][2]);  // inside out
+  auto in = [](const Vec3& p, const Vec3& lo, const Vec3& hi) {
+    return (p.array() > lo.array()).all() && (p.array() < hi.array()).all();
+  };
+  auto material = [&](const Vec3& p) {
+    return int(in(p, Vec3(0, 0, 0), Vec3(2, 2, 2))) - int(in(p, Vec3(1, 0.5, 0.5), Vec3(3, 1.5, 1.5))) >= 1;
+  };
+  const ExactMeshQuery q(m);
+  ASSERT_TRUE(q.closed());
+  const std::vector<uint8_t> buried = buried_faces(q);
+  ASSERT_EQ(buried.size(), m.faces.size());
+  int outside_faces = 0;
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    const Tri& t = m.faces[f];
+    const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3;
+    const Vec3 n = q.face_normal(static_cast<int32_t>(f));
+    const bool boundary = material(c - 1e-6 * n) && !material(c + 1e-6 * n);
+    EXPECT_EQ(buried[f] != 0, !boundary) << "face " << f << " at " << c.transpose();
+    outside_faces += f >= 12 && c.x() > 2;
+  }
+  EXPECT_GT(outside_faces, 0);  // faces of the inverted box outside the other: no material on either side
+}
