@@ -41,6 +41,17 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
       in.resolved.seam_vertices = in.seams.inserted + in.seams.snapped;
     }
   }
+  // A nearly closed input that crosses itself (a bust with an open base) is the solid it nearly
+  // bounds: its holes are filled for the bake and the check alike, so the check measures the caps
+  // the model has, and the buried faces are those inside that solid.
+  int64_t filled_faces = 0;
+  if (in.self_intersections > 0 && !closed_by_seams && analyze_topology(in.mesh).boundary_edges > 0) {
+    TriangleMesh filled = fill_nearly_closed(in.mesh);
+    if (!filled.faces.empty()) {
+      filled_faces = static_cast<int64_t>(filled.faces.size() - in.mesh.faces.size());
+      in.mesh = std::move(filled);
+    }
+  }
   if (resolve && in.self_intersections > 0) {
     if (closed_by_seams) {
       // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL
@@ -50,6 +61,7 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
     } else {
       in.mesh = resolve_self_intersections(in.mesh, &in.resolved);
       if (in.seams.inserted + in.seams.snapped > 0) in.resolved.seam_vertices = in.seams.inserted + in.seams.snapped;
+      in.resolved.filled_faces = filled_faces;
     }
   }
   return in;

@@ -19,6 +19,7 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   BakeOptions o = options;
   std::vector<ToleranceRound> tried;
   double budget = 0;
+  int stalls = 0;               // rounds running with as many faults as the round before
   int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round  // submesh triangles
                                 // (slabs·n²) the next round may use when the grid adapts
   for (int round = 0;; ++round) {
@@ -43,11 +44,15 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     // next count grows from the larger of target and result.
     const int base = std::max(r.slabs, o.slabs);
     const int next = static_cast<int>(std::min<double>(cap, std::ceil(base * std::clamp(worst, 1.5, 3.0))));
-    // Invalid or overlapping slabs that more slabs did not reduce come from the input itself
-    // (faces that cross or fold at any resolution), not from a coarse mesh too coarse for a part:
-    // further rounds only cost time (pig.stl: 285, 919, 1878, ... faults over six rounds).
+    // Invalid or overlapping slabs that grew with more slabs, or stayed as many over two rounds
+    // running, come from the input itself (faces that cross or fold at any resolution), not from
+    // a coarse mesh too coarse for a part: further rounds only cost time (pig.stl: 285, 919,
+    // 1878, ... faults over six rounds). One round with as many is not enough: a sliver of a
+    // resolved union needs slabs smaller than it (mannequin-devil.off: 13, 13, then 0 faults).
     const int64_t faults = int64_t(r.invalid_slabs) + r.overlapping_pairs;
-    const bool stuck = round > 0 && previous_faults > 0 && faults >= previous_faults;
+    const bool counted = round > 0 && previous_faults > 0;
+    stalls = counted && faults == previous_faults ? stalls + 1 : 0;
+    const bool stuck = counted && (faults > previous_faults || stalls >= 2);
     previous_faults = faults;
     if (t.met || stuck || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
       if (rounds) *rounds = std::move(tried);

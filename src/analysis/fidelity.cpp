@@ -44,16 +44,23 @@ Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt 
 std::vector<uint8_t> buried_faces(const ExactMeshQuery& input) {
   const TriangleMesh& m = input.mesh();
   std::vector<uint8_t> buried(m.faces.size(), 0);
-  const double eps = 1e-5 * bounds(m).diagonal();
-  // Open: rays leave through the openings, so the inside is where the generalized winding number
-  // is at least 1/2 (the rule resolve_crossing_sheets() drops faces by).
+  // The generalized winding number counts the parts that cover a point: a face inside two
+  // overlapping parts is buried too, where ray parity calls it outside; and rays of an open input
+  // leave through its openings. Inside is a winding of at least 1/2, the rule
+  // resolve_self_intersections() and resolve_crossing_sheets() drop faces by. A closed input is
+  // probed 10⁻⁹ of the diagonal off the face, as resolve_self_intersections() does: its layers
+  // may run closer than 10⁻⁵ of the diagonal (mannequin-devil.off), and a point farther out would
+  // pass the layer above.
   const bool open = !input.closed();
-  const WindingNumber winding(open ? m : TriangleMesh{});
+  const double eps = (open ? 1e-5 : 1e-9) * bounds(m).diagonal();
+  const WindingNumber winding(m);
   tbb::parallel_for(size_t(0), m.faces.size(), [&](size_t f) {
     const Tri& t = m.faces[f];
     const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
-    const Vec3 p = c + eps * input.face_normal(static_cast<int32_t>(f));
-    buried[f] = open ? winding.inside(p) : input.inside(p);
+    const Vec3 n = input.face_normal(static_cast<int32_t>(f));
+    // Closed: a face with no material behind it either (a fin, a part turned inside out where it
+    // crosses) is not on the material's boundary; resolve_self_intersections() drops it too.
+    buried[f] = winding.inside(c + eps * n) || (!open && !winding.inside(c - eps * n));
   });
   return buried;
 }
@@ -87,13 +94,11 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
       }
     // A vertex of an exposed face may itself lie inside another part (the face crosses it): it is
     // on the material's surface only if the point just in front of it is outside, as for faces.
-    const double eps = 1e-5 * diag;
-    const bool open = !input.closed();
-    const WindingNumber winding(open ? in : TriangleMesh{});
+    const double eps = (input.closed() ? 1e-9 : 1e-5) * diag;  // as buried_faces()
+    const WindingNumber winding(in);
     tbb::parallel_for(size_t(0), in.vertices.size(), [&](size_t v) {
       if (!exposed[v] || !(normal[v].norm() > 0)) return;
-      const Vec3 p = in.vertices[v] + eps * normal[v].normalized();
-      if (open ? winding.inside(p) : input.inside(p)) exposed[v] = 0;
+      if (winding.inside(in.vertices[v] + eps * normal[v].normalized())) exposed[v] = 0;
     });
     for (size_t v = 0; v < in.vertices.size(); ++v)
       if (exposed[v]) back_points.push_back(in.vertices[v]);

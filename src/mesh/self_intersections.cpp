@@ -5,6 +5,7 @@
 #include <hdm/core/error.h>
 #include <hdm/mesh/self_intersections.h>
 #include <hdm/mesh/crossing_sheets.h>
+#include <hdm/mesh/winding_number.h>
 
 #include "surface_mesh_copy.h"
 
@@ -17,7 +18,10 @@
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/stitch_borders.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/repair.h>
+#include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 
 #include <array>
 #include <string>
@@ -31,8 +35,125 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 
-// Longest crack (boundary cycle left after stitching the union) that resolve_self_intersections() closes.
+// Longest crack (boundary cycle left after stitching the union) that resolve_self_intersections() closes,
+// and longer ones up to kMaxSmallCrackEdges when they span at most kSmallCrack of the diagonal
+// (mannequin-devil.off: one of 16 edges where a horn meets the head).
 constexpr int kMaxCrackEdges = 12;
+constexpr int kMaxSmallCrackEdges = 64;
+constexpr double kSmallCrack = 0.01;
+// Largest area of the fills of an open input's holes, as a fraction of its area, for which it is
+// resolved as the solid it nearly bounds (orient_outward()'s criterion for nearly closed).
+constexpr double kNearlyClosedCapFraction = 0.25;
+// Longest hole filled so (the fill costs O(h³)); mannequin-devil.off's open base has 64 edges.
+constexpr size_t kMaxFillEdges = 256;
+
+// Whether @p sm's holes are small enough to fill for good: at most kMaxFillEdges edges each, and
+// fans about their centroids of less than kNearlyClosedCapFraction of its area (cheap, before
+// the O(h³) fill).
+bool nearly_closed(const Mesh& sm) {
+  std::vector<Mesh::Halfedge_index> cycles;
+  PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
+  double fans = 0;
+  for (Mesh::Halfedge_index h : cycles) {
+    std::vector<Vec3> loop;
+    for (Mesh::Halfedge_index e : CGAL::halfedges_around_face(h, sm)) {
+      const Point& q = sm.point(sm.target(e));
+      loop.emplace_back(q.x(), q.y(), q.z());
+    }
+    if (loop.size() > kMaxFillEdges) return false;
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& q : loop) c += q / double(loop.size());
+    for (size_t i = 0; i < loop.size(); ++i) fans += 0.5 * (loop[i] - c).cross(loop[(i + 1) % loop.size()] - c).norm();
+  }
+  return fans < kNearlyClosedCapFraction * PMP::area(sm);
+}
+
+// Fills every boundary cycle of @p sm (Liepa 2003: minimal-area triangulation refined to the
+// surrounding density, as repair_mesh() fills small holes); returns the area of the added faces.
+double fill_holes(Mesh& sm) {
+  std::vector<Mesh::Halfedge_index> cycles;
+  PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
+  std::vector<Mesh::Face_index> caps;
+  for (Mesh::Halfedge_index h : cycles)
+    if (sm.is_border(h)) PMP::triangulate_and_refine_hole(sm, h, std::back_inserter(caps), CGAL::Emptyset_iterator());
+  double area = 0;
+  for (Mesh::Face_index f : caps) area += PMP::face_area(f, sm);
+  return area;
+}
+
+// The union's boundary of the closed mesh @p sm (see resolve_self_intersections()), @p solid its
+// faces as a TriangleMesh; false, @p sm in any state, when that fails.
+bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport& rep) {
+  try {
+    PMP::experimental::autorefine(sm);
+  } catch (const std::exception&) {
+    return false;  // CGAL's refinement is experimental and asserts on some configurations
+  }
+  // The generalized winding number counts how many parts cover a point, so a piece inside two
+  // (or any even number of) overlapping parts is buried too, where ray parity calls it outside.
+  const WindingNumber winding(solid);
+  const double diagonal = bounds(solid).diagonal();
+  // Just off the face: where the surface runs in nearly coincident layers (mannequin-devil.off:
+  // folds closer than 10⁻⁶ of the diagonal), a point farther out would pass the layer above and
+  // keep both layers. Near faces are summed exactly, so the jump of 1 across the face is sharp.
+  const double eps = 1e-9 * diagonal;
+  std::vector<Mesh::Face_index> buried;
+  for (Mesh::Face_index f : sm.faces()) {
+    std::array<Point, 3> c;
+    int k = 0;
+    for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) c[k++] = sm.point(v);
+    const Vec3 a(c[0].x(), c[0].y(), c[0].z()), b(c[1].x(), c[1].y(), c[1].z()), d(c[2].x(), c[2].y(), c[2].z());
+    const Vec3 n = (b - a).cross(d - a);
+    const Vec3 g = (a + b + d) / 3;
+    if (!(n.norm() > 0) || winding.inside(g + eps * n.normalized()) || !winding.inside(g - eps * n.normalized()))
+      buried.push_back(f);
+  }
+  rep.buried_faces = static_cast<int64_t>(buried.size());
+  // The exposed pieces are joined as a soup: the refinement can leave copies of one intersection
+  // point on each face it cut, and stitching joins only halfedges whose vertices are shared.
+  {
+    std::vector<uint8_t> gone(sm.number_of_faces(), 0);
+    for (Mesh::Face_index f : buried) gone[f.idx()] = 1;
+    std::vector<Point> points(sm.points().begin(), sm.points().end());
+    std::vector<std::array<std::size_t, 3>> polygons;
+    for (Mesh::Face_index f : sm.faces()) {
+      if (gone[f.idx()]) continue;
+      std::array<std::size_t, 3> t{};
+      int k = 0;
+      for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[k++] = v.idx();
+      polygons.push_back(t);
+    }
+    PMP::repair_polygon_soup(points, polygons);
+    PMP::orient_polygon_soup(points, polygons);
+    sm.clear();
+    PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
+  }
+  PMP::stitch_borders(sm);
+  sm.collect_garbage();
+  // Where the union meets itself along an edge or a vertex (parts that touch, slivers of the
+  // refinement), stitching leaves a few cracks of a handful of edges: close them flat, as
+  // repair_mesh() closes small holes. Anything larger means the classification failed.
+  {
+    std::vector<Mesh::Halfedge_index> cycles;
+    PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
+    for (Mesh::Halfedge_index h : cycles) {
+      int edges = 0;
+      Aabb box;
+      for (Mesh::Halfedge_index e : CGAL::halfedges_around_face(h, sm)) {
+        ++edges;
+        const Point& q = sm.point(sm.target(e));
+        box.extend(Vec3(q.x(), q.y(), q.z()));
+      }
+      if (edges > kMaxCrackEdges && !(edges <= kMaxSmallCrackEdges && box.diagonal() <= kSmallCrack * diagonal))
+        return false;
+    }
+    for (Mesh::Halfedge_index h : cycles)
+      if (sm.is_border(h)) PMP::triangulate_hole(sm, h, CGAL::Emptyset_iterator());
+    sm.collect_garbage();
+    rep.closed_cracks = static_cast<int64_t>(cycles.size());
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -42,6 +163,16 @@ int64_t count_self_intersections(const TriangleMesh& mesh) {
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
   return static_cast<int64_t>(pairs.size());
+}
+
+TriangleMesh fill_nearly_closed(const TriangleMesh& mesh) {
+  validate_mesh_data(mesh, "fill_nearly_closed input");
+  Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
+  if (CGAL::is_closed(sm) || !nearly_closed(sm)) return {};
+  const double area = PMP::area(sm);
+  const double caps = fill_holes(sm);
+  if (!CGAL::is_closed(sm) || !(caps < kNearlyClosedCapFraction * area)) return {};
+  return detail::to_triangle_mesh(sm, "fill_nearly_closed");
 }
 
 TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report) {
@@ -60,44 +191,23 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
     return mesh;
   };
   if (rep.pairs_before == 0) return keep();
-  if (!CGAL::is_closed(sm)) return resolve_crossing_sheets(mesh, report);
-  try {
-    PMP::experimental::autorefine(sm);
-  } catch (const std::exception&) {
-    return keep();  // CGAL's refinement is experimental and asserts on some configurations
-  }
-  const ExactMeshQuery winding(mesh);
-  const double eps = 1e-6 * bounds(mesh).diagonal();
-  std::vector<Mesh::Face_index> buried;
-  for (Mesh::Face_index f : sm.faces()) {
-    std::array<Point, 3> c;
-    int k = 0;
-    for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) c[k++] = sm.point(v);
-    const Vec3 a(c[0].x(), c[0].y(), c[0].z()), b(c[1].x(), c[1].y(), c[1].z()), d(c[2].x(), c[2].y(), c[2].z());
-    const Vec3 n = (b - a).cross(d - a);
-    const Vec3 g = (a + b + d) / 3;
-    if (!(n.norm() > 0) || winding.inside(g + eps * n.normalized()) || !winding.inside(g - eps * n.normalized()))
-      buried.push_back(f);
-  }
-  for (Mesh::Face_index f : buried) CGAL::Euler::remove_face(sm.halfedge(f), sm);
-  sm.collect_garbage();
-  PMP::stitch_borders(sm);
-  sm.collect_garbage();
-  // Where the union meets itself along an edge or a vertex (parts that touch, slivers of the
-  // refinement), stitching leaves a few cracks of a handful of edges: close them flat, as
-  // repair_mesh() closes small holes. Anything larger means the classification failed.
-  {
-    std::vector<Mesh::Halfedge_index> cycles;
-    PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
-    for (Mesh::Halfedge_index h : cycles) {
-      int edges = 0;
-      for (Mesh::Halfedge_index e : CGAL::halfedges_around_face(h, sm)) (void)e, ++edges;
-      if (edges > kMaxCrackEdges) return keep();
-    }
-    for (Mesh::Halfedge_index h : cycles)
-      if (sm.is_border(h)) PMP::triangulate_hole(sm, h, CGAL::Emptyset_iterator());
-    sm.collect_garbage();
-    rep.closed_cracks = static_cast<int64_t>(cycles.size());
+  const bool open = !CGAL::is_closed(sm);
+  auto give_up = [&] { return open ? resolve_crossing_sheets(mesh, report) : keep(); };
+  if (open) {
+    // A nearly closed input (a bust with an open base, a scan with a cut) is resolved as the
+    // solid it nearly bounds: its holes are filled (Liepa) and stay filled, so the result is a
+    // closed surface. Sheets, and inputs whose fills do not close them, go to the sheet path.
+    if (!nearly_closed(sm)) return give_up();
+    Mesh filled = sm;
+    const double area = PMP::area(sm);
+    const double caps = fill_holes(filled);
+    if (!CGAL::is_closed(filled) || !(caps < kNearlyClosedCapFraction * area)) return give_up();
+    const TriangleMesh solid = detail::to_triangle_mesh(filled, "resolve_self_intersections");
+    if (!resolve_closed(filled, solid, rep)) return give_up();
+    rep.filled_faces = static_cast<int64_t>(solid.faces.size() - mesh.faces.size());
+    sm = std::move(filled);
+  } else if (!resolve_closed(sm, mesh, rep)) {
+    return keep();
   }
   // Parts that touch at a point leave a pinch: one copy per fan, each moved a little into its own
   // fan so the copies do not coincide (the bake finds no room for a shell between coincident corners).
@@ -120,9 +230,26 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
     }
     rep.split_pinches = static_cast<int64_t>(copies.size());
   }
-  if (!CGAL::is_closed(sm) || sm.number_of_faces() == 0) return keep();
+  if (!CGAL::is_closed(sm) || sm.number_of_faces() == 0) return give_up();
   rep.pairs_after = count(sm);
-  rep.buried_faces = static_cast<int64_t>(buried.size());
+  // The refinement rounds its intersection points (inexact constructions), so a few refined
+  // slivers may cross again where the surface passes through itself at a grazing angle: CGAL
+  // removes them with the faces around and refills the holes (`remove_self_intersections`), a
+  // change of the size of those slivers. Used only when it leaves a closed surface with fewer pairs.
+  if (rep.pairs_after > 0) {
+    Mesh cleaned = sm;
+    bool done = false;
+    try {
+      done = PMP::experimental::remove_self_intersections(cleaned, CGAL::parameters::preserve_genus(false));
+    } catch (const std::exception&) {
+      done = false;
+    }
+    if (done && CGAL::is_closed(cleaned) && cleaned.number_of_faces() > 0) {
+      cleaned.collect_garbage();
+      const int64_t left = count(cleaned);
+      if (left < rep.pairs_after) sm = std::move(cleaned), rep.pairs_after = left;
+    }
+  }
   TriangleMesh out = detail::to_triangle_mesh(sm, "resolve_self_intersections");
   rep.faces_after = static_cast<int64_t>(out.faces.size());
   rep.resolved = true;

@@ -29,22 +29,27 @@ struct Fidelity {
 /// @param input   exact queries on the mesh @p model was baked from (same frame and units).
 /// @param buried  optional #F flags of input faces that are not on the surface of the material
 ///                (buried_faces()): their centroids, vertices all of whose faces are buried, and
-///                vertices inside the material (the point 10⁻⁵ of the diagonal in front of the
-///                vertex, along its exposed faces' normal, is inside: a vertex of a face that
-///                crosses another part) are left out of the input-to-model direction.
+///                vertices inside the material (the point 10⁻⁵, closed input 10⁻⁹, of the
+///                diagonal in front of the vertex, along its exposed faces' normal, is inside: a
+///                vertex of a face that crosses another part) are left out of the input-to-model
+///                direction.
 /// @note Parallel (TBB); O((#samples + #V + #F) log #F).
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
                           const std::vector<uint8_t>* buried = nullptr);
 
-/// @brief Faces of an input that lie inside the material it bounds: faces of a part pushed
-/// into another (a mesh that crosses itself), whose outside is still inside the union. A face is
-/// buried when the point 10⁻⁵ of the diagonal in front of its centroid is inside: for a closed
-/// mesh ExactMeshQuery::inside (the winding number along rays), for an open one the generalized
-/// winding number is at least ½ (WindingNumber; rays leave through the openings), the rule
-/// resolve_crossing_sheets() drops faces by. No face of a closed mesh that does not cross
-/// itself is buried.
+/// @brief Faces of an input that are not on the boundary of the material it bounds: faces of a
+/// part pushed into another (a mesh that crosses itself), whose outside is still inside the
+/// union. Inside is where the generalized winding number (WindingNumber, Jacobson et al. 2013)
+/// is at least ½: it counts the parts covering a point, and rays of an open input would leave
+/// through its openings. Open input: buried when the point 10⁻⁵ of the diagonal in front of the
+/// centroid is inside (the rule resolve_crossing_sheets() drops faces by). Closed input: the
+/// rule resolve_self_intersections() keeps pieces by, 10⁻⁹ of the diagonal off the centroid
+/// (layers may run closer than 10⁻⁵): buried when the point in front is inside or the point
+/// behind is not (no material on either side: a fin, a part turned inside out). No face of a
+/// closed, consistently oriented mesh that does not cross itself is buried.
 /// @return #F flags (1: buried).
-/// @note Parallel (TBB); three rays per face, or O(log #F) winding-number terms.
+/// @note Parallel (TBB); O(#F log #F) for the winding-number tree, O(log #F) terms per point away
+///       from the surface, more near it.
 std::vector<uint8_t> buried_faces(const ExactMeshQuery& input);
 
 /// Contact accuracy near the surface.

@@ -25,6 +25,7 @@ struct SelfIntersectionReport {
   int64_t faces_after = 0;    ///< faces of the result
   int64_t buried_faces = 0;   ///< faces (after refinement) dropped as inside the union
   int64_t closed_cracks = 0;  ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
+  int64_t filled_faces = 0;   ///< faces added to fill the holes of a nearly closed input (they stay)
   int64_t split_pinches = 0;  ///< vertices where parts of the union touch at a point, split in one copy per fan
   int64_t seam_vertices = 0;  ///< open input: boundary vertices stitched into a facing boundary edge or merged into a
                               ///< nearly coincident one (stitch_seams())
@@ -33,26 +34,51 @@ struct SelfIntersectionReport {
   bool resolved = false;             ///< the result is the union's boundary; false: the input was kept
 };
 
+/// @brief The solid an open mesh nearly bounds: its holes filled (`triangulate_and_refine_hole`,
+/// Liepa 2003), when it is nearly closed: holes of at most 256 edges whose fans about their
+/// centroids cover less than a quarter of its area (a bust with an open base,
+/// mannequin-devil.off), the rule resolve_self_intersections() fills open inputs by. For a mesh
+/// that crosses itself, `hdm bake` and `hdm check` both measure against this closed surface.
+/// @param mesh  edge-manifold triangles [model units].
+/// @return the filled mesh (the input's faces first, unchanged, then the fills); an empty mesh
+///         when @p mesh is closed, not nearly closed, or the fills leave it open.
+/// @throws InvalidInput for invalid mesh data.
+/// @note O(#F) plus O(h³) per hole of h edges.
+TriangleMesh fill_nearly_closed(const TriangleMesh& mesh);
+
 /// @brief The boundary of the solid a closed mesh that crosses itself bounds: the union of its
 /// parts. CGAL's `Polygon_mesh_processing::experimental::autorefine` splits the faces along
-/// every intersection curve; a piece stays when the winding number (ExactMeshQuery::inside on the
-/// input) is zero just outside it and not zero just inside, so buried pieces go; the pieces are
-/// stitched along the curves (`stitch_borders`). Faces away from the crossings are unchanged, so
-/// the result is the input's own exposed surface, cut exactly where the parts meet. Where parts
-/// touch along an edge or a vertex, stitching leaves cracks of a few edges (man.off: 7 of 3 to 4
-/// edges); those of at most 12 edges are triangulated flat (`triangulate_hole`). Where they touch
-/// at a vertex (a pinch: its faces form several fans, cow.off), the vertex gets one copy per fan
-/// (`duplicate_non_manifold_vertices`), each moved by 1% towards the centroid of its own fan's
-/// ring: the copies no longer coincide, so each part gets a shell of its own (two coincident
-/// corners leave no room for one) and the result is a manifold surface.
+/// every intersection curve; a piece stays when the generalized winding number of the input
+/// (WindingNumber, Jacobson et al. 2013) is below 1/2 just in front of it (10⁻⁹ of the diagonal
+/// off its centroid) and at least 1/2 just behind it, so pieces inside one, two or more other
+/// parts go (ray parity would keep those inside an even number). The pieces are joined as a
+/// polygon soup (coincident points merged, `repair_polygon_soup`) and stitched along the curves
+/// (`stitch_borders`). Faces away from the crossings are unchanged, so the result is the input's
+/// own exposed surface, cut exactly where the parts meet. Where parts touch along an edge or a
+/// vertex, stitching leaves cracks of a few edges (man.off: 7 of 3 to 4 edges); those of at most
+/// 12 edges, or at most 64 within 1% of the diagonal, are triangulated flat (`triangulate_hole`).
+/// Where they touch at a vertex (a pinch: its faces form several fans, cow.off), the vertex gets
+/// one copy per fan (`duplicate_non_manifold_vertices`), each moved by 1% towards the centroid of
+/// its own fan's ring: the copies no longer coincide, so each part gets a shell of its own (two
+/// coincident corners leave no room for one) and the result is a manifold surface. Refined
+/// slivers that cross again (rounded intersection points where the surface passes through itself
+/// at a grazing angle) are removed and their holes refilled by CGAL's
+/// `experimental::remove_self_intersections` when that leaves a closed surface with fewer pairs.
+///
+/// An open mesh that crosses itself is resolved the same way when it is nearly closed (holes of
+/// at most 256 edges whose fans about their centroids cover less than a quarter of its area, as
+/// orient_outward() counts nearly closed: a bust with an open base, mannequin-devil.off): its
+/// holes are filled (`triangulate_and_refine_hole`, Liepa 2003) and stay filled, so the result is
+/// closed (report->filled_faces). Other open meshes, and nearly closed ones this fails on, go to
+/// resolve_crossing_sheets() (sheets pushed into each other, pig.stl).
 /// @param mesh  edge-manifold triangles, oriented by orient_outward() [model units].
 /// @param[out] report  counts (optional).
-/// An open mesh that crosses itself goes to resolve_crossing_sheets() (sheets pushed into each
-/// other, pig.stl).
 /// @return the union's boundary; @p mesh itself when it does not cross itself, or the
 ///         refinement fails or leaves a surface that is not closed (report->resolved false).
 /// @throws InvalidInput for invalid mesh data.
-/// @note O((#F + k) log #F) for k crossings; single-threaded refinement.
+/// @note O((#F + k) log #F) for k crossings, plus O(h³) per filled hole of h edges;
+///       single-threaded refinement. CGAL 5.5's autorefine crashes (SIGSEGV) where three faces
+///       meet at a point of an edge; that case is not guarded.
 TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report = nullptr);
 
 }  // namespace hdm
