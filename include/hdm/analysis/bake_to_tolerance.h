@@ -56,8 +56,9 @@ struct ToleranceRound {
 /// costs memory, and it sharpens the force-shading field the proxy follows (docs/haptics.md). Every
 /// other option stays as given. Stops at the first model that meets the bounds, at the cap, after
 /// Tolerance::max_rounds bakes, or when the round before had invalid or overlapping slabs and this
-/// round has no fewer of them (faults that more slabs do not reduce come from the input: faces
-/// that cross or fold at every resolution); the model returned is the last one baked (the finest).
+/// round has more of them, or as many for the second round running (faults that more slabs do not
+/// reduce come from the input: faces that cross or fold at every resolution; a sliver of a
+/// resolved union needs one round more); the model returned is the last one baked (the finest).
 ///
 /// The decimation that places the coarse vertices is already error-driven (edge collapses of
 /// least quadric error first, decimate_mesh()), so this chooses how far it goes, measured on the
