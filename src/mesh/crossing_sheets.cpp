@@ -468,9 +468,8 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
   // coincide (the bake finds no room for a shell between coincident corners), as
   // resolve_self_intersections() does for closed unions.
   std::vector<Point> soup_points;
-  for (const Vec3& p : out.vertices) soup_points.emplace_back(p.x(), p.y(), p.z());
   std::vector<std::vector<std::size_t>> polygons;
-  for (const Tri& t : out.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+  detail::to_polygon_soup(out, soup_points, polygons);
   const size_t welded_count = soup_points.size();
   PMP::orient_polygon_soup(soup_points, polygons);
   if (soup_points.size() > welded_count) {
