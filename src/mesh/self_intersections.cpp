@@ -7,6 +7,7 @@
 #include <hdm/mesh/crossing_sheets.h>
 #include <hdm/mesh/winding_number.h>
 
+#include "crossing_faces.h"
 #include "nearly_closed.h"
 #include "surface_mesh_copy.h"
 
@@ -155,12 +156,24 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
 
 }  // namespace
 
-int64_t count_self_intersections(const TriangleMesh& mesh) {
-  validate_mesh_data(mesh, "count_self_intersections input");
+std::vector<char> detail::crossing_faces(const TriangleMesh& mesh, int64_t* pairs_out) {
   const Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
-  return static_cast<int64_t>(pairs.size());
+  std::vector<char> crossing(mesh.faces.size(), 0);
+  for (const auto& [a, b] : pairs) {
+    if (size_t(a.idx()) < crossing.size()) crossing[a.idx()] = 1;
+    if (size_t(b.idx()) < crossing.size()) crossing[b.idx()] = 1;
+  }
+  if (pairs_out) *pairs_out = static_cast<int64_t>(pairs.size());
+  return crossing;
+}
+
+int64_t count_self_intersections(const TriangleMesh& mesh) {
+  validate_mesh_data(mesh, "count_self_intersections input");
+  int64_t pairs = 0;
+  detail::crossing_faces(mesh, &pairs);
+  return pairs;
 }
 
 TriangleMesh fill_nearly_closed(const TriangleMesh& mesh) {
