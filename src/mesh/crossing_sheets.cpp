@@ -8,6 +8,7 @@
 #include <hdm/mesh/stitch_seams.h>
 #include <hdm/mesh/winding_number.h>
 
+#include "crossing_faces.h"
 #include "surface_mesh_copy.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -89,20 +90,6 @@ int64_t crossing_pairs(const Mesh& sm) {
   std::vector<std::pair<Face, Face>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
   return static_cast<int64_t>(pairs.size());
-}
-
-// Faces of @p mesh in crossing pairs (CGAL's count; the face order of to_surface_mesh()).
-std::vector<char> crossing_faces(const TriangleMesh& mesh, int64_t* pairs_out = nullptr) {
-  const Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
-  std::vector<std::pair<Face, Face>> pairs;
-  PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
-  std::vector<char> crossing(mesh.faces.size(), 0);
-  for (const auto& [a, b] : pairs) {
-    if (size_t(a.idx()) < crossing.size()) crossing[a.idx()] = 1;
-    if (size_t(b.idx()) < crossing.size()) crossing[b.idx()] = 1;
-  }
-  if (pairs_out) *pairs_out = static_cast<int64_t>(pairs.size());
-  return crossing;
 }
 
 // The faces within @p rings vertex rings of the crossing faces, plus every island of other faces
@@ -299,7 +286,7 @@ bool refill_region(const TriangleMesh& mesh, const std::vector<char>& region, Tr
 // within @p tolerance of the new faces and every new face (corners, edge midpoints, centroid)
 // within @p tolerance of the input: the surface a user sees is unchanged.
 bool retriangulate_tangles(const TriangleMesh& mesh, double tolerance, TriangleMesh& out, int64_t& removed_faces) {
-  const std::vector<char> crossing = crossing_faces(mesh);
+  const std::vector<char> crossing = detail::crossing_faces(mesh);
   const ExactMeshQuery input(mesh);
   for (int rings = 1; rings <= kMaxTangleRings; ++rings) {
     const std::vector<char> region = tangle_region(mesh, crossing, rings);
@@ -307,7 +294,7 @@ bool retriangulate_tangles(const TriangleMesh& mesh, double tolerance, TriangleM
     std::vector<Tri> fill;
     if (!refill_region(mesh, region, candidate, fill)) continue;
     int64_t left = 0;
-    crossing_faces(candidate, &left);
+    detail::crossing_faces(candidate, &left);
     if (left > 0) continue;
     TriangleMesh fill_mesh;
     fill_mesh.vertices = candidate.vertices;
@@ -468,9 +455,8 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
   // coincide (the bake finds no room for a shell between coincident corners), as
   // resolve_self_intersections() does for closed unions.
   std::vector<Point> soup_points;
-  for (const Vec3& p : out.vertices) soup_points.emplace_back(p.x(), p.y(), p.z());
   std::vector<std::vector<std::size_t>> polygons;
-  for (const Tri& t : out.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+  detail::to_polygon_soup(out, soup_points, polygons);
   const size_t welded_count = soup_points.size();
   PMP::orient_polygon_soup(soup_points, polygons);
   if (soup_points.size() > welded_count) {

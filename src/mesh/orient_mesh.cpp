@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/mesh/orient_mesh.h>
 
+#include "nearly_closed.h"
+
 #include <algorithm>
 #include <numeric>
 #include <unordered_map>
@@ -123,7 +125,7 @@ OrientReport orient_outward(TriangleMesh& mesh) {
       for (size_t k : loop) {
         const Vec3 &a = mesh.vertices[boundary[k].first], &b = mesh.vertices[boundary[k].second];
         part.caps.push_back({b, a, c});  // (b→a) closes the face's (a→b)
-        part.cap_area += 0.5 * (a - c).cross(b - c).norm();
+        part.cap_area += detail::cap_triangle_area(a, b, c);
         part.volume += b.dot(a.cross(c)) / 6;
       }
     }
@@ -137,7 +139,7 @@ OrientReport orient_outward(TriangleMesh& mesh) {
     ++rep.components;
     if (p.closed)
       ++rep.closed, solid.push_back(int32_t(i));
-    else if (p.cap_area < 0.25 * p.area)
+    else if (detail::nearly_closed(p.cap_area, p.area))
       ++rep.nearly_closed, solid.push_back(int32_t(i));
     else
       ++rep.sheets;

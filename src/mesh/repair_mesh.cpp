@@ -443,11 +443,8 @@ TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, cons
   validate_mesh_data(mesh, name);
   RepairReport rep;
   std::vector<Point> points;
-  points.reserve(mesh.vertices.size());
-  for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
   std::vector<std::vector<std::size_t>> polygons;
-  polygons.reserve(mesh.faces.size());
-  for (const Tri& f : mesh.faces) polygons.push_back({size_t(f[0]), size_t(f[1]), size_t(f[2])});
+  detail::to_polygon_soup(mesh, points, polygons);
   std::set<std::array<Point, 3>> original_orientation;
   for (const Tri& f : mesh.faces) original_orientation.insert(rotated({points[f[0]], points[f[1]], points[f[2]]}));
 

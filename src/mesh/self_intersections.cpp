@@ -7,6 +7,8 @@
 #include <hdm/mesh/crossing_sheets.h>
 #include <hdm/mesh/winding_number.h>
 
+#include "crossing_faces.h"
+#include "nearly_closed.h"
 #include "surface_mesh_copy.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -41,16 +43,13 @@ using Mesh = CGAL::Surface_mesh<Point>;
 constexpr int kMaxCrackEdges = 12;
 constexpr int kMaxSmallCrackEdges = 64;
 constexpr double kSmallCrack = 0.01;
-// Largest area of the fills of an open input's holes, as a fraction of its area, for which it is
-// resolved as the solid it nearly bounds (orient_outward()'s criterion for nearly closed).
-constexpr double kNearlyClosedCapFraction = 0.25;
 // Longest hole filled so (the fill costs O(h³)); mannequin-devil.off's open base has 64 edges.
 constexpr size_t kMaxFillEdges = 256;
 
 // Whether @p sm's holes are small enough to fill for good: at most kMaxFillEdges edges each, and
-// fans about their centroids of less than kNearlyClosedCapFraction of its area (cheap, before
-// the O(h³) fill).
-bool nearly_closed(const Mesh& sm) {
+// nearly closed by orient_outward()'s rule (detail::nearly_closed(): fans about their centroids
+// of less than a quarter of its area; cheap, before the O(h³) fill).
+bool holes_fillable(const Mesh& sm) {
   std::vector<Mesh::Halfedge_index> cycles;
   PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
   double fans = 0;
@@ -63,9 +62,9 @@ bool nearly_closed(const Mesh& sm) {
     if (loop.size() > kMaxFillEdges) return false;
     Vec3 c = Vec3::Zero();
     for (const Vec3& q : loop) c += q / double(loop.size());
-    for (size_t i = 0; i < loop.size(); ++i) fans += 0.5 * (loop[i] - c).cross(loop[(i + 1) % loop.size()] - c).norm();
+    for (size_t i = 0; i < loop.size(); ++i) fans += detail::cap_triangle_area(loop[i], loop[(i + 1) % loop.size()], c);
   }
-  return fans < kNearlyClosedCapFraction * PMP::area(sm);
+  return detail::nearly_closed(fans, PMP::area(sm));
 }
 
 // Fills every boundary cycle of @p sm (Liepa 2003: minimal-area triangulation refined to the
@@ -157,21 +156,33 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
 
 }  // namespace
 
-int64_t count_self_intersections(const TriangleMesh& mesh) {
-  validate_mesh_data(mesh, "count_self_intersections input");
+std::vector<char> detail::crossing_faces(const TriangleMesh& mesh, int64_t* pairs_out) {
   const Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
-  return static_cast<int64_t>(pairs.size());
+  std::vector<char> crossing(mesh.faces.size(), 0);
+  for (const auto& [a, b] : pairs) {
+    if (size_t(a.idx()) < crossing.size()) crossing[a.idx()] = 1;
+    if (size_t(b.idx()) < crossing.size()) crossing[b.idx()] = 1;
+  }
+  if (pairs_out) *pairs_out = static_cast<int64_t>(pairs.size());
+  return crossing;
+}
+
+int64_t count_self_intersections(const TriangleMesh& mesh) {
+  validate_mesh_data(mesh, "count_self_intersections input");
+  int64_t pairs = 0;
+  detail::crossing_faces(mesh, &pairs);
+  return pairs;
 }
 
 TriangleMesh fill_nearly_closed(const TriangleMesh& mesh) {
   validate_mesh_data(mesh, "fill_nearly_closed input");
   Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
-  if (CGAL::is_closed(sm) || !nearly_closed(sm)) return {};
+  if (CGAL::is_closed(sm) || !holes_fillable(sm)) return {};
   const double area = PMP::area(sm);
   const double caps = fill_holes(sm);
-  if (!CGAL::is_closed(sm) || !(caps < kNearlyClosedCapFraction * area)) return {};
+  if (!CGAL::is_closed(sm) || !detail::nearly_closed(caps, area)) return {};
   return detail::to_triangle_mesh(sm, "fill_nearly_closed");
 }
 
@@ -197,11 +208,11 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
     // A nearly closed input (a bust with an open base, a scan with a cut) is resolved as the
     // solid it nearly bounds: its holes are filled (Liepa) and stay filled, so the result is a
     // closed surface. Sheets, and inputs whose fills do not close them, go to the sheet path.
-    if (!nearly_closed(sm)) return give_up();
+    if (!holes_fillable(sm)) return give_up();
     Mesh filled = sm;
     const double area = PMP::area(sm);
     const double caps = fill_holes(filled);
-    if (!CGAL::is_closed(filled) || !(caps < kNearlyClosedCapFraction * area)) return give_up();
+    if (!CGAL::is_closed(filled) || !detail::nearly_closed(caps, area)) return give_up();
     const TriangleMesh solid = detail::to_triangle_mesh(filled, "resolve_self_intersections");
     if (!resolve_closed(filled, solid, rep)) return give_up();
     rep.filled_faces = static_cast<int64_t>(solid.faces.size() - mesh.faces.size());

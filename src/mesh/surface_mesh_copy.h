@@ -15,17 +15,27 @@
 
 namespace hdm::detail {
 
+// The triangles of @p mesh as a CGAL polygon soup, as the soup functions of CGAL's polygon mesh
+// processing take it: @p points in vertex order, one polygon (three indices into @p points) per
+// face, in face order; both are replaced. O(V + F).
+template <class Point>
+void to_polygon_soup(const TriangleMesh& mesh, std::vector<Point>& points,
+                     std::vector<std::vector<std::size_t>>& polygons) {
+  points.clear();
+  points.reserve(mesh.vertices.size());
+  for (const Vec3& p : mesh.vertices) points.emplace_back(p.x(), p.y(), p.z());
+  polygons.clear();
+  polygons.reserve(mesh.faces.size());
+  for (const Tri& t : mesh.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+}
+
 // A halfedge mesh of the same triangles; vertices shared by several fans (pinches) are
 // duplicated, which leaves the faces, and so their intersections, unchanged. O(F log F).
 template <class SurfaceMesh>
 SurfaceMesh to_surface_mesh(const TriangleMesh& mesh) {
-  using Point = typename SurfaceMesh::Point;
-  std::vector<Point> points;
-  points.reserve(mesh.vertices.size());
-  for (const Vec3& p : mesh.vertices) points.emplace_back(p.x(), p.y(), p.z());
+  std::vector<typename SurfaceMesh::Point> points;
   std::vector<std::vector<std::size_t>> polygons;
-  polygons.reserve(mesh.faces.size());
-  for (const Tri& t : mesh.faces) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+  to_polygon_soup(mesh, points, polygons);
   CGAL::Polygon_mesh_processing::orient_polygon_soup(points, polygons);
   SurfaceMesh sm;
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, polygons, sm);
