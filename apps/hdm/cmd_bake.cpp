@@ -118,6 +118,13 @@ void run_bake(const BakeArgs& a) {
         {"filled_holes", fixed.filled_holes},
         {"added_faces", fixed.added_faces},
         {"open_boundaries", fixed.open_boundaries}}},
+      {"folds",
+       {{"flap_faces", prepared.folds.flap_faces},
+        {"folded_stars", prepared.folds.folded_before},
+        {"moved_vertices", prepared.folds.moved},
+        {"max_move", prepared.folds.max_move},
+        {"rim_faces", prepared.folds.rim_faces},
+        {"folded_stars_left", prepared.folds.folded_after}}},
       {"self_intersections", prepared.self_intersections},
       {"self_intersections_left", prepared.resolved.pairs_after},
       {"seam_vertices", prepared.resolved.seam_vertices},
@@ -174,6 +181,12 @@ void run_bake(const BakeArgs& a) {
         "%d holes filled (%lld faces), %d open boundaries kept\n",
         (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
         (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
+  if (const FoldReport& fo = prepared.folds; fo.flap_faces + fo.moved + fo.rim_faces > 0)
+    std::printf(
+        "  folds removed       %lld rim flap faces and %lld faces of folded stars cut, %lld vertices moved (at most "
+        "%.3g) to unfold %lld folded stars, %lld left\n",
+        (long long)fo.flap_faces, (long long)fo.rim_faces, (long long)fo.moved, fo.max_move,
+        (long long)fo.folded_before, (long long)fo.folded_after);
   if (prepared.self_intersections > 0)
     std::printf(
         "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces, %lld "

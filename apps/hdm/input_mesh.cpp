@@ -2,6 +2,7 @@
 #include "input_mesh.h"
 
 #include <hdm/io/read_mesh.h>
+#include <hdm/mesh/remove_folds.h>
 #include <hdm/mesh/stitch_seams.h>
 
 namespace hdm::app {
@@ -52,6 +53,10 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
       in.mesh = std::move(filled);
     }
   }
+  // An open sheet's folds (a reconstructed scan's flaps and crumples: no valid slab, no single-valued
+  // displacement there) are removed, for the bake and the check alike; after the seams are joined,
+  // so that a seam between patches is not taken for a fold.
+  if (analyze_topology(in.mesh).boundary_edges > 0) in.folds = remove_folds(in.mesh);
   if (resolve && in.self_intersections > 0) {
     if (closed_by_seams) {
       // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL

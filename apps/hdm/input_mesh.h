@@ -3,6 +3,7 @@
 // The input mesh as `hdm bake` prepares it, shared by `hdm check` so that both measure the same
 // surface: read, repair a dirty scan (unless refused), orient every part outward.
 #include <hdm/mesh/orient_mesh.h>
+#include <hdm/mesh/remove_folds.h>
 #include <hdm/mesh/self_intersections.h>
 #include <hdm/mesh/repair_mesh.h>
 #include <hdm/mesh/stitch_seams.h>
@@ -23,6 +24,7 @@ struct PreparedInput {
   TriangleMesh mesh;
   RepairReport repair;
   OrientReport orient;
+  FoldReport folds;                 // open input: what remove_folds() did
   int64_t self_intersections = 0;   // face pairs of the mesh (as read, repaired and oriented) that cross
   SeamReport seams;                 // open input that crosses itself: what stitch_seams() joined
   SelfIntersectionReport resolved;  // with `resolve`: what resolve_self_intersections() did
