@@ -123,6 +123,7 @@ void run_bake(const BakeArgs& a) {
         {"folded_stars", prepared.folds.folded_before},
         {"moved_vertices", prepared.folds.moved},
         {"max_move", prepared.folds.max_move},
+        {"max_deviation", prepared.folds.max_deviation},
         {"rim_faces", prepared.folds.rim_faces},
         {"folded_stars_left", prepared.folds.folded_after}}},
       {"self_intersections", prepared.self_intersections},
@@ -183,10 +184,10 @@ void run_bake(const BakeArgs& a) {
         (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
   if (const FoldReport& fo = prepared.folds; fo.flap_faces + fo.moved + fo.rim_faces > 0)
     std::printf(
-        "  folds removed       %lld rim flap faces and %lld faces of folded stars cut, %lld vertices moved (at most "
-        "%.3g) to unfold %lld folded stars, %lld left\n",
-        (long long)fo.flap_faces, (long long)fo.rim_faces, (long long)fo.moved, fo.max_move,
-        (long long)fo.folded_before, (long long)fo.folded_after);
+        "  folds removed       %lld rim flap faces and %lld faces of folded stars cut, %lld vertices moved to "
+        "unfold %lld folded stars (%lld left); the surface changed by at most %.3g%% of the diagonal\n",
+        (long long)fo.flap_faces, (long long)fo.rim_faces, (long long)fo.moved, (long long)fo.folded_before,
+        (long long)fo.folded_after, 100 * fo.max_deviation / bounds(prepared.mesh).diagonal());
   if (prepared.self_intersections > 0)
     std::printf(
         "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces, %lld "

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Rim flaps, crumples and folded rim stars of an open sheet removed (see remove_folds.h).
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/remove_folds.h>
 #include <hdm/mesh/unfold_stars.h>
 
@@ -250,11 +251,27 @@ int64_t trim_folded_rim(TriangleMesh& mesh) {
   return removed;
 }
 
+// Largest distance from a vertex or face centroid of either mesh to the other mesh's surface.
+double sampled_distance(const TriangleMesh& a, const TriangleMesh& b) {
+  double worst = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const TriangleMesh& from = pass ? b : a;
+    const ExactMeshQuery to(pass ? a : b);
+    for (const Tri& t : from.faces) {
+      const Vec3 centroid = (from.vertices[t[0]] + from.vertices[t[1]] + from.vertices[t[2]]) / 3;
+      worst = std::max(worst, to.closest_point(centroid).distance);
+      for (int32_t v : t) worst = std::max(worst, to.closest_point(from.vertices[v]).distance);
+    }
+  }
+  return worst;
+}
+
 }  // namespace
 
 FoldReport remove_folds(TriangleMesh& mesh) {
   validate_mesh_data(mesh, "remove_folds input");
   FoldReport report;
+  const TriangleMesh input = mesh;
   report.flap_faces = remove_rim_flaps(mesh);
   auto unfold = [&] {
     const std::vector<Vec3> before = mesh.vertices;
@@ -269,6 +286,7 @@ FoldReport remove_folds(TriangleMesh& mesh) {
   report.folded_before = unfold().folded_before;
   report.rim_faces = trim_folded_rim(mesh);
   report.folded_after = unfold().folded_after;  // the trim may have freed folds for the discs
+  if (report.flap_faces + report.rim_faces + report.moved > 0) report.max_deviation = sampled_distance(input, mesh);
   return report;
 }
 

@@ -49,6 +49,7 @@ TEST(RemoveFoldsTest, a_flap_folded_back_over_the_rim_is_removed) {
   ASSERT_EQ(test::count_folded_stars(m, 0.1), 2);
   const FoldReport r = remove_folds(m);
   EXPECT_EQ(r.flap_faces, 1);
+  EXPECT_NEAR(r.max_deviation, 0.004, 1e-12);  // the flap's tip, 0.004 above the sheet
   EXPECT_EQ(m.faces.size(), size_t(2 * n * n));
   EXPECT_EQ(m.vertices.size(), size_t((n + 1) * (n + 1)));
   EXPECT_EQ(analyze_topology(m).boundary_edges, 4 * n);
@@ -67,6 +68,7 @@ TEST(RemoveFoldsTest, a_wall_at_the_rim_is_kept) {
   const TriangleMesh before = m;
   const FoldReport r = remove_folds(m);
   EXPECT_EQ(r.flap_faces + r.rim_faces, 0);
+  EXPECT_EQ(r.max_deviation, 0.0);
   EXPECT_EQ(m.faces, before.faces);
   EXPECT_EQ(m.vertices, before.vertices);
 }
@@ -82,6 +84,7 @@ TEST(RemoveFoldsTest, a_crumple_inside_the_sheet_is_unfolded_into_the_plane) {
   EXPECT_GT(r.folded_before, 0);
   EXPECT_EQ(r.folded_after, 0);
   EXPECT_GT(r.moved, 0);
+  EXPECT_LT(r.max_deviation, 1e-12);  // moved within the plane: the surface is the same square
   EXPECT_EQ(m.faces.size(), size_t(2 * n * n));
   EXPECT_EQ(test::count_folded_stars(m, 0.0), 0);
   for (const Vec3& p : m.vertices) EXPECT_EQ(p.z(), 0.0);
