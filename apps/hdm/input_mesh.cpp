@@ -56,7 +56,8 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
   // An open sheet's folds (a reconstructed scan's flaps and crumples: no valid slab, no single-valued
   // displacement there) are removed, for the bake and the check alike; after the seams are joined,
   // so that a seam between patches is not taken for a fold.
-  if (analyze_topology(in.mesh).boundary_edges > 0) in.folds = remove_folds(in.mesh);
+  const bool open_parts = in.orient.nearly_closed + in.orient.sheets > 0;  // else closed: skip the edge count
+  if (open_parts && analyze_topology(in.mesh).boundary_edges > 0) in.folds = remove_folds(in.mesh);
   if (resolve && in.self_intersections > 0) {
     if (closed_by_seams) {
       // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL
