@@ -3,7 +3,9 @@
 # 61 files) at default settings, checks each with `hdm check` (independent: Embree on the input),
 # prints one line per mesh as it goes and writes the table between the CORPUS markers of
 # docs/figures.md. A refusal is listed with its reason.
-# Usage: HDM=build/bin/hdm [ONLY=regex] [TIMEOUT=300] [OUT=dir] [WRITE=1] scripts/corpus_sweep.sh
+# Usage: HDM=build/bin/hdm [ONLY=regex] [TIMEOUT=300] [OUT=dir] [WRITE=1] [REQUIRE_OK=1] scripts/corpus_sweep.sh
+# With REQUIRE_OK=1 it exits with status 1 unless every mesh swept bakes and meets every target
+# (ctest's corpus.* cases, tests/CMakeLists.txt).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 hdm="${HDM:-$here/build/bin/hdm}"
@@ -64,7 +66,7 @@ else:
     print("%-34s refused: %s" % (r["name"], r["reason"]))' >&2
 done
 
-python3 - "$rows" "$here/docs/figures.md" "${WRITE:-1}" <<'PY'
+python3 - "$rows" "$here/docs/figures.md" "${WRITE:-1}" "${REQUIRE_OK:-0}" <<'PY'
 import json, sys, datetime
 rows = [json.loads(l) for l in open(sys.argv[1])]
 baked = [r for r in rows if "slabs" in r]
@@ -95,4 +97,8 @@ if sys.argv[3] == "1":
     if a < 0 or b < 0:
         sys.exit("corpus_sweep: docs/figures.md has no CORPUS markers")
     open(sys.argv[2], "w").write(doc[:a] + "\n".join(t) + doc[b + len("<!-- CORPUS END -->"):])
+if sys.argv[4] == "1" and not rows:
+    sys.exit("corpus_sweep: no mesh of the archive matches ONLY")
+if sys.argv[4] == "1" and len(ok) < len(rows):
+    sys.exit("corpus_sweep: %d of %d meshes miss a target or are refused" % (len(rows) - len(ok), len(rows)))
 PY

@@ -31,7 +31,8 @@ fi
 archive=/usr/share/doc/libcgal-dev/data.tar.gz
 models=(bunny00.off armadillo.off refined_elephant.off lion-head.off cheese.off knot1.off
   sphere.off sphere.ply sphere.stl colored_tetra.ply mesh_with_colors.off cube_poly.off
-  tetrahedron.off cube_quad.off icosahedron.off triangle.off blobby.off bones.off cow.off triceratops.off)
+  tetrahedron.off cube_quad.off icosahedron.off triangle.off blobby.off bones.off cow.off triceratops.off
+  b9.ply)
 mkdir -p "$here/data/meshes"
 need=()
 for m in "${models[@]}"; do [ -s "$here/data/meshes/$m" ] || need+=("data/meshes/$m"); done
