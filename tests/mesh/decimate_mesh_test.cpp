@@ -139,6 +139,46 @@ TriangleMesh gridded_cube(int s) {
   return m;
 }
 
+// A double torus: a plate of 7 x 3 x 1 unit voxels with the voxels (1, 1) and (5, 1) left out (two
+// holes through it, genus 2, volume 19), every exposed voxel face split into s x s squares.
+TriangleMesh gridded_plate_with_two_holes(int s) {
+  auto solid = [](int x, int y, int z) {
+    return x >= 0 && x < 7 && y >= 0 && y < 3 && z == 0 && !(y == 1 && (x == 1 || x == 5));
+  };
+  TriangleMesh m;
+  std::map<std::tuple<int, int, int>, int> ids;
+  auto vertex = [&](const Vec3& p) {
+    const auto key =
+        std::make_tuple(int(std::lround(p.x() * s)), int(std::lround(p.y() * s)), int(std::lround(p.z() * s)));
+    auto [it, fresh] = ids.emplace(key, int(m.vertices.size()));
+    if (fresh) m.vertices.push_back(p);
+    return it->second;
+  };
+  for (int x = 0; x < 7; ++x)
+    for (int y = 0; y < 3; ++y) {
+      if (!solid(x, y, 0)) continue;
+      for (int axis = 0; axis < 3; ++axis)
+        for (int side : {-1, 1}) {
+          int nb[3] = {x, y, 0};
+          nb[axis] += side;
+          if (solid(nb[0], nb[1], nb[2])) continue;
+          Vec3 n = Vec3::Zero();
+          n[axis] = side;
+          const Vec3 e1 = Vec3::Unit((axis + 1) % 3), e2 = n.cross(e1);  // e1 × e2 = n: counter-clockwise
+          const Vec3 centre = Vec3(x + 0.5, y + 0.5, 0.5) + 0.5 * n;
+          for (int i = 0; i < s; ++i)
+            for (int j = 0; j < s; ++j) {
+              auto at = [&](int a, int b) {
+                return vertex(centre + e1 * (double(a) / s - 0.5) + e2 * (double(b) / s - 0.5));
+              };
+              m.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+              m.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+        }
+    }
+  return m;
+}
+
 // Decimates @p in to @p target faces and checks every guarantee of decimate_mesh() against @p in.
 TriangleMesh check_decimation(const TriangleMesh& in, int64_t target, const std::string& what) {
   const Topology before = topology(in);
@@ -200,6 +240,16 @@ TEST(DecimateMeshTest, cube_creases_keep_the_corners) {
   EXPECT_EQ(corners, 8) << "feature planes keep every corner of the creases";
   // Every coarse vertex stays on a crease or a face of the cube: the coarse mesh is the cube.
   EXPECT_NEAR(signed_volume(out), 8.0, 1e-9);
+}
+
+TEST(DecimateMeshTest, double_torus_keeps_genus_2_and_its_volume) {
+  const TriangleMesh in = gridded_plate_with_two_holes(6);
+  ASSERT_EQ(topology(in).euler, -2) << "a closed surface of genus 2";
+  ASSERT_NEAR(signed_volume(in), 19.0, 1e-9);
+  const TriangleMesh out = check_decimation(in, 300, "double torus");
+  EXPECT_LE(out.faces.size(), 330u);
+  // Coarse vertices stay on the plate's creases and faces: the coarse mesh is the same solid.
+  EXPECT_NEAR(signed_volume(out), 19.0, 1e-9);
 }
 
 TEST(DecimateMeshTest, genus_133_block_keeps_its_genus) {
