@@ -30,15 +30,17 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
   }
   in.orient = orient_outward(in.mesh);
   in.self_intersections = count_self_intersections(in.mesh);
+  bool open = in.orient.nearly_closed + in.orient.sheets > 0;  // some part has a boundary edge
   // Open patches that cross where they should meet (CAD patch soups, game assets in parts) are
   // first joined at their seams and oriented as one surface, for the bake and the check alike.
   bool closed_by_seams = false;
-  if (in.self_intersections > 0 && analyze_topology(in.mesh).boundary_edges > 0) {
+  if (in.self_intersections > 0 && open) {
     TriangleMesh joined = stitch_seams(in.mesh, &in.seams);
     if (in.seams.inserted + in.seams.snapped > 0) {
       orient_outward(joined);  // in.orient keeps the report of the input's own parts
       in.mesh = std::move(joined);
       closed_by_seams = in.seams.boundary_edges_after == 0;
+      open = !closed_by_seams;
       in.resolved.seam_vertices = in.seams.inserted + in.seams.snapped;
     }
   }
@@ -46,18 +48,18 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
   // bounds: its holes are filled for the bake and the check alike, so the check measures the caps
   // the model has, and the buried faces are those inside that solid.
   int64_t filled_faces = 0;
-  if (in.self_intersections > 0 && !closed_by_seams && analyze_topology(in.mesh).boundary_edges > 0) {
+  if (in.self_intersections > 0 && open) {
     TriangleMesh filled = fill_nearly_closed(in.mesh);
-    if (!filled.faces.empty()) {
+    if (!filled.faces.empty()) {  // only returned closed
       filled_faces = static_cast<int64_t>(filled.faces.size() - in.mesh.faces.size());
       in.mesh = std::move(filled);
+      open = false;
     }
   }
   // An open sheet's folds (a reconstructed scan's flaps and crumples: no valid slab, no single-valued
   // displacement there) are removed, for the bake and the check alike; after the seams are joined,
   // so that a seam between patches is not taken for a fold.
-  const bool open_parts = in.orient.nearly_closed + in.orient.sheets > 0;  // else closed: skip the edge count
-  if (open_parts && analyze_topology(in.mesh).boundary_edges > 0) in.folds = remove_folds(in.mesh);
+  if (open) in.folds = remove_folds(in.mesh);
   if (resolve && in.self_intersections > 0) {
     if (closed_by_seams) {
       // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL

@@ -213,11 +213,11 @@ int64_t trim_folded_rim(TriangleMesh& mesh) {
       detail::improve_max_min(normals, best, &direction);
       return best;
     };
-    auto folded = [&](int32_t v) { return seen(v) <= (sheet.on_boundary(v) ? kRimSeen : kFolded); };
     int64_t now = 0;
     for (int32_t v = 0; v < int32_t(mesh.vertices.size()); ++v) {
-      if (!folded(v)) continue;
-      const bool deep = seen(v) <= kFolded;
+      const double visibility = seen(v);
+      if (visibility > (sheet.on_boundary(v) ? kRimSeen : kFolded)) continue;
+      const bool deep = visibility <= kFolded;
       // The most turned faces first; one goes if that leaves fewer folded stars among its corners
       // and folds none that was not (a cut in a pleat would only move the fold).
       const std::vector<int32_t> faces = star;

@@ -114,9 +114,11 @@ TriangleMesh torus(double R, double r, int u, int v, const Vec3& centre = Vec3::
 }
 
 // A cube [-1, 1]³ with each face split into an s × s grid: 8 corners, 12 creases of 90 degrees.
-TriangleMesh gridded_cube(int s) {
-  TriangleMesh m;
-  std::map<std::tuple<int, int, int>, int> ids;
+// Adds to @p m the axis-aligned square of half-side @p half about @p centre, facing @p n (a unit
+// axis, ±), split into s x s cells of two faces each, counter-clockwise seen from outside. Vertices
+// are shared through @p ids, keyed by their coordinates on the lattice of spacing 1 / s.
+void add_gridded_square(TriangleMesh& m, std::map<std::tuple<int, int, int>, int>& ids, int s, const Vec3& centre,
+                        const Vec3& n, double half) {
   auto vertex = [&](const Vec3& p) {
     const auto key =
         std::make_tuple(int(std::lround(p.x() * s)), int(std::lround(p.y() * s)), int(std::lround(p.z() * s)));
@@ -124,17 +126,25 @@ TriangleMesh gridded_cube(int s) {
     if (fresh) m.vertices.push_back(p);
     return it->second;
   };
+  int axis = 0;
+  n.cwiseAbs().maxCoeff(&axis);
+  const Vec3 e1 = Vec3::Unit((axis + 1) % 3), e2 = n.cross(e1);  // e1 × e2 = n: counter-clockwise
+  auto at = [&](int a, int b) { return vertex(centre + half * (e1 * (2.0 * a / s - 1) + e2 * (2.0 * b / s - 1))); };
+  for (int i = 0; i < s; ++i)
+    for (int j = 0; j < s; ++j) {
+      m.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+}
+
+TriangleMesh gridded_cube(int s) {
+  TriangleMesh m;
+  std::map<std::tuple<int, int, int>, int> ids;
   for (int axis = 0; axis < 3; ++axis)
     for (int side : {-1, 1}) {
       Vec3 n = Vec3::Zero();
       n[axis] = side;
-      const Vec3 e1 = Vec3::Unit((axis + 1) % 3), e2 = n.cross(e1);  // e1 × e2 = n: counter-clockwise
-      for (int i = 0; i < s; ++i)
-        for (int j = 0; j < s; ++j) {
-          auto at = [&](int a, int b) { return vertex(n + e1 * (2.0 * a / s - 1) + e2 * (2.0 * b / s - 1)); };
-          m.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-          m.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-        }
+      add_gridded_square(m, ids, s, n, n, 1.0);
     }
   return m;
 }
@@ -147,13 +157,6 @@ TriangleMesh gridded_plate_with_two_holes(int s) {
   };
   TriangleMesh m;
   std::map<std::tuple<int, int, int>, int> ids;
-  auto vertex = [&](const Vec3& p) {
-    const auto key =
-        std::make_tuple(int(std::lround(p.x() * s)), int(std::lround(p.y() * s)), int(std::lround(p.z() * s)));
-    auto [it, fresh] = ids.emplace(key, int(m.vertices.size()));
-    if (fresh) m.vertices.push_back(p);
-    return it->second;
-  };
   for (int x = 0; x < 7; ++x)
     for (int y = 0; y < 3; ++y) {
       if (!solid(x, y, 0)) continue;
@@ -164,16 +167,7 @@ TriangleMesh gridded_plate_with_two_holes(int s) {
           if (solid(nb[0], nb[1], nb[2])) continue;
           Vec3 n = Vec3::Zero();
           n[axis] = side;
-          const Vec3 e1 = Vec3::Unit((axis + 1) % 3), e2 = n.cross(e1);  // e1 × e2 = n: counter-clockwise
-          const Vec3 centre = Vec3(x + 0.5, y + 0.5, 0.5) + 0.5 * n;
-          for (int i = 0; i < s; ++i)
-            for (int j = 0; j < s; ++j) {
-              auto at = [&](int a, int b) {
-                return vertex(centre + e1 * (double(a) / s - 0.5) + e2 * (double(b) / s - 0.5));
-              };
-              m.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-              m.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-            }
+          add_gridded_square(m, ids, s, Vec3(x + 0.5, y + 0.5, 0.5) + 0.5 * n, n, 0.5);
         }
     }
   return m;
