@@ -35,7 +35,7 @@ inline constexpr size_t max_concave_polygon_corners = 64;
 /// polygons (convex ones as fans, concave ones by ear clipping in their best-fit plane, keeping
 /// the winding), welds vertices with identical positions (the first in file order keeps its
 /// place; not where the weld would put more than two faces on an edge the file pairs, see
-/// keep_file_pairing in polygon_soup.cpp), drops vertices no triangle uses and numbers the rest in file order.
+/// keep_file_pairing in weld_vertices.cpp), drops vertices no triangle uses and numbers the rest in file order.
 /// @throws InvalidInput "<name>: ..." when a polygon has fewer than three corners, a concave
 ///         polygon has more than max_concave_polygon_corners corners, or no triangle is left.
 TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name);
