@@ -61,6 +61,7 @@ Header parse_header(std::string_view bytes, const std::string& name) {
   std::vector<Element>& elements = h.elements;
   Format& format = h.format;
   bool have_format = false, ended = false;
+  uint64_t skipped = 0;  // lines of no keyword
   while (in.next_line() && in.position() < header_end) {
     const std::string_view key = in.token();
     auto malformed = [&](const std::string& why) { in.fail("malformed PLY header line (" + why + ")"); };
@@ -104,14 +105,22 @@ Header parse_header(std::string_view bytes, const std::string& name) {
       prop.name = std::string(in.token());
       if (prop.name.empty()) malformed("a property without a name");
       elements.back().properties.push_back(std::move(prop));
-    } else {
-      malformed("unknown keyword " + quoted(key));
+    } else if (++skipped <= 5) {  // a line of another program's own, such as Blender 2.4's "Created by ..."
+      std::string_view line = bytes.substr(static_cast<size_t>(key.data() - bytes.data()));
+      line = line.substr(0, line.find('\n'));
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      h.warnings.push_back(name + ":" + std::to_string(in.line()) + ": skipped the PLY header line " + quoted(line) +
+                           ": it starts with no keyword of the format");
     }
   }
   if (!ended) throw IoError(name + ": truncated (the PLY header has no end_header line)");
   if (!have_format) throw IoError(name + ": the PLY header has no format line");
+  if (skipped > 5)
+    h.warnings.push_back(name + ": skipped " + with_commas(skipped - 5) +
+                         " more PLY header lines that start with no keyword of the format");
   in.next_line();
   h.body_start = in.position();
+  h.body_line = in.line();
   return h;
 }
 

@@ -35,14 +35,16 @@ struct Header {
   std::vector<Element> elements;       ///< in file order
   Format format = Format::Ascii;
   size_t body_start = 0;               ///< offset of the first byte after the end_header line
+  int64_t body_line = 0;               ///< the file's line number there (for ASCII bodies)
+  std::vector<std::string> warnings;   ///< header lines skipped: "<name>:<line>: ..."
 };
 
 /// @brief Parses the header of the PLY file @p bytes, up to its end_header line (found first, so
 /// binary data is never read as header). Lines "comment" and "obj_info" and blank lines are
-/// skipped.
+/// skipped; a line that starts with no keyword of the format is skipped with a warning (the first
+/// five each, the rest counted in one).
 /// @throws IoError "<name>[:<line>]: <reason>" when the file does not start with "ply", has no
-/// end_header or format line, a format, element or property line is malformed, or a line starts
-/// with no keyword of the format.
+/// end_header or format line, or a format, element or property line is malformed.
 /// @note O(header size).
 Header parse_header(std::string_view bytes, const std::string& name);
 

@@ -1,107 +1,106 @@
 // SPDX-License-Identifier: MIT
-// Polygon soup → TriangleMesh: triangulation (fan or ear clipping), then welding of identical
-// positions and unused vertices dropped (weld_vertices.h). Shared by hdm's own OFF, PLY, OBJ and STL readers.
+// Polygon soup -> TriangleMesh: coordinates rounded to float, polygons cleaned and triangulated
+// (triangulate_polygon.h), what was skipped reported once per kind, vertices welded
+// (weld_vertices.h). Shared by hdm's own OFF, PLY, OBJ and STL readers.
 #include "polygon_soup.h"
 #include "text_cursor.h"
+#include "triangulate_polygon.h"
 #include "weld_vertices.h"
 
 #include <hdm/core/error.h>
 
 #include <algorithm>
-#include <cmath>
-#include <numeric>
+#include <array>
 
 namespace hdm::detail {
 namespace {
 
-struct Vec2d {
-  double x, y;
+// Drops consecutive repeats of a corner (cyclically: the last corner repeating the first too) from
+// ids[0, k), in place, then reads a cycle of corners repeated r times ("f 1 2 3 4 1 2 3 4 ...") as
+// that cycle once. O(k).
+struct CleanCorners {
+  size_t corners = 0;  // corners left
+  size_t repeats = 1;  // how often the cycle left was written
+  bool dropped = false;
+};
+CleanCorners clean_corners(int32_t* ids, size_t k, std::vector<size_t>& border) {
+  CleanCorners c;
+  size_t w = 0;
+  for (size_t i = 0; i < k; ++i)
+    if (w == 0 || ids[i] != ids[w - 1]) ids[w++] = ids[i];
+  while (w > 1 && ids[w - 1] == ids[0]) --w;
+  c.dropped = w != k;
+  // Shortest period of the sequence, from its longest proper prefix that is also a suffix (KMP).
+  border.assign(w, 0);
+  for (size_t i = 1; i < w; ++i) {
+    size_t b = border[i - 1];
+    while (b > 0 && ids[i] != ids[b]) b = border[b - 1];
+    border[i] = b + (ids[i] == ids[b] ? 1 : 0);
+  }
+  const size_t period = w > 0 ? w - border[w - 1] : 0;
+  if (period > 0 && period < w && w % period == 0) c.repeats = w / period, w = period;
+  c.corners = w;
+  return c;
+}
+
+// Polygons of one kind that were changed or skipped: how many, and the first.
+struct Tally {
+  uint64_t count = 0, first = 0;
+  size_t first_corners = 0, first_cycle = 0, first_repeats = 0;
+  bool add(uint64_t polygon) {
+    if (count++ == 0) first = polygon;
+    return count == 1;
+  }
 };
 
-double cross(const Vec2d& o, const Vec2d& a, const Vec2d& b) {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+std::string plural(uint64_t n, const char* one, const char* many) {
+  return with_commas(n) + " " + (n == 1 ? one : many);
 }
 
-// Strictly inside or on the boundary of the counter-clockwise triangle (a, b, c).
-bool in_triangle(const Vec2d& p, const Vec2d& a, const Vec2d& b, const Vec2d& c) {
-  return cross(a, b, p) >= 0 && cross(b, c, p) >= 0 && cross(c, a, p) >= 0;
-}
+// What to_triangle_mesh() skipped or read otherwise, by kind.
+struct Skipped {
+  Tally short_faces, repeated_corners, repeated_cycles, crossing;
+};
 
-// Triangulates the polygon `ids` (k >= 4 corners) into `out`, keeping its winding. Convex
-// polygons are fanned; concave ones are ear-clipped in the plane of their Newell normal.
-// Returns false when the polygon is concave and has more than max_concave_polygon_corners corners.
-bool triangulate(const std::vector<Vec3>& positions, const int32_t* ids, size_t k, std::vector<Tri>& out,
-                 std::vector<Vec2d>& q, std::vector<size_t>& ring) {
-  auto fan = [&] {
-    for (size_t i = 1; i + 1 < k; ++i) out.push_back({ids[0], ids[i], ids[i + 1]});
-    return true;
+// One warning per kind of polygon skipped or changed, pointing at the first: the line a text
+// reader found it at, else its number.
+void report_skipped(const PolygonSoup& soup, const Skipped& s, const std::string& name,
+                    std::vector<std::string>& warnings) {
+  auto where = [&](uint64_t p) {
+    const auto it = std::lower_bound(soup.polygon_lines.begin(), soup.polygon_lines.end(),
+                                     std::pair<uint64_t, int64_t>(p, 0));
+    if (it != soup.polygon_lines.end() && it->first == p) return name + ":" + std::to_string(it->second);
+    return name + ": face " + with_commas(p);
   };
-  // Newell normal about the centroid (less cancellation than about the origin).
-  Vec3 centre = Vec3::Zero();
-  for (size_t i = 0; i < k; ++i) centre += positions[ids[i]];
-  centre /= double(k);
-  Vec3 n = Vec3::Zero();
-  for (size_t i = 0; i < k; ++i) n += (positions[ids[i]] - centre).cross(positions[ids[(i + 1) % k]] - centre);
-  const double len = n.norm();
-  if (!(len > 0) || !std::isfinite(len)) return fan();  // degenerate: every triangle has zero area anyway
-  n /= len;
-  // A basis (e1, e2) of the plane with e1 × e2 = n, so the polygon runs counter-clockwise in it.
-  const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  const Vec3 e1 = n.cross(a).normalized(), e2 = n.cross(e1);
-  q.resize(k);
-  for (size_t i = 0; i < k; ++i) {
-    const Vec3 d = positions[ids[i]] - centre;
-    q[i] = {d.dot(e1), d.dot(e2)};
-  }
-  size_t reflex = k;
-  for (size_t i = 0; i < k; ++i)
-    if (cross(q[(i + k - 1) % k], q[i], q[(i + 1) % k]) < 0) {
-      if (reflex != k) {
-        reflex = k + 1;  // two or more reflex corners
-        break;
-      }
-      reflex = i;
-    }
-  if (reflex == k) return fan();
-  if (k == 4 && reflex < k) {  // one reflex corner: both triangles start there
-    const size_t r = reflex;
-    out.push_back({ids[r], ids[(r + 1) % 4], ids[(r + 2) % 4]});
-    out.push_back({ids[r], ids[(r + 2) % 4], ids[(r + 3) % 4]});
-    return true;
-  }
-  if (k > max_concave_polygon_corners) return false;
-  // Ear clipping: O(k²) candidate tests of O(k) each, k <= max_concave_polygon_corners.
-  ring.resize(k);
-  std::iota(ring.begin(), ring.end(), size_t{0});
-  while (ring.size() > 3) {
-    const size_t m = ring.size();
-    bool clipped = false;
-    for (size_t j = 0; j < m && !clipped; ++j) {
-      const size_t p = ring[(j + m - 1) % m], c = ring[j], nx = ring[(j + 1) % m];
-      if (!(cross(q[p], q[c], q[nx]) > 0)) continue;
-      bool ear = true;
-      for (size_t r = 0; r < m && ear; ++r) {
-        const size_t o = ring[r];
-        if (o == p || o == c || o == nx) continue;
-        ear = !in_triangle(q[o], q[p], q[c], q[nx]);
-      }
-      if (!ear) continue;
-      out.push_back({ids[p], ids[c], ids[nx]});
-      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(j));
-      clipped = true;
-    }
-    if (!clipped) {  // self-intersecting or numerically flat: fan what is left
-      for (size_t j = 1; j + 1 < ring.size(); ++j) out.push_back({ids[ring[0]], ids[ring[j]], ids[ring[j + 1]]});
-      return true;
-    }
-  }
-  out.push_back({ids[ring[0]], ids[ring[1]], ids[ring[2]]});
-  return true;
+  auto first_here = [](const Tally& t) { return t.count > 1 ? std::string(" (the first here)") : std::string(); };
+  if (s.short_faces.count > 0)
+    warnings.push_back(where(s.short_faces.first) + ": skipped " + plural(s.short_faces.count, "face", "faces") +
+                       " of fewer than three distinct corners" + first_here(s.short_faces) + ": they bound no area");
+  if (s.repeated_corners.count > 0)
+    warnings.push_back(where(s.repeated_corners.first) + ": " +
+                       plural(s.repeated_corners.count, "polygon repeats", "polygons repeat") + " a corner in a row" +
+                       first_here(s.repeated_corners) + ": read without the repeats");
+  if (s.repeated_cycles.count > 0)
+    warnings.push_back(where(s.repeated_cycles.first) + ": a polygon of " + with_commas(s.repeated_cycles.first_corners) +
+                       " corners is a cycle of " + with_commas(s.repeated_cycles.first_cycle) + " corners written " +
+                       with_commas(s.repeated_cycles.first_repeats) + " times" +
+                       (s.repeated_cycles.count > 1 ? " (and " + with_commas(s.repeated_cycles.count - 1) + " more)"
+                                                    : std::string()) +
+                       ": read as that cycle");
+  if (s.crossing.count == 1)
+    warnings.push_back(where(s.crossing.first) + ": skipped a polygon of " + with_commas(s.crossing.first_corners) +
+                       " corners whose edges cross or overlap in its best-fit plane: its triangles would need corners "
+                       "the file does not have");
+  else if (s.crossing.count > 1)
+    warnings.push_back(where(s.crossing.first) + ": skipped " + with_commas(s.crossing.count) +
+                       " polygons whose edges cross or overlap in their best-fit planes (the first here, of " +
+                       with_commas(s.crossing.first_corners) +
+                       " corners): their triangles would need corners the file does not have");
 }
 
 }  // namespace
 
-TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name) {
+TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name, std::vector<std::string>& warnings) {
   // Coordinates are rounded to float, as hdm has always read them (assimp's ai_real), so a mesh
   // gives the same bake whatever its format; then widened exactly to double. The float goes
   // through a volatile: GCC 12's vectorizer drops a double -> float -> double round trip at -O2
@@ -119,28 +118,44 @@ TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name) {
 
   std::vector<Tri> triangles;
   triangles.reserve(soup.corners.size() / 3 + 1);
-  std::vector<Vec2d> q;
-  std::vector<size_t> ring;
-  uint64_t other = soup.points_and_lines;
+  std::vector<std::array<double, 2>> plane;
+  std::vector<size_t> border;
+  Skipped skipped;
+  auto& [short_faces, repeated_corners, repeated_cycles, crossing] = skipped;
   for (size_t p = 0; p < soup.polygon_count(); ++p) {
-    const int32_t* ids = soup.corners.data() + soup.polygon_end[p];
-    const size_t k = soup.polygon_end[p + 1] - soup.polygon_end[p];
+    int32_t* ids = soup.corners.data() + soup.polygon_end[p];
+    size_t k = soup.polygon_end[p + 1] - soup.polygon_end[p];
+    if (k > 3) {  // a triangle stays as written (one with a repeated corner is left to repair)
+      const CleanCorners c = clean_corners(ids, k, border);
+      if (c.dropped) repeated_corners.add(p);
+      if (c.repeats > 1 && repeated_cycles.add(p))
+        repeated_cycles.first_corners = k, repeated_cycles.first_cycle = c.corners,
+        repeated_cycles.first_repeats = c.repeats;
+      k = c.corners;
+    }
     if (k < 3) {
-      ++other;
-    } else if (k == 3) {
-      triangles.push_back({ids[0], ids[1], ids[2]});
-    } else if (!triangulate(positions, ids, k, triangles, q, ring)) {
-      throw InvalidInput(name + ": polygon " + std::to_string(p) + " has " + with_commas(k) +
-                         " corners and is not convex; hdm triangulates concave polygons of up to " +
-                         std::to_string(max_concave_polygon_corners) + " corners (triangulate it first)");
+      short_faces.add(p);
+    } else if (triangulate_polygon(positions, ids, k, triangles, plane) == PolygonTriangles::CrossesItself) {
+      if (crossing.add(p)) crossing.first_corners = k;
     }
   }
-  if (other > 0)
-    throw InvalidInput(name + ": " + with_commas(other) + " of " +
-                       with_commas(soup.polygon_count() + soup.points_and_lines) +
-                       " faces are points or line segments, not triangles");
-  if (triangles.empty()) throw InvalidInput(name + ": holds no triangles");
 
+  warnings.insert(warnings.end(), soup.warnings.begin(), soup.warnings.end());
+  report_skipped(soup, skipped, name, warnings);
+
+  if (triangles.empty()) {  // say what the file holds instead
+    std::string held;
+    auto part = [&](uint64_t n, const char* one, const char* many) {
+      if (n > 0) held += (held.empty() ? "" : ", ") + plural(n, one, many);
+    };
+    part(soup.lines, "line element", "line elements");
+    part(soup.points, "point element", "point elements");
+    part(short_faces.count, "face of fewer than three corners", "faces of fewer than three corners");
+    part(crossing.count, "polygon that crosses itself", "polygons that cross themselves");
+    if (held.empty()) held = "no faces";
+    throw InvalidInput(name + ": holds no triangles: " + held + " (" +
+                       plural(positions.size(), "vertex", "vertices") + ")");
+  }
   return weld_vertices(positions, triangles);
 }
 

@@ -6,7 +6,8 @@
 //
 // Reads the x, y, z properties of element "vertex" (any scalar type) and the list "vertex_indices"
 // (or "vertex_index") of element "face" (integer types); every other element and property is
-// skipped by its declared type.
+// skipped by its declared type. A header line that starts with no keyword of the format (as
+// Blender 2.4's "Created by ...") is skipped with a warning.
 #include "ply_header.h"
 #include "polygon_soup.h"
 #include "text_cursor.h"
@@ -30,6 +31,7 @@ class BinaryBody {
   BinaryBody(std::string_view bytes, size_t start, bool big, const std::string& name)
       : bytes_(bytes), pos_(start), big_(big), name_(name) {}
   uint64_t left() const { return bytes_.size() - pos_; }
+  int64_t line() const { return 0; }  // no lines in binary data
   void skip(uint64_t n, Type t, const Element& e, uint64_t i) {
     if (n > left() / size_of(t)) truncated(e, i);
     pos_ += n * size_of(t);
@@ -79,8 +81,10 @@ class BinaryBody {
 // ASCII body: whitespace-separated numbers.
 class AsciiBody {
  public:
-  AsciiBody(std::string_view bytes, size_t start, const std::string& name) : in_(bytes.substr(start), name) {}
+  AsciiBody(std::string_view bytes, size_t start, int64_t first_line, const std::string& name)
+      : in_(bytes.substr(start), name), first_line_(first_line) {}
   uint64_t left() const { return in_.bytes_left(); }
+  int64_t line() const { return first_line_ + in_.line() - 1; }
   double read(Type t, const Element& e, uint64_t i) {
     in_.skip_space(false);
     const std::string_view token = in_.token();
@@ -99,6 +103,7 @@ class AsciiBody {
 
  private:
   TextCursor in_;
+  int64_t first_line_;  // the file's line of the body's first line
 };
 
 // Index of the property @p name in @p e, or -1.
@@ -133,7 +138,7 @@ void read_body(Body& body, const std::vector<Element>& elements, const Element* 
                               ", the file has " + with_commas(vertex->count) + " vertices");
               soup.corners.push_back(static_cast<int32_t>(id));
             }
-            soup.end_polygon();
+            soup.end_polygon(body.line());
           } else {
             body.skip(n, prop.type, e, i);
           }
@@ -151,7 +156,7 @@ void read_body(Body& body, const std::vector<Element>& elements, const Element* 
 }  // namespace
 
 PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
-  const Header header = parse_header(bytes, name);
+  Header header = parse_header(bytes, name);
   const std::vector<Element>& elements = header.elements;
   const Format format = header.format;
   const size_t body_start = header.body_start;
@@ -168,7 +173,8 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
     for (const Element& e : elements)
       if (e.name == "tristrips" && e.count > 0)
         throw InvalidInput(name + ": holds triangle strips (element tristrips), which hdm does not read; only faces");
-    throw InvalidInput(name + ": holds no triangles (no face element" + std::string(face ? " instances)" : ")"));
+    throw InvalidInput(name + ": holds no triangles: " + std::string(face ? "0 faces" : "no face element") + " (" +
+                       with_commas(vertex ? vertex->count : 0) + " vertices)");
   }
   indices = find(*face, "vertex_indices");
   if (indices < 0) indices = find(*face, "vertex_index");
@@ -201,10 +207,11 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
   }
 
   PolygonSoup soup;
+  soup.warnings = std::move(header.warnings);
   soup.positions.reserve(vertex->count);
   soup.polygon_end.reserve(face->count + 1);
   if (format == Format::Ascii) {
-    AsciiBody body(bytes, body_start, name);
+    AsciiBody body(bytes, body_start, header.body_line, name);
     read_body(body, elements, vertex, xyz, face, indices, soup, name, 2);  // a list item takes a digit and a space
   } else {
     BinaryBody body(bytes, body_start, format == Format::BinaryBig, name);
