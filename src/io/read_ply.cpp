@@ -4,10 +4,11 @@
 // vertex_indices, loops forever on a header without end_header and reads past the end of a
 // truncated body.
 //
-// Reads the x, y, z properties of element "vertex" (any scalar type) and the list "vertex_indices"
-// (or "vertex_index") of element "face" (integer types); every other element and property is
-// skipped by its declared type. A header line that starts with no keyword of the format (as
-// Blender 2.4's "Created by ...") is skipped with a warning.
+// Reads the x, y, z properties of element "vertex" (any scalar type), the list "vertex_indices"
+// (or "vertex_index") of element "face" (integer types), and the same list of element "tristrips"
+// (triangle strips, -1 or the unsigned type's largest value restarting a strip); every other
+// element and property is skipped by its declared type. A header line that starts with no keyword
+// of the format (as Blender 2.4's "Created by ...") is skipped with a warning.
 #include "ply_header.h"
 #include "polygon_soup.h"
 #include "text_cursor.h"
@@ -113,9 +114,65 @@ int find(const Element& e, std::string_view name) {
   return -1;
 }
 
+// The elements and list properties hdm reads.
+struct Targets {
+  const Element* vertex = nullptr;
+  int xyz[3] = {-1, -1, -1};
+  const Element* face = nullptr;  // polygons
+  int face_list = -1;
+  const Element* strips = nullptr;  // triangle strips
+  int strip_list = -1;
+};
+
+// Appends the triangles of the strip @p ids (-1 restarts it): triangle j of a run is (j, j+1, j+2)
+// with every other one turned around, so all keep the strip's winding; a triangle that repeats a
+// corner (strips repeat corners to join runs) covers no area and is left out.
+void append_strip(const std::vector<int64_t>& ids, PolygonSoup& soup) {
+  size_t run = 0;  // corners since the last restart
+  for (size_t k = 0; k < ids.size(); ++k) {
+    if (ids[k] < 0) {
+      run = 0;
+      continue;
+    }
+    if (++run < 3) continue;
+    const int64_t a = ids[k - 2], b = ids[k - 1], c = ids[k];
+    if (a == b || b == c || a == c) continue;
+    const bool odd = (run - 3) % 2 == 1;
+    soup.corners.push_back(static_cast<int32_t>(odd ? b : a));
+    soup.corners.push_back(static_cast<int32_t>(odd ? a : b));
+    soup.corners.push_back(static_cast<int32_t>(c));
+    soup.end_polygon();
+  }
+}
+
+// Reads the @p n vertex ids of list @p prop of instance @p i of element @p e into @p ids, checked
+// against the vertex count; with @p restarts, -1 (or the unsigned item type's largest value) is
+// kept as -1.
 template <class Body>
-void read_body(Body& body, const std::vector<Element>& elements, const Element* vertex, const int xyz[3],
-               const Element* face, int indices, PolygonSoup& soup, const std::string& name, uint64_t item_size) {
+void read_ids(Body& body, const Property& prop, const Element& e, uint64_t i, uint64_t n, uint64_t vertices,
+              bool restarts, const std::string& name, std::vector<int64_t>& ids) {
+  const double restart = prop.type == Type::U8    ? 255.0
+                         : prop.type == Type::U16 ? 65535.0
+                         : prop.type == Type::U32 ? 4294967295.0
+                                                  : -1.0;
+  ids.clear();
+  for (uint64_t k = 0; k < n; ++k) {
+    const double id = body.read(prop.type, e, i);
+    if (restarts && id == restart) {
+      ids.push_back(-1);
+    } else if (id >= 0 && id < double(vertices)) {
+      ids.push_back(static_cast<int64_t>(id));
+    } else {
+      throw IoError(name + ": " + e.name + " " + with_commas(i) + " refers to vertex " + integer_text(id) +
+                    ", the file has " + with_commas(vertices) + " vertices");
+    }
+  }
+}
+
+template <class Body>
+void read_body(Body& body, const std::vector<Element>& elements, const Targets& t, PolygonSoup& soup,
+               const std::string& name, uint64_t item_size) {
+  std::vector<int64_t> ids;
   for (const Element& e : elements) {
     if (e.properties.empty()) continue;  // nothing to read, whatever the count
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -130,74 +187,73 @@ void read_body(Body& body, const std::vector<Element>& elements, const Element* 
             throw IoError(name + ": " + e.name + " " + with_commas(i) + " has a list of " + integer_text(count) +
                           " items, more than the rest of the file can hold (truncated or corrupt)");
           const auto n = static_cast<uint64_t>(count);
-          if (&e == face && ip == indices) {
-            for (uint64_t k = 0; k < n; ++k) {
-              const double id = body.read(prop.type, e, i);
-              if (!(id >= 0 && id < double(vertex->count)))
-                throw IoError(name + ": face " + with_commas(i) + " refers to vertex " + integer_text(id) +
-                              ", the file has " + with_commas(vertex->count) + " vertices");
-              soup.corners.push_back(static_cast<int32_t>(id));
+          const bool polygon = &e == t.face && ip == t.face_list, strip = &e == t.strips && ip == t.strip_list;
+          if (polygon || strip) {
+            read_ids(body, prop, e, i, n, t.vertex->count, strip, name, ids);
+            if (strip) {
+              append_strip(ids, soup);
+            } else {
+              for (int64_t id : ids) soup.corners.push_back(static_cast<int32_t>(id));
+              soup.end_polygon(body.line());
             }
-            soup.end_polygon(body.line());
           } else {
             body.skip(n, prop.type, e, i);
           }
-        } else if (&e == vertex && (ip == xyz[0] || ip == xyz[1] || ip == xyz[2])) {
-          position[ip == xyz[0] ? 0 : ip == xyz[1] ? 1 : 2] = body.read(prop.type, e, i);
+        } else if (&e == t.vertex && (ip == t.xyz[0] || ip == t.xyz[1] || ip == t.xyz[2])) {
+          position[ip == t.xyz[0] ? 0 : ip == t.xyz[1] ? 1 : 2] = body.read(prop.type, e, i);
         } else {
           body.skip(1, prop.type, e, i);
         }
       }
-      if (&e == vertex) soup.positions.push_back(position);
+      if (&e == t.vertex) soup.positions.push_back(position);
     }
   }
 }
 
-}  // namespace
+// The list of vertex ids of element @p e ("vertex_indices" or "vertex_index"), checked.
+int id_list(const Element& e, const std::string& name) {
+  int list = find(e, "vertex_indices");
+  if (list < 0) list = find(e, "vertex_index");
+  if (list < 0 || !e.properties[list].is_list())
+    throw IoError(name + ": the PLY " + e.name + " element has no vertex_indices list");
+  if (!is_integer(e.properties[list].type))
+    throw IoError(name + ": the PLY " + e.name + " list vertex_indices has non-integer items");
+  return list;
+}
 
-PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
-  Header header = parse_header(bytes, name);
-  const std::vector<Element>& elements = header.elements;
-  const Format format = header.format;
-  const size_t body_start = header.body_start;
-
-  // ---- the elements hdm reads ----
-  const Element* vertex = nullptr;
-  const Element* face = nullptr;
-  int xyz[3] = {-1, -1, -1}, indices = -1;
+// The elements hdm reads: vertices, and faces or triangle strips (refused when there are neither).
+Targets find_targets(const std::vector<Element>& elements, const std::string& name) {
+  Targets t;
   for (const Element& e : elements) {
-    if (e.name == "vertex" && !vertex) vertex = &e;
-    if (e.name == "face" && !face) face = &e;
+    if (e.name == "vertex" && !t.vertex) t.vertex = &e;
+    if (e.name == "face" && !t.face) t.face = &e;
+    if (e.name == "tristrips" && !t.strips) t.strips = &e;
   }
-  if (!face || face->count == 0) {
-    for (const Element& e : elements)
-      if (e.name == "tristrips" && e.count > 0)
-        throw InvalidInput(name + ": holds triangle strips (element tristrips), which hdm does not read; only faces");
-    throw InvalidInput(name + ": holds no triangles: " + std::string(face ? "0 faces" : "no face element") + " (" +
-                       with_commas(vertex ? vertex->count : 0) + " vertices)");
-  }
-  indices = find(*face, "vertex_indices");
-  if (indices < 0) indices = find(*face, "vertex_index");
-  if (indices < 0 || !face->properties[indices].is_list())
-    throw IoError(name + ": the PLY face element has no vertex_indices list");
-  if (!is_integer(face->properties[indices].type))
-    throw IoError(name + ": the PLY face list vertex_indices has non-integer items");
-  if (!vertex) throw IoError(name + ": the PLY header declares faces but no vertex element");
+  const uint64_t faces = t.face ? t.face->count : 0, strips = t.strips ? t.strips->count : 0;
+  if (faces + strips == 0)
+    throw InvalidInput(name + ": holds no triangles: " +
+                       (t.face ? std::string("0 faces") : t.strips ? "0 triangle strips" : "no face element") + " (" +
+                       with_commas(t.vertex ? t.vertex->count : 0) + " vertices)");
+  if (!t.vertex) throw IoError(name + ": the PLY header declares faces but no vertex element");
+  if (faces > 0) t.face_list = id_list(*t.face, name);
+  if (strips > 0) t.strip_list = id_list(*t.strips, name);
   for (int a = 0; a < 3; ++a) {
-    xyz[a] = find(*vertex, std::string(1, char('x' + a)));
-    if (xyz[a] < 0 || vertex->properties[xyz[a]].is_list())
+    t.xyz[a] = find(*t.vertex, std::string(1, char('x' + a)));
+    if (t.xyz[a] < 0 || t.vertex->properties[t.xyz[a]].is_list())
       throw IoError(name + ": the PLY vertex element has no scalar property " + std::string(1, char('x' + a)));
   }
-  if (vertex->count > uint64_t(std::numeric_limits<int32_t>::max()))
-    throw IoError(name + ": " + with_commas(vertex->count) + " vertices: more than hdm's limit of 2,147,483,647");
+  if (t.vertex->count > uint64_t(std::numeric_limits<int32_t>::max()))
+    throw IoError(name + ": " + with_commas(t.vertex->count) + " vertices: more than hdm's limit of 2,147,483,647");
+  return t;
+}
 
-  // ---- refuse a header that claims more than the file can hold, before reading further ----
-  const uint64_t left = bytes.size() - body_start;
+// Refuses a header that claims more than the @p left bytes after it can hold, before reading on.
+void check_claims(const Header& h, uint64_t left, const std::string& name) {
   uint64_t need = 0;
-  for (const Element& e : elements) {
+  for (const Element& e : h.elements) {
     uint64_t least = 0;  // bytes an instance takes at least: its scalars and list counts
     for (const Property& p : e.properties)
-      least += format == Format::Ascii ? 2 : size_of(p.is_list() ? p.count_type : p.type);
+      least += h.format == Format::Ascii ? 2 : size_of(p.is_list() ? p.count_type : p.type);
     if (least == 0) continue;
     if (e.count > (left + 1) / least || need + e.count * least > left + 1)
       throw IoError(name + ": the PLY header claims " + with_commas(e.count) + " " + e.name + " elements of at least " +
@@ -205,17 +261,25 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
                     " bytes follow the header: the file is truncated or its header is corrupt");
     need += e.count * least;
   }
+}
+
+}  // namespace
+
+PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
+  Header header = parse_header(bytes, name);
+  const Targets targets = find_targets(header.elements, name);
+  check_claims(header, bytes.size() - header.body_start, name);
 
   PolygonSoup soup;
   soup.warnings = std::move(header.warnings);
-  soup.positions.reserve(vertex->count);
-  soup.polygon_end.reserve(face->count + 1);
-  if (format == Format::Ascii) {
-    AsciiBody body(bytes, body_start, header.body_line, name);
-    read_body(body, elements, vertex, xyz, face, indices, soup, name, 2);  // a list item takes a digit and a space
+  soup.positions.reserve(targets.vertex->count);
+  if (targets.face) soup.polygon_end.reserve(targets.face->count + 1);
+  if (header.format == Format::Ascii) {
+    AsciiBody body(bytes, header.body_start, header.body_line, name);
+    read_body(body, header.elements, targets, soup, name, 2);  // a list item takes a digit and a space
   } else {
-    BinaryBody body(bytes, body_start, format == Format::BinaryBig, name);
-    read_body(body, elements, vertex, xyz, face, indices, soup, name, 0);  // 0: the item type's size
+    BinaryBody body(bytes, header.body_start, header.format == Format::BinaryBig, name);
+    read_body(body, header.elements, targets, soup, name, 0);  // 0: the item type's size
   }
   return soup;
 }

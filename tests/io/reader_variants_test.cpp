@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // What other readers read, against meshes written here: PLY header lines of other programs
-// (skipped with a warning) and OBJ points and lines (skipped with one warning).
+// (skipped with a warning), PLY triangle strips (against the triangles worked out by hand) and
+// OBJ points and lines (skipped with one warning).
+#include "io/io_test_util.h"
 #include "io/mesh_test_util.h"
 
 #include <hdm/core/error.h>
@@ -8,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,7 @@ namespace {
 using test::canonical;
 using test::error_of;
 using test::has;
+using test::put;
 
 std::string ply_header(const char* format, const std::string& extra_line, const std::string& elements) {
   return std::string("ply\nformat ") + format + " 1.0\n" + extra_line +
@@ -31,6 +35,14 @@ std::string grid_ascii() {
   for (const Vec3& v : grid) s += std::to_string(int(v.x())) + " " + std::to_string(int(v.y())) + " 0\n";
   return s;
 }
+// The strip 1 0 3 2 5 4 worked out by hand: (1 0 3), then every other triangle turned around
+// ((3 0 2) for 0 3 2), (3 2 5), (5 2 4): all counter-clockwise seen from +z.
+std::string strip_triangles_obj() {
+  std::string s;
+  for (const Vec3& v : grid) s += "v " + std::to_string(int(v.x())) + " " + std::to_string(int(v.y())) + " 0\n";
+  return s + "f 2 1 4\nf 4 1 3\nf 4 3 6\nf 6 3 5\n";
+}
+
 TEST(MeshReaders, PlyHeaderLinesOfOtherProgramsAreSkippedWithAWarning) {
   const std::string faces = "element face 2\nproperty list uchar int vertex_indices\n";
   const std::string body = grid_ascii() + "4 1 0 2 3\n3 3 2 5\n";
@@ -56,6 +68,36 @@ TEST(MeshReaders, PlyHeaderLinesOfOtherProgramsAreSkippedWithAWarning) {
   // A keyword line that is malformed is still an error.
   EXPECT_TRUE(has(error_of<IoError>(ply_header("ascii", "element\n", faces) + body, "bad.ply"),
                   "bad.ply:3: malformed PLY header line"));
+}
+
+TEST(MeshReaders, PlyTriangleStripsAreReadAsTheirTriangles) {
+  const auto want = canonical(read_mesh_from_memory(strip_triangles_obj(), "by_hand.obj"));
+  ASSERT_EQ(want.size(), 4u);
+  const std::string strips = "element tristrips 1\nproperty list int int vertex_indices\n";
+  // One strip; the same with a restart (-1); two strips joined by triangles that repeat a corner.
+  for (const std::string list : {"6 1 0 3 2 5 4", "9 1 0 3 2 -1 3 2 5 4", "10 1 0 3 2 2 3 3 2 5 4"}) {
+    const TriangleMesh m = read_mesh_from_memory(ply_header("ascii", "", strips) + grid_ascii() + list + "\n", "s.ply");
+    EXPECT_EQ(canonical(m), want) << list;
+  }
+  // Binary, big-endian, an unsigned item type whose largest value restarts, beside a face element.
+  std::string bin = ply_header("binary_big_endian", "",
+                               "element face 1\nproperty list uchar int vertex_indices\nelement tristrips 1\n"
+                               "property list uint uint vertex_indices\n");
+  for (const Vec3& v : grid)
+    for (int c = 0; c < 3; ++c) put(bin, float(v[c]), true);
+  put(bin, uint8_t{3});
+  for (int32_t i : {0, 2, 1}) put(bin, i, true);  // (0,0) (1,0) (0,1): counter-clockwise
+  put(bin, uint32_t{9}, true);
+  for (uint32_t i : {1u, 0u, 3u, 2u, 0xFFFFFFFFu, 3u, 2u, 5u, 4u}) put(bin, i, true);
+  std::vector<test::PosTri> with_face = want;
+  with_face.push_back({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  std::sort(with_face.begin(), with_face.end());
+  EXPECT_EQ(canonical(read_mesh_from_memory(bin, "strips_be.ply")), with_face);
+  // Ids out of range are refused; a strip of only degenerate triangles leaves none.
+  EXPECT_TRUE(has(error_of<IoError>(ply_header("ascii", "", strips) + grid_ascii() + "3 0 1 6\n", "range.ply"),
+                  "range.ply: tristrips 0 refers to vertex 6, the file has 6 vertices"));
+  EXPECT_TRUE(has(error_of<InvalidInput>(ply_header("ascii", "", strips) + grid_ascii() + "4 0 0 1 1\n", "flat.ply"),
+                  "flat.ply: holds no triangles"));
 }
 
 TEST(MeshReaders, ObjPointsAndLinesAreSkippedWithOneWarning) {

@@ -49,8 +49,9 @@ struct MeshReadReport {
 /// but no guarantee beyond assimp's own.
 ///
 /// The checked readers refuse, before reading further, a header that claims more elements than the
-/// rest of the file can hold, and never size an allocation by an unchecked field. They
-/// triangulate polygons: convex ones as fans; any other one, of any size, by CGAL's 2D constrained
+/// rest of the file can hold, and never size an allocation by an unchecked field. They read PLY
+/// triangle strips (element `tristrips`, -1 restarting a strip) as triangles. They triangulate
+/// polygons: convex ones as fans; any other one, of any size, by CGAL's 2D constrained
 /// Delaunay triangulation in its best-fit plane, covering the points of odd nesting (so a polygon
 /// with a hole written as one outline keeps its hole) and keeping the polygon's winding; a polygon
 /// whose edges cross or overlap in that plane is skipped. Before that, consecutive repeats of a corner are
