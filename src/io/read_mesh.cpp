@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// read_mesh: the size limit, the choice of reader by extension, and the assimp fallback for the
+// read_mesh: the size limit, the choice of reader (mesh_format.h), and the assimp fallback for the
 // formats hdm does not read itself.
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
 
+#include "mesh_format.h"
 #include "polygon_soup.h"
 #include "text_cursor.h"
 
@@ -28,21 +29,10 @@ namespace {
 
 using detail::with_commas;
 
-enum class Format { Obj, Ply, Off, Stl, Other };
-
 std::string lower_extension(const std::string& name) {
   std::string ext = std::filesystem::path(name).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
-}
-
-Format format_of(const std::string& name) {
-  const std::string ext = lower_extension(name);
-  if (ext == ".obj") return Format::Obj;
-  if (ext == ".ply") return Format::Ply;
-  if (ext == ".off") return Format::Off;
-  if (ext == ".stl") return Format::Stl;
-  return Format::Other;
 }
 
 // ---- the assimp fallback (formats other than OBJ, PLY, OFF, STL) ----
@@ -183,28 +173,36 @@ TriangleMesh read_mesh_from_memory(std::string_view bytes, const std::string& na
     if (report) report->warnings.insert(report->warnings.end(), warnings.begin(), warnings.end());
     return mesh;
   };
-  switch (format_of(name)) {
-    case Format::Obj:
+  detail::MeshFormat format = detail::format_by_extension(name);
+  if (format == detail::MeshFormat::Other && detail::has_no_extension(name)) format = detail::format_by_content(bytes);
+  switch (format) {
+    case detail::MeshFormat::Obj:
       return done(detail::to_triangle_mesh(detail::parse_obj(bytes, name), name, warnings));
-    case Format::Ply:
+    case detail::MeshFormat::Ply:
       return done(detail::to_triangle_mesh(detail::parse_ply(bytes, name), name, warnings));
-    case Format::Off:
+    case detail::MeshFormat::Off:
       return done(detail::to_triangle_mesh(detail::parse_off(bytes, name), name, warnings));
-    case Format::Stl:
+    case detail::MeshFormat::Stl:
       return done(detail::to_triangle_mesh(detail::parse_stl(bytes, name), name, warnings));
-    case Format::Other:
+    case detail::MeshFormat::Other:
       break;
   }
   return done(read_with_assimp(name, &bytes, warnings));
 }
 
 TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options, MeshReadReport* report) {
-  if (format_of(path) == Format::Other) {
-    // assimp reads the file itself, so formats that refer to other files (glTF buffers) work.
+  if (detail::format_by_extension(path) == detail::MeshFormat::Other) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
     if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": not a regular file");
     check_input_size(std::filesystem::file_size(path, ec), options.max_file_bytes, path);
+    // Without an extension the content decides; a format of hdm's own is read from memory.
+    if (detail::has_no_extension(path)) {
+      const std::string bytes = read_file(path, options.max_file_bytes);
+      if (detail::format_by_content(bytes) != detail::MeshFormat::Other)
+        return read_mesh_from_memory(bytes, path, options, report);
+    }
+    // assimp reads the file itself, so formats that refer to other files (glTF buffers) work.
     std::vector<std::string> warnings;
     TriangleMesh mesh = read_with_assimp(path, nullptr, warnings);
     if (report) report->warnings.insert(report->warnings.end(), warnings.begin(), warnings.end());

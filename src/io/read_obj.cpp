@@ -7,12 +7,15 @@
 // "v", "v/vt", "v//vn", "v/vt/vn" with 1-based or negative (relative) vertex indices; "l" and "p"
 // elements (lines and points) are skipped, with one warning giving their counts; every other
 // statement (vt, vn, g, o, s, usemtl, mtllib, ...) is skipped. A line ending in '\' continues on
-// the next line; '#' starts a comment.
+// the next line; '#' starts a comment. UTF-16 text (with or without a byte-order mark) is read as
+// its UTF-8 transcoding, and a UTF-8 byte-order mark is skipped.
 #include "polygon_soup.h"
 #include "text_cursor.h"
+#include "text_encoding.h"
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace hdm::detail {
@@ -84,8 +87,9 @@ class LogicalLines {
 
 }  // namespace
 
-PolygonSoup parse_obj(std::string_view bytes, const std::string& name) {
-  LogicalLines lines(bytes);
+PolygonSoup parse_obj(std::string_view file_bytes, const std::string& name) {
+  const std::optional<std::string> utf8 = utf16_to_utf8(file_bytes, name);
+  LogicalLines lines(without_utf8_bom(utf8 ? std::string_view(*utf8) : file_bytes));
   PolygonSoup soup;
   int64_t first_line = 0, max_ref = -1, max_ref_line = 0, first_skipped_line = 0;
   auto fail = [&](int64_t line, const std::string& reason) { obj_fail(name, line, reason); };

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // What other readers read, against meshes written here: PLY header lines of other programs
-// (skipped with a warning), PLY triangle strips (against the triangles worked out by hand) and
-// OBJ points and lines (skipped with one warning).
+// (skipped with a warning), PLY triangle strips (against the triangles worked out by hand), OBJ
+// in UTF-16 (against its UTF-8 twin, encoded here), OBJ points and lines (skipped with one
+// warning), and files without an extension (recognised by their content).
 #include "io/io_test_util.h"
 #include "io/mesh_test_util.h"
 
@@ -100,6 +101,57 @@ TEST(MeshReaders, PlyTriangleStripsAreReadAsTheirTriangles) {
                   "flat.ply: holds no triangles"));
 }
 
+// A UTF-8 decoder and UTF-16 encoder of the test's own (RFC 3629, RFC 2781).
+std::u32string decode_utf8(const std::string& s) {
+  std::u32string out;
+  for (size_t i = 0; i < s.size();) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    const int n = b < 0x80 ? 1 : b < 0xE0 ? 2 : b < 0xF0 ? 3 : 4;
+    char32_t c = n == 1 ? b : b & (0x3F >> (n - 1));
+    for (int k = 1; k < n; ++k) c = (c << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3F);
+    out += c;
+    i += n;
+  }
+  return out;
+}
+std::string encode_utf16(const std::string& utf8, bool big, bool mark) {
+  std::u16string units;
+  if (mark) units += char16_t(0xFEFF);
+  for (char32_t c : decode_utf8(utf8)) {
+    if (c < 0x10000) {
+      units += char16_t(c);
+    } else {
+      units += char16_t(0xD800 + ((c - 0x10000) >> 10));
+      units += char16_t(0xDC00 + ((c - 0x10000) & 0x3FF));
+    }
+  }
+  std::string out;
+  for (char16_t u : units) {
+    out += char(big ? u >> 8 : u & 0xFF);
+    out += char(big ? u & 0xFF : u >> 8);
+  }
+  return out;
+}
+
+TEST(MeshReaders, Utf16ObjReadsAsItsUtf8Twin) {
+  // Comments and names outside ASCII (one beyond the BMP: a surrogate pair), CRLF line ends, a
+  // concave polygon and a quad.
+  const std::string utf8 =
+      "# caf\xC3\xA9 \xE2\x98\x83 \xF0\x9D\x84\x9E\r\no n\xC3\xA4me\r\nv 0 0 0\r\nv 2 0 0\r\nv 2 2 0\r\nv 1 0.5 0\r\n"
+      "v 0 2 0\r\nv 0 0 1\r\nv 1 0 1\r\nv 1 1 1\r\nv 0 1 1\r\nf 1 2 3 4 5\r\nf 6 7 8 9\r\n";
+  const auto want = canonical(read_mesh_from_memory(utf8, "utf8.obj"));
+  ASSERT_EQ(want.size(), 3u + 2u);
+  for (bool big : {true, false})
+    for (bool mark : {true, false}) {
+      const std::string name = std::string(big ? "be" : "le") + (mark ? "_bom" : "") + ".obj";
+      EXPECT_EQ(canonical(read_mesh_from_memory(encode_utf16(utf8, big, mark), name)), want) << name;
+    }
+  // A UTF-8 byte-order mark is skipped (else the first vertex would be an unknown statement).
+  EXPECT_EQ(canonical(read_mesh_from_memory("\xEF\xBB\xBF" + utf8.substr(utf8.find("v 0 0 0")), "bom8.obj")), want);
+  EXPECT_TRUE(has(error_of<IoError>(encode_utf16(utf8, true, true) + "x", "odd.obj"),
+                  "odd.obj: UTF-16 text of an odd number of bytes"));
+}
+
 TEST(MeshReaders, ObjPointsAndLinesAreSkippedWithOneWarning) {
   // As assimp's testmixed.obj: a cube's six quads between point and line statements.
   const std::string cube =
@@ -117,6 +169,27 @@ TEST(MeshReaders, ObjPointsAndLinesAreSkippedWithOneWarning) {
                   "lines.obj: holds no triangles: 2 line elements, 1 point element (3 vertices)"));
   EXPECT_TRUE(has(error_of<InvalidInput>("v 0 0 0\nvn 0 0 1\n", "cloud.obj"),
                   "cloud.obj: holds no triangles: no faces (1 vertex)"));
+}
+
+TEST(MeshReaders, FilesWithoutAnExtensionAreRecognisedByTheirContent) {
+  const std::string off = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const auto want = canonical(read_mesh_from_memory(off, "t.off"));
+  std::string bin(80, ' ');
+  put(bin, uint32_t{1});
+  for (int c = 0; c < 3; ++c) put(bin, 0.0f);
+  for (const Vec3& v : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)})
+    for (int c = 0; c < 3; ++c) put(bin, float(v[c]));
+  put(bin, uint16_t{0});
+  for (const std::string& bytes :
+       {off, std::string("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+                         "endfacet\nendsolid t\n"),
+        bin, std::string("# a triangle\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")})
+    EXPECT_EQ(canonical(read_mesh_from_memory(bytes, "formatDetection")), want) << bytes.substr(0, 12);
+  test::TempDir dir;
+  test::write_text(dir.file("noext"), off);
+  EXPECT_EQ(canonical(read_mesh(dir.file("noext"))), want);
 }
 
 }  // namespace

@@ -42,16 +42,18 @@ struct MeshReadReport {
 
 /// @brief Reads the triangle mesh stored in @p path.
 ///
-/// The format is chosen by the extension (case-insensitive). OBJ, PLY (ASCII, binary little- and
-/// big-endian), OFF and STL (ASCII and binary) are read by hdm's own checked readers, one file per
-/// format in src/io (read_obj.cpp, read_ply.cpp, read_off.cpp, read_stl.cpp); any other extension
-/// goes to assimp (glTF, FBX, COLLADA, 3DS, ...), with the size limit and the scene checks below
-/// but no guarantee beyond assimp's own.
+/// The format is chosen by the extension (case-insensitive); a file without an extension is
+/// recognised by its first bytes ("ply", an OFF keyword, "solid" or a binary STL's exact size, an
+/// OBJ statement). OBJ, PLY (ASCII, binary little- and big-endian), OFF and STL (ASCII and binary)
+/// are read by hdm's own checked readers, one file per format in src/io (read_obj.cpp,
+/// read_ply.cpp, read_off.cpp, read_stl.cpp); any other file goes to assimp (glTF, FBX, COLLADA,
+/// 3DS, ...), with the size limit and the scene checks below but no guarantee beyond assimp's own.
 ///
 /// The checked readers refuse, before reading further, a header that claims more elements than the
 /// rest of the file can hold, and never size an allocation by an unchecked field. They read PLY
-/// triangle strips (element `tristrips`, -1 restarting a strip) as triangles. They triangulate
-/// polygons: convex ones as fans; any other one, of any size, by CGAL's 2D constrained
+/// triangle strips (element `tristrips`, -1 restarting a strip) as triangles, and OBJ written in
+/// UTF-16 (either byte order, with or without a byte-order mark) as its UTF-8 text. They
+/// triangulate polygons: convex ones as fans; any other one, of any size, by CGAL's 2D constrained
 /// Delaunay triangulation in its best-fit plane, covering the points of odd nesting (so a polygon
 /// with a hole written as one outline keeps its hole) and keeping the polygon's winding; a polygon
 /// whose edges cross or overlap in that plane is skipped. Before that, consecutive repeats of a corner are
@@ -88,8 +90,8 @@ TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options =
 
 /// @brief Reads a mesh file held in memory, as read_mesh() reads a file.
 /// @param bytes    the file's content.
-/// @param name     the file's name: its extension selects the format, and it starts every error
-///                 message and warning.
+/// @param name     the file's name: its extension (or, without one, the content) selects the
+///                 format, and it starts every error message and warning.
 /// @param options  size limit (checked against bytes.size()).
 /// @param report   when not null, the warnings of this read are appended to it.
 /// @return the mesh [file units].
