@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal to hdm::io: text files written in UTF-16 (some Windows tools write OBJ so), read by
+// Internal to hdm::io: text files written in UTF-16 (as assimp's box_UTF16BE.obj), read by
 // transcoding them to UTF-8 (text_encoding.cpp).
 
 #include <optional>
