@@ -37,6 +37,14 @@ seed() {  # seed FORMAT FILE...: copies the files that setup.sh extracted
 seed off tetrahedron.off triangle.off cube_quad.off cube_poly.off mesh_with_colors.off icosahedron.off sphere.off
 seed ply colored_tetra.ply sphere.ply
 seed stl sphere.stl
+# Other readers' test files (Debian's assimp-testmodels), those small enough to mutate.
+assimp=/usr/share/assimp/models
+if [ -d "$assimp" ]; then
+  for format in obj ply off stl; do
+    find "$assimp/${format^^}" -maxdepth 1 -type f -size -32k \( -iname "*.$format" -o ! -name "*.*" \) \
+      -exec cp {} "$seeds/$format/" \;
+  done
+fi
 cp "$here"/data/scripts/*.json "$seeds/script/"
 hdm="$here/build/bin/hdm"
 derived_seeds() {

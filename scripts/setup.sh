@@ -10,7 +10,7 @@ packages=(cmake ninja-build g++ pkg-config
   libassimp-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri
-  libcgal-dev libcgal-demo gnuplot-nox
+  libcgal-dev libcgal-demo assimp-testmodels gnuplot-nox
   libglfw3-dev libimgui-dev xvfb xauth
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest

@@ -5,6 +5,8 @@
 #include <hdm/mesh/remove_folds.h>
 #include <hdm/mesh/stitch_seams.h>
 
+#include <cstdio>
+
 namespace hdm::app {
 
 void add_input_options(CLI::App& cmd, InputOptions& o) {
@@ -19,7 +21,10 @@ void add_input_options(CLI::App& cmd, InputOptions& o) {
 
 PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint64_t max_file_bytes, bool resolve) {
   PreparedInput in;
-  in.mesh = read_mesh(path, {max_file_bytes});
+  MeshReadReport read;
+  in.mesh = read_mesh(path, {max_file_bytes}, &read);
+  for (const std::string& w : read.warnings) std::fprintf(stderr, "hdm: warning: %s\n", w.c_str());
+  in.read_warnings = std::move(read.warnings);
   if (o.no_repair) {
     validate_for_bake(in.mesh, path);
   } else if (needs_repair(in.mesh)) {

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace hdm::app {
 
@@ -22,6 +23,7 @@ struct InputOptions {
 
 struct PreparedInput {
   TriangleMesh mesh;
+  std::vector<std::string> read_warnings;  // what read_mesh() skipped (MeshReadReport)
   RepairReport repair;
   OrientReport orient;
   FoldReport folds;                 // open input: what remove_folds() did
@@ -39,7 +41,8 @@ void add_input_options(CLI::App& cmd, InputOptions& o);
 // `hdm check` alike (the same orientation, so the same buried faces). With @p resolve, replaces
 // the mesh by resolve_self_intersections() of it (what `hdm bake` bakes; `hdm check` measures
 // against the mesh before that), except when stitching closed it. @p max_file_bytes is read_mesh()'s size limit. Throws
-// what read_mesh() and repair_mesh() throw.
+// what read_mesh() and repair_mesh() throw. Prints read_mesh()'s warnings to stderr ("hdm: warning:
+// ..."), the one place the program does.
 PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint64_t max_file_bytes,
                             bool resolve = false);
 

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
-// read_mesh: the size limit, the choice of reader by extension, and the assimp fallback for the
+// read_mesh: the size limit, the choice of reader (mesh_format.h), and the assimp fallback for the
 // formats hdm does not read itself.
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
 
+#include "mesh_format.h"
 #include "polygon_soup.h"
+#include "text_cursor.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
@@ -25,21 +27,12 @@
 namespace hdm {
 namespace {
 
-enum class Format { Obj, Ply, Off, Stl, Other };
+using detail::with_commas;
 
 std::string lower_extension(const std::string& name) {
   std::string ext = std::filesystem::path(name).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
-}
-
-Format format_of(const std::string& name) {
-  const std::string ext = lower_extension(name);
-  if (ext == ".obj") return Format::Obj;
-  if (ext == ".ply") return Format::Ply;
-  if (ext == ".off") return Format::Off;
-  if (ext == ".stl") return Format::Stl;
-  return Format::Other;
 }
 
 // ---- the assimp fallback (formats other than OBJ, PLY, OFF, STL) ----
@@ -117,14 +110,15 @@ const aiScene& import_scene(Assimp::Importer& importer, const std::string& path,
   return *scene;
 }
 
-TriangleMesh from_scene(const aiScene& scene, const std::string& path) {
+TriangleMesh from_scene(const aiScene& scene, const std::string& path, std::vector<std::string>& warnings) {
   TriangleMesh mesh;
   std::unordered_map<PositionKey, int32_t, PositionKeyHash> welded;
-  size_t other_faces = 0, total_faces = 0;
+  uint64_t other_faces = 0, total_faces = 0, total_vertices = 0;
   std::vector<int32_t> remap;
   for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
     const aiMesh& am = *scene.mMeshes[m];
     total_faces += am.mNumFaces;
+    total_vertices += am.mNumVertices;
     // Mark the vertices that triangles use; -2 = unused, -1 = used but not yet numbered.
     remap.assign(am.mNumVertices, -2);
     for (unsigned f = 0; f < am.mNumFaces; ++f) {
@@ -152,49 +146,70 @@ TriangleMesh from_scene(const aiScene& scene, const std::string& path) {
         mesh.faces.push_back({remap[face.mIndices[0]], remap[face.mIndices[1]], remap[face.mIndices[2]]});
     }
   }
+  if (mesh.faces.empty())
+    throw InvalidInput(path + ": holds no triangles: " +
+                       (other_faces > 0 ? with_commas(other_faces) + " points and line segments" : "no faces") + " (" +
+                       with_commas(total_vertices) + " vertices)");
   if (other_faces > 0)
-    throw InvalidInput(path + ": " + std::to_string(other_faces) + " of " + std::to_string(total_faces) +
-                       " faces are points or line segments, not triangles");
-  if (mesh.faces.empty()) throw InvalidInput(path + ": holds no triangles");
+    warnings.push_back(path + ": skipped " + with_commas(other_faces) + " of " + with_commas(total_faces) +
+                       " faces: they are points or line segments, which bound no area");
   return mesh;
 }
 
-TriangleMesh read_with_assimp(const std::string& path, const std::string_view* bytes) {
+TriangleMesh read_with_assimp(const std::string& path, const std::string_view* bytes,
+                              std::vector<std::string>& warnings) {
   Assimp::Importer importer;
-  return from_scene(import_scene(importer, path, bytes), path);
+  return from_scene(import_scene(importer, path, bytes), path, warnings);
 }
 
 }  // namespace
 
-TriangleMesh read_mesh_from_memory(std::string_view bytes, const std::string& name, const MeshReadOptions& options) {
+TriangleMesh read_mesh_from_memory(std::string_view bytes, const std::string& name, const MeshReadOptions& options,
+                                   MeshReadReport* report) {
   check_input_size(bytes.size(), options.max_file_bytes, name);
   if (bytes.empty()) throw IoError(name + ": empty file");
-  switch (format_of(name)) {
-    case Format::Obj:
-      return detail::to_triangle_mesh(detail::parse_obj(bytes, name), name);
-    case Format::Ply:
-      return detail::to_triangle_mesh(detail::parse_ply(bytes, name), name);
-    case Format::Off:
-      return detail::to_triangle_mesh(detail::parse_off(bytes, name), name);
-    case Format::Stl:
-      return detail::to_triangle_mesh(detail::parse_stl(bytes, name), name);
-    case Format::Other:
+  std::vector<std::string> warnings;
+  auto done = [&](TriangleMesh mesh) {
+    if (report) report->warnings.insert(report->warnings.end(), warnings.begin(), warnings.end());
+    return mesh;
+  };
+  detail::MeshFormat format = detail::format_by_extension(name);
+  if (format == detail::MeshFormat::Other && detail::has_no_extension(name)) format = detail::format_by_content(bytes);
+  switch (format) {
+    case detail::MeshFormat::Obj:
+      return done(detail::to_triangle_mesh(detail::parse_obj(bytes, name), name, warnings));
+    case detail::MeshFormat::Ply:
+      return done(detail::to_triangle_mesh(detail::parse_ply(bytes, name), name, warnings));
+    case detail::MeshFormat::Off:
+      return done(detail::to_triangle_mesh(detail::parse_off(bytes, name), name, warnings));
+    case detail::MeshFormat::Stl:
+      return done(detail::to_triangle_mesh(detail::parse_stl(bytes, name), name, warnings));
+    case detail::MeshFormat::Other:
       break;
   }
-  return read_with_assimp(name, &bytes);
+  return done(read_with_assimp(name, &bytes, warnings));
 }
 
-TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options) {
-  if (format_of(path) == Format::Other) {
-    // assimp reads the file itself, so formats that refer to other files (glTF buffers) work.
+TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options, MeshReadReport* report) {
+  if (detail::format_by_extension(path) == detail::MeshFormat::Other) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
     if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": not a regular file");
     check_input_size(std::filesystem::file_size(path, ec), options.max_file_bytes, path);
-    return read_with_assimp(path, nullptr);
+    // Without an extension the content decides; a format of hdm's own is read from memory.
+    if (detail::has_no_extension(path)) {
+      const std::string bytes = read_file(path, options.max_file_bytes);
+      if (detail::format_by_content(bytes) != detail::MeshFormat::Other)
+        return read_mesh_from_memory(bytes, path, options, report);
+    }
+    // assimp reads the file itself, so formats that refer to other files (glTF buffers) work.
+    std::vector<std::string> warnings;
+    TriangleMesh mesh = read_with_assimp(path, nullptr, warnings);
+    if (report) report->warnings.insert(report->warnings.end(), warnings.begin(), warnings.end());
+    return mesh;
   }
   const std::string bytes = read_file(path, options.max_file_bytes);
-  return read_mesh_from_memory(bytes, path, options);
+  return read_mesh_from_memory(bytes, path, options, report);
 }
 
 }  // namespace hdm

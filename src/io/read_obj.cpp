@@ -5,14 +5,17 @@
 //
 // Reads "v x y z" (a fourth value or a vertex colour after x y z is ignored) and "f" corners
 // "v", "v/vt", "v//vn", "v/vt/vn" with 1-based or negative (relative) vertex indices; "l" and "p"
-// elements are counted as points and line segments (refused, like any non-triangle face); every
-// other statement (vt, vn, g, o, s, usemtl, mtllib, ...) is skipped. A line ending in '\' continues
-// on the next line; '#' starts a comment.
+// elements (lines and points) are skipped, with one warning giving their counts; every other
+// statement (vt, vn, g, o, s, usemtl, mtllib, ...) is skipped. A line ending in '\' continues on
+// the next line; '#' starts a comment. UTF-16 text (with or without a byte-order mark) is read as
+// its UTF-8 transcoding, and a UTF-8 byte-order mark is skipped.
 #include "polygon_soup.h"
 #include "text_cursor.h"
+#include "text_encoding.h"
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace hdm::detail {
@@ -40,42 +43,58 @@ struct Tokens {
   throw IoError(name + ":" + std::to_string(line) + ": " + reason);
 }
 
-}  // namespace
-
-PolygonSoup parse_obj(std::string_view bytes, const std::string& name) {
-  PolygonSoup soup;
-  int64_t line_no = 0, max_ref = -1, max_ref_line = 0;
-  std::string joined;  // a logical line made of continued physical lines
-  size_t pos = 0;
-  auto fail = [&](int64_t line, const std::string& reason) { obj_fail(name, line, reason); };
-  while (pos < bytes.size()) {
-    // One logical line: physical lines joined while they end in '\'.
-    const int64_t first_line = ++line_no;
-    size_t end = bytes.find('\n', pos);
-    if (end == std::string_view::npos) end = bytes.size();
-    std::string_view line = bytes.substr(pos, end - pos);
-    pos = end + 1;
-    if (const size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+// The logical lines of an OBJ file: physical lines joined while they end in '\', without
+// comments and trailing blanks.
+class LogicalLines {
+ public:
+  explicit LogicalLines(std::string_view bytes) : bytes_(bytes) {}
+  // The next logical line, false at the end; @p first_line is where it starts (1-based).
+  bool next(std::string_view& line, int64_t& first_line) {
+    if (pos_ >= bytes_.size()) return false;
+    first_line = line_no_ + 1;
+    line = physical();
     if (!line.empty() && line.back() == '\\') {
-      joined.assign(line.substr(0, line.size() - 1));
-      while (pos < bytes.size()) {
-        ++line_no;
-        end = bytes.find('\n', pos);
-        if (end == std::string_view::npos) end = bytes.size();
-        std::string_view more = bytes.substr(pos, end - pos);
-        pos = end + 1;
-        if (const size_t hash = more.find('#'); hash != std::string_view::npos) more = more.substr(0, hash);
-        while (!more.empty() && (more.back() == '\r' || more.back() == ' ' || more.back() == '\t'))
-          more.remove_suffix(1);
+      joined_.assign(line.substr(0, line.size() - 1));
+      while (pos_ < bytes_.size()) {
+        const std::string_view more = physical();
         const bool again = !more.empty() && more.back() == '\\';
-        joined += ' ';
-        joined.append(again ? more.substr(0, more.size() - 1) : more);
+        joined_ += ' ';
+        joined_.append(again ? more.substr(0, more.size() - 1) : more);
         if (!again) break;
       }
-      line = joined;
+      line = joined_;
     }
+    return true;
+  }
 
+ private:
+  std::string_view physical() {
+    ++line_no_;
+    size_t end = bytes_.find('\n', pos_);
+    if (end == std::string_view::npos) end = bytes_.size();
+    std::string_view line = bytes_.substr(pos_, end - pos_);
+    pos_ = end + 1;
+    if (const size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+    return line;
+  }
+
+  std::string_view bytes_;
+  size_t pos_ = 0;
+  int64_t line_no_ = 0;
+  std::string joined_;  // a logical line made of continued physical lines
+};
+
+}  // namespace
+
+PolygonSoup parse_obj(std::string_view file_bytes, const std::string& name) {
+  const std::optional<std::string> utf8 = utf16_to_utf8(file_bytes, name);
+  LogicalLines lines(without_utf8_bom(utf8 ? std::string_view(*utf8) : file_bytes));
+  PolygonSoup soup;
+  int64_t first_line = 0, max_ref = -1, max_ref_line = 0, first_skipped_line = 0;
+  auto fail = [&](int64_t line, const std::string& reason) { obj_fail(name, line, reason); };
+  std::string_view line;
+  while (lines.next(line, first_line)) {
     Tokens tokens{line};
     const std::string_view key = tokens.next();
     if (key == "v") {
@@ -112,10 +131,21 @@ PolygonSoup parse_obj(std::string_view bytes, const std::string& name) {
         }
         soup.corners.push_back(static_cast<int32_t>(id));
       }
-      soup.end_polygon();
+      soup.end_polygon(first_line);
     } else if (key == "l" || key == "p") {
-      ++soup.points_and_lines;
+      ++(key == "l" ? soup.lines : soup.points);
+      if (first_skipped_line == 0) first_skipped_line = first_line;
     }
+  }
+  if (soup.lines + soup.points > 0) {
+    std::string what;
+    if (soup.lines > 0) what = with_commas(soup.lines) + (soup.lines == 1 ? " line element (l)" : " line elements (l)");
+    if (soup.lines > 0 && soup.points > 0) what += " and ";
+    if (soup.points > 0)
+      what += with_commas(soup.points) + (soup.points == 1 ? " point element (p)" : " point elements (p)");
+    soup.warnings.push_back(name + ":" + std::to_string(first_skipped_line) + ": skipped " + what +
+                            (soup.lines + soup.points > 1 ? " (the first here)" : "") +
+                            ": they bound no area, hdm reads faces");
   }
   if (max_ref >= static_cast<int64_t>(soup.positions.size()))
     fail(max_ref_line, "face refers to vertex " + std::to_string(max_ref + 1) + ", the file has " +

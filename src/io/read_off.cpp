@@ -124,7 +124,7 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
                 with_commas(need_v) + " vertices (0 to " + std::to_string(nv - 1) + ")");
       soup.corners.push_back(static_cast<int32_t>(id));
     }
-    soup.end_polygon();
+    soup.end_polygon(in.line());
     in.next_line();
   }
   return soup;

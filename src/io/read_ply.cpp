@@ -4,9 +4,12 @@
 // vertex_indices, loops forever on a header without end_header and reads past the end of a
 // truncated body.
 //
-// Reads the x, y, z properties of element "vertex" (any scalar type) and the list "vertex_indices"
-// (or "vertex_index") of element "face" (integer types); every other element and property is
-// skipped by its declared type.
+// Reads the x, y, z properties of element "vertex" (any scalar type), the list "vertex_indices"
+// (or "vertex_index") of element "face" (integer types), and the same list of element "tristrips"
+// (triangle strips, -1 or the unsigned type's largest value restarting a strip); every other
+// element and property is skipped by its declared type. A header line that starts with no keyword
+// of the format (as Blender 2.4's "Created by ...") is skipped with a warning.
+#include "ply_header.h"
 #include "polygon_soup.h"
 #include "text_cursor.h"
 
@@ -21,53 +24,7 @@
 namespace hdm::detail {
 namespace {
 
-enum class Type : uint8_t { None, I8, U8, I16, U16, I32, U32, F32, F64 };
-
-Type type_named(std::string_view t) {
-  if (t == "char" || t == "int8") return Type::I8;
-  if (t == "uchar" || t == "uint8") return Type::U8;
-  if (t == "short" || t == "int16") return Type::I16;
-  if (t == "ushort" || t == "uint16") return Type::U16;
-  if (t == "int" || t == "int32") return Type::I32;
-  if (t == "uint" || t == "uint32") return Type::U32;
-  if (t == "float" || t == "float32") return Type::F32;
-  if (t == "double" || t == "float64") return Type::F64;
-  return Type::None;
-}
-uint64_t size_of(Type t) {
-  switch (t) {
-    case Type::I8:
-    case Type::U8:
-      return 1;
-    case Type::I16:
-    case Type::U16:
-      return 2;
-    case Type::I32:
-    case Type::U32:
-    case Type::F32:
-      return 4;
-    case Type::F64:
-      return 8;
-    case Type::None:
-      break;
-  }
-  return 0;
-}
-bool is_integer(Type t) { return t != Type::F32 && t != Type::F64 && t != Type::None; }
-
-struct Property {
-  std::string name;
-  Type type = Type::None;        // scalar type, or the list's item type
-  Type count_type = Type::None;  // the list's count type; None for a scalar
-  bool is_list() const { return count_type != Type::None; }
-};
-struct Element {
-  std::string name;
-  uint64_t count = 0;
-  std::vector<Property> properties;
-};
-
-enum class Format { Ascii, BinaryLittle, BinaryBig };
+using namespace ply;
 
 // Binary body: reads scalars of the declared types and endianness, never past the end.
 class BinaryBody {
@@ -75,6 +32,7 @@ class BinaryBody {
   BinaryBody(std::string_view bytes, size_t start, bool big, const std::string& name)
       : bytes_(bytes), pos_(start), big_(big), name_(name) {}
   uint64_t left() const { return bytes_.size() - pos_; }
+  int64_t line() const { return 0; }  // no lines in binary data
   void skip(uint64_t n, Type t, const Element& e, uint64_t i) {
     if (n > left() / size_of(t)) truncated(e, i);
     pos_ += n * size_of(t);
@@ -124,8 +82,10 @@ class BinaryBody {
 // ASCII body: whitespace-separated numbers.
 class AsciiBody {
  public:
-  AsciiBody(std::string_view bytes, size_t start, const std::string& name) : in_(bytes.substr(start), name) {}
+  AsciiBody(std::string_view bytes, size_t start, int64_t first_line, const std::string& name)
+      : in_(bytes.substr(start), name), first_line_(first_line) {}
   uint64_t left() const { return in_.bytes_left(); }
+  int64_t line() const { return first_line_ + in_.line() - 1; }
   double read(Type t, const Element& e, uint64_t i) {
     in_.skip_space(false);
     const std::string_view token = in_.token();
@@ -144,6 +104,7 @@ class AsciiBody {
 
  private:
   TextCursor in_;
+  int64_t first_line_;  // the file's line of the body's first line
 };
 
 // Index of the property @p name in @p e, or -1.
@@ -153,9 +114,65 @@ int find(const Element& e, std::string_view name) {
   return -1;
 }
 
+// The elements and list properties hdm reads.
+struct Targets {
+  const Element* vertex = nullptr;
+  int xyz[3] = {-1, -1, -1};
+  const Element* face = nullptr;  // polygons
+  int face_list = -1;
+  const Element* strips = nullptr;  // triangle strips
+  int strip_list = -1;
+};
+
+// Appends the triangles of the strip @p ids (-1 restarts it): triangle j of a run is (j, j+1, j+2)
+// with every other one turned around, so all keep the strip's winding; a triangle that repeats a
+// corner (strips repeat corners to join runs) covers no area and is left out.
+void append_strip(const std::vector<int64_t>& ids, PolygonSoup& soup) {
+  size_t run = 0;  // corners since the last restart
+  for (size_t k = 0; k < ids.size(); ++k) {
+    if (ids[k] < 0) {
+      run = 0;
+      continue;
+    }
+    if (++run < 3) continue;
+    const int64_t a = ids[k - 2], b = ids[k - 1], c = ids[k];
+    if (a == b || b == c || a == c) continue;
+    const bool odd = (run - 3) % 2 == 1;
+    soup.corners.push_back(static_cast<int32_t>(odd ? b : a));
+    soup.corners.push_back(static_cast<int32_t>(odd ? a : b));
+    soup.corners.push_back(static_cast<int32_t>(c));
+    soup.end_polygon();
+  }
+}
+
+// Reads the @p n vertex ids of list @p prop of instance @p i of element @p e into @p ids, checked
+// against the vertex count; with @p restarts, -1 (or the unsigned item type's largest value) is
+// kept as -1.
 template <class Body>
-void read_body(Body& body, const std::vector<Element>& elements, const Element* vertex, const int xyz[3],
-               const Element* face, int indices, PolygonSoup& soup, const std::string& name, uint64_t item_size) {
+void read_ids(Body& body, const Property& prop, const Element& e, uint64_t i, uint64_t n, uint64_t vertices,
+              bool restarts, const std::string& name, std::vector<int64_t>& ids) {
+  const double restart = prop.type == Type::U8    ? 255.0
+                         : prop.type == Type::U16 ? 65535.0
+                         : prop.type == Type::U32 ? 4294967295.0
+                                                  : -1.0;
+  ids.clear();
+  for (uint64_t k = 0; k < n; ++k) {
+    const double id = body.read(prop.type, e, i);
+    if (restarts && id == restart) {
+      ids.push_back(-1);
+    } else if (id >= 0 && id < double(vertices)) {
+      ids.push_back(static_cast<int64_t>(id));
+    } else {
+      throw IoError(name + ": " + e.name + " " + with_commas(i) + " refers to vertex " + integer_text(id) +
+                    ", the file has " + with_commas(vertices) + " vertices");
+    }
+  }
+}
+
+template <class Body>
+void read_body(Body& body, const std::vector<Element>& elements, const Targets& t, PolygonSoup& soup,
+               const std::string& name, uint64_t item_size) {
+  std::vector<int64_t> ids;
   for (const Element& e : elements) {
     if (e.properties.empty()) continue;  // nothing to read, whatever the count
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -170,139 +187,73 @@ void read_body(Body& body, const std::vector<Element>& elements, const Element* 
             throw IoError(name + ": " + e.name + " " + with_commas(i) + " has a list of " + integer_text(count) +
                           " items, more than the rest of the file can hold (truncated or corrupt)");
           const auto n = static_cast<uint64_t>(count);
-          if (&e == face && ip == indices) {
-            for (uint64_t k = 0; k < n; ++k) {
-              const double id = body.read(prop.type, e, i);
-              if (!(id >= 0 && id < double(vertex->count)))
-                throw IoError(name + ": face " + with_commas(i) + " refers to vertex " + integer_text(id) +
-                              ", the file has " + with_commas(vertex->count) + " vertices");
-              soup.corners.push_back(static_cast<int32_t>(id));
+          const bool polygon = &e == t.face && ip == t.face_list, strip = &e == t.strips && ip == t.strip_list;
+          if (polygon || strip) {
+            read_ids(body, prop, e, i, n, t.vertex->count, strip, name, ids);
+            if (strip) {
+              append_strip(ids, soup);
+            } else {
+              for (int64_t id : ids) soup.corners.push_back(static_cast<int32_t>(id));
+              soup.end_polygon(body.line());
             }
-            soup.end_polygon();
           } else {
             body.skip(n, prop.type, e, i);
           }
-        } else if (&e == vertex && (ip == xyz[0] || ip == xyz[1] || ip == xyz[2])) {
-          position[ip == xyz[0] ? 0 : ip == xyz[1] ? 1 : 2] = body.read(prop.type, e, i);
+        } else if (&e == t.vertex && (ip == t.xyz[0] || ip == t.xyz[1] || ip == t.xyz[2])) {
+          position[ip == t.xyz[0] ? 0 : ip == t.xyz[1] ? 1 : 2] = body.read(prop.type, e, i);
         } else {
           body.skip(1, prop.type, e, i);
         }
       }
-      if (&e == vertex) soup.positions.push_back(position);
+      if (&e == t.vertex) soup.positions.push_back(position);
     }
   }
 }
 
-}  // namespace
+// The list of vertex ids of element @p e ("vertex_indices" or "vertex_index"), checked.
+int id_list(const Element& e, const std::string& name) {
+  int list = find(e, "vertex_indices");
+  if (list < 0) list = find(e, "vertex_index");
+  if (list < 0 || !e.properties[list].is_list())
+    throw IoError(name + ": the PLY " + e.name + " element has no vertex_indices list");
+  if (!is_integer(e.properties[list].type))
+    throw IoError(name + ": the PLY " + e.name + " list vertex_indices has non-integer items");
+  return list;
+}
 
-PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
-  TextCursor in(bytes, name);
-  if (in.token() != "ply" || !in.at_line_end())
-    throw IoError(name + ": not a PLY file (the first line is not \"ply\")");
-
-  // ---- header: its lines up to end_header, found first so binary data is never read as header ----
-  size_t header_end = 0;
-  for (size_t at = bytes.find("\nend_header"); at != std::string_view::npos; at = bytes.find("\nend_header", at + 1)) {
-    const size_t after = at + 11;
-    size_t k = after;
-    while (k < bytes.size() && (bytes[k] == ' ' || bytes[k] == '\t' || bytes[k] == '\r')) ++k;
-    if (k >= bytes.size() || bytes[k] == '\n') {
-      header_end = after;
-      break;
-    }
-  }
-  if (header_end == 0) throw IoError(name + ": truncated or corrupt (the PLY header has no end_header line)");
-  std::vector<Element> elements;
-  Format format = Format::Ascii;
-  bool have_format = false, ended = false;
-  while (in.next_line() && in.position() < header_end) {
-    const std::string_view key = in.token();
-    auto malformed = [&](const std::string& why) { in.fail("malformed PLY header line (" + why + ")"); };
-    if (key == "end_header") {
-      ended = true;
-      break;
-    } else if (key == "comment" || key == "obj_info" || key.empty()) {
-      continue;
-    } else if (key == "format") {
-      const std::string_view f = in.token();
-      if (f == "ascii")
-        format = Format::Ascii;
-      else if (f == "binary_little_endian")
-        format = Format::BinaryLittle;
-      else if (f == "binary_big_endian")
-        format = Format::BinaryBig;
-      else
-        in.fail("unknown PLY format " + quoted(f) + " (ascii, binary_little_endian or binary_big_endian)");
-      have_format = true;
-    } else if (key == "element") {
-      Element e;
-      e.name = std::string(in.token());
-      const std::string_view c = in.token();
-      int64_t count = 0;
-      if (e.name.empty() || !parse_int(c, count) || count < 0) malformed("element needs a name and a count");
-      e.count = static_cast<uint64_t>(count);
-      elements.push_back(std::move(e));
-    } else if (key == "property") {
-      if (elements.empty()) malformed("a property before any element");
-      Property prop;
-      const std::string_view t = in.token();
-      if (t == "list") {
-        prop.count_type = type_named(in.token());
-        prop.type = type_named(in.token());
-        if (prop.count_type == Type::None || !is_integer(prop.count_type) || prop.type == Type::None)
-          malformed("a list needs an integer count type and an item type");
-      } else {
-        prop.type = type_named(t);
-        if (prop.type == Type::None) malformed("unknown property type " + quoted(t));
-      }
-      prop.name = std::string(in.token());
-      if (prop.name.empty()) malformed("a property without a name");
-      elements.back().properties.push_back(std::move(prop));
-    } else {
-      malformed("unknown keyword " + quoted(key));
-    }
-  }
-  if (!ended) throw IoError(name + ": truncated (the PLY header has no end_header line)");
-  if (!have_format) throw IoError(name + ": the PLY header has no format line");
-  in.next_line();
-  const size_t body_start = in.position();
-
-  // ---- the elements hdm reads ----
-  const Element* vertex = nullptr;
-  const Element* face = nullptr;
-  int xyz[3] = {-1, -1, -1}, indices = -1;
+// The elements hdm reads: vertices, and faces or triangle strips (refused when there are neither).
+Targets find_targets(const std::vector<Element>& elements, const std::string& name) {
+  Targets t;
   for (const Element& e : elements) {
-    if (e.name == "vertex" && !vertex) vertex = &e;
-    if (e.name == "face" && !face) face = &e;
+    if (e.name == "vertex" && !t.vertex) t.vertex = &e;
+    if (e.name == "face" && !t.face) t.face = &e;
+    if (e.name == "tristrips" && !t.strips) t.strips = &e;
   }
-  if (!face || face->count == 0) {
-    for (const Element& e : elements)
-      if (e.name == "tristrips" && e.count > 0)
-        throw InvalidInput(name + ": holds triangle strips (element tristrips), which hdm does not read; only faces");
-    throw InvalidInput(name + ": holds no triangles (no face element" + std::string(face ? " instances)" : ")"));
-  }
-  indices = find(*face, "vertex_indices");
-  if (indices < 0) indices = find(*face, "vertex_index");
-  if (indices < 0 || !face->properties[indices].is_list())
-    throw IoError(name + ": the PLY face element has no vertex_indices list");
-  if (!is_integer(face->properties[indices].type))
-    throw IoError(name + ": the PLY face list vertex_indices has non-integer items");
-  if (!vertex) throw IoError(name + ": the PLY header declares faces but no vertex element");
+  const uint64_t faces = t.face ? t.face->count : 0, strips = t.strips ? t.strips->count : 0;
+  if (faces + strips == 0)
+    throw InvalidInput(name + ": holds no triangles: " +
+                       (t.face ? std::string("0 faces") : t.strips ? "0 triangle strips" : "no face element") + " (" +
+                       with_commas(t.vertex ? t.vertex->count : 0) + " vertices)");
+  if (!t.vertex) throw IoError(name + ": the PLY header declares faces but no vertex element");
+  if (faces > 0) t.face_list = id_list(*t.face, name);
+  if (strips > 0) t.strip_list = id_list(*t.strips, name);
   for (int a = 0; a < 3; ++a) {
-    xyz[a] = find(*vertex, std::string(1, char('x' + a)));
-    if (xyz[a] < 0 || vertex->properties[xyz[a]].is_list())
+    t.xyz[a] = find(*t.vertex, std::string(1, char('x' + a)));
+    if (t.xyz[a] < 0 || t.vertex->properties[t.xyz[a]].is_list())
       throw IoError(name + ": the PLY vertex element has no scalar property " + std::string(1, char('x' + a)));
   }
-  if (vertex->count > uint64_t(std::numeric_limits<int32_t>::max()))
-    throw IoError(name + ": " + with_commas(vertex->count) + " vertices: more than hdm's limit of 2,147,483,647");
+  if (t.vertex->count > uint64_t(std::numeric_limits<int32_t>::max()))
+    throw IoError(name + ": " + with_commas(t.vertex->count) + " vertices: more than hdm's limit of 2,147,483,647");
+  return t;
+}
 
-  // ---- refuse a header that claims more than the file can hold, before reading further ----
-  const uint64_t left = bytes.size() - body_start;
+// Refuses a header that claims more than the @p left bytes after it can hold, before reading on.
+void check_claims(const Header& h, uint64_t left, const std::string& name) {
   uint64_t need = 0;
-  for (const Element& e : elements) {
+  for (const Element& e : h.elements) {
     uint64_t least = 0;  // bytes an instance takes at least: its scalars and list counts
     for (const Property& p : e.properties)
-      least += format == Format::Ascii ? 2 : size_of(p.is_list() ? p.count_type : p.type);
+      least += h.format == Format::Ascii ? 2 : size_of(p.is_list() ? p.count_type : p.type);
     if (least == 0) continue;
     if (e.count > (left + 1) / least || need + e.count * least > left + 1)
       throw IoError(name + ": the PLY header claims " + with_commas(e.count) + " " + e.name + " elements of at least " +
@@ -310,16 +261,25 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
                     " bytes follow the header: the file is truncated or its header is corrupt");
     need += e.count * least;
   }
+}
+
+}  // namespace
+
+PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
+  Header header = parse_header(bytes, name);
+  const Targets targets = find_targets(header.elements, name);
+  check_claims(header, bytes.size() - header.body_start, name);
 
   PolygonSoup soup;
-  soup.positions.reserve(vertex->count);
-  soup.polygon_end.reserve(face->count + 1);
-  if (format == Format::Ascii) {
-    AsciiBody body(bytes, body_start, name);
-    read_body(body, elements, vertex, xyz, face, indices, soup, name, 2);  // a list item takes a digit and a space
+  soup.warnings = std::move(header.warnings);
+  soup.positions.reserve(targets.vertex->count);
+  if (targets.face) soup.polygon_end.reserve(targets.face->count + 1);
+  if (header.format == Format::Ascii) {
+    AsciiBody body(bytes, header.body_start, header.body_line, name);
+    read_body(body, header.elements, targets, soup, name, 2);  // a list item takes a digit and a space
   } else {
-    BinaryBody body(bytes, body_start, format == Format::BinaryBig, name);
-    read_body(body, elements, vertex, xyz, face, indices, soup, name, 0);  // 0: the item type's size
+    BinaryBody body(bytes, header.body_start, header.format == Format::BinaryBig, name);
+    read_body(body, header.elements, targets, soup, name, 0);  // 0: the item type's size
   }
   return soup;
 }

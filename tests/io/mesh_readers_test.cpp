@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // hdm's own OBJ, PLY, OFF and STL readers: the same sphere in three formats from CGAL's data,
-// format variants against meshes written by the test, triangulation against the shoelace area and
-// an independent point-in-polygon test, and the refusals (header claims, out-of-range ids, short
-// facets, size limit), each naming the file and, for text, the line.
+// format variants against meshes written by the test, and the refusals (header claims, out-of-range
+// ids, short facets, size limit), each naming the file and, for text, the line. Triangulation:
+// polygon_triangulation_test.cpp.
 #include "io/io_test_util.h"
+#include "io/mesh_test_util.h"
 
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
@@ -24,41 +25,10 @@ namespace {
 
 using test::TempDir;
 
-// Triangles as position triples rotated to start at the smallest corner (keeps the winding),
-// sorted: equal for two meshes with the same triangles, whatever the vertex numbering.
-using PosTri = std::array<std::array<double, 3>, 3>;
-std::vector<PosTri> canonical(const TriangleMesh& m, bool as_float = false) {
-  std::vector<PosTri> out;
-  for (const Tri& f : m.faces) {
-    PosTri t;
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) t[k][c] = as_float ? double(float(m.vertices[f[k]][c])) : m.vertices[f[k]][c];
-    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-    out.push_back(t);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-// The error read_mesh_from_memory throws for @p bytes, checked to be an E naming @p name.
-template <class E>
-std::string error_of(const std::string& bytes, const std::string& name, const MeshReadOptions& o = {}) {
-  try {
-    read_mesh_from_memory(bytes, name, o);
-  } catch (const E& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(name, 0), 0u) << "the message must start with the file name: " << msg;
-    return msg;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << name << ": wrong exception type: " << e.what();
-    return e.what();
-  }
-  ADD_FAILURE() << name << ": no exception";
-  return "";
-}
-
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
+using test::canonical;
+using test::error_of;
+using test::has;
+using test::PosTri;
 using test::put;
 
 // The regular tetrahedron's corners and faces (outward, counter-clockwise).
@@ -333,78 +303,6 @@ TEST(MeshReaders, StlVariants) {
   EXPECT_EQ(canonical(read_mesh_from_memory(s.str(), "two.stl")), canonical(t));
 }
 
-// ---- triangulation ----
-
-double shoelace(const std::vector<Vec3>& p) {
-  double a = 0;
-  for (size_t k = 0; k < p.size(); ++k)
-    a += p[k].x() * p[(k + 1) % p.size()].y() - p[(k + 1) % p.size()].x() * p[k].y();
-  return 0.5 * a;
-}
-// Ray-crossing point-in-polygon test in the z = 0 plane.
-bool inside(const std::vector<Vec3>& poly, const Vec3& q) {
-  bool in = false;
-  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-    if ((poly[i].y() > q.y()) != (poly[j].y() > q.y()) &&
-        q.x() < (poly[j].x() - poly[i].x()) * (q.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) + poly[i].x())
-      in = !in;
-  return in;
-}
-
-std::string polygon_obj(const std::vector<Vec3>& poly) {
-  std::ostringstream s;
-  s.precision(17);
-  for (const Vec3& v : poly) s << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
-  s << 'f';
-  for (size_t k = 1; k <= poly.size(); ++k) s << ' ' << k;
-  s << '\n';
-  return s.str();
-}
-
-void expect_tiles(const std::vector<Vec3>& poly, const std::string& what) {
-  const TriangleMesh m = read_mesh_from_memory(polygon_obj(poly), what + ".obj");
-  EXPECT_EQ(m.faces.size(), poly.size() - 2) << what;
-  double area = 0;
-  for (const Tri& f : m.faces) {
-    const Vec3 a = m.vertices[f[0]], b = m.vertices[f[1]], c = m.vertices[f[2]];
-    const double z = (b - a).cross(c - a).z();
-    EXPECT_GT(z, 0) << what << ": a triangle is flipped or flat";
-    area += 0.5 * z;
-    EXPECT_TRUE(inside(poly, (a + b + c) / 3)) << what << ": a triangle lies outside the polygon";
-  }
-  // The readers round coordinates to float (polygon_soup.cpp), so the tiles' area may differ from the
-  // exact outline's by float rounding (~1e-8 relative here); a missing or doubled tile is far more.
-  EXPECT_NEAR(area, shoelace(poly), 1e-6 * std::abs(shoelace(poly))) << what;
-}
-
-TEST(MeshReaders, TriangulatesConcavePolygonsInsideTheirOutline) {
-  // An arrowhead quad (reflex corner at index 2; a fan from corner 0 would cover the notch).
-  expect_tiles({Vec3(0, 0, 0), Vec3(2, 1, 0), Vec3(0.5, 1, 0), Vec3(0, 2, 0)}, "dart");
-  expect_tiles({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0.5, 1, 0), Vec3(0, 2, 0)}, "notch");
-  // A U of 8 corners and a 12-pointed star (24 corners, 12 reflex).
-  expect_tiles({Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(3, 3, 0), Vec3(2, 3, 0), Vec3(2, 1, 0), Vec3(1, 1, 0), Vec3(1, 3, 0),
-                Vec3(0, 3, 0)},
-               "u");
-  std::vector<Vec3> star;
-  for (int k = 0; k < 24; ++k) {
-    const double r = k % 2 ? 0.4 : 1.0, a = 2 * std::numbers::pi * k / 24;
-    star.emplace_back(r * std::cos(a), r * std::sin(a), 0);
-  }
-  expect_tiles(star, "star");
-  // A convex 1000-gon is fanned in linear time.
-  std::vector<Vec3> circle;
-  for (int k = 0; k < 1000; ++k)
-    circle.emplace_back(std::cos(2 * std::numbers::pi * k / 1000), std::sin(2 * std::numbers::pi * k / 1000), 0);
-  expect_tiles(circle, "circle");
-  // A concave polygon of more corners than ear clipping is given: refused, with the limit.
-  std::vector<Vec3> big_star;
-  for (int k = 0; k < 66; ++k) {
-    const double r = k % 2 ? 0.4 : 1.0, a = 2 * std::numbers::pi * k / 66;
-    big_star.emplace_back(r * std::cos(a), r * std::sin(a), 0);
-  }
-  EXPECT_TRUE(has(error_of<InvalidInput>(polygon_obj(big_star), "big_star.obj"), "up to 64 corners"));
-}
-
 TEST(MeshReaders, EveryCoordinateIsRoundedToFloat) {
   // A 20 x 20 grid whose coordinates are small integers plus 2^-30: exact in double, below half a
   // float ulp above 1, so float rounding gives the integers back exactly. (GCC 12's vectorizer once
@@ -483,7 +381,7 @@ TEST(MeshReaders, BadIndicesAndShortFacetsNameTheLine) {
   EXPECT_TRUE(has(error_of<InvalidInput>("OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n", "nan.off"),
                   "vertex 2 has a non-finite coordinate"));
   EXPECT_TRUE(has(error_of<InvalidInput>("v 0 0 0\nv 1 0 0\nl 1 2\n", "lines.obj"),
-                  "1 of 1 faces are points or line segments"));
+                  "lines.obj: holds no triangles: 1 line element (2 vertices)"));
 }
 
 TEST(MeshReaders, SizeLimitIsCheckedBeforeReading) {
