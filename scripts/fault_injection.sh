@@ -3,7 +3,7 @@
 # and files at every temporary name, concurrent saves, a full and a read-only file system for every
 # writer, memory refusals, the bridge under a restarting driver, forged packets and a wrong secret,
 # and every command's exit code for a bad option. Prints one line per part with its counts and
-# fails on the first broken promise. About 2 minutes.
+# fails on the first broken promise. About 80 s.
 #
 # Usage: bash scripts/fault_injection.sh [BUILD_DIR]   (default build/; needs build/bin/hdm and
 # data/meshes from scripts/setup.sh). KILLS=N changes the number of kills (default 100); PARTS="..."

@@ -2,6 +2,7 @@
 // hdm-studio MODEL.hdm: sculpt and paint a slab model in a window, with the mouse as a 3-DOF
 // haptic device and the servo loop on its own thread; or run a scripted session and exit.
 #include "bake_window.h"
+#include "output_guard.h"
 #include "studio.h"
 
 #include <hdm/core/error.h>
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 10000.0));
   try {
     app.parse(argc, argv);
+    hdm::app::check_outputs({o.screenshot, o.report}, {model, o.replay, o.script}, "--screenshot/--report");
     int w = 0, h = 0;
     char x = 0;
     if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1)

@@ -95,6 +95,8 @@ void name(Temp& t, int dirfd, const std::string& path) {
   for (unsigned tries = 0; tries < kMaxNames; ++tries) {
     t.name = std::filesystem::path(temporary_name(path, ::getpid(), next_name++)).filename().string();
     if (::linkat(AT_FDCWD, self.c_str(), dirfd, t.name.c_str(), AT_SYMLINK_FOLLOW) == 0) return void(t.named = true);
+    // Without /proc, the descriptor itself (allowed to privileged processes only).
+    if (errno == ENOENT && ::linkat(t.fd, "", dirfd, t.name.c_str(), AT_EMPTY_PATH) == 0) return void(t.named = true);
     if (errno != EEXIST) throw IoError(path + ": cannot name the temporary file in " + t.dir + ": " + reason());
   }
   throw IoError(path + ": cannot name the temporary file: " + std::to_string(kMaxNames) + " names taken in " + t.dir);

@@ -42,6 +42,9 @@ output_is_never_the_input)
   expect 1 "is the input file" "$hdm" sculpt "$tmp/m.hdm" --forces "$tmp/m.hdm" --fast
   expect 1 "is the input file" "$hdm" render "$tmp/m.hdm" -o "$tmp/m.hdm"
   expect 1 "'.stl' is the extension of another format" "$hdm" bridge "$tmp/m.hdm" --device udp:0 -o "$tmp/x.stl"
+  if [ -n "$studio" ]; then  # refused before any window opens
+    expect 1 "is the input file" "$studio" "$tmp/m.hdm" --script "$tmp/m2.hdm" --report "$tmp/m.hdm"
+  fi
   [ "$(sha256sum <"$tmp/m.hdm")" = "$msum" ] || fail "the model changed"
   ;;
 export_set_on_a_full_disk)
