@@ -38,6 +38,7 @@ struct Result {
 
 Result run(const std::string& endpoint, double rate_hz, double seconds) {
   BridgeOptions o;
+  o.secret = "bench-bridge-secret-0123456789";
   o.watchdog_s = 1.0;  // the bench measures latency, not the watchdog
   auto device = BridgeDevice::open(endpoint, o);
   const std::string target = device->port() > 0 ? "udp:" + std::to_string(device->port()) : endpoint;
@@ -50,7 +51,7 @@ Result run(const std::string& endpoint, double rate_hz, double seconds) {
       device->end_frame(-200.0 * st.position);
     }
   });
-  auto driver = BridgeDriver::connect(target);
+  auto driver = BridgeDriver::connect(target, o.secret);
   const double period = 1.0 / rate_hz;
   std::vector<double> rtt;
   rtt.reserve(size_t(rate_hz * seconds) + 1);

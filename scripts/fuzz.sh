@@ -4,7 +4,7 @@
 # out-of-memory. Findings are written to build-fuzz/artifacts/; reproduce one with
 #   build-fuzz/fuzz/fuzz_ply build-fuzz/artifacts/ply-crash-...
 #
-# Usage: bash scripts/fuzz.sh [SECONDS_PER_FUZZER] [FUZZER...]   (default: 25 s, all seven)
+# Usage: bash scripts/fuzz.sh [SECONDS_PER_FUZZER] [FUZZER...]   (default: 25 s, all eight)
 # Needs scripts/setup.sh (clang, the small CGAL meshes it seeds from). When build/bin/hdm exists
 # (scripts/build.sh), models baked from those meshes, their OBJ/PLY exports and a recorded
 # trajectory are added to the seeds.
@@ -13,7 +13,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-25}"
 shift || true
 fuzzers=("$@")
-[ ${#fuzzers[@]} -gt 0 ] || fuzzers=(obj ply off stl hdm script replay)
+[ ${#fuzzers[@]} -gt 0 ] || fuzzers=(obj ply off stl hdm script replay bridge)
 out="$here/build-fuzz"
 start=$(date +%s)
 
@@ -25,7 +25,7 @@ built=$(date +%s)
 # ---- seeds: real files from CGAL's data (extracted by setup.sh) and what hdm makes of them ----
 seeds="$out/seeds"
 rm -rf "$seeds"
-mkdir -p "$seeds"/{obj,ply,off,stl,hdm,script,replay}
+mkdir -p "$seeds"/{obj,ply,off,stl,hdm,script,replay,bridge}
 meshes="$here/data/meshes"
 seed() {  # seed FORMAT FILE...: copies the files that setup.sh extracted
   local format=$1

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // hdm bake INPUT -o MODEL.hdm: mesh -> slab model, with the bake report and fidelity figures.
+#include "bake_guard.h"
 #include "commands.h"
 #include "input_mesh.h"
 #include "progress_bar.h"
@@ -45,6 +46,7 @@ double peak_rss_mib() {
 }
 
 void run_bake(const BakeArgs& a) {
+  guard_bake({a.input, a.output, a.slabs, a.grid, a.texels, a.density, a.limit.bytes()});
   const auto start = std::chrono::steady_clock::now();
   ProgressBar bar;
   bar("read", 0);

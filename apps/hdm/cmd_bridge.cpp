@@ -3,7 +3,9 @@
 // process through the device bridge (docs/bridge.md), without a window: one servo tick per device
 // packet (run_bridge_session) until the driver's end packet or its silence, then save the model.
 #include "commands.h"
+#include "output_guard.h"
 
+#include <hdm/bridge/bridge_secret.h>
 #include <hdm/bridge/bridge_session.h>
 #include <hdm/io/hdm_file.h>
 
@@ -20,7 +22,7 @@ namespace hdm::app {
 namespace {
 
 struct BridgeArgs {
-  std::string model, device, output, tool = "carve";
+  std::string model, device, output, tool = "carve", secret_file;
   double radius_mm = 3, strength = 1, workspace_m = 0.16, stiffness = 1000, watchdog_ms = 5, give_up_s = 10;
   bool json = false, spin = false, no_realtime = false;
   InputLimit limit;
@@ -45,6 +47,8 @@ struct Timing {
 };
 
 void run_bridge(const BridgeArgs& a) {
+  check_outputs({a.output}, {a.model});
+  check_model_output(a.output);
   SlabModel model = load_model(a.model, {a.limit.bytes()});
   Aabb box;
   for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
@@ -61,6 +65,7 @@ void run_bridge(const BridgeArgs& a) {
 
   bridge::BridgeOptions bo;
   bo.watchdog_s = a.watchdog_ms * 1e-3;
+  bo.secret = bridge::load_bridge_secret(a.secret_file);
   auto device = bridge::BridgeDevice::open(a.device, bo);
   if (!a.json) {
     std::printf("listening on %s (workspace %.3f m, %s, radius %.1f mm)\n", device->endpoint().c_str(), a.workspace_m,
@@ -97,7 +102,10 @@ void run_bridge(const BridgeArgs& a) {
                         {"bad_version", c.bad_version},
                         {"bad_kind", c.bad_kind},
                         {"non_finite", c.non_finite},
-                        {"out_of_order", c.out_of_order}}},
+                        {"out_of_order", c.out_of_order},
+                        {"bad_secret", c.bad_secret},
+                        {"wrong_session", c.wrong_session},
+                        {"sessions", c.sessions}}},
                       {"watchdog_trips", c.watchdog_trips},
                       {"contact_ticks", ss.contact_ticks},
                       {"sweeps", ss.sweeps},
@@ -111,8 +119,10 @@ void run_bridge(const BridgeArgs& a) {
               (long long)st.idle_ticks, j["ended"].get<std::string>().c_str(),
               st.realtime ? "" : " (normal priority: SCHED_FIFO not permitted or not asked)");
   std::printf("  tick work        median %.0f ns, p99 %.0f ns, max %.0f ns\n", work.median, work.p99, work.max);
-  std::printf("  packets          %lld accepted, %lld dropped, %lld watchdog trips\n", (long long)c.accepted,
-              (long long)c.dropped(), (long long)c.watchdog_trips);
+  std::printf("  packets          %lld accepted, %lld dropped (%lld wrong secret, %lld of another session), %lld "
+              "driver sessions, %lld watchdog trips\n",
+              (long long)c.accepted, (long long)c.dropped(), (long long)c.bad_secret, (long long)c.wrong_session,
+              (long long)c.sessions, (long long)c.watchdog_trips);
   std::printf("  edits            %lld contact ticks, %lld sweeps, %lld samples/texels changed\n",
               (long long)ss.contact_ticks, (long long)ss.sweeps, (long long)ss.changed);
   if (!a.output.empty()) std::printf("  wrote            %s\n", a.output.c_str());
@@ -127,6 +137,9 @@ void add_bridge_command(CLI::App& app) {
   cmd->add_option("model", a->model, "slab model (.hdm)")->required();
   cmd->add_option("--device", a->device, "udp:PORT (127.0.0.1) or shm:NAME")->required();
   cmd->add_option("-o,--output", a->output, "write the edited model here (.hdm) when the driver ends");
+  cmd->add_option("--secret-file", a->secret_file,
+                  "the shared secret a driver must present, created with mode 0600 when missing (default: the "
+                  "HDM_BRIDGE_SECRET environment variable)");
   cmd->add_option("--tool", a->tool, "brush held by the tool button: carve (default), add, smooth, flatten, paint");
   cmd->add_option("--radius-mm", a->radius_mm, "brush radius at the device [mm]")->check(CLI::Range(0.01, 1000.0));
   cmd->add_option("--strength", a->strength, "brush strength in [0,1]")->check(CLI::Range(0.0, 1.0));

@@ -3,6 +3,7 @@
 // (docs/design.md#how-we-measure): exact queries on the input with Embree, never the slab code.
 #include "commands.h"
 #include "input_mesh.h"
+#include "memory_budget.h"
 
 #include <hdm/analysis/fidelity.h>
 #include <hdm/slab/shell_check.h>
@@ -24,9 +25,12 @@ struct CheckArgs {
   InputOptions in;
   bool json = false;
   InputLimit limit;
+  MemoryBudget budget;
 };
 
 void run_check(const CheckArgs& a) {
+  require_memory(check_peak_bytes(file_bytes(a.model), file_bytes(a.input), a.points), a.budget,
+                 "hdm check " + a.model, std::to_string(a.points) + " contact points (--points)");
   const SlabModel model = load_model(a.model, {a.limit.bytes()});
   // The input as `hdm bake` prepared it (the same repair and orientation, from the input alone).
   const PreparedInput prepared = prepare_input(a.input, a.in, a.limit.bytes());
@@ -92,6 +96,7 @@ void add_check_command(CLI::App& app) {
   add_input_options(*cmd, a->in);
   cmd->add_flag("--json", a->json, "print one JSON object");
   add_input_limit(cmd, a->limit);
+  add_memory_budget(cmd, a->budget);
   cmd->callback([a] { run_check(*a); });
 }
 

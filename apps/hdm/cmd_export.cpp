@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // hdm export MODEL.hdm -o OUT.obj|OUT.ply|OUT.glb: writes the displaced surface of a model.
 #include "commands.h"
+#include "output_guard.h"
 
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>
@@ -22,6 +23,7 @@ struct ExportOptions {
 
 void run_export(const ExportOptions& o) {
   const std::vector<std::string> files = export_files(o.output);  // rejects a bad extension before loading
+  check_outputs(files, {o.model});
   const SlabModel m = load_model(o.model, {o.limit.bytes()});
   export_mesh(m, o.output);
   for (const std::string& f : files) std::printf("wrote %s\n", f.c_str());

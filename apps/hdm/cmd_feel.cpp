@@ -2,6 +2,9 @@
 // hdm feel MODEL.hdm --scenario NAME | --replay CSV: a simulated hand (or a recorded trajectory)
 // drives the proxy (or the paper's penalty force); the run is scored against the exact input mesh.
 #include "commands.h"
+#include "output_guard.h"
+
+#include <hdm/core/write_file_atomic.h>
 
 #include <hdm/core/error.h>
 #include <hdm/harness/scenarios.h>
@@ -38,11 +41,10 @@ std::string find_input(const SlabModel& m, const FeelArgs& a) {
 }
 
 void write_trace(const std::string& path, const ScenarioReport& r) {
-  std::ofstream out(path);
-  if (!out) throw IoError(path + ": cannot write");
+  std::string out;
   // force_first_n: the force along the direction of the run's first contact force, so that a force
   // that flips (pop-through) shows as negative.
-  out << "time_s,device_x_m,device_y_m,device_z_m,force_x_n,force_y_n,force_z_n,force_n,force_first_n,depth_mm,"
+  out += "time_s,device_x_m,device_y_m,device_z_m,force_x_n,force_y_n,force_z_n,force_n,force_first_n,depth_mm,"
          "status,slab,proxy_x_m,proxy_y_m,proxy_z_m,normal_x,normal_y,normal_z\n";
   Vec3 first = Vec3::Zero();
   for (const ScenarioTraceRow& t : r.trace)
@@ -57,12 +59,13 @@ void write_trace(const std::string& path, const ScenarioReport& r) {
                   t.device.x(), t.device.y(), t.device.z(), t.force.x(), t.force.y(), t.force.z(), t.force.norm(),
                   t.force.dot(first), t.depth_mm, t.status, t.slab, t.proxy.x(), t.proxy.y(), t.proxy.z(), t.normal.x(),
                   t.normal.y(), t.normal.z());
-    out << line;
+    out += line;
   }
-  if (!out) throw IoError(path + ": write failed");
+  write_file_atomic(path, out.data(), out.size());
 }
 
 void run_feel(const FeelArgs& a) {
+  check_outputs({a.trace}, {a.model, a.input, a.replay}, "--trace");
   const SlabModel model = load_model(a.model, {a.limit.bytes()});
   const SlabLocator locator(model);
   const std::string input = find_input(model, a);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // hdm render MODEL.hdm -o VIEW.png [--size WxH] [--view AZ,EL] [--edges]: headless PNG of a model.
 #include "commands.h"
+#include "output_guard.h"
 
 #include <hdm/core/error.h>
 #include <hdm/io/hdm_file.h>
@@ -93,6 +94,7 @@ std::string check_view(const std::string& text) {
 }
 
 void run_render(const RenderArgs& a) {
+  check_outputs({a.output}, {a.model});
   RenderOptions o;
   parse_pair(a.size, 'x', o.width, o.height);  // validated by check_size
   parse_pair(a.view, ',', o.azimuth_deg, o.elevation_deg);

@@ -3,10 +3,13 @@
 // script's strokes in closed loop (the rendered force acts back on the handle); the tool button is
 // held during each stroke, and the strokes carve, add, smooth, flatten and paint at haptic rate.
 #include "commands.h"
+#include "memory_budget.h"
+#include "output_guard.h"
 #include "sculpt_script.h"
 
 #include <hdm/analysis/edit_fidelity.h>
 #include <hdm/core/error.h>
+#include <hdm/core/write_file_atomic.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
@@ -32,6 +35,7 @@ struct SculptArgs {
   double rate = 1000, edit_rate = 0, budget_us = 25, save_every = 0;
   bool fast = false, every_tick = false, json = false, cpu_time = false;
   InputLimit limit;
+  MemoryBudget budget;
 };
 
 // One CSV row, recorded in preallocated storage by the servo thread and written afterwards.
@@ -89,22 +93,18 @@ void after_tick(void* user, const ServoTick& t, const SessionTick& out) noexcept
 }
 
 void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw IoError(path + ": cannot write");
-    out << "time_s,device_x_m,device_y_m,device_z_m,contact,depth_m,force_x_n,force_y_n,force_z_n,tool_on,sweeps,"
-           "carried\n";
-    char line[256];
-    for (const TickRecord& r : rows) {
-      std::snprintf(line, sizeof line, "%.4f,%.6f,%.6f,%.6f,%d,%.7f,%.5f,%.5f,%.5f,%d,%d,%d\n", r.t, r.device.x(),
-                    r.device.y(), r.device.z(), r.contact, r.depth_m, r.force.x(), r.force.y(), r.force.z(), r.tool_on,
-                    r.sweeps, r.carried);
-      out << line;
-    }
-    if (!out) throw IoError(path + ": write failed");
+  std::string out =
+      "time_s,device_x_m,device_y_m,device_z_m,contact,depth_m,force_x_n,force_y_n,force_z_n,tool_on,sweeps,"
+      "carried\n";
+  out.reserve(out.size() + rows.size() * 96);  // rows take about 80 bytes, 96 at most: one allocation
+  char line[256];
+  for (const TickRecord& r : rows) {
+    std::snprintf(line, sizeof line, "%.4f,%.6f,%.6f,%.6f,%d,%.7f,%.5f,%.5f,%.5f,%d,%d,%d\n", r.t, r.device.x(),
+                  r.device.y(), r.device.z(), r.contact, r.depth_m, r.force.x(), r.force.y(), r.force.z(), r.tool_on,
+                  r.sweeps, r.carried);
+    out += line;
   }
-  std::filesystem::rename(tmp, path);
+  write_file_atomic(path, out.data(), out.size());
 }
 
 nlohmann::json stats_json(const LatencyStats& s) { return {{"median", s.median}, {"p99", s.p99}, {"max", s.max}}; }
@@ -158,7 +158,18 @@ nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact
           {"back_points", f.back_points}};
 }
 
+// The trajectory, the simulated hand's copy of it, the button per tick and the tick records; the
+// CSV text and the sweep log when asked for.
+void require_sculpt_memory(const SculptArgs& a, int64_t ticks) {
+  const int64_t per_tick = sizeof(Vec3) * 2 + sizeof(Tool) + sizeof(int16_t) + sizeof(uint32_t) + sizeof(TickRecord) +
+                           (a.forces.empty() ? 0 : 112) + (a.check_against.empty() ? 0 : int64_t(sizeof(EditLogEntry)));
+  require_memory(sculpt_peak_bytes(file_bytes(a.model), ticks, per_tick), a.budget, "hdm sculpt " + a.model,
+                 std::to_string(ticks) + " ticks of the script at " + std::to_string(int64_t(a.rate)) + " Hz");
+}
+
 void run_sculpt(const SculptArgs& a) {
+  check_outputs({a.output, a.forces}, {a.model, a.script, a.check_against});
+  check_model_output(a.output);
   SlabModel model = load_model(a.model, {a.limit.bytes()});
   const std::string script_path = a.script.empty() ? HDM_DEFAULT_SCRIPT : a.script;
   const Script script = read_script(script_path, a.limit.bytes());
@@ -172,7 +183,9 @@ void run_sculpt(const SculptArgs& a) {
   Trajectory path;
   {
     const SlabLocator locator(model);
-    path = build_trajectory(script, model, locator, ws, a.rate);
+    const int64_t ticks = count_trajectory_ticks(script, model, locator, ws, a.rate);
+    require_sculpt_memory(a, ticks);
+    path = build_trajectory(script, model, locator, ws, a.rate, ticks);
   }
   std::vector<Brush> brushes;
   for (const Stroke& st : script.strokes) brushes.push_back(stroke_brush(st, mm));
@@ -371,6 +384,7 @@ void add_sculpt_command(CLI::App& app) {
                 "also time each tick with the servo thread's CPU clock (tells long ticks from preempted ones)");
   cmd->add_flag("--json", a->json, "print the summary as one JSON object");
   add_input_limit(cmd, a->limit);
+  add_memory_budget(cmd, a->budget);
   cmd->callback([a] { run_sculpt(*a); });
 }
 

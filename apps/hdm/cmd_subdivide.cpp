@@ -2,6 +2,7 @@
 // hdm subdivide INPUT -o OUT.off --min-triangles N: √3 subdivision (CGAL) of a mesh, to make large
 // test and benchmark inputs from the real models.
 #include "commands.h"
+#include "output_guard.h"
 
 #include <hdm/core/error.h>
 #include <hdm/io/hdm_file.h>
@@ -58,6 +59,7 @@ void run_subdivide(const SubdivideArgs& a) {
   std::string ext = std::filesystem::path(a.output).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".off") throw InvalidInput(a.output + ": hdm subdivide writes OFF files (.off)");
+  check_outputs({a.output}, {a.input});
   const auto start = std::chrono::steady_clock::now();
   TriangleMesh mesh = read_mesh(a.input, {a.limit.bytes()});
   const auto input_triangles = static_cast<int64_t>(mesh.faces.size());

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // hdm: bake, sculpt, inspect, export and render haptic displacement map models.
+#include "bake_guard.h"
 #include "commands.h"
 
 #include <hdm/io/read_file.h>
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
   CLI::App app{"hdm: touch, sculpt and paint detailed 3D models with haptic displacement maps"};
   app.require_subcommand(1);
   hdm::app::add_bake_command(app);
+  hdm::app::add_bake_budget(*app.get_subcommand("bake"));
   hdm::app::add_sculpt_command(app);
   hdm::app::add_info_command(app);
   hdm::app::add_export_command(app);
@@ -33,7 +35,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11's own codes (105 for a failed validator, ...) become the documented usage code 2.
+    return app.exit(e) == 0 ? 0 : 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hdm: error: %s\n", e.what());
     return 1;

@@ -6,7 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <string_view>
 
 namespace hdm::app {
 namespace {
@@ -14,6 +17,35 @@ namespace {
 // Stroke ends may lie up to one box size outside the normalised box [0,1]³: enough for any stroke
 // that reaches the surface, and it bounds the number of points a stroke is sampled at.
 constexpr double min_coordinate = -1, max_coordinate = 2;
+
+// Edit distance between two keys (a misspelt key is refused naming the nearest known one).
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// Refuses a key of the object @p j that is not in @p known: a misspelt key would otherwise be
+// ignored and its default used without a word.
+void check_keys(const nlohmann::json& j, std::initializer_list<std::string_view> known, const std::string& where) {
+  for (const auto& item : j.items()) {
+    const std::string& key = item.key();
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string_view nearest = *known.begin();
+    for (std::string_view k : known)
+      if (edit_distance(key, k) < edit_distance(key, nearest)) nearest = k;
+    throw InvalidInput(where + ": unknown key '" + key + "' (did you mean '" + std::string(nearest) + "'?)");
+  }
+}
 
 Vec3 vec3(const nlohmann::json& j, const std::string& where, double lo, double hi) {
   if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
@@ -73,6 +105,7 @@ void read_brush_fields(const nlohmann::json& js, const std::string& where, Strok
 // The under-layer: {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness"}.
 ScriptLayer read_layer(const nlohmann::json& j, const std::string& where) {
   if (!j.is_object()) throw InvalidInput(where + ": expected an object");
+  check_keys(j, {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness"}, where);
   ScriptLayer l;
   l.present = true;
   const std::string field = where + ".";
@@ -124,6 +157,10 @@ Script parse_script(std::string_view text, const std::string& path) {
   Script s;
   try {
     if (j.contains("name") && !j["name"].is_string()) throw InvalidInput(path + ": name: expected a string");
+    check_keys(j,
+               {"name", "workspace_m", "hand_stiffness_n_per_m", "hand_damping_ns_per_m", "stiffness_n_per_m",
+                "damping_ns_per_m", "max_force_n", "under_layer", "surface", "strokes"},
+               path);
     s.name = j.value("name", path);
     const std::string top = path + ": ";
     s.workspace_m = number(j, "workspace_m", 0.16, 1e-3, 10.0, top);
@@ -136,6 +173,7 @@ Script parse_script(std::string_view text, const std::string& path) {
     if (j.contains("surface")) {  // {"colour": [r, g, b], "roughness": x}
       const auto& js = j["surface"];
       if (!js.is_object()) throw InvalidInput(path + ": surface: expected an object");
+      check_keys(js, {"colour", "roughness"}, path + ": surface");
       if (js.contains("colour")) {
         s.surface.has_colour = true;
         s.surface.colour = vec3(js["colour"], path + ": surface.colour", 0.0, 1.0).cast<float>();
@@ -157,12 +195,17 @@ Script parse_script(std::string_view text, const std::string& path) {
       Stroke st;
       if (js.contains("undo") || js.contains("redo")) {  // {"undo": n} / {"redo": n}
         const char* key = js.contains("undo") ? "undo" : "redo";
+        check_keys(js, {key}, where);
         st.tool = js.contains("undo") ? Tool::Undo : Tool::Redo;
         if (!js[key].is_number_integer()) throw InvalidInput(where + "." + key + ": expected a whole number");
         st.count = static_cast<int>(number(js, key, 1, 1, 1000, where + "."));
         s.strokes.push_back(st);
         continue;
       }
+      check_keys(js,
+                 {"tool", "from", "to", "radius_mm", "depth_mm", "speed_mm_s", "resilience_mm", "height_mm", "colour",
+                  "strength", "pressure_force_n", "falloff", "field", "value"},
+                 where);
       if (js.contains("tool") && !js["tool"].is_string()) throw InvalidInput(where + ".tool: expected a string");
       st.tool = tool_named(js.value("tool", "probe"), where + ".tool");
       if (!js.contains("from") || !js.contains("to")) throw InvalidInput(where + ": needs 'from' and 'to'");
@@ -224,34 +267,22 @@ Brush stroke_brush(const Stroke& s, double mm) {
   return b;
 }
 
-Trajectory build_trajectory(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
-                            double rate_hz) {
+namespace {
+
+// Walks the script's hand path: calls @p move(a, b, seconds, tool, stroke) for every piece, in
+// order (the undo / redo commands through @p command(step)). Once to count the ticks, once to
+// record them, so that the memory a script needs is known before it is allocated.
+template <class Move, class Command>
+void walk_trajectory(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
+                     const Vec3& start, Move&& move, Command&& command) {
   Aabb box;
   for (const Vec3f& p : m.positions) box.extend(p.cast<double>());
-  Trajectory tr;
-  const double dt = 1.0 / rate_hz;
-  auto move = [&](const Vec3& a, const Vec3& b, double seconds, Tool tool, int stroke) {
-    const double ticks = std::ceil(seconds / dt);
-    if (!(ticks <= double(max_trajectory_ticks - tr.position.size())))
-      throw InvalidInput(script.name + ": stroke " + std::to_string(stroke) + " takes the device past " +
-                         std::to_string(max_trajectory_ticks) + " ticks at " + std::to_string(rate_hz) +
-                         " Hz (too slow or too long a script)");
-    const int n = std::max(1, static_cast<int>(ticks));
-    for (int k = 1; k <= n; ++k) {
-      tr.position.push_back(a + (b - a) * (double(k) / n));
-      tr.tool.push_back(tool);
-      tr.stroke.push_back(static_cast<int16_t>(stroke));
-    }
-  };
-  Vec3 here = ws.to_device(box.max + 0.1 * (box.max - box.min));  // start above the model
-  tr.position.push_back(here);
-  tr.tool.push_back(Tool::None);
-  tr.stroke.push_back(-1);
+  Vec3 here = start;
   for (size_t k = 0; k < script.strokes.size(); ++k) {
     const Stroke& st = script.strokes[k];
     if (st.tool == Tool::Undo || st.tool == Tool::Redo) {  // a pause above the model, the command at its start
       for (int c = 0; c < st.count; ++c) {
-        tr.commands.emplace_back(static_cast<int64_t>(tr.position.size()), static_cast<int16_t>(k));
+        command(static_cast<int16_t>(k));
         move(here, here, 0.05, Tool::None, -1);
       }
       continue;
@@ -281,6 +312,54 @@ Trajectory build_trajectory(const Script& script, const SlabModel& m, const Slab
     move(path.back(), retract, 0.2, Tool::None, -1);  // lift off 5 mm along the normal
     here = retract;
   }
+}
+
+Vec3 start_point(const SlabModel& m, const Workspace& ws) {
+  Aabb box;
+  for (const Vec3f& p : m.positions) box.extend(p.cast<double>());
+  return ws.to_device(box.max + 0.1 * (box.max - box.min));  // start above the model
+}
+
+}  // namespace
+
+int64_t count_trajectory_ticks(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
+                               double rate_hz) {
+  const double dt = 1.0 / rate_hz;
+  int64_t ticks = 1;
+  auto move = [&](const Vec3&, const Vec3&, double seconds, Tool, int stroke) {
+    const double t = std::ceil(seconds / dt);
+    if (!(t <= double(int64_t(max_trajectory_ticks) - ticks)))
+      throw InvalidInput(script.name + ": stroke " + std::to_string(stroke) + " takes the device past " +
+                         std::to_string(max_trajectory_ticks) + " ticks at " + std::to_string(rate_hz) +
+                         " Hz (too slow or too long a script)");
+    ticks += std::max<int64_t>(1, static_cast<int64_t>(t));
+  };
+  walk_trajectory(script, m, loc, ws, start_point(m, ws), move, [](int16_t) {});
+  return ticks;
+}
+
+Trajectory build_trajectory(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
+                            double rate_hz, int64_t ticks) {
+  if (ticks <= 0) ticks = count_trajectory_ticks(script, m, loc, ws, rate_hz);
+  Trajectory tr;
+  tr.position.reserve(static_cast<size_t>(ticks));
+  tr.tool.reserve(static_cast<size_t>(ticks));
+  tr.stroke.reserve(static_cast<size_t>(ticks));
+  const double dt = 1.0 / rate_hz;
+  auto move = [&](const Vec3& a, const Vec3& b, double seconds, Tool tool, int stroke) {
+    const int n = std::max(1, static_cast<int>(std::ceil(seconds / dt)));
+    for (int k = 1; k <= n; ++k) {
+      tr.position.push_back(a + (b - a) * (double(k) / n));
+      tr.tool.push_back(tool);
+      tr.stroke.push_back(static_cast<int16_t>(stroke));
+    }
+  };
+  const Vec3 here = start_point(m, ws);
+  tr.position.push_back(here);
+  tr.tool.push_back(Tool::None);
+  tr.stroke.push_back(-1);
+  walk_trajectory(script, m, loc, ws, here, move,
+                  [&](int16_t step) { tr.commands.emplace_back(static_cast<int64_t>(tr.position.size()), step); });
   return tr;
 }
 

@@ -74,7 +74,8 @@ Brush stroke_brush(const Stroke& s, double model_units_per_mm);
 /// smooth, flatten), from and to (three numbers each in [-1, 2], normalised box coordinates),
 /// radius_mm in [0.001, 1e4], depth_mm, resilience_mm and height_mm in [0, 1e4], speed_mm_s in
 /// [0.01, 1e5], colour (three numbers in [0, 1]), strength in [0, 1], pressure_force_n in
-/// [0.001, 1e4], falloff and field (strings), value in [-1e4, 1e4].
+/// [0.001, 1e4], falloff and field (strings), value in [-1e4, 1e4]. Any other key is refused,
+/// naming the nearest known one (a misspelt key would otherwise leave its default in force).
 /// @throws InvalidInput "<name>: ..." naming the field when the text is not JSON, a field has the
 ///         wrong type or lies outside its range.
 /// @note O(text size); the JSON document takes a small multiple of the text's size in memory.
@@ -100,12 +101,18 @@ struct Trajectory {
   std::vector<std::pair<int64_t, int16_t>> commands;
 };
 
+/// The number of ticks build_trajectory() makes for the same arguments, without storing them (the
+/// projection runs as it does there). Throws what build_trajectory() throws.
+int64_t count_trajectory_ticks(const Script& script, const SlabModel& model, const SlabLocator& locator,
+                               const Workspace& ws, double rate_hz);
+
 /// Projects every stroke on the model surface (marching its own haptic query inward from the
 /// bounding-box point towards the box centre) and samples the hand's path at @p rate_hz; an undo
 /// or redo step is a 50 ms pause at which the command is given.
-/// Throws InvalidInput when a stroke point does not reach the surface, or when the trajectory
-/// would take more than max_trajectory_ticks ticks.
+/// @p ticks: what count_trajectory_ticks() returned for the same arguments (0: counted here), so
+/// the trajectory is allocated once at its size. Throws InvalidInput when a stroke point does not
+/// reach the surface, or when the trajectory would take more than max_trajectory_ticks ticks.
 Trajectory build_trajectory(const Script& script, const SlabModel& model, const SlabLocator& locator,
-                            const Workspace& ws, double rate_hz);
+                            const Workspace& ws, double rate_hz, int64_t ticks = 0);
 
 }  // namespace hdm::app

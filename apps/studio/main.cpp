@@ -2,6 +2,7 @@
 // hdm-studio MODEL.hdm: sculpt and paint a slab model in a window, with the mouse as a 3-DOF
 // haptic device and the servo loop on its own thread; or run a scripted session and exit.
 #include "bake_window.h"
+#include "output_guard.h"
 #include "studio.h"
 
 #include <hdm/core/error.h>
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
                  "take the device from the bridge (docs/bridge.md): udp:PORT (127.0.0.1) or shm:NAME, fed by a driver "
                  "process such as examples/python/bridge_client.py")
       ->excludes("--replay");
+  app.add_option("--secret-file", o.secret_file,
+                 "with --device: the bridge's shared secret, created with mode 0600 when missing (default: the "
+                 "HDM_BRIDGE_SECRET environment variable)");
   app.add_option("--frames", o.frames, "stop after this many frames")->check(CLI::Range(1L, 100000000L));
   app.add_option("--screenshot", o.screenshot, "write the model view of the last frame here (PNG)");
   app.add_option("--report", o.report, "write the session's figures here (JSON): frame times, uploads, servo timing");
@@ -50,22 +54,23 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 10000.0));
   try {
     app.parse(argc, argv);
+    hdm::app::check_outputs({o.screenshot, o.report}, {model, o.replay, o.script}, "--screenshot/--report");
     int w = 0, h = 0;
     char x = 0;
-    if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || (x != 'x' && x != 'X'))
-      throw hdm::InvalidInput("--size " + size + ": expected WxH, e.g. 1280x720");
+    if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1)
+      throw CLI::ValidationError("--size", size + ": expected WxH, e.g. 1280x720");  // usage: exit 2
     o.width = w, o.height = h;
     o.model_name = std::filesystem::path(model).filename().string();
     if (lod != "auto") {
       if (lod.empty() || lod.find_first_not_of("0123456789") != std::string::npos || lod.size() > 2)
-        throw hdm::InvalidInput("--lod " + lod + ": expected auto or a level 0, 1, 2, ...");
+        throw CLI::ValidationError("--lod", lod + ": expected auto or a level 0, 1, 2, ...");
       o.lod = std::stoi(lod);
     }
     if (!hdm::studio::is_slab_model_path(model)) return hdm::studio::run_studio_baking(model, o);
     hdm::SlabModel m = hdm::load_model(model);
     return hdm::studio::run_studio(std::move(m), o);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : 2;  // usage, whatever CLI11's own code
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hdm-studio: error: %s\n", e.what());
     return 1;

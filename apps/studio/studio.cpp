@@ -13,6 +13,7 @@
 #include "studio_script.h"
 
 #include <hdm/bridge/bridge_device.h>
+#include <hdm/bridge/bridge_secret.h>
 #include <hdm/core/error.h>
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>
@@ -132,7 +133,9 @@ class Studio final : public ScriptHost {
     camera_.radius = fitted.radius;
     last_distance_ = (fitted.eye - fitted.target).norm();
     if (!o.device.empty()) {
-      auto bridge = bridge::BridgeDevice::open(o.device);
+      bridge::BridgeOptions bo;
+      bo.secret = bridge::load_bridge_secret(o.secret_file);
+      auto bridge = bridge::BridgeDevice::open(o.device, bo);
       bridge_ = bridge.get();
       device_ = std::move(bridge);
       settings_.kind = ToolSettings::Carve;  // the driver's tool button strokes with the panel's brush

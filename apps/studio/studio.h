@@ -25,6 +25,8 @@ struct StudioOptions {
   /// Take the device from the bridge (docs/bridge.md): "udp:PORT" or "shm:NAME"; the strokes use
   /// the panel's brush (carve unless changed). Empty: the mouse (or the replay).
   std::string device;
+  /// The bridge's shared secret file (bridge::load_bridge_secret(); empty: HDM_BRIDGE_SECRET).
+  std::string secret_file;
   long frames = -1;             ///< stop after this many frames (-1: when the script ends or the window closes)
   std::string screenshot;       ///< write the last frame's model view here (PNG)
   std::string report;           ///< write the session's figures here (JSON)

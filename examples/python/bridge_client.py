@@ -6,8 +6,13 @@ time_s, device_x_m, device_y_m, device_z_m and optionally tool_on) into hdm as d
 UDP on localhost or POSIX shared memory, at a chosen rate, and records the force packets it gets
 back. A vendor driver does the same with its device's readings instead of the file's rows.
 
-    python3 bridge_client.py --udp 47000 trajectory.csv --rate 1000 --forces forces.csv
-    python3 bridge_client.py --shm hdm-bridge trajectory.csv --lockstep
+    python3 bridge_client.py --udp 47000 trajectory.csv --rate 1000 --forces forces.csv --secret-file s.key
+    HDM_BRIDGE_SECRET=... python3 bridge_client.py --shm hdm-bridge trajectory.csv --lockstep
+
+It first opens a session: a hello packet with the shared secret (the file hdm was given with
+--secret-file, or the HDM_BRIDGE_SECRET environment variable) and a fresh random session id, sent
+again every 5 ms until hdm answers with a force packet of that session; every packet then carries
+the id, and the sequence numbers start at 1 again (a restarted client is a new session).
 
 --lockstep waits for the force that answers each packet before sending the next (one servo tick
 per row, as a replay; the tests use it); otherwise rows go out on the rate's clock and the newest
@@ -24,28 +29,71 @@ import struct
 import sys
 import time
 
-MAGIC, VERSION, DEVICE, FORCE, SIZE = 0x424D4448, 1, 1, 2, 88  # docs/bridge.md
-DEVICE_FMT = "<IHHIIQd3d3dII"  # magic version kind size flags sequence time position velocity buttons reserved
-FORCE_FMT = "<IHHIIQQ3d3dd"  # magic version kind size flags sequence tick force contact gain
+MAGIC, VERSION, DEVICE, FORCE, HELLO, SIZE = 0x424D4448, 2, 1, 2, 3, 96  # docs/bridge.md
+DEVICE_FMT = "<IHHIIQQd3d3dII"  # magic version kind size flags sequence session time position velocity buttons 0
+FORCE_FMT = "<IHHIIQQQ3d3dd"  # magic version kind size flags sequence session tick force contact gain
+HELLO_FMT = "<IHHIIQQI56sI"  # magic version kind size flags sequence(0) session secret_bytes secret reserved
 DEVICE_END, FORCE_CONTACT, FORCE_WATCHDOG = 1, 1, 2
 REGION_MAGIC, DEVICE_BLOCK, FORCE_BLOCK = 0x524D4448, 64, 192
-assert struct.calcsize(DEVICE_FMT) == SIZE and struct.calcsize(FORCE_FMT) == SIZE
+MIN_SECRET, MAX_SECRET = 16, 56
+assert struct.calcsize(DEVICE_FMT) == SIZE and struct.calcsize(FORCE_FMT) == SIZE and struct.calcsize(HELLO_FMT) == SIZE
+SESSION = 0  # this run's session id, drawn in main()
 
 
 def device_packet(seq, t, pos, vel, buttons, flags=0):
-    return struct.pack(DEVICE_FMT, MAGIC, VERSION, DEVICE, SIZE, flags, seq, t, *pos, *vel, buttons, 0)
+    return struct.pack(DEVICE_FMT, MAGIC, VERSION, DEVICE, SIZE, flags, seq, SESSION, t, *pos, *vel, buttons, 0)
+
+
+def hello_packet(secret):
+    return struct.pack(HELLO_FMT, MAGIC, VERSION, HELLO, SIZE, 0, 0, SESSION, len(secret), secret, 0)
 
 
 def decode_force(data):
-    """A force packet as a dict, or None when it is not a valid one."""
+    """A force packet of this run's session as a dict, or None when it is not one."""
     if len(data) != SIZE:
         return None
     f = struct.unpack(FORCE_FMT, data)
-    if f[0] != MAGIC or f[1] != VERSION or f[2] != FORCE or f[3] != SIZE:
+    if f[0] != MAGIC or f[1] != VERSION or f[2] != FORCE or f[3] != SIZE or f[6] != SESSION:
         return None
-    if not all(math.isfinite(x) for x in f[7:14]):
+    if not all(math.isfinite(x) for x in f[8:15]):
         return None
-    return {"flags": f[4], "sequence": f[5], "tick": f[6], "force": f[7:10], "contact": f[10:13], "gain": f[13]}
+    return {"flags": f[4], "sequence": f[5], "tick": f[7], "force": f[8:11], "contact": f[11:14], "gain": f[14]}
+
+
+def read_secret(path, wait_s=5.0):
+    """The shared secret: the file's content (hdm creates it, mode 0600) or HDM_BRIDGE_SECRET."""
+    if path is None:
+        s = os.environ.get("HDM_BRIDGE_SECRET")
+        if s is None:
+            sys.exit("the bridge needs its shared secret: --secret-file FILE or HDM_BRIDGE_SECRET")
+        secret = s.encode()
+    else:
+        deadline = time.monotonic() + wait_s
+        while not os.path.exists(path):  # hdm may still be creating it
+            if time.monotonic() > deadline:
+                sys.exit(f"{path}: no such secret file (is hdm listening?)")
+            time.sleep(0.01)
+        st = os.stat(path, follow_symlinks=False)
+        if st.st_mode & 0o077:
+            sys.exit(f"{path}: the secret is readable by others (mode {st.st_mode & 0o777:03o}); chmod 600 it")
+        with open(path, "rb") as f:
+            secret = f.read()
+    secret = secret.rstrip(b" \t\r\n")
+    if not MIN_SECRET <= len(secret) <= MAX_SECRET:
+        sys.exit(f"the bridge secret has {len(secret)} bytes; it needs {MIN_SECRET} to {MAX_SECRET}")
+    return secret
+
+
+def open_session(link, secret, wait_s):
+    """Sends the hello every 5 ms until hdm answers with a force packet of this session; returns
+    the time from the first hello to the answer [s]."""
+    start = time.monotonic()
+    deadline = start + wait_s
+    while time.monotonic() < deadline:
+        link.send(hello_packet(secret))
+        if link.force(0.005) is not None:
+            return time.monotonic() - start
+    sys.exit(f"hdm did not answer the hello within {wait_s} s (is it listening, with the same secret?)")
 
 
 def read_trajectory(path):
@@ -160,14 +208,21 @@ def main():
     ap.add_argument("--forces", help="write the forces received, one row per packet sent, to this CSV")
     ap.add_argument("--stop-after", type=int, default=0, help="send only this many rows, then go silent")
     ap.add_argument("--no-end", action="store_true", help="do not send the end packet")
+    ap.add_argument("--secret-file", help="the bridge's shared secret (default: HDM_BRIDGE_SECRET)")
+    ap.add_argument("--connect-timeout", type=float, default=5.0, help="wait this long for hdm's answer [s]")
     a = ap.parse_args()
     if not (a.rate > 0):
         sys.exit("--rate must be positive")
+    global SESSION
+    while SESSION == 0:
+        SESSION = struct.unpack("<Q", os.urandom(8))[0]
+    secret = read_secret(a.secret_file, a.connect_timeout)
 
     rows = read_trajectory(a.csv)
     if a.stop_after > 0:
         rows = rows[: a.stop_after]
     link = Udp(a.udp) if a.udp is not None else Shm(a.shm)
+    session_s = open_session(link, secret, a.connect_timeout)
     period, start = 1.0 / a.rate, time.perf_counter()
     sent_at, rtt, records, lost = {}, [], [], 0
     last = None
@@ -219,7 +274,7 @@ def main():
                             f"{cx!r},{cy!r},{cz!r}\n")
         os.replace(a.forces + ".tmp", a.forces)
     rtt_us = sorted(x * 1e6 for x in rtt)
-    summary = {"packets": len(rows), "answered": len(rtt_us), "lost": lost,
+    summary = {"packets": len(rows), "answered": len(rtt_us), "lost": lost, "session_ms": session_s * 1e3,
                "rtt_median_us": rtt_us[len(rtt_us) // 2] if rtt_us else None,
                "rtt_p99_us": rtt_us[min(len(rtt_us) - 1, int(0.99 * len(rtt_us)))] if rtt_us else None}
     print(json.dumps(summary))

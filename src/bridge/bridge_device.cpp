@@ -75,6 +75,32 @@ void LinkCounters::refuse(DecodeStatus s) noexcept {
     case DecodeStatus::NonFinite:
       non_finite.fetch_add(1, std::memory_order_relaxed);
       break;
+    case DecodeStatus::BadHello:  // a malformed hello is a failed attempt at the secret
+      bad_secret.fetch_add(1, std::memory_order_relaxed);
+      break;
+  }
+}
+
+void LinkCounters::count(Verdict v, DecodeStatus s) noexcept {
+  switch (v) {
+    case Verdict::Device:
+      break;
+    case Verdict::Hello:
+      hellos.fetch_add(1, std::memory_order_relaxed);
+      break;
+    case Verdict::Refused:
+    case Verdict::NotForUs:
+      refuse(s);
+      break;
+    case Verdict::BadSecret:
+      bad_secret.fetch_add(1, std::memory_order_relaxed);
+      break;
+    case Verdict::WrongSession:
+      wrong_session.fetch_add(1, std::memory_order_relaxed);
+      break;
+    case Verdict::OutOfWindow:
+      out_of_order.fetch_add(1, std::memory_order_relaxed);
+      break;
   }
 }
 
@@ -82,6 +108,10 @@ std::unique_ptr<BridgeDevice> BridgeDevice::open(const std::string& endpoint, co
   if (!(options.watchdog_s > 0) || !(options.ramp_s > 0) || !std::isfinite(options.watchdog_s) ||
       !std::isfinite(options.ramp_s))
     throw InvalidInput("bridge " + endpoint + ": the watchdog and ramp times must be positive seconds");
+  if (options.secret.size() < kMinSecretBytes || options.secret.size() > kMaxSecretBytes)
+    throw InvalidInput("bridge " + endpoint + ": the shared secret has " + std::to_string(options.secret.size()) +
+                       " bytes; it needs " + std::to_string(kMinSecretBytes) + " to " +
+                       std::to_string(kMaxSecretBytes) + " (docs/bridge.md)");
   const size_t colon = endpoint.find(':');
   const std::string kind = endpoint.substr(0, colon),
                     arg = colon == std::string::npos ? "" : endpoint.substr(colon + 1);
@@ -92,7 +122,7 @@ std::unique_ptr<BridgeDevice> BridgeDevice::open(const std::string& endpoint, co
     const long port = std::strtol(arg.c_str(), &end, 10);
     if (arg.empty() || *end != '\0' || port < 0 || port > 65535)
       throw InvalidInput("bridge endpoint '" + endpoint + "': the UDP port must be a number from 0 to 65535");
-    link = open_udp_link(static_cast<int>(port));
+    link = open_udp_link(static_cast<int>(port), options.secret);
     name = "udp:" + std::to_string(link->port);
   } else if (kind == "shm") {
     const bool ok = !arg.empty() && arg.size() <= 200 && std::all_of(arg.begin(), arg.end(), [](char c) {
@@ -102,7 +132,7 @@ std::unique_ptr<BridgeDevice> BridgeDevice::open(const std::string& endpoint, co
       throw InvalidInput("bridge endpoint '" + endpoint +
                          "': the shared-memory name must be 1 to 200 letters, digits, '.', '_' or '-' (not "
                          "starting with '.')");
-    link = open_shm_link(arg);
+    link = open_shm_link(arg, options.secret);
   } else {
     throw InvalidInput("bridge endpoint '" + endpoint + "': expected udp:PORT or shm:NAME");
   }
@@ -131,16 +161,25 @@ bool BridgeDevice::poll(int64_t now) noexcept {
   if (!seqlock_read(link_->device_block, raw, version)) return false;  // the writer is busy: next look
   seen_version_ = version;
   DevicePacket p;
-  const DecodeStatus s = decode(raw, kPacketBytes, p);
-  if (s != DecodeStatus::Ok) {
-    link_->counters.refuse(s);
-    return false;
+  DecodeStatus s = DecodeStatus::Ok;
+  // UDP's receiver wrote only admitted packets; shared memory is judged here.
+  const Verdict v = link_->admitted ? (s = decode(raw, kPacketBytes, p)) == DecodeStatus::Ok ? Verdict::Device
+                                                                                              : Verdict::Refused
+                                    : link_->admission.admit(raw, kPacketBytes, 0, p, s);
+  if (v == Verdict::Hello) {  // answer at once: the driver waits for its session's first force
+    session_ = link_->admission.session();
+    have_ = false;
+    ForcePacket welcome;
+    welcome.flags = kForceWatchdog;
+    welcome.gain = gain_;
+    post(welcome);
   }
-  if (have_ && p.sequence <= last_.sequence) {
-    if (!link_->checks_order) link_->counters.out_of_order.fetch_add(1, std::memory_order_relaxed);
+  if (v != Verdict::Device) {
+    link_->counters.count(v, s);
     return false;
   }
   link_->counters.accepted.fetch_add(1, std::memory_order_relaxed);
+  session_ = p.session;
   last_ = p;
   have_ = true;
   last_new_ns_ = now;
@@ -178,11 +217,16 @@ void BridgeDevice::end_frame(const Vec3& force_n) noexcept {
   p.flags = (contact_ ? kForceContact : 0u) | (stale_ ? kForceWatchdog : 0u) |
             (!stale_ && (last_.buttons & 1u) ? kForceToolOn : 0u);
   p.sequence = have_ ? last_.sequence : 0;
-  p.tick = tick_++;
   p.force = f;
   p.contact_m = contact_ ? contact_m_ : (last_.position.allFinite() ? last_.position : Vec3::Zero());
   p.gain = gain_;
+  post(p);
+}
+
+void BridgeDevice::post(ForcePacket& p) noexcept {
+  p.session = session_;
   alignas(8) std::byte raw[kPacketBytes];
+  p.tick = tick_++;
   encode(p, raw);
   seqlock_write(link_->force_block, raw);
   link_->counters.forces_sent.fetch_add(1, std::memory_order_relaxed);
@@ -205,6 +249,9 @@ BridgeCounters BridgeDevice::counters() const noexcept {
   out.bad_kind = r(c.bad_kind);
   out.non_finite = r(c.non_finite);
   out.out_of_order = r(c.out_of_order);
+  out.bad_secret = r(c.bad_secret);
+  out.wrong_session = r(c.wrong_session);
+  out.sessions = r(c.hellos);
   out.watchdog_trips = r(c.watchdog_trips);
   out.forces_sent = r(c.forces_sent);
   out.send_errors = r(c.send_errors);

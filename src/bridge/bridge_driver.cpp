@@ -9,6 +9,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/mman.h>
+#include <sys/random.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -37,19 +38,17 @@ struct UdpDriver final : BridgeDriver {
     }
   }
   ~UdpDriver() override { ::close(fd); }
-  bool send(const DevicePacket& p) noexcept override {
-    alignas(8) std::byte raw[kPacketBytes];
-    encode(p, raw);
+  bool send_bytes(const std::byte* raw) noexcept override {
     return ::send(fd, raw, kPacketBytes, MSG_DONTWAIT) == ssize_t(kPacketBytes);
   }
-  bool poll_force(ForcePacket& out) noexcept override {
+  bool read_force(ForcePacket& out, uint64_t session) noexcept override {
     alignas(8) std::byte raw[256];
     bool any = false;
     for (;;) {
       const ssize_t n = ::recv(fd, raw, sizeof raw, MSG_DONTWAIT);
       if (n < 0) return any;
       ForcePacket f;
-      if (decode(raw, size_t(n), f) == DecodeStatus::Ok) out = f, any = true;
+      if (decode(raw, size_t(n), f) == DecodeStatus::Ok && f.session == session) out = f, any = true;
     }
   }
   void idle(double timeout_s) noexcept override {
@@ -92,20 +91,21 @@ struct ShmDriver final : BridgeDriver {
     force_block = reinterpret_cast<uint64_t*>(base + kRegionForceBlock);
   }
   ~ShmDriver() override { ::munmap(base, 4096); }
-  bool send(const DevicePacket& p) noexcept override {
-    alignas(8) std::byte raw[kPacketBytes];
-    encode(p, raw);
+  bool send_bytes(const std::byte* raw) noexcept override {
     seqlock_write(device_block, raw);
     return true;
   }
-  bool poll_force(ForcePacket& out) noexcept override {
+  bool read_force(ForcePacket& out, uint64_t session) noexcept override {
     const uint64_t v = seqlock_version(force_block);
     if (v == seen || (v & 1)) return false;
     alignas(8) std::byte raw[kPacketBytes];
     uint64_t version = 0;
     if (!seqlock_read(force_block, raw, version)) return false;
     seen = version;
-    return decode(raw, kPacketBytes, out) == DecodeStatus::Ok;
+    ForcePacket f;
+    if (decode(raw, kPacketBytes, f) != DecodeStatus::Ok || f.session != session) return false;
+    out = f;
+    return true;
   }
   void idle(double) noexcept override {}
   std::byte* base = nullptr;
@@ -115,17 +115,58 @@ struct ShmDriver final : BridgeDriver {
 
 }  // namespace
 
-std::unique_ptr<BridgeDriver> BridgeDriver::connect(const std::string& endpoint, double wait_s) {
+std::unique_ptr<BridgeDriver> BridgeDriver::connect(const std::string& endpoint, const std::string& secret,
+                                                   double wait_s) {
+  if (secret.size() < kMinSecretBytes || secret.size() > kMaxSecretBytes)
+    throw InvalidInput("bridge driver " + endpoint + ": the shared secret has " + std::to_string(secret.size()) +
+                       " bytes; it needs " + std::to_string(kMinSecretBytes) + " to " +
+                       std::to_string(kMaxSecretBytes));
+  std::unique_ptr<BridgeDriver> d;
   if (endpoint.rfind("udp:", 0) == 0) {
     char* end = nullptr;
     const long port = std::strtol(endpoint.c_str() + 4, &end, 10);
     if (endpoint.size() == 4 || *end != '\0' || port <= 0 || port > 65535)
       throw InvalidInput("bridge driver endpoint '" + endpoint + "': the UDP port must be a number from 1 to 65535");
-    return std::make_unique<UdpDriver>(static_cast<int>(port));
+    d = std::make_unique<UdpDriver>(static_cast<int>(port));
+  } else if (endpoint.rfind("shm:", 0) == 0 && endpoint.size() > 4 && endpoint.find('/') == std::string::npos) {
+    d = std::make_unique<ShmDriver>(endpoint.substr(4), wait_s);
+  } else {
+    throw InvalidInput("bridge driver endpoint '" + endpoint + "': expected udp:PORT or shm:NAME");
   }
-  if (endpoint.rfind("shm:", 0) == 0 && endpoint.size() > 4 && endpoint.find('/') == std::string::npos)
-    return std::make_unique<ShmDriver>(endpoint.substr(4), wait_s);
-  throw InvalidInput("bridge driver endpoint '" + endpoint + "': expected udp:PORT or shm:NAME");
+  d->hello(endpoint, secret, wait_s);
+  return d;
+}
+
+void BridgeDriver::hello(const std::string& endpoint, const std::string& secret, double wait_s) {
+  while (session_ == 0)
+    if (::getrandom(&session_, sizeof session_, 0) != ssize_t(sizeof session_))
+      throw IoError("bridge driver " + endpoint + ": cannot draw a session id: " + std::strerror(errno));
+  HelloPacket h;
+  h.session = session_;
+  h.secret_bytes = static_cast<uint32_t>(secret.size());
+  std::memcpy(h.secret.data(), secret.data(), secret.size());
+  alignas(8) std::byte raw[kPacketBytes];
+  encode(h, raw);
+  const auto deadline = Clock::now() + std::chrono::duration<double>(wait_s);
+  ForcePacket f;
+  do {
+    send_bytes(raw);
+    if (wait_force(f, 0, 0.005)) return;  // a force of this session: admitted
+  } while (Clock::now() < deadline);
+  throw IoError("bridge driver " + endpoint + ": hdm did not answer the hello within " + std::to_string(wait_s) +
+                " s (is it listening, with the same secret?)");
+}
+
+bool BridgeDriver::send(const DevicePacket& packet) noexcept {
+  DevicePacket p = packet;
+  p.session = session_;
+  alignas(8) std::byte raw[kPacketBytes];
+  encode(p, raw);
+  return send_bytes(raw);
+}
+
+bool BridgeDriver::poll_force(ForcePacket& out) noexcept {
+  return session_ != 0 && read_force(out, session_);
 }
 
 bool BridgeDriver::wait_force(ForcePacket& out, uint64_t sequence, double timeout_s) noexcept {

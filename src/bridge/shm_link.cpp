@@ -12,15 +12,27 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 
 namespace hdm::bridge {
 namespace {
 
 struct ShmLink final : BridgeDevice::Link {
-  explicit ShmLink(const std::string& name) : path("/" + name) {
-    const int fd = ::shm_open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0600);
+  ShmLink(const std::string& name, const std::string& secret) : Link(secret), path("/" + name) {
+    const int fd = ::shm_open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC | O_NOFOLLOW, 0600);
     if (fd < 0) throw IoError("bridge shm:" + name + ": cannot create the region: " + std::strerror(errno));
+    // A region taken over keeps the owner it was made by: another user's is refused, this user's
+    // is made private again (another process may have opened it while it was open to others).
+    struct stat st{};
+    if (::fstat(fd, &st) != 0 || st.st_uid != ::geteuid()) {
+      ::close(fd);
+      char mode[8];
+      std::snprintf(mode, sizeof mode, "%03o", unsigned(st.st_mode & 0777));
+      throw IoError("bridge shm:" + name + ": the existing region /dev/shm/" + name +
+                    " belongs to another user (mode " + mode + "); remove it or choose another name");
+    }
+    ::fchmod(fd, 0600);
     if (::ftruncate(fd, static_cast<off_t>(kMapBytes)) != 0) {
       const int e = errno;
       ::close(fd);
@@ -59,6 +71,8 @@ struct ShmLink final : BridgeDevice::Link {
 
 }  // namespace
 
-std::unique_ptr<BridgeDevice::Link> open_shm_link(const std::string& name) { return std::make_unique<ShmLink>(name); }
+std::unique_ptr<BridgeDevice::Link> open_shm_link(const std::string& name, const std::string& secret) {
+  return std::make_unique<ShmLink>(name, secret);
+}
 
 }  // namespace hdm::bridge

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The UDP transport: a receiver thread checks each datagram and writes the good ones into the
-// in-process device block; a sender thread sleeps on a futex until the servo thread posts a force,
+// The UDP transport: a receiver thread checks each datagram, admits only the driver's (the session
+// its hello opened with the shared secret, from the address that sent the hello) and writes the
+// good ones into the in-process device block; a sender thread sleeps on a futex until the servo thread posts a force,
 // then sends the newest one to the driver. The servo thread only touches the two blocks (and wakes
 // the sender).
 #include <hdm/core/error.h>
@@ -28,16 +29,16 @@ long futex(std::atomic<uint32_t>* word, int op, uint32_t value, const timespec* 
 }
 
 struct UdpLink final : BridgeDevice::Link {
-  explicit UdpLink(int requested_port) {
+  UdpLink(int requested_port, const std::string& secret) : Link(secret) {
     device_block = blocks;
     force_block = blocks + 16;
-    checks_order = true;
+    admitted = true;
     fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd < 0) throw IoError(std::string("bridge udp: cannot create a socket: ") + std::strerror(errno));
     sockaddr_in a{};
     a.sin_family = AF_INET;
     a.sin_port = htons(static_cast<uint16_t>(requested_port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);  // localhost only: the bridge has no authentication
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);  // localhost only: the secret travels in the clear
     if (::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
       const int e = errno;
       ::close(fd);
@@ -66,8 +67,6 @@ struct UdpLink final : BridgeDevice::Link {
 
   void receive() noexcept {
     alignas(8) std::byte buf[512];
-    uint64_t last_seq = 0;
-    bool any = false;
     while (!stop.load(std::memory_order_relaxed)) {
       pollfd p{fd, POLLIN, 0};
       if (::poll(&p, 1, 20) <= 0) continue;  // wakes up to see stop
@@ -75,21 +74,30 @@ struct UdpLink final : BridgeDevice::Link {
       socklen_t len = sizeof from;
       const ssize_t n = ::recvfrom(fd, buf, sizeof buf, 0, reinterpret_cast<sockaddr*>(&from), &len);
       if (n < 0) continue;
+      const uint64_t sender_id = (uint64_t(from.sin_addr.s_addr) << 16) | from.sin_port;
       DevicePacket packet;
-      const DecodeStatus s = decode(buf, static_cast<size_t>(n), packet);
-      if (s != DecodeStatus::Ok) {
-        counters.refuse(s);
-        continue;
+      DecodeStatus s = DecodeStatus::Ok;
+      const Verdict v = admission.admit(buf, static_cast<size_t>(n), sender_id, packet, s);
+      counters.count(v, s);
+      if (v == Verdict::Hello) {
+        peer.store(sender_id, std::memory_order_relaxed);
+        welcome(from, admission.session());
       }
-      if (any && packet.sequence <= last_seq) {
-        counters.out_of_order.fetch_add(1, std::memory_order_relaxed);
-        continue;
-      }
-      any = true;
-      last_seq = packet.sequence;
-      peer.store((uint64_t(from.sin_addr.s_addr) << 16) | from.sin_port, std::memory_order_relaxed);
-      seqlock_write(device_block, buf);
+      if (v == Verdict::Device) seqlock_write(device_block, buf);
     }
+  }
+
+  // Answers a hello at once (the servo may not tick before the driver's first device packet): a
+  // force packet of the new session, no force.
+  void welcome(const sockaddr_in& to, uint64_t session) noexcept {
+    ForcePacket f;
+    f.session = session;
+    f.flags = kForceWatchdog;
+    f.gain = 0;
+    alignas(8) std::byte raw[kPacketBytes];
+    encode(f, raw);
+    if (::sendto(fd, raw, kPacketBytes, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&to), sizeof to) < 0)
+      counters.send_errors.fetch_add(1, std::memory_order_relaxed);
   }
 
   void send() noexcept {
@@ -130,6 +138,8 @@ struct UdpLink final : BridgeDevice::Link {
 
 }  // namespace
 
-std::unique_ptr<BridgeDevice::Link> open_udp_link(int port) { return std::make_unique<UdpLink>(port); }
+std::unique_ptr<BridgeDevice::Link> open_udp_link(int port, const std::string& secret) {
+  return std::make_unique<UdpLink>(port, secret);
+}
 
 }  // namespace hdm::bridge

@@ -107,11 +107,8 @@ void export_obj(const SlabModel& m, const std::string& path) {
   const std::string png_name = std::filesystem::path(png_path).filename().string();
   const TextureAtlas atlas = build_texture_atlas(m);
   const std::vector<uint8_t> png = encode_png(atlas, png_path);
-  write_file_atomic(png_path, png.data(), png.size());
-
   const std::string mtl =
       "# hdm colour atlas\nnewmtl hdm_colour\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd " + png_name + "\n";
-  write_file_atomic(mtl_path, mtl.data(), mtl.size());
 
   const int n = m.grid_n, S = m.slab_count(), per_slab = m.samples.per_slab;
   std::string out;
@@ -164,7 +161,10 @@ void export_obj(const SlabModel& m, const std::string& path) {
       out += '\n';
     });
   }
-  write_file_atomic(path, out.data(), out.size());
+  // One set: a failed export leaves neither a new OBJ nor a new MTL or PNG beside the old ones.
+  const FileBytes set[] = {{path, out.data(), out.size()}, {mtl_path, mtl.data(), mtl.size()},
+                           {png_path, png.data(), png.size()}};
+  write_files_atomic(set);
 }
 
 // ---- PLY ----

@@ -108,12 +108,15 @@ TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name, std::
   // only, so builds of the same source baked different models.
   std::vector<Vec3>& positions = soup.positions;
   for (size_t v = 0; v < positions.size(); ++v) {
+    if (!positions[v].allFinite())
+      throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
     for (int a = 0; a < 3; ++a) {
       const volatile float rounded = static_cast<float>(positions[v][a]);
       positions[v][a] = rounded;
     }
-    if (!positions[v].allFinite())
-      throw InvalidInput(name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
+    if (!positions[v].allFinite())  // finite as read, beyond float's range once rounded
+      throw InvalidInput(name + ": vertex " + std::to_string(v) +
+                         " has a coordinate out of range (beyond ±3.4e38, the largest float hdm stores)");
   }
 
   std::vector<Tri> triangles;

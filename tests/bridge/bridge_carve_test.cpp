@@ -99,15 +99,23 @@ SlabModel replayed(const std::string& csv, size_t rows = 0) {
   return session.model();
 }
 
+const std::string kSecret = "carve-test-secret-0123456789";
+
+// The reference client with the shared secret in its environment.
+std::string client_command() {
+  return "HDM_BRIDGE_SECRET=" + kSecret + " " + std::string(HDM_PYTHON3) + " " + HDM_BRIDGE_CLIENT;
+}
+
 SlabModel bridged(const std::string& csv, const std::string& endpoint, BridgeCounters& counters, int& client_status) {
   SculptSession session(sphere_model(), sphere_workspace(), session_options());
   session.set_brush(carve());
   BridgeOptions bo;
+  bo.secret = kSecret;
   bo.watchdog_s = 1.0;  // a Python pause on a loaded machine must not release the tool here
   auto device = BridgeDevice::open(endpoint, bo);
   const std::string target =
       device->port() > 0 ? "--udp " + std::to_string(device->port()) : "--shm " + endpoint.substr(4);
-  const std::string cmd = std::string(HDM_PYTHON3) + " " + HDM_BRIDGE_CLIENT + " " + target + " " + csv +
+  const std::string cmd = client_command() + " " + target + " " + csv +
                           " --lockstep --timeout 10 > /dev/null";
   std::thread client([&] { client_status = std::system(cmd.c_str()); });
   BridgeLoopOptions lo;
@@ -173,11 +181,12 @@ TEST(BridgeCarve, LostPacketsEndTheStrokeAndRampTheForceOut) {
   SculptSession session(sphere_model(), sphere_workspace(), session_options());
   session.set_brush(carve());
   BridgeOptions bo;
+  bo.secret = kSecret;
   bo.watchdog_s = 0.2;  // long enough for a Python pause on a loaded machine, short for the test
   bo.ramp_s = 0.01;
   const std::string name = "hdm-test-silent-" + std::to_string(::getpid());
   auto device = BridgeDevice::open("shm:" + name, bo);
-  const std::string cmd = std::string(HDM_PYTHON3) + " " + HDM_BRIDGE_CLIENT + " --shm " + name + " " + csv +
+  const std::string cmd = client_command() + " --shm " + name + " " + csv +
                           " --lockstep --timeout 10 --stop-after " + std::to_string(rows) + " --no-end > /dev/null";
   int status = -1;
   std::thread client([&] { status = std::system(cmd.c_str()); });

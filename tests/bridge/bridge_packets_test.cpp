@@ -28,24 +28,49 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// A device packet laid out from the documented table (offsets, little-endian), not by encode().
-std::vector<std::byte> raw_device(uint64_t seq, const Vec3& pos, uint32_t buttons = 0, uint32_t flags = 0) {
-  std::vector<std::byte> b(88);
+constexpr uint64_t kSession = 0x5e5510'0000'0001ull;
+const std::string kSecret = "a-test-secret-of-32-characters!!";
+
+BridgeOptions with_secret(BridgeOptions o = {}) {
+  o.secret = kSecret;
+  return o;
+}
+
+// The header of the documented table (offsets, little-endian), not by encode().
+std::vector<std::byte> raw_header(uint16_t kind, uint32_t flags, uint64_t seq, uint64_t session) {
+  std::vector<std::byte> b(96);
   auto put = [&](size_t off, const void* v, size_t n) { std::memcpy(b.data() + off, v, n); };
   const char magic[4] = {'H', 'D', 'M', 'B'};
-  const uint16_t version = 1, kind = 1;
-  const uint32_t size = 88;
-  const double t = 0.001 * double(seq), v[3] = {0.01, 0.02, 0.03};
+  const uint16_t version = 2;
+  const uint32_t size = 96;
   put(0, magic, 4);
   put(4, &version, 2);
   put(6, &kind, 2);
   put(8, &size, 4);
   put(12, &flags, 4);
   put(16, &seq, 8);
-  put(24, &t, 8);
-  for (int i = 0; i < 3; ++i) put(32 + 8 * size_t(i), &pos[i], 8);
-  put(56, v, 24);
-  put(80, &buttons, 4);
+  put(24, &session, 8);
+  return b;
+}
+
+// A device packet laid out from the documented table.
+std::vector<std::byte> raw_device(uint64_t seq, const Vec3& pos, uint32_t buttons = 0, uint32_t flags = 0,
+                                  uint64_t session = kSession) {
+  std::vector<std::byte> b = raw_header(1, flags, seq, session);
+  const double t = 0.001 * double(seq), v[3] = {0.01, 0.02, 0.03};
+  std::memcpy(b.data() + 32, &t, 8);
+  for (int i = 0; i < 3; ++i) std::memcpy(b.data() + 40 + 8 * size_t(i), &pos[i], 8);
+  std::memcpy(b.data() + 64, v, 24);
+  std::memcpy(b.data() + 88, &buttons, 4);
+  return b;
+}
+
+// A hello packet laid out from the documented table.
+std::vector<std::byte> raw_hello(uint64_t session, const std::string& secret = kSecret) {
+  std::vector<std::byte> b = raw_header(3, 0, 0, session);
+  const auto n = static_cast<uint32_t>(secret.size());
+  std::memcpy(b.data() + 32, &n, 4);
+  std::memcpy(b.data() + 36, secret.data(), secret.size());
   return b;
 }
 
@@ -56,6 +81,7 @@ TEST(BridgeWireFormat, EncodeMatchesTheDocumentedLayout) {
   p.position = Vec3(0.1, -0.2, 0.3);
   p.velocity = Vec3(0.01, 0.02, 0.03);
   p.buttons = 1;
+  p.session = kSession;
   std::byte out[kPacketBytes];
   encode(p, out);
   const std::vector<std::byte> expected = raw_device(42, p.position, 1);
@@ -64,6 +90,17 @@ TEST(BridgeWireFormat, EncodeMatchesTheDocumentedLayout) {
   ASSERT_EQ(DecodeStatus::Ok, decode(expected.data(), expected.size(), back));
   EXPECT_EQ(back.position, p.position);
   EXPECT_EQ(back.sequence, 42u);
+  EXPECT_EQ(back.session, kSession);
+  HelloPacket h;
+  h.session = kSession;
+  h.secret_bytes = static_cast<uint32_t>(kSecret.size());
+  std::memcpy(h.secret.data(), kSecret.data(), kSecret.size());
+  encode(h, out);
+  EXPECT_EQ(0, std::memcmp(out, raw_hello(kSession).data(), kPacketBytes));
+  HelloPacket hb;
+  ASSERT_EQ(DecodeStatus::Ok, decode(out, kPacketBytes, hb));
+  EXPECT_TRUE(secret_matches(hb, kSecret));
+  EXPECT_FALSE(secret_matches(hb, kSecret.substr(1)));
 
   ForcePacket f;
   f.flags = kForceContact;
@@ -77,8 +114,8 @@ TEST(BridgeWireFormat, EncodeMatchesTheDocumentedLayout) {
   uint16_t kind;
   double fz, gain;
   std::memcpy(&kind, out + 6, 2);
-  std::memcpy(&fz, out + 48, 8);
-  std::memcpy(&gain, out + 80, 8);
+  std::memcpy(&fz, out + 56, 8);
+  std::memcpy(&gain, out + 88, 8);
   EXPECT_EQ(kind, 2);
   EXPECT_EQ(fz, 3.0);
   EXPECT_EQ(gain, 0.5);
@@ -104,14 +141,14 @@ struct BadSet {
     p[0] = std::byte{'X'};
     packets.push_back(p);  // magic
     p = raw_device(6, Vec3(0.5, 0.5, 0.5));
-    p[4] = std::byte{2};
-    packets.push_back(p);  // version 2
+    p[4] = std::byte{1};
+    packets.push_back(p);  // version 1
     p = raw_device(6, Vec3(0.5, 0.5, 0.5));
     p[6] = std::byte{2};
     packets.push_back(p);                               // a force packet sent the wrong way
     packets.push_back(raw_device(6, Vec3(nan, 0, 0)));  // NaN position
     p = raw_device(6, Vec3(0.5, 0.5, 0.5));
-    std::memcpy(p.data() + 56, &inf, 8);
+    std::memcpy(p.data() + 64, &inf, 8);
     packets.push_back(p);                                   // infinite velocity
     packets.push_back(raw_device(5, Vec3(0.5, 0.5, 0.5)));  // duplicate sequence number
     packets.push_back(raw_device(4, Vec3(0.5, 0.5, 0.5)));  // older sequence number
@@ -129,7 +166,7 @@ void expect_bad_set_counted(const BridgeCounters& c) {
 }
 
 TEST(BridgeDevice, UdpDropsAndCountsBadPackets) {
-  auto dev = BridgeDevice::open("udp:0");
+  auto dev = BridgeDevice::open("udp:0", with_secret());
   ASSERT_GT(dev->port(), 0);
   const int s = ::socket(AF_INET, SOCK_DGRAM, 0);
   sockaddr_in a{};
@@ -150,6 +187,7 @@ TEST(BridgeDevice, UdpDropsAndCountsBadPackets) {
     }
     dev->begin_frame(st);
   };
+  send(raw_hello(kSession));
   send(raw_device(5, Vec3(0.01, 0.02, 0.03), 1));
   ticks_until_accepted(1);
   EXPECT_EQ(st.position, Vec3(0.01, 0.02, 0.03));
@@ -176,12 +214,12 @@ struct ShmDriver {
     uint64_t c;
     std::memcpy(&c, base + 64, 8);
     c += 2;
-    std::memcpy(base + 72, p.data(), std::min<size_t>(p.size(), 88));
+    std::memcpy(base + 72, p.data(), std::min<size_t>(p.size(), 96));
     std::memcpy(base + 64, &c, 8);
   }
   ForcePacket force() const {
     ForcePacket f;
-    EXPECT_EQ(DecodeStatus::Ok, decode(base + 200, 88, f));
+    EXPECT_EQ(DecodeStatus::Ok, decode(base + 200, 96, f));
     return f;
   }
   std::byte* base;
@@ -191,10 +229,13 @@ std::string shm_name(const char* what) { return std::string("hdm-test-") + what 
 
 TEST(BridgeDevice, SharedMemoryDropsAndCountsBadPackets) {
   const std::string name = shm_name("bad");
-  auto dev = BridgeDevice::open("shm:" + name);
+  auto dev = BridgeDevice::open("shm:" + name, with_secret());
   ShmDriver drv(name);
   EXPECT_EQ(0, std::memcmp(drv.base, "HDMR", 4));
   DeviceState st;
+  drv.write(raw_hello(kSession));
+  ASSERT_TRUE(dev->begin_frame(st));
+  EXPECT_EQ(drv.force().session, kSession);  // the hello is answered at once
   drv.write(raw_device(5, Vec3(0.01, 0.02, 0.03), 1));
   ASSERT_TRUE(dev->begin_frame(st));
   EXPECT_EQ(st.position, Vec3(0.01, 0.02, 0.03));
@@ -202,7 +243,7 @@ TEST(BridgeDevice, SharedMemoryDropsAndCountsBadPackets) {
   dev->end_frame(Vec3(0, 0, 1));
   EXPECT_EQ(drv.force().sequence, 5u);  // the force answers packet 5
   for (auto p : BadSet().packets) {
-    if (p.size() != 88) continue;  // the region holds whole packets: no short or long ones
+    if (p.size() != 96) continue;  // the region holds whole packets: no short or long ones
     drv.write(p);
     ASSERT_TRUE(dev->begin_frame(st));
     EXPECT_EQ(st.position, Vec3(0.01, 0.02, 0.03)) << "a bad packet was applied";
@@ -220,11 +261,12 @@ TEST(BridgeDevice, SharedMemoryDropsAndCountsBadPackets) {
 }
 
 TEST(BridgeDevice, RefusesMalformedEndpoints) {
-  EXPECT_THROW(BridgeDevice::open("udp:70000"), InvalidInput);
-  EXPECT_THROW(BridgeDevice::open("udp:x"), InvalidInput);
-  EXPECT_THROW(BridgeDevice::open("shm:../etc"), InvalidInput);
-  EXPECT_THROW(BridgeDevice::open("tcp:1"), InvalidInput);
-  BridgeOptions o;
+  EXPECT_THROW(BridgeDevice::open("udp:70000", with_secret()), InvalidInput);
+  EXPECT_THROW(BridgeDevice::open("udp:x", with_secret()), InvalidInput);
+  EXPECT_THROW(BridgeDevice::open("shm:../etc", with_secret()), InvalidInput);
+  EXPECT_THROW(BridgeDevice::open("tcp:1", with_secret()), InvalidInput);
+  EXPECT_THROW(BridgeDevice::open("udp:0"), InvalidInput);  // no secret
+  BridgeOptions o = with_secret();
   o.watchdog_s = 0;
   EXPECT_THROW(BridgeDevice::open("shm:x", o), InvalidInput);
 }
@@ -234,11 +276,13 @@ TEST(BridgeDevice, RefusesMalformedEndpoints) {
 // when packets come back the force ramps in again.
 TEST(BridgeDevice, WatchdogReleasesTheToolAndRampsTheForceOut) {
   const std::string name = shm_name("watchdog");
-  BridgeOptions o;  // 5 ms watchdog, 5 ms ramp
+  const BridgeOptions o = with_secret();  // 5 ms watchdog, 5 ms ramp
   auto dev = BridgeDevice::open("shm:" + name, o);
   ShmDriver drv(name);
   const Vec3 asked(0, 0, 2);
   DeviceState st;
+  drv.write(raw_hello(kSession));
+  ASSERT_TRUE(dev->begin_frame(st));
   uint64_t seq = 1;
   for (int k = 0; k < 40; ++k) {  // 20 ms of packets: the gain ramps in
     drv.write(raw_device(seq++, Vec3(0, 0, 0.01), 1));

@@ -25,6 +25,7 @@ Vec3 position_of(uint64_t seq) { return Vec3(1e-5 * double(seq % 1000), -1e-4 * 
 
 void drive(const std::string& endpoint) {
   BridgeOptions o;
+  o.secret = "concurrency-test-secret-0123";
   o.watchdog_s = 1.0;
   auto device = BridgeDevice::open(endpoint, o);
   std::atomic<bool> stop{false};
@@ -48,7 +49,8 @@ void drive(const std::string& endpoint) {
       std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
   });
-  auto driver = BridgeDriver::connect(device->port() > 0 ? "udp:" + std::to_string(device->port()) : endpoint);
+  auto driver =
+      BridgeDriver::connect(device->port() > 0 ? "udp:" + std::to_string(device->port()) : endpoint, o.secret);
   uint64_t answered = 0;
   int checked = 0, waited = 0;
   auto check = [&](const ForcePacket& f) {

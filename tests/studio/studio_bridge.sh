@@ -9,6 +9,7 @@ set -euo pipefail
 studio=$1 checks=$2 python=$3 client=$4 mesh=$5
 source "$(dirname "$0")/xvfb.sh"
 name="hdm-studio-test-$$"
+export HDM_BRIDGE_SECRET="studio-bridge-test-secret-$$-0123456789"  # the studio and the driver share it
 
 # The handle (device frame, metres, the workspace centre at the origin; a mesh centred at the
 # origin is centred there): down the z axis into the surface, then once round a great circle in the

@@ -25,6 +25,9 @@ struct BridgeOptions {
   /// when packets resume and at the start (no force step either way).
   double ramp_s = 0.005;
   DeviceSpec spec;  ///< reported capabilities; the force sent is clamped to spec.max_force_n
+  /// The shared secret a driver's hello must carry (kMinSecretBytes to kMaxSecretBytes bytes;
+  /// load_bridge_secret() reads it from a private file or the environment). Required.
+  std::string secret;
 };
 
 /// Packets seen by a BridgeDevice since it opened (bad ones are dropped, never applied).
@@ -35,12 +38,17 @@ struct BridgeCounters {
   int64_t bad_version = 0;     ///< another wire format version
   int64_t bad_kind = 0;        ///< not a device packet
   int64_t non_finite = 0;      ///< NaN or infinite time, position or velocity
-  int64_t out_of_order = 0;    ///< sequence number not above the last accepted one (duplicates included)
+  int64_t out_of_order = 0;    ///< sequence number not 1 to kSequenceWindow above the session's last (duplicates included)
+  int64_t bad_secret = 0;      ///< hello packets with a wrong secret (or a malformed hello)
+  int64_t wrong_session = 0;   ///< device packets of another session, or from another address than its hello's (UDP)
+  int64_t sessions = 0;        ///< hello packets accepted: driver sessions opened
   int64_t watchdog_trips = 0;  ///< times packets stopped for longer than the watchdog
   int64_t forces_sent = 0;     ///< force packets posted by the servo thread (UDP: the sender sends the newest)
   int64_t send_errors = 0;     ///< UDP sends that failed (no peer yet is not one)
   /// Sum of the refusals.
-  int64_t dropped() const noexcept { return bad_size + bad_magic + bad_version + bad_kind + non_finite + out_of_order; }
+  int64_t dropped() const noexcept {
+    return bad_size + bad_magic + bad_version + bad_kind + non_finite + out_of_order + bad_secret + wrong_session;
+  }
 };
 
 /// The device side of the bridge. Created by open(); begin_frame, end_frame, set_contact and
@@ -52,24 +60,28 @@ class BridgeDevice final : public HapticDevice {
   ///                  force packets go to the address of the last accepted device packet.
   ///                  "shm:NAME": creates the POSIX shared-memory region "/NAME" (shm_open; NAME of
   ///                  letters, digits, '.', '_', '-'; an existing one is taken over and cleared),
-  ///                  unlinked when the device is destroyed.
-  /// @param options   watchdog, ramp and the device spec reported to the session.
-  /// @throws InvalidInput on a malformed endpoint or options (naming them); IoError when the socket
-  /// or region cannot be created (with the system's reason).
+  ///                  unlinked when the device is destroyed; mode 0600, and a region of another
+  ///                  user is refused.
+  ///                  Either way only a driver whose hello packet carries options.secret is served.
+  /// @param options   watchdog, ramp, the device spec reported to the session and the secret.
+  /// @throws InvalidInput on a malformed endpoint or options (naming them; a secret shorter than
+  /// kMinSecretBytes or longer than kMaxSecretBytes included); IoError when the socket or region
+  /// cannot be created (with the system's reason).
   /// @note Starts the receiver and sender threads (UDP); allocates. Not real-time.
   static std::unique_ptr<BridgeDevice> open(const std::string& endpoint, const BridgeOptions& options = {});
   ~BridgeDevice() override;
   BridgeDevice(const BridgeDevice&) = delete;
   BridgeDevice& operator=(const BridgeDevice&) = delete;
 
-  /// @brief The newest device packet (checked: bad and out-of-order ones are counted and skipped).
+  /// @brief The newest device packet of the driver's session (checked: bad, foreign and
+  /// out-of-window ones are counted and skipped; shared memory: a hello is answered here).
   /// Before the first packet the position is NaN (zero force, the proxy waits); after watchdog_s
   /// without a new one the last position is held, the velocity and buttons read 0.
   /// @return false once the driver sent a packet with kDeviceEnd.
   /// @note noexcept; reads the seqlocked block and the steady clock (vDSO): no system call, no wait.
   bool begin_frame(DeviceState& state) noexcept override;
   /// @brief Posts @p force_n [N, device frame] times the watchdog gain (clamped to
-  /// spec().max_force_n, NaN → 0) with the last accepted sequence number and this tick.
+  /// spec().max_force_n, NaN → 0) with the session, the last accepted sequence number and this tick.
   /// @note noexcept, O(1). Shared memory: a seqlocked write. UDP: the same, then a futex wake of
   /// the sender thread (a system call that never waits; the send itself is the sender's).
   void end_frame(const Vec3& force_n) noexcept override;
@@ -106,6 +118,7 @@ class BridgeDevice final : public HapticDevice {
  private:
   BridgeDevice(std::unique_ptr<Link> link, const BridgeOptions& options, std::string endpoint);
   bool poll(int64_t now_ns) noexcept;
+  void post(ForcePacket& p) noexcept;
 
   std::unique_ptr<Link> link_;
   BridgeOptions options_;
@@ -114,7 +127,7 @@ class BridgeDevice final : public HapticDevice {
   DevicePacket last_;
   uint64_t seen_version_ = 0;
   int64_t last_new_ns_ = 0, last_frame_ns_ = 0;
-  uint64_t tick_ = 0;
+  uint64_t tick_ = 0, session_ = 0;
   double gain_ = 0;
   bool have_ = false, stale_ = true, ended_ = false, contact_ = false;
   Vec3 contact_m_ = Vec3::Zero();

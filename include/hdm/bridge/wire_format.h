@@ -5,25 +5,36 @@
 /// versioned header, the same bytes over UDP and in the shared-memory region. A device packet
 /// (handle position, velocity, buttons, time, sequence number) goes from the driver process to hdm;
 /// a force packet (force, surface contact point, the sequence number echoed, the servo tick) comes
-/// back.
+/// back. A driver session starts with a hello packet carrying the shared secret and a fresh
+/// session id; every packet of the session carries that id.
 
 #include <hdm/core/types.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 
 namespace hdm::bridge {
 
 /// First four bytes of every packet: "HDMB" (0x42 0x4D 0x44 0x48 as a little-endian u32 is 0x424D4448).
 inline constexpr uint32_t kMagic = 0x424D4448u;
 /// Wire format version; a packet of another version is dropped (counted as bad_version).
-inline constexpr uint16_t kVersion = 1;
-/// Size of every packet [bytes], device and force alike (a multiple of 8: the shared-memory region
-/// copies it as 64-bit words).
-inline constexpr size_t kPacketBytes = 88;
+inline constexpr uint16_t kVersion = 2;
+/// Size of every packet [bytes], all kinds alike (a multiple of 8: the shared-memory region copies
+/// it as 64-bit words).
+inline constexpr size_t kPacketBytes = 96;
+/// Most bytes a shared secret may have (what a hello packet carries).
+inline constexpr size_t kMaxSecretBytes = 56;
+/// Fewest bytes a shared secret may have: a shorter one is refused when the bridge opens.
+inline constexpr size_t kMinSecretBytes = 16;
+/// A device packet is accepted when its sequence number lies 1 to kSequenceWindow above the last
+/// accepted one of its session (the first of a session: 1 to kSequenceWindow): a packet from far
+/// ahead can neither lock the session out nor be taken for a later one.
+inline constexpr uint64_t kSequenceWindow = 65536;
 
 /// Packet kinds (header field `kind`).
-enum class PacketKind : uint16_t { Device = 1, Force = 2 };
+enum class PacketKind : uint16_t { Device = 1, Force = 2, Hello = 3 };
 
 /// Flags of a device packet.
 enum DeviceFlags : uint32_t {
@@ -42,6 +53,7 @@ enum ForceFlags : uint32_t {
 struct DevicePacket {
   uint32_t flags = 0;            ///< DeviceFlags
   uint64_t sequence = 0;         ///< strictly increasing per driver session (≥ 1); older or equal ones are dropped
+  uint64_t session = 0;          ///< the session id of the driver's hello packet
   double time_s = 0;             ///< device time of the reading [s] (informative)
   Vec3 position = Vec3::Zero();  ///< handle position [m]
   Vec3 velocity = Vec3::Zero();  ///< handle velocity [m/s]
@@ -52,11 +64,20 @@ struct DevicePacket {
 struct ForcePacket {
   uint32_t flags = 0;             ///< ForceFlags
   uint64_t sequence = 0;          ///< sequence number of the device packet this force answers (0: none yet)
+  uint64_t session = 0;           ///< the session admitted (0: none yet); a driver ignores other sessions' forces
   uint64_t tick = 0;              ///< servo tick that computed it
   Vec3 force = Vec3::Zero();      ///< force [N], device frame, after the watchdog's gain
   Vec3 contact_m = Vec3::Zero();  ///< surface contact point of the proxy [m, device frame] of the previous
                                   ///< tick (kForceContact), else the handle position
   double gain = 1;                ///< watchdog gain applied to the force, in [0, 1]
+};
+
+/// Driver → hdm: opens a driver session (a restarted driver sends a new one and is served at once;
+/// packets of the old session are ignored from then on).
+struct HelloPacket {
+  uint64_t session = 0;                           ///< fresh random id, not 0, chosen by the driver
+  uint32_t secret_bytes = 0;                      ///< bytes of @ref secret used (≤ kMaxSecretBytes)
+  std::array<uint8_t, kMaxSecretBytes> secret{};  ///< the shared secret (docs/bridge.md), zero-padded
 };
 
 /// Why a packet was refused (or Ok).
@@ -67,16 +88,30 @@ enum class DecodeStatus : uint8_t {
   BadVersion,  ///< another version of the format
   BadKind,     ///< not the kind expected here
   NonFinite,   ///< a NaN or infinite time, position, velocity or force
+  BadHello,    ///< a hello packet with session 0 or a secret length beyond kMaxSecretBytes
 };
 
 /// @brief Writes @p p as kPacketBytes little-endian bytes into @p out. noexcept, O(1), no allocation.
 void encode(const DevicePacket& p, std::byte* out) noexcept;
 /// @brief Writes @p p as kPacketBytes little-endian bytes into @p out. noexcept, O(1), no allocation.
 void encode(const ForcePacket& p, std::byte* out) noexcept;
+/// @brief Writes @p p as kPacketBytes little-endian bytes into @p out. noexcept, O(1), no allocation.
+void encode(const HelloPacket& p, std::byte* out) noexcept;
+/// @brief The kind of the packet at @p in after checking size, magic and version (not the body);
+/// anything but Ok leaves @p kind unchanged. noexcept, O(1).
+DecodeStatus decode_kind(const std::byte* in, size_t size, PacketKind& kind) noexcept;
 /// @brief Reads a device packet from @p size bytes at @p in, checking size, magic, version, kind and
 /// that every number is finite; @p p is written only when the result is Ok. noexcept, O(1).
 DecodeStatus decode(const std::byte* in, size_t size, DevicePacket& p) noexcept;
 /// @brief Reads a force packet, with the same checks as the device packet's decode. noexcept, O(1).
 DecodeStatus decode(const std::byte* in, size_t size, ForcePacket& p) noexcept;
+/// @brief Reads a hello packet (session not 0, secret length within kMaxSecretBytes). noexcept, O(1).
+DecodeStatus decode(const std::byte* in, size_t size, HelloPacket& p) noexcept;
+/// @brief True when @p hello carries exactly @p secret. Compares every byte whatever differs first
+/// (no timing tells how much of a guess was right). noexcept, O(kMaxSecretBytes).
+bool secret_matches(const HelloPacket& hello, std::string_view secret) noexcept;
+/// @brief True when @p sequence may follow @p last in one session: 1 to kSequenceWindow above it
+/// (@p last = 0 before the session's first packet). noexcept, O(1).
+bool sequence_in_window(uint64_t last, uint64_t sequence) noexcept;
 
 }  // namespace hdm::bridge
