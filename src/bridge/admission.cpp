@@ -17,6 +17,7 @@ Verdict Admission::admit(const std::byte* raw, size_t size, uint64_t sender, Dev
     status = decode(raw, size, hello);
     if (status != DecodeStatus::Ok) return Verdict::Refused;
     if (!secret_matches(hello, secret_)) return Verdict::BadSecret;
+    if (session_ != 0 && hello.session == session_ && sender == sender_) return Verdict::HelloAgain;
     session_ = hello.session;
     sender_ = sender;
     last_sequence_ = 0;

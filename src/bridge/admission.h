@@ -16,6 +16,7 @@ namespace hdm::bridge {
 enum class Verdict : uint8_t {
   Device,        ///< a device packet of the current session, in the window: apply it
   Hello,         ///< a hello with the right secret: a new session (answer it)
+  HelloAgain,    ///< the current session's hello once more (a driver that did not see the answer): answer it
   Refused,       ///< malformed (the DecodeStatus says why)
   BadSecret,     ///< a hello whose secret is wrong
   WrongSession,  ///< a device packet of another (or no) session

@@ -88,6 +88,8 @@ void LinkCounters::count(Verdict v, DecodeStatus s) noexcept {
     case Verdict::Hello:
       hellos.fetch_add(1, std::memory_order_relaxed);
       break;
+    case Verdict::HelloAgain:  // answered again, not a new session
+      break;
     case Verdict::Refused:
     case Verdict::NotForUs:
       refuse(s);
@@ -166,7 +168,7 @@ bool BridgeDevice::poll(int64_t now) noexcept {
   const Verdict v = link_->admitted ? (s = decode(raw, kPacketBytes, p)) == DecodeStatus::Ok ? Verdict::Device
                                                                                               : Verdict::Refused
                                     : link_->admission.admit(raw, kPacketBytes, 0, p, s);
-  if (v == Verdict::Hello) {  // answer at once: the driver waits for its session's first force
+  if (v == Verdict::Hello || v == Verdict::HelloAgain) {  // answer at once: the driver waits for its first force
     session_ = link_->admission.session();
     have_ = false;
     ForcePacket welcome;

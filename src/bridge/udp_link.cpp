@@ -79,7 +79,7 @@ struct UdpLink final : BridgeDevice::Link {
       DecodeStatus s = DecodeStatus::Ok;
       const Verdict v = admission.admit(buf, static_cast<size_t>(n), sender_id, packet, s);
       counters.count(v, s);
-      if (v == Verdict::Hello) {
+      if (v == Verdict::Hello || v == Verdict::HelloAgain) {
         peer.store(sender_id, std::memory_order_relaxed);
         welcome(from, admission.session());
       }
