@@ -102,7 +102,9 @@ struct UdpLink final : BridgeDevice::Link {
 
   void send() noexcept {
     alignas(8) std::byte raw[kPacketBytes];
-    uint32_t seen = posted.load(std::memory_order_acquire);
+    // From the count at construction, not at this thread's start: under load the thread may first
+    // run after the servo has posted the answer to the first packet, which must still go out.
+    uint32_t seen = 0;
     while (!stop.load(std::memory_order_relaxed)) {
       // Sleep until a force is posted (or 20 ms pass, to see stop); the flag spares the servo
       // thread the wake-up call while this thread is awake.
