@@ -12,6 +12,8 @@
 #include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/mesh/orient_mesh.h>
+#include <hdm/mesh/scale_mesh.h>
+#include <hdm/slab/scale_model.h>
 #include <hdm/mesh/repair_mesh.h>
 #include <hdm/mesh/self_intersections.h>
 #include <hdm/query/slab_locator.h>
@@ -113,6 +115,9 @@ py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& i
   {
     py::gil_scoped_release release;
     validate_mesh_data(mesh, name);
+    // Every step at one size (a power of two, exact), and the model back in the input's units.
+    const int exponent = scale_exponent(bounds(mesh).diagonal(), name);
+    scale_mesh(mesh, exponent);
     if (!repair)
       validate_for_bake(mesh, name);
     else if (needs_repair(mesh))
@@ -143,10 +148,12 @@ py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& i
       py::gil_scoped_acquire acquire;
       report["bound_met"] = rounds.back().met;
       report["rounds"] = rounds.size();
+      report["stopped_because"] = describe_stop(rounds.back(), t, r.input_triangles);
     } else {
       model = bake_slabs(exact, name, o, &r);
       f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);
     }
+    scale_model(model, -exponent);
     py::gil_scoped_acquire acquire;
     report["slabs"] = r.slabs;
     report["grid"] = r.grid_n;
@@ -341,7 +348,7 @@ PYBIND11_MODULE(hdm, mod) {
           "diagonal, both ways; error_bound=False bakes once at the given count; repair=False refuses a dirty mesh.\n"
           "Returns (Model, report dict: slabs, grid, samples, input_triangles, invalid_slabs, overlapping_pairs, "
           "ray_misses, bake_seconds, self_intersections, fidelity {rms_pct, max_pct, rms_back_pct, max_back_pct}, "
-          "and with the bound: bound_met, rounds).\n"
+          "and with the bound: bound_met, rounds, stopped_because: why an unmet bound stopped, or '').\n"
           "Raises ValueError (hdm.InvalidInput) for a mesh it cannot bake and OSError (hdm.IoError) for a file it "
           "cannot read, with hdm's message.");
   bind_haptics(mod);

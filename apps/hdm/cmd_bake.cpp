@@ -9,6 +9,7 @@
 #include <hdm/analysis/fidelity.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/slab/bake.h>
+#include <hdm/slab/scale_model.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -78,8 +79,8 @@ void run_bake(const BakeArgs& a) {
   std::vector<ToleranceRound> rounds;
   Fidelity f;
   SlabModel model;
+  Tolerance t;
   if (bounded) {
-    Tolerance t;
     if (!buried.empty()) t.buried = &buried;
     t.max_pct = max_error;
     t.rms_pct = rms_error;
@@ -95,6 +96,7 @@ void run_bake(const BakeArgs& a) {
   }
   r.seconds += bvh_seconds;  // the last round's bake and the input BVH it used
   bar.finish();
+  scale_model(model, -prepared.scale_exponent);  // back to the input's units, exactly
   save_model(model, a.output);
   nlohmann::json j = {
       {"input", a.input},
@@ -124,7 +126,7 @@ void run_bake(const BakeArgs& a) {
        {{"flap_faces", prepared.folds.flap_faces},
         {"folded_stars", prepared.folds.folded_before},
         {"moved_vertices", prepared.folds.moved},
-        {"max_move", prepared.folds.max_move},
+        {"max_move", std::ldexp(prepared.folds.max_move, -prepared.scale_exponent)},
         {"max_deviation", prepared.folds.max_deviation},
         {"rim_faces", prepared.folds.rim_faces},
         {"folded_stars_left", prepared.folds.folded_after}}},
@@ -159,12 +161,12 @@ void run_bake(const BakeArgs& a) {
     j["tolerance"] = {{"max_pct", std::isfinite(max_error) ? nlohmann::json(max_error) : nlohmann::json(nullptr)},
                       {"rms_pct", std::isfinite(rms_error) ? nlohmann::json(rms_error) : nlohmann::json(nullptr)},
                       {"met", rounds.back().met},
+                      {"stopped_because", describe_stop(rounds.back(), t, r.input_triangles)},
                       {"rounds", tried}};
     if (!rounds.back().met)
       std::fprintf(stderr,
-                   "hdm: warning: %s: the error bound is not met at %d slabs (the cap or the last round); "
-                   "saved the finest model tried\n",
-                   a.input.c_str(), r.slabs);
+                   "hdm: warning: %s: the error bound is not met at %d slabs: %s; saved the finest model tried\n",
+                   a.input.c_str(), r.slabs, describe_stop(rounds.back(), t, r.input_triangles).c_str());
   }
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());

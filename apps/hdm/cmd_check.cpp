@@ -8,6 +8,7 @@
 #include <hdm/analysis/fidelity.h>
 #include <hdm/slab/shell_check.h>
 #include <hdm/io/hdm_file.h>
+#include <hdm/slab/scale_model.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -31,9 +32,11 @@ struct CheckArgs {
 void run_check(const CheckArgs& a) {
   require_memory(check_peak_bytes(file_bytes(a.model), file_bytes(a.input), a.points), a.budget,
                  "hdm check " + a.model, std::to_string(a.points) + " contact points (--points)");
-  const SlabModel model = load_model(a.model, {a.limit.bytes()});
-  // The input as `hdm bake` prepared it (the same repair and orientation, from the input alone).
+  SlabModel model = load_model(a.model, {a.limit.bytes()});
+  // The input as `hdm bake` prepared it (the same scale, repair and orientation, from the input
+  // alone), and the model at that scale: every figure is relative to the diagonal.
   const PreparedInput prepared = prepare_input(a.input, a.in, a.limit.bytes());
+  scale_model(model, prepared.scale_exponent);
   const ExactMeshQuery exact(prepared.mesh);
   std::vector<uint8_t> buried;
   if (prepared.self_intersections > 0) buried = buried_faces(exact);

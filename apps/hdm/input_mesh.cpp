@@ -25,6 +25,8 @@ PreparedInput prepare_input(const std::string& path, const InputOptions& o, uint
   in.mesh = read_mesh(path, {max_file_bytes}, &read);
   for (const std::string& w : read.warnings) std::fprintf(stderr, "hdm: warning: %s\n", w.c_str());
   in.read_warnings = std::move(read.warnings);
+  in.scale_exponent = scale_exponent(bounds(in.mesh).diagonal(), path);
+  scale_mesh(in.mesh, in.scale_exponent);
   if (o.no_repair) {
     validate_for_bake(in.mesh, path);
   } else if (needs_repair(in.mesh)) {

@@ -3,6 +3,7 @@
 // The input mesh as `hdm bake` prepares it, shared by `hdm check` so that both measure the same
 // surface: read, repair a dirty scan (unless refused), orient every part outward.
 #include <hdm/mesh/orient_mesh.h>
+#include <hdm/mesh/scale_mesh.h>
 #include <hdm/mesh/remove_folds.h>
 #include <hdm/mesh/self_intersections.h>
 #include <hdm/mesh/repair_mesh.h>
@@ -22,7 +23,8 @@ struct InputOptions {
 };
 
 struct PreparedInput {
-  TriangleMesh mesh;
+  TriangleMesh mesh;      // scaled by 2^scale_exponent (diagonal in [1, 2)): every step works at one size
+  int scale_exponent = 0;  // scale_exponent() of the mesh as read; scale_model(m, -k) gives the input's units
   std::vector<std::string> read_warnings;  // what read_mesh() skipped (MeshReadReport)
   RepairReport repair;
   OrientReport orient;
@@ -35,7 +37,8 @@ struct PreparedInput {
 // Adds --no-repair, --max-hole and --max-hole-size to @p cmd.
 void add_input_options(CLI::App& cmd, InputOptions& o);
 
-// Reads @p path, repairs it when needs_repair() (validate_for_bake() with --no-repair), then
+// Reads @p path, normalises its scale by a power of two (scale_mesh(), exact; refused outside
+// [kMinDiagonal, kMaxDiagonal]), repairs it when needs_repair() (validate_for_bake() with --no-repair), then
 // orient_outward(), and counts its self-intersections. An open mesh that crosses itself is then
 // stitched at its seams (stitch_seams()) and oriented again as one surface, for `hdm bake` and
 // `hdm check` alike (the same orientation, so the same buried faces). With @p resolve, replaces

@@ -5,6 +5,7 @@
 
 #include <hdm/analysis/bake_to_tolerance.h>
 #include <hdm/mesh/exact_mesh_query.h>
+#include <hdm/slab/scale_model.h>
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -71,6 +72,7 @@ SlabModel bake_in_window(GLFWwindow* window, const std::string& mesh_path, Windo
       t.rms_pct = 0.02;
       if (!buried.empty()) t.buried = &buried;
       model = bake_to_tolerance(reference, mesh_path, o, t, &rounds);
+      scale_model(model, -in.scale_exponent);  // back to the input's units, exactly
     } catch (...) {
       error = std::current_exception();
     }

@@ -55,6 +55,12 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     const bool stuck = counted && (faults > previous_faults || stalls >= 2);
     previous_faults = faults;
     if (t.met || stuck || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
+      const bool by_slab_cap = tolerance.max_slabs <= static_cast<int64_t>(input.mesh().faces.size());
+      tried.back().stop = t.met                           ? ToleranceStop::Met
+                          : stuck                         ? ToleranceStop::Faults
+                          : round + 1 >= tolerance.max_rounds ? ToleranceStop::Rounds
+                          : by_slab_cap                   ? ToleranceStop::SlabCap
+                                                          : ToleranceStop::InputFaces;
       if (rounds) *rounds = std::move(tried);
       if (report) *report = r;
       return model;
@@ -67,6 +73,25 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
       o.grid_n = std::clamp(n, std::min(tolerance.min_grid, options.grid_n), options.grid_n);
     }
   }
+}
+
+std::string describe_stop(const ToleranceRound& round, const Tolerance& tolerance, int64_t input_triangles) {
+  switch (round.stop) {
+    case ToleranceStop::NotLast:
+    case ToleranceStop::Met:
+      return "";
+    case ToleranceStop::SlabCap:
+      return "the slab cap (--max-slabs " + std::to_string(tolerance.max_slabs) + ") was reached";
+    case ToleranceStop::InputFaces:
+      return "the model has as many slabs as the input has triangles (" + std::to_string(input_triangles) +
+             "), the most a bake makes";
+    case ToleranceStop::Rounds:
+      return "the " + std::to_string(tolerance.max_rounds) + " rounds a bake tries were used";
+    case ToleranceStop::Faults:
+      return std::to_string(round.invalid_slabs) + " invalid slabs and " + std::to_string(round.overlapping_pairs) +
+             " overlapping pairs did not go with more slabs (faces of the input that cross or fold)";
+  }
+  return "";
 }
 
 }  // namespace hdm

@@ -80,9 +80,17 @@ inline void store_normal(SlabModel& m, int32_t s, const Vec3f& sum, bool copy) n
   m.samples.for_each_slot(s, [&](int32_t slot) { m.slab_samples[slot] = v; });
 }
 
-inline Vec3f face_normal(const SlabModel& m, const Tri& t) noexcept {
+// The power of two that brings the model's size to about 1: edges scaled by it before the cross
+// product keep an area-weighted float normal inside float's range at any model size (unscaled,
+// the squared norm of a 1e12-unit model's sum overflows and a 1e-12-unit model's underflows).
+inline float normal_scale(const SlabModel& m) noexcept {
+  const double d = m.source_diagonal;
+  return d > 0 && std::isfinite(d) ? std::ldexp(1.0f, -std::ilogb(d)) : 1.0f;
+}
+
+inline Vec3f face_normal(const SlabModel& m, const Tri& t, float scale) noexcept {
   const Vec3f& a = m.positions[t[0]];
-  return (m.positions[t[1]] - a).cross(m.positions[t[2]] - a);  // area-weighted
+  return ((m.positions[t[1]] - a) * scale).cross((m.positions[t[2]] - a) * scale);  // area-weighted
 }
 
 }  // namespace
@@ -117,11 +125,12 @@ void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t coun
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept {
   const SampleLayout& L = model.samples;
   const bool copy = model.slab_samples.size() == L.ids.size();
+  const float scale = normal_scale(model);
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
     for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e)
-      sum += face_normal(model, L.triangles[L.incident_triangles[e]]);
+      sum += face_normal(model, L.triangles[L.incident_triangles[e]], scale);
     store_normal(model, s, sum, copy);
   }
   update_haptic_normals(model, samples, count, true);
@@ -133,12 +142,12 @@ namespace {
 
 // Evaluates the listed triangles whose slot still names them (a later triangle may have taken the
 // slot; its own entry in the list comes after and is evaluated then).
-void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending) noexcept {
+void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending, float scale) noexcept {
   constexpr int32_t mask = FaceNormalCache::kSlots - 1;
   for (size_t k = 0; k < pending; ++k) {
     const int32_t f = cache.pending[k];
     FaceNormalCache::Entry& e = cache.memo[f & mask];
-    if (e.tri == f) e.face = face_normal(m, m.samples.triangles[f]);
+    if (e.tri == f) e.face = face_normal(m, m.samples.triangles[f], scale);
   }
   pending = 0;
 }
@@ -155,6 +164,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
     cache.current = 1;
   }
   const uint32_t now = cache.current;
+  const float scale = normal_scale(model);
   // Branch-free passes (whether a triangle was already seen is unpredictable, and a mispredicted
   // branch costs about as much as a cross product): list the triangles not yet in the memo, evaluate
   // them, then sum per sample in incidence order.
@@ -163,7 +173,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     const int32_t first = L.triangle_offsets[s], last = L.triangle_offsets[s + 1];
-    if (pending + static_cast<size_t>(last - first) > room) flush_faces(model, cache, pending);
+    if (pending + static_cast<size_t>(last - first) > room) flush_faces(model, cache, pending, scale);
     for (int32_t e = first; e < last; ++e) {
       const int32_t f = L.incident_triangles[e];
       FaceNormalCache::Entry& m = cache.memo[f & mask];
@@ -173,7 +183,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
       pending += fresh;
     }
   }
-  flush_faces(model, cache, pending);
+  flush_faces(model, cache, pending, scale);
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
@@ -181,7 +191,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
     for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
       const int32_t f = L.incident_triangles[e];
       const FaceNormalCache::Entry& m = cache.memo[f & mask];
-      sum += m.tri == f ? m.face : face_normal(model, L.triangles[f]);  // recompute if evicted
+      sum += m.tri == f ? m.face : face_normal(model, L.triangles[f], scale);  // recompute if evicted
     }
     store_normal(model, s, sum, copy);
   }

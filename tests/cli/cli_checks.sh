@@ -128,6 +128,72 @@ exit_codes)
     expect 2 "lod" "$studio" "$tmp/m.hdm" --lod nine
   fi
   ;;
+scale_free)
+  # A mesh scaled by 2^k (exact in binary floating point) bakes to the same model, scaled: every
+  # `hdm check` figure is equal. Scaled by powers of ten, from 1e-12 to 1e12, the input's decimal
+  # rounding (1e-16 of a coordinate) is the only difference: the same slab count, fidelity within
+  # 0.001 % of the diagonal, contact depth within 0.005 % and agreement within 0.01 points (maxima
+  # and counts over 20,000 random points). Outside the float range the input is refused, naming the
+  # scale. The bunny runs in the uninstrumented build only.
+  scaled() {  # scaled IN OUT FACTOR: an OFF file with every coordinate times FACTOR
+    python3 - "$@" <<'PY'
+import sys
+src, dst, k = sys.argv[1], sys.argv[2], float(sys.argv[3])
+lines = [l for l in open(src) if l.strip() and not l.lstrip().startswith("#")]
+assert lines[0].strip() == "OFF"
+nv = int(lines[1].split()[0])
+with open(dst, "w") as f:
+    f.write("OFF\n" + lines[1])
+    for l in lines[2:2 + nv]:
+        t = l.split()
+        f.write(" ".join("%.17g" % (float(x) * k) for x in t[:3]) + " " + " ".join(t[3:]) + "\n")
+    f.writelines(lines[2 + nv:])
+PY
+  }
+  meshes_to_try=(sphere.off)
+  grep -q __asan_init "$hdm" 2>/dev/null || meshes_to_try+=(bunny00.off)
+  scales="1 0x1p-40 0x1p-20 0x1p20 0x1p40 1e-12 1e-6 1e6 1e12"
+  for mesh in "${meshes_to_try[@]}"; do
+    [ -f "$meshes/$mesh" ] || { echo "no $meshes/$mesh (run scripts/setup.sh)"; exit 77; }
+    for k in $scales; do
+      scaled "$meshes/$mesh" "$tmp/s$k.off" "$(python3 -c "print(repr(float.fromhex('$k') if '0x' in '$k' else float('$k')))")" ||
+        fail "cannot scale $mesh"
+      "$hdm" bake "$tmp/s$k.off" -o "$tmp/s$k.hdm" >"$tmp/bake$k.txt" 2>"$tmp/err" ||
+        fail "bake of $mesh at scale $k exits $?: $(head -c 400 "$tmp/err")"
+      "$hdm" check "$tmp/s$k.hdm" --against "$tmp/s$k.off" --points 20000 --json >"$tmp/check$k.json" ||
+        fail "check of $mesh at scale $k exits $?"
+    done
+    python3 - "$tmp" "$mesh" $scales <<'PY' || fail "$mesh differs across scales"
+import json, sys
+tmp, mesh, scales = sys.argv[1], sys.argv[2], sys.argv[3:]
+runs = {k: json.load(open("%s/check%s.json" % (tmp, k))) for k in scales}
+ref = runs["1"]
+bad = []
+for k, r in runs.items():
+    exact = k.startswith("0x")  # a power of two: every figure equal
+    tol = {"fidelity": 0.0, "depth": 0.0, "agreement": 0.0} if exact else {"fidelity": 1e-3, "depth": 5e-3, "agreement": 1e-4}
+    for key in ["slabs", "grid", "invalid_slabs", "overlapping_pairs", "samples"]:
+        if r[key] != ref[key]:
+            bad.append("%s at %s: %s %s, at 1: %s" % (mesh, k, key, r[key], ref[key]))
+    for key, v in r["fidelity"].items():
+        if abs(v - ref["fidelity"][key]) > tol["fidelity"]:
+            bad.append("%s at %s: fidelity %s %.6f%%, at 1: %.6f%%" % (mesh, k, key, v, ref["fidelity"][key]))
+    c, c0 = r["contact"], ref["contact"]
+    if abs(c["agreement"] - c0["agreement"]) > tol["agreement"]:
+        bad.append("%s at %s: agreement %.6f, at 1: %.6f" % (mesh, k, c["agreement"], c0["agreement"]))
+    for key in ["depth_rms_pct", "depth_max_pct"]:
+        if abs(c[key] - c0[key]) > tol["depth"]:
+            bad.append("%s at %s: %s %.6f, at 1: %.6f" % (mesh, k, key, c[key], c0[key]))
+print("\n".join(bad), file=sys.stderr)
+sys.exit(1 if bad else 0)
+PY
+  done
+  scaled "$meshes/sphere.off" "$tmp/tiny.off" 1e-35
+  expect 1 "tiny.off: the bounding-box diagonal is" "$hdm" bake "$tmp/tiny.off" -o "$tmp/tiny.hdm"
+  scaled "$meshes/sphere.off" "$tmp/huge.off" 1e35
+  expect 1 "huge.off: the bounding-box diagonal is" "$hdm" bake "$tmp/huge.off" -o "$tmp/huge.hdm"
+  [ ! -e "$tmp/tiny.hdm" ] && [ ! -e "$tmp/huge.hdm" ] || fail "a refused bake wrote a model"
+  ;;
 *)
   fail "unknown check $check"
   ;;

@@ -29,6 +29,16 @@ struct Tolerance {
   const std::vector<uint8_t>* buried = nullptr;
 };
 
+/// Why bake_to_tolerance() stopped after a round.
+enum class ToleranceStop {
+  NotLast,     ///< another round followed
+  Met,         ///< the round met every bound
+  SlabCap,     ///< the next round would pass Tolerance::max_slabs
+  InputFaces,  ///< the next round would have more slabs than the input has triangles
+  Rounds,      ///< Tolerance::max_rounds bakes were tried
+  Faults,      ///< invalid or overlapping slabs that more slabs did not reduce (the input's own crossings or folds)
+};
+
 /// One bake tried by bake_to_tolerance().
 struct ToleranceRound {
   int slabs = 0;                  ///< slabs built
@@ -38,7 +48,15 @@ struct ToleranceRound {
   int64_t overlapping_pairs = 0;  ///< BakeReport::overlapping_pairs of the round
   int64_t ray_misses = 0;         ///< BakeReport::ray_misses of the round
   bool met = false;               ///< every bound of the Tolerance holds, and no slab is invalid or overlaps another
+  ToleranceStop stop = ToleranceStop::NotLast;  ///< why the bake stopped here (the last round), else NotLast
 };
+
+/// @brief A sentence for a user on why an error-bounded bake stopped at @p round without meeting
+/// its bounds, naming the option that changes it ("the slab cap (--max-slabs 100000) was reached").
+/// @param round the last round of bake_to_tolerance(); @param tolerance the bounds it used.
+/// @param input_triangles triangles of the input. @return "" when the round met the bounds.
+/// @note O(1); allocates the string.
+std::string describe_stop(const ToleranceRound& round, const Tolerance& tolerance, int64_t input_triangles);
 
 /// @brief Bakes the mesh of @p input with more and more slabs until the fidelity measured against it
 /// meets @p tolerance (an error-bounded bake).

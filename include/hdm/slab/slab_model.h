@@ -177,7 +177,7 @@ struct FaceNormalCache {
   FaceNormalCache();
   /// One memo entry.
   struct Entry {
-    Vec3f face;          ///< cross product of the triangle's edges [model units²]
+    Vec3f face;          ///< cross product of the triangle's edges, each scaled by 2^-ilogb(source_diagonal)
     int32_t tri = -1;    ///< triangle whose normal `face` holds (-1: none)
     uint32_t stamp = 0;  ///< call number that set `tri`
   };
