@@ -12,6 +12,7 @@
 // plus the scheduler's (other processes' load shows in the p99 and the maximum).
 #include <hdm/bridge/bridge_device.h>
 #include <hdm/bridge/bridge_driver.h>
+#include <hdm/core/percentile.h>
 
 #include <unistd.h>
 
@@ -78,10 +79,9 @@ Result run(const std::string& endpoint, double rate_hz, double seconds) {
   stop = true;
   servo.join();
   if (!rtt.empty()) {
-    std::sort(rtt.begin(), rtt.end());
-    r.median_us = rtt[rtt.size() / 2];
-    r.p99_us = rtt[std::min(rtt.size() - 1, size_t(0.99 * double(rtt.size())))];
-    r.max_us = rtt.back();
+    r.max_us = *std::max_element(rtt.begin(), rtt.end());
+    r.median_us = percentile(rtt, 0.5);
+    r.p99_us = percentile(rtt, 0.99);
   }
   return r;
 }

@@ -12,6 +12,8 @@
 // also does 3 µs of work, about a servo tick's median (docs/editing.md).
 //
 //   bench_servo_timing [rate_hz=1000] [seconds_per_method=20]
+#include <hdm/core/percentile.h>
+
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -119,9 +121,7 @@ int main(int argc, char** argv) {
   for (int m = 0; m < kMethods; ++m) {
     Figures& x = f[m];
     std::vector<int64_t>& v = x.lateness;
-    const size_t p99 = std::min(v.size() - 1, static_cast<size_t>(0.99 * double(v.size())));
-    std::nth_element(v.begin(), v.begin() + p99, v.end());
-    const double q = v[p99] * 1e-3, mx = *std::max_element(v.begin(), v.end()) * 1e-3;
+    const double q = hdm::percentile(v, 0.99) * 1e-3, mx = *std::max_element(v.begin(), v.end()) * 1e-3;
     std::printf("%-10s %8lld %10lld %12lld %11.1f us %9.1f us\n", kNames[m], static_cast<long long>(x.ticks),
                 static_cast<long long>(x.late), static_cast<long long>(x.over100us), q, mx);
   }

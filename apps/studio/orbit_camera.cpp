@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 namespace hdm::studio {
@@ -18,7 +19,7 @@ void OrbitCamera::pan(double dx, double dy, int height) noexcept {
   const RenderCamera cam = camera(std::max(height, 1), std::max(height, 1));
   // Model units per pixel at the target's distance.
   const double distance = (cam.eye - cam.target).norm();
-  const double per_pixel = 2 * distance * std::tan(cam.fov_y_deg * M_PI / 360) / std::max(height, 1);
+  const double per_pixel = 2 * distance * std::tan(cam.fov_y_deg * std::numbers::pi / 360) / std::max(height, 1);
   const Eigen::Matrix3d r = cam.view.block<3, 3>(0, 0).cast<double>();
   target += per_pixel * (-dx * r.row(0).transpose() + dy * r.row(1).transpose());
 }

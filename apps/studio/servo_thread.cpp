@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "servo_thread.h"
 
+#include <hdm/core/percentile.h>
+
 #include <algorithm>
 #include <chrono>
 #include <limits>
@@ -89,11 +91,7 @@ ServoFigures ServoThread::figures() const {
     work.push_back(work_ns_[slot].load(std::memory_order_relaxed));
   }
   f.rate_hz = static_cast<double>(work.size());
-  if (!work.empty()) {
-    const size_t p99 = std::min(work.size() - 1, static_cast<size_t>(0.99 * double(work.size())));
-    std::nth_element(work.begin(), work.begin() + p99, work.end());
-    f.tick_p99_ns = work[p99];
-  }
+  if (!work.empty()) f.tick_p99_ns = percentile(work, 0.99);
   return f;
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <unordered_map>
 
 namespace hdm {
@@ -131,7 +132,7 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
   // (b) the swept envelope: circles normal to the path every `spacing` of path length, and whole
   // spheres where a chain of consecutive tools starts or ends.
   auto sphere = [&](const Vec3& c, double r) {
-    const int n = std::max(8, static_cast<int>(4 * M_PI * r * r / (spacing * spacing)));
+    const int n = std::max(8, static_cast<int>(4 * std::numbers::pi * r * r / (spacing * spacing)));
     for (int i = 0; i < n; ++i) {  // Fibonacci sphere
       const double z = 1 - 2 * (i + 0.5) / n, rho = std::sqrt(std::max(0.0, 1 - z * z)), phi = i * 2.399963229728653;
       candidates.push_back(c + r * Vec3(rho * std::cos(phi), rho * std::sin(phi), z));
@@ -151,11 +152,11 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
       const Vec3 dir = u / len;
       const Vec3 e1 = (std::abs(dir.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(dir).normalized(),
                  e2 = dir.cross(e1);
-      const int around = std::max(8, static_cast<int>(2 * M_PI * t.radius / spacing));
+      const int around = std::max(8, static_cast<int>(2 * std::numbers::pi * t.radius / spacing));
       double last = -1;
       for (double s = spacing - since; s <= len; s += spacing) {
         for (int k = 0; k < around; ++k) {
-          const double a = 2 * M_PI * k / around;
+          const double a = 2 * std::numbers::pi * k / around;
           candidates.push_back(t.a + s * dir + t.radius * (std::cos(a) * e1 + std::sin(a) * e2));
         }
         last = s;

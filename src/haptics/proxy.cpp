@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace hdm {
 namespace {
@@ -79,7 +80,7 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
   // workspace): the force direction is then within ~0.001° of the fixed point at 1 mm depth, and a
   // still or slowly moving hand costs one round instead of params.iterations.
   const double tiny = 1e-7 * model_diagonal(model);
-  const double min_cos = std::cos(p.max_turn_deg * 3.14159265358979323846 / 180);
+  const double min_cos = std::cos(p.max_turn_deg * std::numbers::pi / 180);
   for (int it = 0; it < std::max(1, p.iterations); ++it) {
     Vec3 step = tangential(target - s.position, s.normal);
     const double residual = step.norm();

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/haptics/servo_loop.h>
 
+#include <hdm/core/percentile.h>
+
 #include <pthread.h>
 #include <sched.h>
 
@@ -16,11 +18,8 @@ namespace hdm {
 LatencyStats latency_stats(std::vector<double> v) {
   LatencyStats s;
   if (v.empty()) return s;
-  const size_t mid = v.size() / 2, p99 = std::min(v.size() - 1, static_cast<size_t>(0.99 * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  s.median = v[mid];
-  std::nth_element(v.begin(), v.begin() + p99, v.end());
-  s.p99 = v[p99];
+  s.median = percentile(v, 0.5);
+  s.p99 = percentile(v, 0.99);
   s.max = *std::max_element(v.begin(), v.end());
   return s;
 }

@@ -1,21 +1,21 @@
 // SPDX-License-Identifier: MIT
+#include "angle_deg.h"
+
 #include <hdm/core/error.h>
+#include <hdm/core/percentile.h>
 #include <hdm/harness/scenario_sites.h>
 #include <hdm/query/slab_query.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <limits>
 #include <random>
 
 namespace hdm {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / kPi;
-}
+using harness_detail::angle_deg;
 
 Vec3 tangential(const Vec3& v, const Vec3& n) { return v - v.dot(n) * n; }
 
@@ -23,13 +23,6 @@ Vec3 tangential(const Vec3& v, const Vec3& n) { return v - v.dot(n) * n; }
 Vec3 any_perpendicular(const Vec3& n) {
   const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : (std::abs(n.y()) < 0.6 ? Vec3::UnitY() : Vec3::UnitZ());
   return n.cross(axis).normalized();
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
 }
 
 // The bake represents the input's surface at @p p (normal @p n) when a point a quarter of the part's
@@ -40,7 +33,7 @@ bool represented(const SlabModel& model, const SlabLocator& locator, const Vec3&
   QueryCache cache;
   const Contact c = query(model, locator, p - n * (0.25 * t), cache);
   return c.penetrating() && std::abs((c.surface_point - p).dot(n)) < 0.25 * t &&
-         c.normal.dot(n) > std::cos(25 * kPi / 180);
+         c.normal.dot(n) > std::cos(25 * std::numbers::pi / 180);
 }
 
 // The bake represents a stroke when at every point a point 0.002 of the diagonal under it (about
@@ -50,7 +43,7 @@ bool represented(const SlabModel& model, const SlabLocator& locator, const Vec3&
 // corner (neighbouring grid normals 77 degrees apart) and the model's normal is 27 degrees off
 // the input's there, which no force rendering of the slab model can follow.
 bool stroke_represented(const SlabModel& model, const SlabLocator& locator, const SurfaceStroke& st, double diag) {
-  const double d = 0.002 * diag, cos_max = std::cos(15 * kPi / 180);
+  const double d = 0.002 * diag, cos_max = std::cos(15 * std::numbers::pi / 180);
   QueryCache cache;
   for (const SurfacePoint& p : st.points) {
     const Contact c = query(model, locator, p.point - p.normal * d, cache);
@@ -189,7 +182,7 @@ SurfaceStroke ScenarioSites::slide_stroke() const {
     ++tried;
     const Vec3 u = any_perpendicular(s.normal), w = s.normal.cross(u);
     for (int k = 0; k < 8; ++k) {
-      const double a = kPi * k / 4;
+      const double a = std::numbers::pi * k / 4;
       SurfaceStroke st = walk(s, std::cos(a) * u + std::sin(a) * w, length, steps);
       if (static_cast<int>(st.points.size()) != steps + 1) continue;
       score(st);
@@ -238,7 +231,7 @@ SurfacePoint ScenarioSites::press_spot() const {
 
 ThinSite ScenarioSites::thin_site(const SlabModel& model, const SlabLocator& locator) const {
   const double tmin = o_.min_thin * diag_, tmax = o_.max_thin * diag_, eps = 1e-4 * diag_;
-  const double cos_opposed = std::cos(145 * kPi / 180), cos_flat = std::cos(35 * kPi / 180);
+  const double cos_opposed = std::cos(145 * std::numbers::pi / 180), cos_flat = std::cos(35 * std::numbers::pi / 180);
   struct Cand {
     ThinSite site;
     int agree;
@@ -261,7 +254,7 @@ ThinSite ScenarioSites::thin_site(const SlabModel& model, const SlabLocator& loc
     const double r = std::max(1.5 * t, 0.02 * diag_);
     int agree = 0;
     for (int k = 0; k < 8; ++k) {
-      const double a = kPi * k / 4;
+      const double a = std::numbers::pi * k / 4;
       const SurfacePoint q = project(s.point + r * (std::cos(a) * u + std::sin(a) * w));
       const double tn = thickness(q);
       agree += tn >= 0.5 * t && tn <= 3 * t && q.normal.dot(s.normal) > cos_flat;
@@ -308,7 +301,7 @@ SurfaceStroke ScenarioSites::edges_spiral(const SlabModel& model, const SlabLoca
     const Vec3 u = any_perpendicular(c.normal), w = c.normal.cross(u);
     SurfaceStroke st;
     for (int i = 0; i <= 2 * per_turn; ++i) {
-      const double a = 2 * kPi * i / per_turn, rho = spacing * (0.35 + 0.75 * i / (2.0 * per_turn));
+      const double a = 2 * std::numbers::pi * i / per_turn, rho = spacing * (0.35 + 0.75 * i / (2.0 * per_turn));
       st.points.push_back(project(c.point + rho * (std::cos(a) * u + std::sin(a) * w)));
     }
     score(st);

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: MIT
+#include "angle_deg.h"
+
 #include <hdm/core/error.h>
+#include <hdm/core/percentile.h>
 #include <hdm/harness/scenario_sites.h>
 #include <hdm/harness/scenarios.h>
 #include <hdm/haptics/servo_loop.h>
@@ -7,12 +10,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 
 namespace hdm {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using harness_detail::angle_deg;
 
 // ---- hand-target paths, device frame [m] -------------------------------------------------------
 
@@ -44,17 +48,7 @@ struct Setup {
 
 // ---- scoring ----------------------------------------------------------------------------------
 
-double angle_deg(const Vec3& a, const Vec3& b) {
-  const double c = a.normalized().dot(b.normalized());
-  return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / kPi;
-}
-
-double p95(std::vector<double>& v) {
-  if (v.empty()) return 0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
+double p95(std::vector<double>& v) { return percentile(v, 0.95); }
 
 struct RunFlags {
   bool score_normals = true;
