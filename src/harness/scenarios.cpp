@@ -48,8 +48,6 @@ struct Setup {
 
 // ---- scoring ----------------------------------------------------------------------------------
 
-double p95(std::vector<double>& v) { return percentile(v, 0.95); }
-
 struct RunFlags {
   bool score_normals = true;
 };
@@ -176,9 +174,9 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
   tick_ns.resize(k);
   r.energy_ratio = absorbed > 0 ? returned / absorbed : 0;
   r.mean_contact_force_n = r.contact_ticks > 0 ? force_sum / r.contact_ticks : 0;
-  r.normal_error_p95_deg = p95(nerr);
-  r.normal_error_smooth_p95_deg = p95(nerr_smooth);
-  r.normal_floor_p95_deg = p95(nfloor);
+  r.normal_error_p95_deg = percentile(nerr, 0.95);
+  r.normal_error_smooth_p95_deg = percentile(nerr_smooth, 0.95);
+  r.normal_floor_p95_deg = percentile(nfloor, 0.95);
   if (!steady_force.empty()) {
     double m = 0, v = 0;
     for (double x : steady_force) m += x;
