@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Edits per visited sample (texel for paint), two workloads, each against the code before issue 14
+// Edits per visited sample (texel for paint), two workloads, each against the single-stamp edit kernels
 // (bench/legacy_edit_tools.cpp) in the same run:
 // - stroke (warm): the tool slides along the surface at 20 mm/s of device motion (the model's
 //   diagonal on a 16 cm workspace), one tool position per 1 kHz tick. New: StrokeEditor sweeps
@@ -137,7 +137,7 @@ void stroke(benchmark::State& state, Tool tool) {
   report(state, visited, changed);
 }
 
-// The same path with a stamp per tick, as before issue 14.
+// The same path with a stamp per tick (the single-stamp kernels).
 void stroke_legacy(benchmark::State& state, Tool tool) {
   const Fixture& f = fixture();
   const double radius = state.range(0) / 1000.0 * f.diagonal;

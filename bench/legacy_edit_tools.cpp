@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The edit tools as they were before issue 14 (main at 73d4ce2, src/edit/edit_tools.cpp: carve,
+// The single-stamp edit tools (from commit 73d4ce2, src/edit/edit_tools.cpp: carve,
 // add_material, paint, single stamps, flood fill, normals of the changed ring), kept verbatim in
 // the benchmark so that bench_edit compares the current kernels with them in the same run on the
 // same machine (a shared, noisy one). Not part of the library.

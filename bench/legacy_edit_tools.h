@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The edit tools before issue 14 (single stamps), for same-run comparisons in bench_edit only.
+// The single-stamp edit tools, for same-run comparisons in bench_edit only.
 #include <hdm/edit/edit_tools.h>
 
 namespace hdm::bench::legacy {

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Throughput of hdm.Model.query on 1M points (issue 16's target: <= 0.2 s on a 2-core machine).
+"""Throughput of hdm.Model.query on 1M points (target: <= 0.2 s on a 2-core machine).
 
 Two point sets on one model: "near" (displaced-surface vertices moved along their normal by up to
 +-0.2 % of the diagonal: almost all in slabs, the haptic query proper) and "box" (uniform in the

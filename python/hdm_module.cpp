@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The Python module `hdm` (pybind11, NumPy arrays): bake, load and save slab models, vectorised
-// haptic queries, export. A first slice of issue 16's module; docstrings give shapes, dtypes and
-// units. Errors are Python exceptions carrying the C++ message: ValueError for InvalidInput,
-// OSError for IoError, RuntimeError otherwise.
+// haptic queries, export. Docstrings give shapes, dtypes and units. Errors are Python exceptions
+// carrying the C++ message: ValueError for InvalidInput, OSError for IoError, RuntimeError
+// otherwise.
 #include <hdm/analysis/bake_to_tolerance.h>
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/analysis/fidelity.h>
@@ -98,7 +98,14 @@ py::dict fidelity_dict(const Fidelity& f) {
   return d;
 }
 
-// The input as `hdm bake` prepares it: repair when needed, orient outward, resolve crossings.
+// The Python bake's input preparation: the mesh data validated (at least one face, finite
+// coordinates, vertex ids in range); scaled by a power of two to a diagonal in [1, 2) (exact);
+// repaired when needed (default RepairOptions), or with repair=False refused unless it can be baked
+// as is; oriented outward; where it crosses itself, resolved by resolve_self_intersections() (a
+// closed or nearly closed input, its holes filled first, to the boundary of its union; the crumpled
+// spots of other open sheets triangulated again) and the buried faces left out of the fidelity;
+// baked; the model scaled back to the input's units. Unlike `hdm bake` (prepare_input()), the seams
+// of open patches that cross are not joined and the folds of open sheets are not removed.
 py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& input, int slabs, int grid,
                     double density, int texels, double max_error, double rms_error, bool error_bound, bool repair) {
   std::string name = "arrays";
@@ -340,7 +347,12 @@ PYBIND11_MODULE(hdm, mod) {
   mod.def("bake", &bake_mesh, py::arg("mesh"), py::kw_only(), py::arg("slabs") = 0, py::arg("grid") = 16,
           py::arg("density") = 4.0, py::arg("texels") = 2, py::arg("max_error") = 0.2, py::arg("rms_error") = 0.02,
           py::arg("error_bound") = true, py::arg("repair") = true,
-          "Bakes a triangle mesh into a slab model, as `hdm bake` does.\n\n"
+          "Bakes a triangle mesh into a slab model. The mesh is validated (at least one face, finite coordinates, "
+          "vertex ids in range), scaled by a power of two to a bounding-box diagonal in [1, 2) (exact), repaired when "
+          "needed, oriented outward and, where it crosses itself, resolved (a closed or nearly closed input, its holes "
+          "filled first, to the surface of the solid it bounds; the crumpled spots of other open sheets triangulated "
+          "again); the model is scaled back to the input's units. Unlike "
+          "`hdm bake`, it does not join the seams of open patches that cross or remove the folds of open sheets.\n\n"
           "mesh: a file path (OBJ, PLY, OFF, STL) or a (vertices, faces) pair of arrays: (N, 3) float64 [model units] "
           "and (M, 3) integer vertex indices, counter-clockwise seen from outside.\n"
           "slabs: target slab count (0: input triangles * density / grid^2); grid: intervals per slab edge; "

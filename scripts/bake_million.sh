@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 3 target: bake an input of at least 1,000,000 triangles at 20,000 slabs, n = 16.
+# Bakes an input of at least 1,000,000 triangles at 20,000 slabs, n = 16.
 # Makes data/meshes/armadillo_1m.off (armadillo.off after three sqrt(3) subdivision steps with
 # CGAL: 52,000 -> 1,404,000 triangles) if it is missing, bakes it and prints the bake time, the
 # wall time of the command and the peak resident memory; with CHECK=1 also runs `hdm check`.

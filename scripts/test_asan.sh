@@ -28,7 +28,7 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$here/scripts/lsan.supp:print_suppressions=0"
 export HDM_SANITIZED=1
 gl='^studio_session$|^studio_bridge$|^RenderPng\.|^SlabRenderer\.'
-# The corpus cases of issue 13 that take longest (seconds each in the main lane, minutes here; and
+# The corpus cases that take longest (seconds each in the main lane, minutes here; and
 # b9_mesh peaks at 1.4 GB uninstrumented) run in the main lane only; knot1, fandisk, boeing and the
 # b9.ply refusal run here too (remove_folds() has its unit tests here).
 slow='^corpus\.(cow|elephant|femur|cheese|homer|b9_mesh)\.off$'

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Validity sweep (issue: zero invalid slabs and zero overlapping pairs at every slab count from 150
+# Validity sweep (target: zero invalid slabs and zero overlapping pairs at every slab count from 150
 # to 20,000): bakes each model at each count and prints `hdm check`'s invalid slabs and overlapping
 # pairs. The grid is n = 4: validity depends on the coarse shell only, not on n.
 # Usage: scripts/validity_sweep.sh [mesh files...]   (default: the four libcgal-demo models)

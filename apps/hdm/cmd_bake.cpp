@@ -30,7 +30,7 @@ struct BakeArgs {
   double density = 4.0;
   InputOptions in;
   bool json = false;
-  // Error bound [% of the diagonal]. Unset (NaN): the fidelity targets (0.2% max, 0.02% RMS,
+  // Error bound [% of the diagonal]. Unset (NaN): the default fidelity bound (0.2% max, 0.02% RMS,
   // both ways) when the slab count follows --density, none when --slabs is given.
   double max_error = NAN, rms_error = NAN;
   bool no_error_bound = false;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Block-parallel loops for hdm::core on std::thread alone, so that a program that loads, queries,
-// renders forces and edits a model links Eigen and nothing heavier (issue 16). Used only off the
+// renders forces and edits a model links Eigen and nothing heavier. Used only off the
 // servo thread (model loading and rebuilds); the bake's libraries keep TBB.
 
 #include <algorithm>

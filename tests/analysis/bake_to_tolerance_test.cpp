@@ -176,7 +176,7 @@ TEST(BakeToToleranceTest, refuses_bounds_that_are_not_positive) {
   EXPECT_THROW(bake_to_tolerance(ExactMeshQuery(input), "sphere", BakeOptions{}, t), InvalidInput);
 }
 
-// Issue 13: a thin-tubed knot (knot1.off of the libcgal-demo archive, tube radius about 3% of its
+// A thin-tubed knot (knot1.off of the libcgal-demo archive, tube radius about 3% of its
 // diagonal) bakes at default settings within the default bound, with valid, disjoint slabs and the
 // contact test agreeing with the input; measured by Embree on the input, apart from the bake.
 TEST(BakeToToleranceTest, thin_tubed_knot_bakes_at_default_settings) {

@@ -125,7 +125,7 @@ TEST(BridgeWireFormat, EncodeMatchesTheDocumentedLayout) {
   EXPECT_EQ(DecodeStatus::BadKind, decode(out, kPacketBytes, back));  // a force packet is not a device packet
 }
 
-// The bad packets of the issue, each one kind of fault, after a good packet (sequence 5).
+// Bad packets, each one kind of fault, after a good packet (sequence 5).
 struct BadSet {
   std::vector<std::vector<std::byte>> packets;
   BadSet() {

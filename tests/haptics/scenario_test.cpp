@@ -48,8 +48,8 @@ TEST(Scenario, PressReachesMaxForceWithoutPopThrough) {
   EXPECT_LE(p.pop_throughs, q.pop_throughs);
 }
 
-// On the default bunny (1,178 slabs): at the paper's 150 slabs the ear is not resolved since the
-// issue-13 bake (92 sample rays miss it, 1.9% maximum error, a bound hdm bake never returns), and
+// On the default bunny (1,178 slabs): at the paper's 150 slabs the bake does not resolve the
+// ear (92 sample rays miss it, 1.9% maximum error, a bound hdm bake never returns), and
 // on the thinnest site the rendered ear bulges, so that a frictionless proxy pushed there drifts
 // round the rim and lets go, a 2 N step.
 TEST(Scenario, ThinSheetHoldsWithProxyOnly) {

@@ -330,7 +330,7 @@ TEST(MeshReaders, EveryCoordinateIsRoundedToFloat) {
 // ---- refusals ----
 
 TEST(MeshReaders, HeadersClaimingMoreThanTheFileHoldsAreRefused) {
-  // The OFF header of issue 16: assimp 5.2 allocated 11 GB for it.
+  // An OFF header claiming 5 billion faces: assimp 5.2 allocated 11 GB for it.
   const std::string off = "OFF\n4 4999999999 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 0 2 3";
   EXPECT_TRUE(
       has(error_of<IoError>(off, "claims.off"), "claims 4 vertices and 4,999,999,999 faces, but only 47 bytes"));

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Issue 13, closed inputs: meshes of the libcgal-demo archive that cross or touch themselves
+// Closed inputs: meshes of the libcgal-demo archive that cross or touch themselves
 // (cow.off: two halves that cross and touch at a point) or hold cap slivers (triceratops.off: input
 // vertices on another face's edge) bake at default settings with valid, disjoint slabs, within the
 // default bound and with the contact test agreeing with the input. Measured against the input as

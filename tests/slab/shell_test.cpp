@@ -99,7 +99,7 @@ TEST(ShellTest, thin_cylinder) { expect_valid_disjoint(thin_cylinder(), "thin cy
 TEST(ShellTest, open_disk_with_hole) { expect_valid_disjoint(annulus(), "annulus", 300); }
 TEST(ShellTest, deep_crease) { expect_valid_disjoint(crease(), "crease", 600); }
 
-// Every real model the project extracts, across slab counts of the issue's range (150 to 20,000;
+// Every real model the project extracts, across the target range of slab counts (150 to 20,000;
 // the 20,000-slab bakes take minutes on two cores, so they are in scripts/validity_sweep.sh, not
 // here; the grid does not change the shell, so n = 4 keeps it quick).
 // refined_elephant.off at 150 slabs cannot enclose the trunk and tusks: the bake must refuse it

@@ -2,7 +2,7 @@
 #pragma once
 /// @file
 /// Refinement of a triangle mesh with CGAL's √3 subdivision, to make large test and benchmark
-/// inputs from the real models (issue 3: an input of at least a million triangles).
+/// inputs from the real models (an input of at least a million triangles).
 
 #include <hdm/mesh/triangle_mesh.h>
 
