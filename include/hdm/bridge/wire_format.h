@@ -88,7 +88,7 @@ enum class DecodeStatus : uint8_t {
   BadVersion,  ///< another version of the format
   BadKind,     ///< not the kind expected here
   NonFinite,   ///< a NaN or infinite time, position, velocity or force
-  BadHello,    ///< a hello packet with session 0 or a secret length beyond kMaxSecretBytes
+  BadHello,    ///< a hello packet whose session id is 0, or with a secret length beyond kMaxSecretBytes
 };
 
 /// @brief Writes @p p as kPacketBytes little-endian bytes into @p out. noexcept, O(1), no allocation.
