@@ -4,12 +4,7 @@
 // at 2 cm/s (device frame, a 16 cm desktop workspace). The proxy (god-object) renders the force at
 // every tick; every 20th tick is printed. Exits with 1 when the HIP never touches the surface, a
 // force is not finite, or the contact force does not push the HIP back up.
-#include <hdm/core/error.h>
-#include <hdm/haptics/force.h>
-#include <hdm/haptics/proxy.h>
-#include <hdm/io/hdm_file.h>
-#include <hdm/query/slab_locator.h>
-#include <hdm/slab/slab_model.h>
+#include <hdm/hdm.h>  // the runtime: model, query, proxy, forces, .hdm files
 
 #include <algorithm>
 #include <cstdio>
