@@ -128,9 +128,8 @@ py::array_t<T> copy_of(const std::vector<T>& v) {
   return py::array_t<T>(py::ssize_t(v.size()), v.data());
 }
 
-}  // namespace
-
-void bind_edit(py::module_& m) {
+// The Brush class (hdm::Brush).
+void bind_brush(py::module_& m) {
   py::class_<Brush>(m, "Brush",
                     "A sculpting or painting brush. Lengths in model units. tool: 'carve' (remove material in the "
                     "swept sphere whose bottom is the tool position; paper §4.1), 'add' (a ridge of `height` above "
@@ -151,7 +150,10 @@ void bind_edit(py::module_& m) {
       .def_readonly("strength", &Brush::strength)
       .def_readonly("height", &Brush::height)
       .def_readonly("resilience", &Brush::resilience);
+}
 
+// Model.stroke and one method per tool (carve, add, smooth, flatten, paint).
+void bind_strokes(py::module_& m) {
   auto model = py::reinterpret_borrow<py::class_<Model, ModelPtr>>(m.attr("Model"));
   model.def("stroke", &stroke, py::arg("path"), py::arg("brush"), py::kw_only(), py::arg("rate_hz") = 1000.0,
             py::arg("force_n") = std::nullopt,
@@ -188,6 +190,11 @@ void bind_edit(py::module_& m) {
   tool("paint", "paint",
        "Paints along path: Model.stroke with Brush('paint', ...); field= names the field, colour= (3,) linear RGB "
        "or value= for a scalar field.");
+}
+
+// Model.undo, redo, set_under_layer and field.
+void bind_model_edits(py::module_& m) {
+  auto model = py::reinterpret_borrow<py::class_<Model, ModelPtr>>(m.attr("Model"));
   model
       .def(
           "undo", [](Model& self) { return undo_redo(self, true); },
@@ -242,6 +249,14 @@ void bind_edit(py::module_& m) {
           "1], friction_static, friction_dynamic, stiffness (scale in [0, 1]), layer_displacement (empty without "
           "an under-layer); per sample (#samples, 3): positions [model units], normals (unit); per texel: colour "
           "(#texels, 3) linear RGB, roughness (#texels,).");
+}
+
+}  // namespace
+
+void bind_edit(py::module_& m) {
+  bind_brush(m);
+  bind_strokes(m);
+  bind_model_edits(m);
 }
 
 }  // namespace hdm::python

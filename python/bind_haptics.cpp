@@ -157,16 +157,8 @@ py::object frame_dict(bool ok, const DeviceState& s) {
   return d;
 }
 
-}  // namespace
-
-void bind_haptics(py::module_& m) {
-  py::enum_<ProxyStatus>(m, "ProxyStatus", "Status of one proxy tick (the status arrays hold these values).")
-      .value("FREE", ProxyStatus::Free)
-      .value("STUCK", ProxyStatus::Stuck)
-      .value("SLIDING", ProxyStatus::Sliding)
-      .value("CLAMPED", ProxyStatus::Clamped)
-      .value("BAD_INPUT", ProxyStatus::BadInput);
-
+// Workspace and fit_workspace: the device frame [m] to the model frame.
+void bind_workspace(py::module_& m) {
   py::class_<Workspace>(
       m, "Workspace", "Maps the device frame [m] to the model frame [model units]: x_model = origin + scale·x_device.")
       .def(py::init([](py::object origin, double scale) {
@@ -200,6 +192,17 @@ void bind_haptics(py::module_& m) {
       py::arg("model"), py::arg("workspace_m") = 0.16,
       "The Workspace that fits the model's slab box diagonal into a device workspace of workspace_m metres, centred "
       "on the box (what proxy_step uses by default).");
+
+}
+
+// The proxy (god-object): its status, parameters, state and the open-loop proxy_step.
+void bind_proxy(py::module_& m) {
+  py::enum_<ProxyStatus>(m, "ProxyStatus", "Status of one proxy tick (the status arrays hold these values).")
+      .value("FREE", ProxyStatus::Free)
+      .value("STUCK", ProxyStatus::Stuck)
+      .value("SLIDING", ProxyStatus::Sliding)
+      .value("CLAMPED", ProxyStatus::Clamped)
+      .value("BAD_INPUT", ProxyStatus::BadInput);
 
   py::class_<ProxyParams>(m, "ProxyParams",
                           "Parameters of the proxy (god-object), SI at the device. Defaults suit a desktop device "
@@ -271,6 +274,10 @@ void bind_haptics(py::module_& m) {
          kRunDoc + ". A non-finite or out-of-range HIP gives zero force and status BAD_INPUT.")
             .c_str());
 
+}
+
+// Devices read once per servo tick: the interface and the simulated device.
+void bind_simulated_device(py::module_& m) {
   py::class_<HapticDevice>(m, "HapticDevice", "A haptic device read once per servo tick (begin_frame / end_frame).")
       .def(
           "begin_frame",
@@ -331,6 +338,10 @@ void bind_haptics(py::module_& m) {
       .def_property_readonly(
           "tick", [](const PySimulatedDevice& d) { return d.device->tick(); }, "ticks integrated");
 
+}
+
+// A recorded trajectory played as the device, and the closed servo loop in simulated time.
+void bind_replay_and_run(py::module_& m) {
   py::class_<ReplayDevice, HapticDevice>(m, "ReplayDevice",
                                          "Plays back a recorded trajectory (CSV of hdm sculpt --forces or hdm feel "
                                          "--trace: time_s,device_x_m,device_y_m,device_z_m,...), one row per tick.")
@@ -371,6 +382,15 @@ void bind_haptics(py::module_& m) {
       },
       py::arg("model"), py::arg("device"), py::arg("ticks"), py::kw_only(), py::arg("workspace") = std::nullopt,
       py::arg("params") = ProxyParams(), py::arg("mode") = "proxy", run_doc.c_str());
+}
+
+}  // namespace
+
+void bind_haptics(py::module_& m) {
+  bind_workspace(m);
+  bind_proxy(m);
+  bind_simulated_device(m);
+  bind_replay_and_run(m);
 }
 
 }  // namespace hdm::python
