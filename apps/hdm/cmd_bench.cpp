@@ -55,14 +55,150 @@ nlohmann::json to_json(const Summary& s) {
           {"spread", {s.spread_lo, s.spread_hi}}};
 }
 
-void run_bench(const BenchArgs& a) {
-  const std::string path = a.model.empty() ? default_model() : a.model;
-  TriangleMesh mesh = read_mesh(path);
-  const int64_t file_triangles = static_cast<int64_t>(mesh.faces.size());
+// The input as benchmarked: the file, subdivided --subdivide times and until it has more
+// triangles than --slabs.
+struct BenchInput {
+  std::string path;
+  TriangleMesh mesh;
+  int64_t file_triangles = 0;
   int subdivisions = 0;
-  for (; subdivisions < a.subdivide; ++subdivisions) mesh = subdivide_midpoints(mesh);  // a larger baseline input
-  while (a.slabs > 0 && static_cast<int64_t>(mesh.faces.size()) <= a.slabs)
-    mesh = subdivide_midpoints(mesh), ++subdivisions;
+};
+
+BenchInput read_bench_input(const BenchArgs& a) {
+  BenchInput in;
+  in.path = a.model.empty() ? default_model() : a.model;
+  in.mesh = read_mesh(in.path);
+  in.file_triangles = static_cast<int64_t>(in.mesh.faces.size());
+  for (; in.subdivisions < a.subdivide; ++in.subdivisions) in.mesh = subdivide_midpoints(in.mesh);  // a larger baseline input
+  while (a.slabs > 0 && static_cast<int64_t>(in.mesh.faces.size()) <= a.slabs)
+    in.mesh = subdivide_midpoints(in.mesh), ++in.subdivisions;
+  return in;
+}
+
+// ns per visited (or changed) sample of the rows whose tool passes @p take.
+template <class Take>
+double ns_per(const std::vector<EditRow>& rows, Take take, bool changed = false) {
+  double ns = 0, n = 0;
+  for (const EditRow& e : rows)
+    if (take(e)) ns += e.ns, n += changed ? e.changed : e.visited;
+  return n > 0 ? ns / n : 0.0;
+}
+
+// The edit figures of the report: warm strokes at 1 kHz and cold single stamps.
+nlohmann::json edit_figures(const std::vector<EditRow>& warm, const std::vector<EditRow>& edits) {
+  auto warm_tool = [&](const char* tool) {
+    return ns_per(warm, [&](const EditRow& e) { return std::string(e.tool) == tool; });
+  };
+  auto cold = [&](char tool, bool changed) {
+    return ns_per(edits, [&](const EditRow& e) { return e.tool[0] == tool; }, changed);
+  };
+  nlohmann::json edit_rows = nlohmann::json::array(), warm_rows = nlohmann::json::array();
+  for (const EditRow& e : warm)
+    warm_rows.push_back({{"tool", e.tool},
+                         {"radius_pct_diagonal", e.radius_pct},
+                         {"ticks", e.ops},
+                         {"visited", e.visited},
+                         {"changed", e.changed},
+                         {"ns_per_tick", e.ops ? e.ns / e.ops : 0.0},
+                         {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0},
+                         {"ns_per_changed", e.changed ? e.ns / e.changed : 0.0}});
+  for (const EditRow& e : edits)
+    edit_rows.push_back({{"tool", e.tool},
+                         {"radius_pct_diagonal", e.radius_pct},
+                         {"ops", e.ops},
+                         {"visited", e.visited},
+                         {"changed", e.changed},
+                         {"ns_per_op", e.ops ? e.ns / e.ops : 0.0},
+                         {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0}});
+  return {{"edit_ns_per_sample", ns_per(edits, [](const EditRow& e) { return e.tool[0] != 'p'; })},  // carve + add
+          {"edit_ns_per_visited",
+           {{"carve", cold('c', false)}, {"add", cold('a', false)}, {"paint_per_texel", cold('p', false)}}},
+          {"edit_ns_per_changed",
+           {{"carve", cold('c', true)}, {"add", cold('a', true)}, {"paint_per_texel", cold('p', true)}}},
+          {"edits", edit_rows},
+          {"edit_warm_ns_per_visited",
+           {{"carve", warm_tool("carve")},
+            {"add", warm_tool("add")},
+            {"smooth", warm_tool("smooth")},
+            {"flatten", warm_tool("flatten")},
+            {"paint_per_texel", warm_tool("paint")}}},
+          {"edits_warm", warm_rows}};
+}
+
+// The latency figures of the report: hdm's query, tick and proxy tick against Embree and CGAL.
+nlohmann::json latency_figures(const LatencyRuns& lat, bool with_cgal, double cgal_build_s) {
+  const Summary s_coh = summarise(lat.coherent), s_glo = summarise(lat.global), s_tick = summarise(lat.tick),
+                s_ecoh = summarise(lat.embree_coherent), s_eglo = summarise(lat.embree_global);
+  const bool have_proxy = !lat.proxy_tick.empty();
+  const Summary s_ccoh = with_cgal ? summarise(lat.cgal_coherent) : Summary{},
+                s_cglo = with_cgal ? summarise(lat.cgal_global) : Summary{};
+  const nlohmann::json none;
+  return {{"hdm",
+           {{"coherent_ns", to_json(s_coh)},
+            {"global_ns", to_json(s_glo)},
+            {"tick_ns", to_json(s_tick)},
+            {"proxy_tick_ns", have_proxy ? to_json(summarise(lat.proxy_tick)) : none}}},
+          {"baseline",
+           {{"embree_ns", to_json(s_ecoh)},
+            {"embree_global_ns", to_json(s_eglo)},
+            {"cgal_closest_ns", with_cgal ? to_json(s_ccoh) : none},
+            {"cgal_closest_global_ns", with_cgal ? to_json(s_cglo) : none},
+            {"cgal_build_s", with_cgal ? nlohmann::json(cgal_build_s) : none}}},
+          {"ratio_coherent", s_ecoh.s.median / s_coh.s.median},
+          {"ratio_global", s_eglo.s.median / s_glo.s.median},
+          {"ratio_cgal_coherent", with_cgal ? nlohmann::json(s_ccoh.s.median / s_coh.s.median) : none},
+          {"ratio_cgal_global", with_cgal ? nlohmann::json(s_cglo.s.median / s_glo.s.median) : none}};
+}
+
+// The report as text, from its JSON form.
+void print_report(const nlohmann::json& j) {
+  const auto d = [](const nlohmann::json& v) { return v.get<double>(); };
+  std::printf("hdm bench: %s, %lld input triangles (%d subdivisions), %d slabs, n = %d, %d samples\n",
+              j["model"].get<std::string>().c_str(), (long long)j["input_triangles"].get<int64_t>(),
+              j["subdivisions"].get<int>(), j["slabs"].get<int>(), j["grid"].get<int>(), j["samples"].get<int>());
+  std::printf("  %d repeats; latency per query from batches of %d, median over repeats [spread of medians]\n",
+              j["repeat"].get<int>(), j["batch"].get<int>());
+  std::printf("  %-34s %9s %9s %9s %9s  %s\n", "latency [ns]", "median", "p99", "max", "mean", "spread");
+  auto row = [&](const char* name, const nlohmann::json& s) {
+    if (s.is_null()) return;
+    std::printf("  %-34s %9.0f %9.0f %9.0f %9.0f  [%.0f..%.0f]\n", name, d(s["median"]), d(s["p99"]), d(s["max"]),
+                d(s["mean"]), d(s["spread"][0]), d(s["spread"][1]));
+  };
+  const nlohmann::json &h = j["hdm"], &b = j["baseline"];
+  row("hdm coherent (1 kHz path)", h["coherent_ns"]);
+  row("hdm global (random near-surface)", h["global_ns"]);
+  row("hdm servo tick (query + force)", h["tick_ns"]);
+  row("hdm servo tick (proxy_step)", h["proxy_tick_ns"]);
+  row("Embree closest+inside, path pts", b["embree_ns"]);
+  row("Embree closest+inside, global pts", b["embree_global_ns"]);
+  row("CGAL AABB closest, path pts", b["cgal_closest_ns"]);
+  row("CGAL AABB closest, global pts", b["cgal_closest_global_ns"]);
+  std::printf("  speed-up vs Embree (median)       coherent %.1fx, global %.1fx\n", d(j["ratio_coherent"]),
+              d(j["ratio_global"]));
+  if (!b["cgal_build_s"].is_null())
+    std::printf("  speed-up vs CGAL closest (median) coherent %.1fx, global %.1fx (tree built in %.2f s)\n",
+                d(j["ratio_cgal_coherent"]), d(j["ratio_cgal_global"]), d(b["cgal_build_s"]));
+  std::printf("  points in shell                   coherent %.1f%%, global %.1f%%; max path step %.3f mm\n",
+              100 * d(j["in_shell_fraction"]["coherent"]), 100 * d(j["in_shell_fraction"]["global"]),
+              d(j["trajectory_max_step_mm"]));
+  const nlohmann::json &w = j["edit_warm_ns_per_visited"], &v = j["edit_ns_per_visited"], &c = j["edit_ns_per_changed"];
+  std::printf(
+      "  edits, warm strokes at 1 kHz      carve %.1f, add %.1f, smooth %.1f, flatten %.1f ns per visited sample, "
+      "paint %.1f per texel\n",
+      d(w["carve"]), d(w["add"]), d(w["smooth"]), d(w["flatten"]), d(w["paint_per_texel"]));
+  std::printf("  edits, cold stamps [ns per visited] carve %.1f, add %.1f, paint %.1f per texel\n", d(v["carve"]),
+              d(v["add"]), d(v["paint_per_texel"]));
+  std::printf("  edits, cold stamps [ns per changed] carve %.1f, add %.1f, paint %.1f per texel\n", d(c["carve"]),
+              d(c["add"]), d(c["paint_per_texel"]));
+  std::printf("  bake                              %.2f s (locator %.3f s)\n", d(j["bake_s"]), d(j["locator_build_s"]));
+  std::printf("  memory                            %.1f B/sample, %.0f B/slab, %.1f B/texel, peak RSS %.0f MB\n",
+              d(j["bytes_per_sample"]), d(j["bytes_per_slab"]), d(j["bytes_per_texel"]), d(j["peak_rss_mb"]));
+}
+
+void run_bench(const BenchArgs& a) {
+  const BenchInput in = read_bench_input(a);
+  const TriangleMesh& mesh = in.mesh;
+  const std::string& path = in.path;
   const double diag = bounds(mesh).diagonal();
 
   // ---- (e) bake ----
@@ -96,165 +232,45 @@ void run_bench(const BenchArgs& a) {
 
   // ---- (a)-(c) latency, hdm and the baselines interleaved in each repeat ----
   const LatencyRuns lat = time_queries(model, locator, exact, cgal.get(), ws, path_pts, velocity, global_pts, a.repeat);
-  const int64_t in_shell_coh = lat.in_shell_coherent, in_shell_glo = lat.in_shell_global, contacts = lat.contacts;
-  const Summary s_coh = summarise(lat.coherent), s_glo = summarise(lat.global), s_tick = summarise(lat.tick),
-                s_ecoh = summarise(lat.embree_coherent), s_eglo = summarise(lat.embree_global);
-  const bool have_proxy = !lat.proxy_tick.empty();
-  const Summary s_ccoh = cgal ? summarise(lat.cgal_coherent) : Summary{},
-                s_cglo = cgal ? summarise(lat.cgal_global) : Summary{};
-  const Summary s_proxy = have_proxy ? summarise(lat.proxy_tick) : Summary{};
+  nlohmann::json j = latency_figures(lat, cgal != nullptr, cgal ? cgal->build_seconds() : 0.0);
 
   // ---- (d) edits vs touched samples: last, on the model itself (a copy would double peak memory) ----
   const std::vector<EditRow> warm = warm_strokes(model, locator, ws, path_pts, diag, 2000);
-  auto warm_per_visited = [&](const char* tool) {
-    double ns = 0, n = 0;
-    for (const EditRow& e : warm)
-      if (std::string(e.tool) == tool) ns += e.ns, n += e.visited;
-    return n > 0 ? ns / n : 0.0;
-  };
   const std::vector<EditRow> edits = cold_stamps(model, locator, diag, rng);
-  auto per_visited = [&](char tool) {
-    double ns = 0, n = 0;
-    for (const EditRow& e : edits)
-      if (e.tool[0] == tool) ns += e.ns, n += e.visited;
-    return n > 0 ? ns / n : 0.0;
-  };
-  auto per_changed = [&](char tool) {
-    double ns = 0, n = 0;
-    for (const EditRow& e : edits)
-      if (e.tool[0] == tool) ns += e.ns, n += e.changed;
-    return n > 0 ? ns / n : 0.0;
-  };
-  const double geom_edit_ns = [&] {  // carve + add, the geometry edits, per visited sample
-    double ns = 0, n = 0;
-    for (const EditRow& e : edits)
-      if (e.tool[0] != 'p') ns += e.ns, n += e.visited;
-    return n > 0 ? ns / n : 0.0;
-  }();
+  j.update(edit_figures(warm, edits));
 
   // ---- (f) memory ----
-  const SampleLayout& L = model.samples;
-  const SampleLayout& T = model.texels;
   const ModelBytes mb = model_bytes(model, locator);
-  const size_t sample_bytes = mb.samples, texel_bytes = mb.texels, slab_bytes = mb.slabs;
   const int S = model.slab_count();
-  const double bytes_per_sample = double(sample_bytes) / L.count, bytes_per_slab = double(slab_bytes) / S;
-
-  const double ratio_coh = s_ecoh.s.median / s_coh.s.median, ratio_glo = s_eglo.s.median / s_glo.s.median;
-  nlohmann::json edit_rows = nlohmann::json::array();
-  nlohmann::json warm_rows = nlohmann::json::array();
-  for (const EditRow& e : warm)
-    warm_rows.push_back({{"tool", e.tool},
-                         {"radius_pct_diagonal", e.radius_pct},
-                         {"ticks", e.ops},
-                         {"visited", e.visited},
-                         {"changed", e.changed},
-                         {"ns_per_tick", e.ops ? e.ns / e.ops : 0.0},
-                         {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0},
-                         {"ns_per_changed", e.changed ? e.ns / e.changed : 0.0}});
-  for (const EditRow& e : edits)
-    edit_rows.push_back({{"tool", e.tool},
-                         {"radius_pct_diagonal", e.radius_pct},
-                         {"ops", e.ops},
-                         {"visited", e.visited},
-                         {"changed", e.changed},
-                         {"ns_per_op", e.ops ? e.ns / e.ops : 0.0},
-                         {"ns_per_visited", e.visited ? e.ns / e.visited : 0.0}});
-  const nlohmann::json j = {
-      {"model", path},
-      {"subdivisions", subdivisions},
-      {"file_triangles", file_triangles},
-      {"input_triangles", static_cast<int64_t>(mesh.faces.size())},
-      {"slabs", S},
-      {"grid", model.grid_n},
-      {"samples", L.count},
-      {"repeat", a.repeat},
-      {"batch", kBatch},
-      {"ticks", path_pts.size()},
-      {"global_points", global_pts.size()},
-      {"trajectory_max_step_mm", max_step / ws.scale * 1000},
-      {"in_shell_fraction",
-       {{"coherent", double(in_shell_coh) / path_pts.size()}, {"global", double(in_shell_glo) / global_pts.size()}}},
-      {"contact_fraction", double(contacts) / path_pts.size()},
-      {"hdm",
-       {{"coherent_ns", to_json(s_coh)},
-        {"global_ns", to_json(s_glo)},
-        {"tick_ns", to_json(s_tick)},
-        {"proxy_tick_ns", have_proxy ? to_json(s_proxy) : nlohmann::json()}}},
-      {"baseline",
-       {{"embree_ns", to_json(s_ecoh)},
-        {"embree_global_ns", to_json(s_eglo)},
-        {"cgal_closest_ns", cgal ? to_json(s_ccoh) : nlohmann::json()},
-        {"cgal_closest_global_ns", cgal ? to_json(s_cglo) : nlohmann::json()},
-        {"cgal_build_s", cgal ? nlohmann::json(cgal->build_seconds()) : nlohmann::json()}}},
-      {"ratio_coherent", ratio_coh},
-      {"ratio_global", ratio_glo},
-      {"ratio_cgal_coherent", cgal ? nlohmann::json(s_ccoh.s.median / s_coh.s.median) : nlohmann::json()},
-      {"ratio_cgal_global", cgal ? nlohmann::json(s_cglo.s.median / s_glo.s.median) : nlohmann::json()},
-      {"edit_ns_per_sample", geom_edit_ns},
-      {"edit_ns_per_visited",
-       {{"carve", per_visited('c')}, {"add", per_visited('a')}, {"paint_per_texel", per_visited('p')}}},
-      {"edit_ns_per_changed",
-       {{"carve", per_changed('c')}, {"add", per_changed('a')}, {"paint_per_texel", per_changed('p')}}},
-      {"edits", edit_rows},
-      {"edit_warm_ns_per_visited",
-       {{"carve", warm_per_visited("carve")},
-        {"add", warm_per_visited("add")},
-        {"smooth", warm_per_visited("smooth")},
-        {"flatten", warm_per_visited("flatten")},
-        {"paint_per_texel", warm_per_visited("paint")}}},
-      {"edits_warm", warm_rows},
-      {"bake_s", bake_s},
-      {"bake_separate_slabs", !a.no_separate},
-      {"bake_report_s", br.seconds},
-      {"locator_build_s", locator_s},
-      {"bytes_per_sample", bytes_per_sample},
-      {"bytes_per_slab", bytes_per_slab},
-      {"bytes_per_texel", double(texel_bytes) / T.count},
-      {"model_bytes", sample_bytes + texel_bytes + slab_bytes},
-      {"peak_rss_mb", peak_rss_mb()}};
-  if (a.json) {
+  j.update({{"model", path},
+            {"subdivisions", in.subdivisions},
+            {"file_triangles", in.file_triangles},
+            {"input_triangles", static_cast<int64_t>(mesh.faces.size())},
+            {"slabs", S},
+            {"grid", model.grid_n},
+            {"samples", model.samples.count},
+            {"repeat", a.repeat},
+            {"batch", kBatch},
+            {"ticks", path_pts.size()},
+            {"global_points", global_pts.size()},
+            {"trajectory_max_step_mm", max_step / ws.scale * 1000},
+            {"in_shell_fraction",
+             {{"coherent", double(lat.in_shell_coherent) / path_pts.size()},
+              {"global", double(lat.in_shell_global) / global_pts.size()}}},
+            {"contact_fraction", double(lat.contacts) / path_pts.size()},
+            {"bake_s", bake_s},
+            {"bake_separate_slabs", !a.no_separate},
+            {"bake_report_s", br.seconds},
+            {"locator_build_s", locator_s},
+            {"bytes_per_sample", double(mb.samples) / model.samples.count},
+            {"bytes_per_slab", double(mb.slabs) / S},
+            {"bytes_per_texel", double(mb.texels) / model.texels.count},
+            {"model_bytes", mb.samples + mb.texels + mb.slabs},
+            {"peak_rss_mb", peak_rss_mb()}});
+  if (a.json)
     std::printf("%s\n", j.dump(2).c_str());
-    return;
-  }
-  std::printf("hdm bench: %s, %lld input triangles (%d subdivisions), %d slabs, n = %d, %d samples\n", path.c_str(),
-              (long long)mesh.faces.size(), subdivisions, S, model.grid_n, L.count);
-  std::printf("  %d repeats; latency per query from batches of %d, median over repeats [spread of medians]\n", a.repeat,
-              kBatch);
-  std::printf("  %-34s %9s %9s %9s %9s  %s\n", "latency [ns]", "median", "p99", "max", "mean", "spread");
-  auto row = [](const char* name, const Summary& s) {
-    std::printf("  %-34s %9.0f %9.0f %9.0f %9.0f  [%.0f..%.0f]\n", name, s.s.median, s.s.p99, s.s.max, s.s.mean,
-                s.spread_lo, s.spread_hi);
-  };
-  row("hdm coherent (1 kHz path)", s_coh);
-  row("hdm global (random near-surface)", s_glo);
-  row("hdm servo tick (query + force)", s_tick);
-  if (have_proxy) row("hdm servo tick (proxy_step)", s_proxy);
-  row("Embree closest+inside, path pts", s_ecoh);
-  row("Embree closest+inside, global pts", s_eglo);
-  if (cgal) {
-    row("CGAL AABB closest, path pts", s_ccoh);
-    row("CGAL AABB closest, global pts", s_cglo);
-  }
-  std::printf("  speed-up vs Embree (median)       coherent %.1fx, global %.1fx\n", ratio_coh, ratio_glo);
-  if (cgal)
-    std::printf("  speed-up vs CGAL closest (median) coherent %.1fx, global %.1fx (tree built in %.2f s)\n",
-                s_ccoh.s.median / s_coh.s.median, s_cglo.s.median / s_glo.s.median, cgal->build_seconds());
-  std::printf("  points in shell                   coherent %.1f%%, global %.1f%%; max path step %.3f mm\n",
-              100.0 * in_shell_coh / path_pts.size(), 100.0 * in_shell_glo / global_pts.size(),
-              max_step / ws.scale * 1000);
-  std::printf(
-      "  edits, warm strokes at 1 kHz      carve %.1f, add %.1f, smooth %.1f, flatten %.1f ns per visited sample, "
-      "paint %.1f per texel\n",
-      warm_per_visited("carve"), warm_per_visited("add"), warm_per_visited("smooth"), warm_per_visited("flatten"),
-      warm_per_visited("paint"));
-  std::printf("  edits, cold stamps [ns per visited] carve %.1f, add %.1f, paint %.1f per texel\n", per_visited('c'),
-              per_visited('a'), per_visited('p'));
-  std::printf("  edits, cold stamps [ns per changed] carve %.1f, add %.1f, paint %.1f per texel\n", per_changed('c'),
-              per_changed('a'), per_changed('p'));
-  std::printf("  bake                              %.2f s (locator %.3f s)\n", bake_s, locator_s);
-  std::printf("  memory                            %.1f B/sample, %.0f B/slab, %.1f B/texel, peak RSS %.0f MB\n",
-              bytes_per_sample, bytes_per_slab, double(texel_bytes) / T.count, peak_rss_mb());
+  else
+    print_report(j);
 }
 
 }  // namespace

@@ -167,6 +167,169 @@ void require_sculpt_memory(const SculptArgs& a, int64_t ticks) {
                  std::to_string(ticks) + " ticks of the script at " + std::to_string(int64_t(a.rate)) + " Hz");
 }
 
+// The model as the script sets it up: an under-layer, a surface colour and roughness.
+void apply_script_surface(SlabModel& model, const Script& script, double mm) {
+  if (script.layer.present) set_under_layer(model, script.layer.thickness_mm * mm, script.layer.material);
+  if (script.surface.has_colour) std::fill(model.colour.begin(), model.colour.end(), script.surface.colour);
+  if (script.surface.has_roughness) std::fill(model.roughness.begin(), model.roughness.end(), script.surface.roughness);
+}
+
+// The hand holds the tool button down during each editing stroke (not while probing or travelling).
+std::vector<uint32_t> tool_buttons(const Trajectory& path) {
+  std::vector<uint32_t> buttons(path.position.size(), 0);
+  for (size_t k = 0; k < buttons.size(); ++k) {
+    const Tool t = path.tool[k];
+    buttons[k] = (t == Tool::Carve || t == Tool::Add || t == Tool::Paint || t == Tool::Smooth || t == Tool::Flatten);
+  }
+  return buttons;
+}
+
+SessionOptions session_options(const SculptArgs& a, const Script& script) {
+  SessionOptions so;
+  so.mode = parse_render_mode(a.mode);
+  so.proxy.force = script.force;
+  so.proxy.solver = parse_alpha_solver(a.solver);
+  so.edit_budget_s = a.budget_us * 1e-6;
+  so.edit_every = a.edit_rate > 0 ? std::max<int64_t>(1, std::llround(a.rate / a.edit_rate)) : 1;
+  so.publish = a.save_every > 0;  // snapshots only when another thread reads them
+  return so;
+}
+
+// Runs the servo loop; with --save-every, another thread saves each published epoch meanwhile.
+ServoStats run_with_autosave(SculptSession& session, HapticDevice& device, const ServoOptions& opt, Run& run,
+                             const SculptArgs& a, int& autosaves, const char*& note) {
+  std::atomic<bool> done{false};
+  std::atomic<int> saves{0};
+  std::thread saver;
+  if (a.save_every > 0 && !a.output.empty()) {
+    saver = std::thread([&] {
+      auto next = std::chrono::steady_clock::now();
+      while (!done.load()) {
+        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(a.save_every));
+        while (!done.load() && std::chrono::steady_clock::now() < next)
+          std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (done.load()) break;
+        SlabModel copy;
+        {
+          SnapshotReader reader(*session.snapshots());
+          copy = reader.stored_model();
+        }
+        save_model(copy, a.output);
+        saves.fetch_add(1);
+      }
+    });
+  }
+  ServoStats st;
+  try {
+    st = run_session(session, device, opt, SessionHooks{before_tick, after_tick, &run}, &note);
+  } catch (...) {
+    done = true;
+    if (saver.joinable()) saver.join();
+    throw;
+  }
+  done = true;
+  if (saver.joinable()) saver.join();
+  autosaves = saves.load();
+  return st;
+}
+
+// --check-against: the carve and add sweeps measured against the exact boolean on the input.
+nlohmann::json check_against_exact(const SculptArgs& a, SculptSession& session,
+                                   const std::vector<EditLogEntry>& sweep_log) {
+  nlohmann::json check;
+  if (a.check_against.empty()) return check;
+  const TriangleMesh input = read_mesh(a.check_against, {a.limit.bytes()});
+  const ExactMeshQuery exact(input);
+  const double spacing = 0.5 * session.editor().scratch().sample_spacing;
+  for (BrushTool t : {BrushTool::Carve, BrushTool::Add}) {
+    nlohmann::json c = check_strokes(session.model(), exact, sweep_log, t, spacing);
+    if (!c.is_null()) check[brush_tool_name(t)] = c;
+  }
+  return check;
+}
+
+nlohmann::json sculpt_report(const SculptArgs& a, const std::string& script_path, const ServoStats& st,
+                             SculptSession& session, int64_t edit_every, int autosaves) {
+  const SessionStats& ss = session.stats();
+  const UndoHistory& h = session.editor().history();
+  return {{"model", a.model},
+          {"script", script_path},
+          {"ticks", st.ticks},
+          {"seconds", st.seconds},
+          {"rate_hz", st.rate_hz},
+          {"target_rate_hz", a.rate},
+          {"realtime", !a.fast},
+          {"mode", a.mode},
+          {"solver", a.solver},
+          {"tick_ns", stats_json(st.compute_ns)},
+          {"period_ns", stats_json(st.period_ns)},
+          {"overruns", st.overruns},
+          {"long_ticks", st.long_ticks},
+          {"cpu_long_ticks", st.cpu_long_ticks},
+          {"tick_cpu_ns", stats_json(st.cpu_ns)},
+          {"watchdog_trips", st.watchdog_trips},
+          {"contact_ticks", ss.contact_ticks},
+          {"edit_every_ticks", edit_every},
+          {"edit_budget_us", a.budget_us},
+          {"sweeps", ss.sweeps},
+          {"changed", ss.changed},
+          {"carried_ticks", ss.carried_ticks},
+          {"max_edit_ns", ss.max_edit_ns},
+          {"publications", ss.publications},
+          {"slabs_published", ss.slabs_published},
+          {"publish_deferred", ss.publish_deferred},
+          {"autosaves", autosaves},
+          {"undo_strokes", h.undo_count()},
+          {"undo_records_bytes", h.records_held() * sizeof(UndoRecord)},
+          {"output", a.output},
+          {"forces", a.forces}};
+}
+
+// The report as text, from its JSON form.
+void print_sculpt_report(const nlohmann::json& j, const SculptArgs& a) {
+  const auto d = [](const nlohmann::json& v) { return v.get<double>(); };
+  const auto n = [](const nlohmann::json& v) { return static_cast<long long>(v.get<int64_t>()); };
+  std::printf("sculpted %s with %s\n", a.model.c_str(), j["script"].get<std::string>().c_str());
+  std::printf(
+      "  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s), %lld overruns, %lld ticks longer than a "
+      "period\n",
+      n(j["ticks"]), d(j["seconds"]), d(j["rate_hz"]), a.rate, a.fast ? ", --fast" : "", n(j["overruns"]),
+      n(j["long_ticks"]));
+  const nlohmann::json& tick = j["tick_ns"];
+  std::printf(
+      "  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (proxy, edits within %.0f µs, publication)\n",
+      d(tick["median"]), d(tick["p99"]), d(tick["max"]), a.budget_us);
+  std::printf("  contact ticks    %lld\n", n(j["contact_ticks"]));
+  std::printf(
+      "  edits            %lld sweeps (tool position every %lld ticks), %lld samples/texels changed, "
+      "%lld ticks carried work over\n",
+      n(j["sweeps"]), n(j["edit_every_ticks"]), n(j["changed"]), n(j["carried_ticks"]));
+  std::printf("  undo history     %d strokes, %.1f MB of records\n", j["undo_strokes"].get<int>(),
+              d(j["undo_records_bytes"]) / 1e6);
+  if (a.cpu_time) {
+    const nlohmann::json& cpu = j["tick_cpu_ns"];
+    std::printf(
+        "  tick CPU time    median %.0f ns, p99 %.0f ns, max %.0f ns; %lld ticks computed longer than a period\n",
+        d(cpu["median"]), d(cpu["p99"]), d(cpu["max"]), n(j["cpu_long_ticks"]));
+  }
+  if (a.save_every > 0)
+    std::printf("  published        %lld epochs, %lld slab versions; %d autosaves while sculpting\n",
+                n(j["publications"]), n(j["slabs_published"]), j["autosaves"].get<int>());
+  for (const char* t : {"carve", "add"})
+    if (j.contains("against_exact_boolean") && j["against_exact_boolean"].contains(t)) {
+      const nlohmann::json& c = j["against_exact_boolean"][t];
+      std::printf(
+          "  %-5s vs exact   model->exact RMS %.4f%% max %.4f%%, exact->model RMS %.4f%% max %.4f%% of the "
+          "diagonal (%lld sweeps, against %s)\n",
+          t, d(c["rms_pct"]), d(c["max_pct"]), d(c["rms_back_pct"]), d(c["max_back_pct"]), n(c["sweeps"]),
+          a.check_against.c_str());
+    }
+  if (j.contains("realtime_note")) std::printf("  note             %s\n", j["realtime_note"].get<std::string>().c_str());
+  if (!a.output.empty()) std::printf("  wrote            %s\n", a.output.c_str());
+  if (!a.forces.empty()) std::printf("  wrote            %s\n", a.forces.c_str());
+}
+
 void run_sculpt(const SculptArgs& a) {
   check_outputs({a.output, a.forces}, {a.model, a.script, a.check_against});
   check_model_output(a.output);
@@ -177,9 +340,7 @@ void run_sculpt(const SculptArgs& a) {
   for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
   const Workspace ws = fit_workspace(box, script.workspace_m);
   const double mm = ws.scale / 1000;  // model units per device millimetre
-  if (script.layer.present) set_under_layer(model, script.layer.thickness_mm * mm, script.layer.material);
-  if (script.surface.has_colour) std::fill(model.colour.begin(), model.colour.end(), script.surface.colour);
-  if (script.surface.has_roughness) std::fill(model.roughness.begin(), model.roughness.end(), script.surface.roughness);
+  apply_script_surface(model, script, mm);
   Trajectory path;
   {
     const SlabLocator locator(model);
@@ -189,20 +350,9 @@ void run_sculpt(const SculptArgs& a) {
   }
   std::vector<Brush> brushes;
   for (const Stroke& st : script.strokes) brushes.push_back(stroke_brush(st, mm));
-  // The hand holds the tool button down during each editing stroke (not while probing or travelling).
-  std::vector<uint32_t> buttons(path.position.size(), 0);
-  for (size_t k = 0; k < buttons.size(); ++k) {
-    const Tool t = path.tool[k];
-    buttons[k] = (t == Tool::Carve || t == Tool::Add || t == Tool::Paint || t == Tool::Smooth || t == Tool::Flatten);
-  }
+  const std::vector<uint32_t> buttons = tool_buttons(path);
 
-  SessionOptions so;
-  so.mode = parse_render_mode(a.mode);
-  so.proxy.force = script.force;
-  so.proxy.solver = parse_alpha_solver(a.solver);
-  so.edit_budget_s = a.budget_us * 1e-6;
-  so.edit_every = a.edit_rate > 0 ? std::max<int64_t>(1, std::llround(a.rate / a.edit_rate)) : 1;
-  so.publish = a.save_every > 0;  // snapshots only when another thread reads them
+  const SessionOptions so = session_options(a, script);
   SculptSession session(std::move(model), ws, so);
   std::vector<EditLogEntry> sweep_log;
   if (!a.check_against.empty()) {
@@ -229,127 +379,21 @@ void run_sculpt(const SculptArgs& a) {
   opt.ticks = static_cast<int64_t>(path.position.size());
   opt.cpu_time = a.cpu_time;
 
-  // Autosave from another thread while the servo edits: each file is a published epoch.
-  std::atomic<bool> done{false};
-  std::atomic<int> saves{0};
-  std::thread saver;
-  if (a.save_every > 0 && !a.output.empty()) {
-    saver = std::thread([&] {
-      auto next = std::chrono::steady_clock::now();
-      while (!done.load()) {
-        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-            std::chrono::duration<double>(a.save_every));
-        while (!done.load() && std::chrono::steady_clock::now() < next)
-          std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        if (done.load()) break;
-        SlabModel copy;
-        {
-          SnapshotReader reader(*session.snapshots());
-          copy = reader.stored_model();
-        }
-        save_model(copy, a.output);
-        saves.fetch_add(1);
-      }
-    });
-  }
   const char* note = nullptr;
-  ServoStats st;
-  try {
-    st = run_session(session, device, opt, SessionHooks{before_tick, after_tick, &run}, &note);
-  } catch (...) {
-    done = true;
-    if (saver.joinable()) saver.join();
-    throw;
-  }
-  done = true;
-  if (saver.joinable()) saver.join();
+  int autosaves = 0;
+  const ServoStats st = run_with_autosave(session, device, opt, run, a, autosaves, note);
   session.finish();  // sweeps still queued when the loop ended
 
   if (!a.forces.empty()) write_csv(a.forces, run.records);
   if (!a.output.empty()) save_model(session.model(), a.output);
-  nlohmann::json check;
-  if (!a.check_against.empty()) {
-    const TriangleMesh input = read_mesh(a.check_against, {a.limit.bytes()});
-    const ExactMeshQuery exact(input);
-    const double spacing = 0.5 * session.editor().scratch().sample_spacing;
-    for (BrushTool t : {BrushTool::Carve, BrushTool::Add}) {
-      nlohmann::json c = check_strokes(session.model(), exact, sweep_log, t, spacing);
-      if (!c.is_null()) check[brush_tool_name(t)] = c;
-    }
-  }
-  const SessionStats& ss = session.stats();
-  const UndoHistory& h = session.editor().history();
-  nlohmann::json j = {{"model", a.model},
-                      {"script", script_path},
-                      {"ticks", st.ticks},
-                      {"seconds", st.seconds},
-                      {"rate_hz", st.rate_hz},
-                      {"target_rate_hz", a.rate},
-                      {"realtime", !a.fast},
-                      {"mode", a.mode},
-                      {"solver", a.solver},
-                      {"tick_ns", stats_json(st.compute_ns)},
-                      {"period_ns", stats_json(st.period_ns)},
-                      {"overruns", st.overruns},
-                      {"long_ticks", st.long_ticks},
-                      {"cpu_long_ticks", st.cpu_long_ticks},
-                      {"tick_cpu_ns", stats_json(st.cpu_ns)},
-                      {"watchdog_trips", st.watchdog_trips},
-                      {"contact_ticks", ss.contact_ticks},
-                      {"edit_every_ticks", so.edit_every},
-                      {"edit_budget_us", a.budget_us},
-                      {"sweeps", ss.sweeps},
-                      {"changed", ss.changed},
-                      {"carried_ticks", ss.carried_ticks},
-                      {"max_edit_ns", ss.max_edit_ns},
-                      {"publications", ss.publications},
-                      {"slabs_published", ss.slabs_published},
-                      {"publish_deferred", ss.publish_deferred},
-                      {"autosaves", saves.load()},
-                      {"undo_strokes", h.undo_count()},
-                      {"undo_records_bytes", h.records_held() * sizeof(UndoRecord)},
-                      {"output", a.output},
-                      {"forces", a.forces}};
+  const nlohmann::json check = check_against_exact(a, session, sweep_log);
+  nlohmann::json j = sculpt_report(a, script_path, st, session, so.edit_every, autosaves);
   if (!check.is_null()) j["against_exact_boolean"] = check;
   if (note) j["realtime_note"] = note;
-  if (a.json) {
+  if (a.json)
     std::printf("%s\n", j.dump(2).c_str());
-    return;
-  }
-  std::printf("sculpted %s with %s\n", a.model.c_str(), script_path.c_str());
-  std::printf(
-      "  ticks            %lld in %.2f s: %.0f Hz (target %.0f Hz%s), %lld overruns, %lld ticks longer than a "
-      "period\n",
-      (long long)st.ticks, st.seconds, st.rate_hz, a.rate, a.fast ? ", --fast" : "", (long long)st.overruns,
-      (long long)st.long_ticks);
-  std::printf(
-      "  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (proxy, edits within %.0f µs, publication)\n",
-      st.compute_ns.median, st.compute_ns.p99, st.compute_ns.max, a.budget_us);
-  std::printf("  contact ticks    %lld\n", (long long)ss.contact_ticks);
-  std::printf(
-      "  edits            %lld sweeps (tool position every %lld ticks), %lld samples/texels changed, "
-      "%lld ticks carried work over\n",
-      (long long)ss.sweeps, (long long)so.edit_every, (long long)ss.changed, (long long)ss.carried_ticks);
-  std::printf("  undo history     %d strokes, %.1f MB of records\n", h.undo_count(),
-              double(h.records_held() * sizeof(UndoRecord)) / 1e6);
-  if (a.cpu_time)
-    std::printf(
-        "  tick CPU time    median %.0f ns, p99 %.0f ns, max %.0f ns; %lld ticks computed longer than a period\n",
-        st.cpu_ns.median, st.cpu_ns.p99, st.cpu_ns.max, (long long)st.cpu_long_ticks);
-  if (so.publish)
-    std::printf("  published        %lld epochs, %lld slab versions; %d autosaves while sculpting\n",
-                (long long)ss.publications, (long long)ss.slabs_published, saves.load());
-  for (const char* t : {"carve", "add"})
-    if (check.contains(t))
-      std::printf(
-          "  %-5s vs exact   model->exact RMS %.4f%% max %.4f%%, exact->model RMS %.4f%% max %.4f%% of the "
-          "diagonal (%lld sweeps, against %s)\n",
-          t, check[t]["rms_pct"].get<double>(), check[t]["max_pct"].get<double>(),
-          check[t]["rms_back_pct"].get<double>(), check[t]["max_back_pct"].get<double>(),
-          (long long)check[t]["sweeps"].get<int64_t>(), a.check_against.c_str());
-  if (note) std::printf("  note             %s\n", note);
-  if (!a.output.empty()) std::printf("  wrote            %s\n", a.output.c_str());
-  if (!a.forces.empty()) std::printf("  wrote            %s\n", a.forces.c_str());
+  else
+    print_sculpt_report(j, a);
 }
 
 }  // namespace
