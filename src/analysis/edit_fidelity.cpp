@@ -66,78 +66,87 @@ class ToolGrid {
   std::unordered_map<uint64_t, std::vector<int32_t>> cells_;
 };
 
-}  // namespace
+// The band and the composed signed distance of B (the input edited by the tools), at one point.
+class BandField {
+ public:
+  BandField(const ExactMeshQuery& input, const std::vector<ToolCapsule>& tools, const ToolGrid& grid, double margin,
+            double near_radius)
+      : input_(input), tools_(tools), grid_(grid), margin_(margin), near_radius_(near_radius) {}
 
-EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery& input,
-                                   const std::vector<ToolCapsule>& tools, double margin, double spacing) {
-  if (tools.empty()) throw InvalidInput("measure_edit_fidelity: no tools");
-  if (!(margin > 0) || !(spacing > 0)) throw InvalidInput("measure_edit_fidelity: margin and spacing must be > 0");
-  const TriangleMesh& in = input.mesh();
-  EditFidelity f;
-  f.diagonal = bounds(in).diagonal();
-  const double diag = f.diagonal, near_radius = 1e-2 * diag, on_surface = 1e-7 * diag;
-  const ToolGrid grid(tools, margin);
-
+  const std::vector<int32_t>* near(const Vec3& p) const { return grid_.near(p); }
+  const std::vector<ToolCapsule>& tools() const { return tools_; }
   // Within the measured band: some measured tool's segment is within radius + margin.
-  auto in_band = [&](const Vec3& p, const std::vector<int32_t>* list) {
+  bool in_band(const Vec3& p, const std::vector<int32_t>* list) const {
     if (!list) return false;
     for (int32_t i : *list)
-      if (tools[i].measured && segment_distance(p, tools[i]) <= tools[i].radius + margin) return true;
+      if (tools_[i].measured && segment_distance(p, tools_[i]) <= tools_[i].radius + margin_) return true;
     return false;
-  };
+  }
   // Signed distance of B: the input's (negative inside), then the tools in order.
-  auto compose = [&](double sd, const Vec3& p, const std::vector<int32_t>* list) {
+  double compose(double sd, const Vec3& p, const std::vector<int32_t>* list) const {
     if (list)
       for (int32_t i : *list) {
-        const double c = segment_distance(p, tools[i]) - tools[i].radius;
-        sd = tools[i].add ? std::min(sd, c) : std::max(sd, -c);
+        const double c = segment_distance(p, tools_[i]) - tools_[i].radius;
+        sd = tools_[i].add ? std::min(sd, c) : std::max(sd, -c);
       }
     return sd;
-  };
-  auto input_sd = [&](const Vec3& p) {
-    ClosestPoint c = input.closest_point(p, near_radius);
-    if (c.face < 0) c = input.closest_point(p);
-    return input.inside(p) ? -c.distance : c.distance;
-  };
+  }
+  double input_sd(const Vec3& p) const {
+    ClosestPoint c = input_.closest_point(p, near_radius_);
+    if (c.face < 0) c = input_.closest_point(p);
+    return input_.inside(p) ? -c.distance : c.distance;
+  }
 
-  // ---- model → exact ----
-  TriangleMesh surface;
-  displaced_surface(model, surface.vertices, surface.faces);
+ private:
+  const ExactMeshQuery& input_;
+  const std::vector<ToolCapsule>& tools_;
+  const ToolGrid& grid_;
+  double margin_, near_radius_;
+};
+
+// Model → exact: B's distance at the displaced surface's vertices and face centroids in the band.
+Sum model_to_exact(const BandField& field, const TriangleMesh& surface) {
   const int64_t ns = static_cast<int64_t>(surface.vertices.size()), nt = static_cast<int64_t>(surface.faces.size());
   auto model_point = [&](int64_t k) {
     if (k < ns) return surface.vertices[k];
     const Tri& t = surface.faces[k - ns];
     return Vec3((surface.vertices[t[0]] + surface.vertices[t[1]] + surface.vertices[t[2]]) / 3.0);
   };
-  const Sum fwd = tbb::parallel_reduce(
+  return tbb::parallel_reduce(
       tbb::blocked_range<int64_t>(0, ns + nt, 4096), Sum{},
       [&](const tbb::blocked_range<int64_t>& r, Sum s) {
         for (int64_t k = r.begin(); k < r.end(); ++k) {
           const Vec3 p = model_point(k);
-          const std::vector<int32_t>* list = grid.near(p);
-          if (!in_band(p, list)) continue;
-          const double d = std::abs(compose(input_sd(p), p, list));
+          const std::vector<int32_t>* list = field.near(p);
+          if (!field.in_band(p, list)) continue;
+          const double d = std::abs(field.compose(field.input_sd(p), p, list));
           s.sq += d * d, s.max = std::max(s.max, d), ++s.n;
         }
         return s;
       },
       [](const Sum& a, const Sum& b) { return a + b; });
+}
 
-  // ---- exact → model: points of B's surface in the band ----
+// (a) the input's vertices and face centroids (kept if in the band and no tool moved them).
+std::vector<Vec3> input_candidates(const TriangleMesh& in) {
   std::vector<Vec3> candidates;
-  // (a) the input's vertices and face centroids in the band (kept if no tool moved them).
   for (const Vec3& v : in.vertices) candidates.push_back(v);
   for (const Tri& t : in.faces) candidates.push_back((in.vertices[t[0]] + in.vertices[t[1]] + in.vertices[t[2]]) / 3.0);
-  const size_t input_candidates = candidates.size();
-  // (b) the swept envelope: circles normal to the path every `spacing` of path length, and whole
-  // spheres where a chain of consecutive tools starts or ends.
-  auto sphere = [&](const Vec3& c, double r) {
-    const int n = std::max(8, static_cast<int>(4 * std::numbers::pi * r * r / (spacing * spacing)));
-    for (int i = 0; i < n; ++i) {  // Fibonacci sphere
-      const double z = 1 - 2 * (i + 0.5) / n, rho = std::sqrt(std::max(0.0, 1 - z * z)), phi = i * 2.399963229728653;
-      candidates.push_back(c + r * Vec3(rho * std::cos(phi), rho * std::sin(phi), z));
-    }
-  };
+  return candidates;
+}
+
+// Samples of a whole sphere about `spacing` apart (where a chain of tools starts or ends).
+void add_sphere(std::vector<Vec3>& candidates, const Vec3& c, double r, double spacing) {
+  const int n = std::max(8, static_cast<int>(4 * std::numbers::pi * r * r / (spacing * spacing)));
+  for (int i = 0; i < n; ++i) {  // Fibonacci sphere
+    const double z = 1 - 2 * (i + 0.5) / n, rho = std::sqrt(std::max(0.0, 1 - z * z)), phi = i * 2.399963229728653;
+    candidates.push_back(c + r * Vec3(rho * std::cos(phi), rho * std::sin(phi), z));
+  }
+}
+
+// (b) the swept envelope: circles normal to the path every `spacing` of path length, and whole
+// spheres where a chain of consecutive tools starts or ends.
+void add_envelope(std::vector<Vec3>& candidates, const std::vector<ToolCapsule>& tools, double spacing, double diag) {
   double since = 0;  // path length since the last circle
   for (size_t i = 0; i < tools.size(); ++i) {
     const ToolCapsule& t = tools[i];
@@ -145,7 +154,7 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
     const bool starts = i == 0 || (tools[i - 1].b - t.a).norm() > 1e-9 * diag || tools[i - 1].radius != t.radius;
     const bool ends =
         i + 1 == tools.size() || (tools[i + 1].a - t.b).norm() > 1e-9 * diag || tools[i + 1].radius != t.radius;
-    if (starts) sphere(t.a, t.radius), since = 0;
+    if (starts) add_sphere(candidates, t.a, t.radius, spacing), since = 0;
     const Vec3 u = t.b - t.a;
     const double len = u.norm();
     if (len > 0) {
@@ -163,36 +172,48 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
       }
       since = last >= 0 ? len - last : since + len;
     }
-    if (ends) sphere(t.b, t.radius);
+    if (ends) add_sphere(candidates, t.b, t.radius, spacing);
   }
-  const ExactMeshQuery recon(surface, BvhQuality::medium);
+}
+
+// B's signed distance at envelope sample @p y after moving it onto the nearest tool's surface (the
+// envelope sample is within rounding of it); false if it has no such tool or left the band.
+bool envelope_sd(const BandField& field, const std::vector<int32_t>& list, Vec3& y, double& sd) {
+  const std::vector<ToolCapsule>& tools = field.tools();
+  double best = 1e300;
+  Vec3 axis = Vec3::Zero();
+  int32_t nearest = -1;
+  for (int32_t i : list) {
+    Vec3 c;
+    const double d = segment_distance(y, tools[i], &c) - tools[i].radius;
+    if (d < best) best = d, axis = c, nearest = i;
+  }
+  if (nearest < 0 || (y - axis).norm() <= 0) return false;
+  y = axis + tools[nearest].radius * (y - axis).normalized();
+  const std::vector<int32_t>* moved = field.near(y);
+  if (!field.in_band(y, moved)) return false;
+  sd = field.compose(field.input_sd(y), y, moved);
+  return true;
+}
+
+// Exact → model: the reconstruction's distance at the candidates that lie on B's surface in the band
+// (the first @p n_input are the input's, the rest the tools' envelope).
+Sum exact_to_model(const BandField& field, const std::vector<Vec3>& candidates, size_t n_input,
+                   const ExactMeshQuery& recon, double near_radius, double on_surface) {
   const int64_t nc = static_cast<int64_t>(candidates.size());
-  const Sum back = tbb::parallel_reduce(
+  return tbb::parallel_reduce(
       tbb::blocked_range<int64_t>(0, nc, 1024), Sum{},
       [&](const tbb::blocked_range<int64_t>& r, Sum s) {
         for (int64_t k = r.begin(); k < r.end(); ++k) {
           Vec3 y = candidates[k];
-          const std::vector<int32_t>* list = grid.near(y);
+          const std::vector<int32_t>* list = field.near(y);
           if (!list) continue;
           double sd;
-          if (static_cast<size_t>(k) < input_candidates) {
-            if (!in_band(y, list)) continue;
-            sd = compose(0.0, y, list);  // on the input: stays on B's surface unless a tool moved it
-          } else {
-            // Onto the nearest tool's surface (the envelope sample is within rounding of it).
-            double best = 1e300;
-            Vec3 axis = Vec3::Zero();
-            int32_t nearest = -1;
-            for (int32_t i : *list) {
-              Vec3 c;
-              const double d = segment_distance(y, tools[i], &c) - tools[i].radius;
-              if (d < best) best = d, axis = c, nearest = i;
-            }
-            if (nearest < 0 || (y - axis).norm() <= 0) continue;
-            y = axis + tools[nearest].radius * (y - axis).normalized();
-            list = grid.near(y);
-            if (!in_band(y, list)) continue;
-            sd = compose(input_sd(y), y, list);
+          if (static_cast<size_t>(k) < n_input) {
+            if (!field.in_band(y, list)) continue;
+            sd = field.compose(0.0, y, list);  // on the input: stays on B's surface unless a tool moved it
+          } else if (!envelope_sd(field, *list, y, sd)) {
+            continue;
           }
           if (std::abs(sd) > on_surface) continue;  // not on B's surface (inside another tool, or in the air)
           ClosestPoint c = recon.closest_point(y, near_radius);
@@ -202,6 +223,31 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
         return s;
       },
       [](const Sum& a, const Sum& b) { return a + b; });
+}
+
+}  // namespace
+
+EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery& input,
+                                   const std::vector<ToolCapsule>& tools, double margin, double spacing) {
+  if (tools.empty()) throw InvalidInput("measure_edit_fidelity: no tools");
+  if (!(margin > 0) || !(spacing > 0)) throw InvalidInput("measure_edit_fidelity: margin and spacing must be > 0");
+  const TriangleMesh& in = input.mesh();
+  EditFidelity f;
+  f.diagonal = bounds(in).diagonal();
+  const double diag = f.diagonal, near_radius = 1e-2 * diag, on_surface = 1e-7 * diag;
+  const ToolGrid grid(tools, margin);
+  const BandField field(input, tools, grid, margin, near_radius);
+
+  TriangleMesh surface;
+  displaced_surface(model, surface.vertices, surface.faces);
+  const Sum fwd = model_to_exact(field, surface);
+
+  // Exact → model: points of B's surface in the band.
+  std::vector<Vec3> candidates = input_candidates(in);
+  const size_t n_input = candidates.size();
+  add_envelope(candidates, tools, spacing, diag);
+  const ExactMeshQuery recon(surface, BvhQuality::medium);
+  const Sum back = exact_to_model(field, candidates, n_input, recon, near_radius, on_surface);
 
   f.points = fwd.n;
   f.back_points = back.n;

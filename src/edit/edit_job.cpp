@@ -275,216 +275,258 @@ bool EditJob::flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScr
   return true;
 }
 
-bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+// First touch of a sample (texel) in this stroke: remember and record its values.
+static inline void touch_sample(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
+  if (!st || st->sample_mark[id] == st->id) return;
+  st->sample_mark[id] = st->id;
+  const SampleValues v = sample_values(m, id);
+  st->sample_base[id] = v;
+  st->sample_k[id] = 0;
+  if (st->history)
+    st->history->record(
+        {id, {v.delta, v.friction_static, v.friction_dynamic, v.stiffness_scale, v.layer_displacement}});
+}
+static inline void touch_texel(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
+  if (!st || st->texel_mark[id] == st->id) return;
+  st->texel_mark[id] = st->id;
+  const TexelValues v = texel_values(m, id);
+  st->texel_base[id] = v;
+  st->texel_k[id] = 0;
+  if (st->history) st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f}});
+}
+// A sample's displacement at the start of the stroke (its current one when there is no stroke).
+static inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id) noexcept {
+  return st && st->sample_mark[id] == st->id ? double(st->sample_base[id].delta) : double(m.displacement[id]);
+}
+
+// Stores a new displacement and its position (= sample_position(), same arithmetic).
+inline void EditJob::set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0,
+                               const Vec3& L) noexcept {
+  touch_sample(m, stroke_, id);
+  const double step = double(v) - double(m.displacement[id]);
+  motion2_ = std::max(motion2_, step * step * L.squaredNorm());
+  m.displacement[id] = v;
+  m.positions[id] = (p0 + static_cast<double>(v) * L).cast<float>();
+  list_changed(m, s, id);
+  ++result.changed;
+}
+
+// Carve / Add: the swept sphere's boolean with the surface, sample by sample.
+bool EditJob::flood_boolean(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   const Brush& b = sweep_.brush;
   const Vec3 A = sweep_.from, u = u_;
   const double uu = u.squaredNorm(), r = b.radius, strength = std::clamp(b.strength, 0.0, 1.0);
-  const Segment path(A, u);
+  StrokeMemory* st = stroke_;
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  // Boolean with the swept sphere. A surface point inside the tool moves to the tool's entry
+  // (carve) or exit (add) on its projection line; one outside stays (a tool buried under a
+  // column leaves it: no cavities; a tool floating over it adds nothing: no overhangs). The
+  // cheap point test decides; the line is intersected only for the samples that change.
+  // The fill continues through the surface within `reach` of the tool, which includes the
+  // surface the previous sweep left on the tool's boundary.
+  const bool add = kernel_ == Kernel::Add;
+  const double reach = r + std::max(0.25 * r, 1.5 * s.sample_spacing), reach2 = reach * reach;
+  const Vec3 B = sweep_.to;
+  const double inv_uu = uu > 0 ? 1 / uu : 0.0;
+  return flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    const Vec3 w = m.positions[id].cast<double>() - A;
+    const double t = std::clamp(w.dot(u) * inv_uu, 0.0, 1.0);
+    const double dist2 = (w - t * u).squaredNorm();
+    if (dist2 > reach2) return false;
+    // On the tool's boundary (within 1e-5 of the radius: where the previous sweep left the
+    // surface) nothing is cut: the new capsule would only move it by rounding.
+    if (dist2 >= r2_ * (1 - 2e-5)) return true;
+    Vec3 p0, p1;
+    line_of(id, p0, p1);
+    const Vec3 L = p1 - p0;
+    double t0, t1;
+    if (!line_capsule(p0, L, A, B, r, t0, t1)) return true;
+    const float cur = m.displacement[id];
+    const double delta = cur;
+    if (add ? !(t0 <= delta && delta < t1) : !(t0 < delta && delta <= t1))
+      return true;  // float position vs exact line
+    double target = add ? std::min(t1, 1.0) : std::max(t0, 0.0);
+    if (soft_) {
+      const double base = base_delta(m, st, id);
+      const double x = line_segment_distance(p0, L, A, u, uu) / r;
+      target = base + strength * falloff_weight(b.falloff, x) * (target - base);
+    }
+    const float v = static_cast<float>(target);
+    if (add ? v > cur : v < cur) set_delta(m, s, id, v, p0, L);
+    return true;
+  });
+}
+
+// The paper's cone deposit (add_material): raises samples under a cone around the contact.
+bool EditJob::flood_paper_cone(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const Vec3 A = sweep_.from;
+  const double r = b.radius;
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  return flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    Vec3 p0, p1;
+    line_of(id, p0, p1);
+    const Vec3 L = p1 - p0;
+    const double len = L.norm();
+    const double dist = (p0 + double(m.displacement[id]) * L - A).norm();
+    if (dist >= r || len <= 0) return false;
+    const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + b.height * (1 - dist / r) / len));
+    if (raised > m.displacement[id]) set_delta(m, s, id, raised, p0, L);
+    return true;
+  });
+}
+
+// Smooth / Flatten: relaxes displacements towards the neighbours' mean or the tool's plane.
+bool EditJob::flood_relax(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const Segment path(sweep_.from, u_);
+  const double inv_r2 = 1 / r2_;
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  const SampleLayout& S = m.samples;
+  const bool smooth = kernel_ == Kernel::Smooth;
+  const Vec3 q = sweep_.plane_point, n = sweep_.plane_normal;
+  static constexpr double kInverse[] = {0,       1,       1 / 2.,  1 / 3.,  1 / 4.,  1 / 5.,
+                                        1 / 6.,  1 / 7.,  1 / 8.,  1 / 9.,  1 / 10., 1 / 11.,
+                                        1 / 12., 1 / 13., 1 / 14., 1 / 15., 1 / 16.};
+  return flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
+    if (!(w > 0)) return false;
+    const double e = coef_ * w;
+    // 1 - exp(-e): its series while e is small (per tick e ~ 0.01; error < e⁴/24), else exp.
+    const double lambda = e < 0.02 ? e * (1 - e * (0.5 - e * (1.0 / 6))) : 1 - std::exp(-e);
+    const float cur = m.displacement[id];
+    Vec3 p0, p1;
+    double target;
+    if (smooth) {  // mean of the grid neighbours' displacements (across seams)
+      double sum = 0;
+      const int32_t first = S.neighbour_offsets[id], last = S.neighbour_offsets[id + 1];
+      for (int32_t e = first; e < last; ++e) sum += m.displacement[S.neighbours[e]];
+      const int32_t valence = last - first;
+      if (valence == 0) return true;
+      target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
+      if (static_cast<float>(cur + lambda * (target - cur)) == cur) return true;
+      line_of(id, p0, p1);
+    } else {  // where the projection line meets the tool's plane
+      line_of(id, p0, p1);
+      const Vec3 L = p1 - p0;
+      const double ln = L.dot(n);
+      if (!(std::abs(ln) > 1e-6 * L.norm())) return true;
+      target = std::clamp((q - p0).dot(n) / ln, 0.0, 1.0);
+    }
+    const float v = static_cast<float>(cur + lambda * (target - cur));
+    if (v != cur) set_delta(m, s, id, v, p0, p1 - p0);
+    return true;
+  });
+}
+
+// Paint of a per-sample field (friction, stiffness, layer thickness), once per stroke.
+bool EditJob::flood_paint_samples(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const double strength = std::clamp(b.strength, 0.0, 1.0);
+  const Segment path(sweep_.from, u_);
   const double inv_r2 = 1 / r2_;
   const double pressure = std::clamp(sweep_.pressure, 0.0, 1.0);
   StrokeMemory* st = stroke_;
   LineEvaluator line_of{m, s.grid_weights.data()};
   const SampleLayout& S = m.samples;
-
-  // First touch of a sample (texel) in this stroke: remember and record its values.
-  auto touch_sample = [&](int32_t id) noexcept {
-    if (!st || st->sample_mark[id] == st->id) return;
-    st->sample_mark[id] = st->id;
-    const SampleValues v = sample_values(m, id);
-    st->sample_base[id] = v;
-    st->sample_k[id] = 0;
-    if (st->history)
-      st->history->record(
-          {id, {v.delta, v.friction_static, v.friction_dynamic, v.stiffness_scale, v.layer_displacement}});
-  };
-  auto touch_texel = [&](int32_t id) noexcept {
-    if (!st || st->texel_mark[id] == st->id) return;
-    st->texel_mark[id] = st->id;
-    const TexelValues v = texel_values(m, id);
-    st->texel_base[id] = v;
-    st->texel_k[id] = 0;
-    if (st->history) st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f}});
-  };
-  auto base_delta = [&](int32_t id) noexcept {
-    return st && st->sample_mark[id] == st->id ? double(st->sample_base[id].delta) : double(m.displacement[id]);
-  };
-  // Stores a new displacement and its position (= sample_position(), same arithmetic).
-  auto set_delta = [&](int32_t id, float v, const Vec3& p0, const Vec3& L) noexcept {
-    touch_sample(id);
-    const double step = double(v) - double(m.displacement[id]);
-    motion2_ = std::max(motion2_, step * step * L.squaredNorm());
-    m.displacement[id] = v;
-    m.positions[id] = (p0 + static_cast<double>(v) * L).cast<float>();
-    list_changed(m, s, id);
+  DirtyMarker dirty{s, S.n * S.n};
+  return flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
+    if (!(w > 0)) return false;
+    const float k = static_cast<float>(pressure * strength * w);
+    if (!(k > (st && st->sample_mark[id] == st->id ? st->sample_k[id] : 0.0f))) return true;
+    touch_sample(m, st, id);
+    const SampleValues base = st ? st->sample_base[id] : sample_values(m, id);
+    if (st) st->sample_k[id] = k;
+    auto blend = [k](float from, float to) { return k * to + (1 - k) * from; };
+    switch (b.field) {
+      case BrushField::FrictionStatic:
+        m.friction_static[id] = blend(base.friction_static, b.value);
+        break;
+      case BrushField::FrictionDynamic:
+        m.friction_dynamic[id] = blend(base.friction_dynamic, b.value);
+        break;
+      case BrushField::Stiffness:
+        m.stiffness_scale[id] = blend(base.stiffness_scale, b.value);
+        break;
+      default: {  // LayerThickness: the layer's top `value` below the stroke's starting surface
+        Vec3 p0, p1;
+        line_of(id, p0, p1);
+        const double len = (p1 - p0).norm();
+        if (!(len > 0)) return true;
+        const float top = static_cast<float>(std::clamp(base.delta - b.value / len, 0.0, 1.0));
+        m.layer_displacement[id] = std::clamp(blend(base.layer_displacement, top), 0.0f, 1.0f);
+      }
+    }
     ++result.changed;
-  };
+    dirty.mark(S, id);
+    return true;
+  });
+}
 
+// Paint of a per-texel field (colour, roughness), once per stroke.
+bool EditJob::flood_paint_texels(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const double strength = std::clamp(b.strength, 0.0, 1.0);
+  const Segment path(sweep_.from, u_);
+  const double inv_r2 = 1 / r2_;
+  const double pressure = std::clamp(sweep_.pressure, 0.0, 1.0);
+  StrokeMemory* st = stroke_;
+  const SampleLayout& T = m.texels;
+  DirtyMarker dirty{s, T.n * T.n};
+  int32_t cached = -1;
+  const SlabGeometry* g = nullptr;
+  const SlabSample* v = nullptr;
+  return flood(T, s.texel_stamp, s, d, [&](int32_t id) noexcept {
+    const int32_t local = T.home_index[id], slab = T.home_slab[id];
+    if (slab != cached) {  // consecutive texels mostly share their home slab
+      cached = slab;
+      g = &m.geometry[slab];
+      v = m.slab_samples.data() + static_cast<size_t>(slab) * m.samples.per_slab;
+    }
+    // The texel on the displaced surface: surface_point() with the cell from the table.
+    const std::array<double, 5>& w = s.texel_weights[local];
+    const std::array<int32_t, 3>& c = s.texel_points[local];
+    const double delta = w[2] * v[c[0]].delta + w[3] * v[c[1]].delta + w[4] * v[c[2]].delta;
+    const Vec3 p = g->R0 + w[0] * g->e1 + w[1] * g->e2 + delta * (g->dR + w[0] * g->d1 + w[1] * g->d2);
+    const double fw = falloff_at(b.falloff, path.distance2(p), inv_r2);
+    if (!(fw > 0)) return false;
+    const float k = static_cast<float>(pressure * strength * fw);
+    if (!(k > (st && st->texel_mark[id] == st->id ? st->texel_k[id] : 0.0f))) return true;
+    touch_texel(m, st, id);
+    const TexelValues base = st ? st->texel_base[id] : texel_values(m, id);
+    if (st) st->texel_k[id] = k;
+    if (b.field == BrushField::Colour) {
+      m.colour[id] = k * b.colour + (1 - k) * Vec3f(base.r, base.g, base.b);
+    } else {
+      m.roughness[id] = std::clamp(k * b.value + (1 - k) * base.roughness, 0.0f, 1.0f);
+    }
+    ++result.changed;
+    dirty.mark(T, id);
+    return true;
+  });
+}
+
+bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   bool done = false;
   switch (kernel_) {
     case Kernel::Carve:
-    case Kernel::Add: {
-      // Boolean with the swept sphere. A surface point inside the tool moves to the tool's entry
-      // (carve) or exit (add) on its projection line; one outside stays (a tool buried under a
-      // column leaves it: no cavities; a tool floating over it adds nothing: no overhangs). The
-      // cheap point test decides; the line is intersected only for the samples that change.
-      // The fill continues through the surface within `reach` of the tool, which includes the
-      // surface the previous sweep left on the tool's boundary.
-      const bool add = kernel_ == Kernel::Add;
-      const double reach = r + std::max(0.25 * r, 1.5 * s.sample_spacing), reach2 = reach * reach;
-      const Vec3 B = sweep_.to;
-      const double inv_uu = uu > 0 ? 1 / uu : 0.0;
-      done = flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-        const Vec3 w = m.positions[id].cast<double>() - A;
-        const double t = std::clamp(w.dot(u) * inv_uu, 0.0, 1.0);
-        const double dist2 = (w - t * u).squaredNorm();
-        if (dist2 > reach2) return false;
-        // On the tool's boundary (within 1e-5 of the radius: where the previous sweep left the
-        // surface) nothing is cut: the new capsule would only move it by rounding.
-        if (dist2 >= r2_ * (1 - 2e-5)) return true;
-        Vec3 p0, p1;
-        line_of(id, p0, p1);
-        const Vec3 L = p1 - p0;
-        double t0, t1;
-        if (!line_capsule(p0, L, A, B, r, t0, t1)) return true;
-        const float cur = m.displacement[id];
-        const double delta = cur;
-        if (add ? !(t0 <= delta && delta < t1) : !(t0 < delta && delta <= t1))
-          return true;  // float position vs exact line
-        double target = add ? std::min(t1, 1.0) : std::max(t0, 0.0);
-        if (soft_) {
-          const double base = base_delta(id);
-          const double x = line_segment_distance(p0, L, A, u, uu) / r;
-          target = base + strength * falloff_weight(b.falloff, x) * (target - base);
-        }
-        const float v = static_cast<float>(target);
-        if (add ? v > cur : v < cur) set_delta(id, v, p0, L);
-        return true;
-      });
+    case Kernel::Add:
+      done = flood_boolean(m, s, d);
       break;
-    }
     case Kernel::PaperCone:
-      done = flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-        Vec3 p0, p1;
-        line_of(id, p0, p1);
-        const Vec3 L = p1 - p0;
-        const double len = L.norm();
-        const double dist = (p0 + double(m.displacement[id]) * L - A).norm();
-        if (dist >= r || len <= 0) return false;
-        const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + b.height * (1 - dist / r) / len));
-        if (raised > m.displacement[id]) set_delta(id, raised, p0, L);
-        return true;
-      });
+      done = flood_paper_cone(m, s, d);
       break;
     case Kernel::Smooth:
-    case Kernel::Flatten: {
-      const bool smooth = kernel_ == Kernel::Smooth;
-      const Vec3 q = sweep_.plane_point, n = sweep_.plane_normal;
-      static constexpr double kInverse[] = {0,       1,       1 / 2.,  1 / 3.,  1 / 4.,  1 / 5.,
-                                            1 / 6.,  1 / 7.,  1 / 8.,  1 / 9.,  1 / 10., 1 / 11.,
-                                            1 / 12., 1 / 13., 1 / 14., 1 / 15., 1 / 16.};
-      done = flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-        const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
-        if (!(w > 0)) return false;
-        const double e = coef_ * w;
-        // 1 - exp(-e): its series while e is small (per tick e ~ 0.01; error < e⁴/24), else exp.
-        const double lambda = e < 0.02 ? e * (1 - e * (0.5 - e * (1.0 / 6))) : 1 - std::exp(-e);
-        const float cur = m.displacement[id];
-        Vec3 p0, p1;
-        double target;
-        if (smooth) {  // mean of the grid neighbours' displacements (across seams)
-          double sum = 0;
-          const int32_t first = S.neighbour_offsets[id], last = S.neighbour_offsets[id + 1];
-          for (int32_t e = first; e < last; ++e) sum += m.displacement[S.neighbours[e]];
-          const int32_t valence = last - first;
-          if (valence == 0) return true;
-          target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
-          if (static_cast<float>(cur + lambda * (target - cur)) == cur) return true;
-          line_of(id, p0, p1);
-        } else {  // where the projection line meets the tool's plane
-          line_of(id, p0, p1);
-          const Vec3 L = p1 - p0;
-          const double ln = L.dot(n);
-          if (!(std::abs(ln) > 1e-6 * L.norm())) return true;
-          target = std::clamp((q - p0).dot(n) / ln, 0.0, 1.0);
-        }
-        const float v = static_cast<float>(cur + lambda * (target - cur));
-        if (v != cur) set_delta(id, v, p0, p1 - p0);
-        return true;
-      });
+    case Kernel::Flatten:
+      done = flood_relax(m, s, d);
       break;
-    }
-    case Kernel::PaintSample: {
-      DirtyMarker dirty{s, S.n * S.n};
-      done = flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-        const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
-        if (!(w > 0)) return false;
-        const float k = static_cast<float>(pressure * strength * w);
-        if (!(k > (st && st->sample_mark[id] == st->id ? st->sample_k[id] : 0.0f))) return true;
-        touch_sample(id);
-        const SampleValues base = st ? st->sample_base[id] : sample_values(m, id);
-        if (st) st->sample_k[id] = k;
-        auto blend = [k](float from, float to) { return k * to + (1 - k) * from; };
-        switch (b.field) {
-          case BrushField::FrictionStatic:
-            m.friction_static[id] = blend(base.friction_static, b.value);
-            break;
-          case BrushField::FrictionDynamic:
-            m.friction_dynamic[id] = blend(base.friction_dynamic, b.value);
-            break;
-          case BrushField::Stiffness:
-            m.stiffness_scale[id] = blend(base.stiffness_scale, b.value);
-            break;
-          default: {  // LayerThickness: the layer's top `value` below the stroke's starting surface
-            Vec3 p0, p1;
-            line_of(id, p0, p1);
-            const double len = (p1 - p0).norm();
-            if (!(len > 0)) return true;
-            const float top = static_cast<float>(std::clamp(base.delta - b.value / len, 0.0, 1.0));
-            m.layer_displacement[id] = std::clamp(blend(base.layer_displacement, top), 0.0f, 1.0f);
-          }
-        }
-        ++result.changed;
-        dirty.mark(S, id);
-        return true;
-      });
+    case Kernel::PaintSample:
+      done = flood_paint_samples(m, s, d);
       break;
-    }
-    case Kernel::PaintTexel: {
-      const SampleLayout& T = m.texels;
-      DirtyMarker dirty{s, T.n * T.n};
-      int32_t cached = -1;
-      const SlabGeometry* g = nullptr;
-      const SlabSample* v = nullptr;
-      done = flood(T, s.texel_stamp, s, d, [&](int32_t id) noexcept {
-        const int32_t local = T.home_index[id], slab = T.home_slab[id];
-        if (slab != cached) {  // consecutive texels mostly share their home slab
-          cached = slab;
-          g = &m.geometry[slab];
-          v = m.slab_samples.data() + static_cast<size_t>(slab) * m.samples.per_slab;
-        }
-        // The texel on the displaced surface: surface_point() with the cell from the table.
-        const std::array<double, 5>& w = s.texel_weights[local];
-        const std::array<int32_t, 3>& c = s.texel_points[local];
-        const double delta = w[2] * v[c[0]].delta + w[3] * v[c[1]].delta + w[4] * v[c[2]].delta;
-        const Vec3 p = g->R0 + w[0] * g->e1 + w[1] * g->e2 + delta * (g->dR + w[0] * g->d1 + w[1] * g->d2);
-        const double fw = falloff_at(b.falloff, path.distance2(p), inv_r2);
-        if (!(fw > 0)) return false;
-        const float k = static_cast<float>(pressure * strength * fw);
-        if (!(k > (st && st->texel_mark[id] == st->id ? st->texel_k[id] : 0.0f))) return true;
-        touch_texel(id);
-        const TexelValues base = st ? st->texel_base[id] : texel_values(m, id);
-        if (st) st->texel_k[id] = k;
-        if (b.field == BrushField::Colour) {
-          m.colour[id] = k * b.colour + (1 - k) * Vec3f(base.r, base.g, base.b);
-        } else {
-          m.roughness[id] = std::clamp(k * b.value + (1 - k) * base.roughness, 0.0f, 1.0f);
-        }
-        ++result.changed;
-        dirty.mark(T, id);
-        return true;
-      });
+    case Kernel::PaintTexel:
+      done = flood_paint_texels(m, s, d);
       break;
-    }
     default:
       done = true;
   }

@@ -87,6 +87,15 @@ class EditJob {
   template <class Visit>
   bool flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d, Visit visit) noexcept;
   bool run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  // The flood of each kernel: Carve / Add (boolean with the swept sphere), the paper's cone,
+  // Smooth / Flatten (relaxation), paint of a per-sample field, paint of a per-texel field.
+  bool flood_boolean(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  bool flood_paper_cone(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  bool flood_relax(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  bool flood_paint_samples(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  bool flood_paint_texels(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+  // Stores a sample's new displacement and position, recording its first touch in the stroke.
+  void set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0, const Vec3& L) noexcept;
   bool run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
   bool run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
 

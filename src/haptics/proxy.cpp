@@ -145,71 +145,56 @@ void finish_force(Vec3 f, const Vec3& n, const Vec3& velocity, const ProxyParams
   out.force = f.allFinite() ? f : Vec3::Zero();
 }
 
-}  // namespace
+// The proxy's material at its coordinates: stiffness and friction coefficients.
+struct Material {
+  double k, mu_s, mu_d;
+};
 
-double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
-                         double fallback) noexcept {
-  if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
-  // Same grid triangle and weights as evaluate_surface (docs/design.md#query).
-  const detail::GridCell cell = detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
-  const double v = cell.wa * field[cell.a] + cell.wb * field[cell.b] + cell.wd * field[cell.d];
-  return std::isfinite(v) ? v : fallback;
-}
-
-ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const Vec3& hip_device,
-                       const Vec3& velocity, const ProxyParams& p, ProxyState& s) noexcept {
-  ProxyOutput out;
-  if (bad_input(ws, hip_device, velocity, p)) {
-    out.status = ProxyStatus::BadInput;
-    return out;
-  }
-  const Vec3 hip = ws.to_model(hip_device);
-
-  if (!s.contact) {
-    // Free: follow the HIP; look for the first penetration, sub-stepping a long free move so that a
-    // jump across a thin part in one tick is still caught on the entry side.
-    Contact c = query(model, locator, hip, s.hip_cache, p.solver);
-    if (!c.penetrating() && s.has_last_hip) {
-      const double step = p.tunnel_step > 0 ? p.tunnel_step : 0.002 * model_diagonal(model);
-      const double len = (hip - s.last_hip).norm();
-      const int subs = std::min(p.max_tunnel_steps, static_cast<int>(std::ceil(len / step)));
-      QueryCache sub_cache = s.hip_cache;
-      for (int k = 1; k < subs; ++k) {
-        const Contact ck =
-            query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache, p.solver);
-        if (ck.penetrating()) {
-          c = ck;
-          break;
-        }
+// Free: the HIP's contact, sub-stepping a long free move (from the last HIP) so that a jump across
+// a thin part in one tick is still caught on the entry side.
+static inline Contact first_penetration(const SlabModel& model, const SlabLocator& locator, const Vec3& hip,
+                                        const ProxyParams& p, ProxyState& s) noexcept {
+  Contact c = query(model, locator, hip, s.hip_cache, p.solver);
+  if (!c.penetrating() && s.has_last_hip) {
+    const double step = p.tunnel_step > 0 ? p.tunnel_step : 0.002 * model_diagonal(model);
+    const double len = (hip - s.last_hip).norm();
+    const int subs = std::min(p.max_tunnel_steps, static_cast<int>(std::ceil(len / step)));
+    QueryCache sub_cache = s.hip_cache;
+    for (int k = 1; k < subs; ++k) {
+      const Contact ck =
+          query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache, p.solver);
+      if (ck.penetrating()) {
+        c = ck;
+        break;
       }
     }
-    s.last_hip = hip;
-    s.has_last_hip = true;
-    if (!c.penetrating()) {
-      release(s, hip);
-      return out;
-    }
-    // Entry: the surface point on the penetrating point's projection line (same barycentrics, α = δ).
-    s.contact = true;
-    s.stuck = false;
-    s.slab = c.slab;
-    s.coords = c.coords;
-    s.coords.alpha = c.delta;
-    s.position = c.surface_point;
-    s.normal = c.normal;
-    s.proxy_cache.last_slab = c.slab;
   }
-  s.last_hip = hip;
-  s.has_last_hip = true;
+  return c;
+}
 
-  // Follow edits under the proxy: re-evaluate the surface at its coordinates.
-  Contact at;
+// Entry: the surface point on the penetrating point's projection line (same barycentrics, α = δ).
+static inline void enter_contact(ProxyState& s, const Contact& c) noexcept {
+  s.contact = true;
+  s.stuck = false;
+  s.slab = c.slab;
+  s.coords = c.coords;
+  s.coords.alpha = c.delta;
+  s.position = c.surface_point;
+  s.normal = c.normal;
+  s.proxy_cache.last_slab = c.slab;
+}
+
+// Follow edits under the proxy: re-evaluate the surface at its coordinates.
+static inline void follow_surface(const SlabModel& model, ProxyState& s, Contact& at) noexcept {
   if (surface_at(model, s.slab, s.coords, at)) {
     s.position = at.surface_point;
     s.normal = at.normal;
     s.coords.alpha = at.delta;
   }
+}
 
+// Stiffness and friction under the proxy, blended towards the under-layer's where it is exposed.
+static inline Material material_at_proxy(const SlabModel& model, const ProxyParams& p, const ProxyState& s) noexcept {
   // The surface fields share one grid cell (the same one interpolate_field would find).
   const detail::GridCell cell = detail::grid_cell(model, s.slab, s.coords.bary[1], s.coords.bary[2]);
   auto field = [&](const std::vector<float>& f, double fallback) {
@@ -231,35 +216,35 @@ ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const
   const double mu_s = p.friction_scale * blend(field(model.friction_static, 0.0), under.friction_static);
   const double mu_d =
       std::min(mu_s, p.friction_scale * blend(field(model.friction_dynamic, 0.0), under.friction_dynamic));
-  out.mu_static = mu_s;
-  out.mu_dynamic = mu_d;
+  return {k, mu_s, mu_d};
+}
 
-  // Friction cone on the proxy (Ruspini et al. 1997; Melder & Harwin 2005): depths in model units,
-  // so the cone test k·|t| <= μ·k·d needs no unit conversion.
+// Friction cone on the proxy (Ruspini et al. 1997; Melder & Harwin 2005): depths in model units,
+// so the cone test k·|t| <= μ·k·d needs no unit conversion. Returns false when the HIP is above
+// the tangent plane (contact ends).
+static inline bool friction_cone(const SlabModel& model, const SlabLocator& locator, const Vec3& hip,
+                                 const ProxyParams& p, const Material& m, ProxyState& s, Contact& at) noexcept {
   const Vec3 d = hip - s.position;
   const double depth = -d.dot(s.normal);
-  if (depth <= 0) {  // HIP above the tangent plane: contact ends
-    release(s, hip);
-    return out;
-  }
+  if (depth <= 0) return false;
   const Vec3 t = d + depth * s.normal;  // tangential offset of the HIP from the proxy
   const double tl = t.norm();
-  if (s.stuck && tl <= mu_s * depth) {
+  if (s.stuck && tl <= m.mu_s * depth) {
     // stuck: proxy stays
-  } else if (tl <= mu_d * depth * (1 + kRestick)) {
+  } else if (tl <= m.mu_d * depth * (1 + kRestick)) {
     s.stuck = true;  // the HIP stopped pulling the proxy along: stick again
   } else {
     s.stuck = false;
-    const Vec3 target = hip - (tl > 0 ? Vec3(t * (mu_d * depth / tl)) : Vec3::Zero());
+    const Vec3 target = hip - (tl > 0 ? Vec3(t * (m.mu_d * depth / tl)) : Vec3::Zero());
     slide_towards(model, locator, target, p, s, at);
   }
+  return true;
+}
 
-  const Vec3 d2 = hip - s.position;
-  const double depth2 = -d2.dot(s.normal);
-  if (depth2 <= 0) {
-    release(s, hip);
-    return out;
-  }
+// The spring from the HIP to the proxy, its normal and friction parts, and the reported contact.
+static inline void contact_output(const Workspace& ws, const Vec3& hip, const Vec3& velocity, const ProxyParams& p,
+                                  double k, double depth, const ProxyState& s, const Contact& at,
+                                  ProxyOutput& out) noexcept {
   out.status = s.stuck ? ProxyStatus::Stuck : ProxyStatus::Sliding;
   const Vec3 spring_model = s.position - hip;  // [model units]
   const Vec3 f = (k / ws.scale) * spring_model;
@@ -272,7 +257,60 @@ ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const
   out.contact.coords = s.coords;
   out.contact.surface_point = s.position;
   out.contact.normal = s.normal;
-  out.contact.depth = depth2;
+  out.contact.depth = depth;
+}
+
+}  // namespace
+
+double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
+                         double fallback) noexcept {
+  if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
+  // Same grid triangle and weights as evaluate_surface (docs/design.md#query).
+  const detail::GridCell cell = detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
+  const double v = cell.wa * field[cell.a] + cell.wb * field[cell.b] + cell.wd * field[cell.d];
+  return std::isfinite(v) ? v : fallback;
+}
+
+ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const Vec3& hip_device,
+                       const Vec3& velocity, const ProxyParams& p, ProxyState& s) noexcept {
+  ProxyOutput out;
+  if (bad_input(ws, hip_device, velocity, p)) {
+    out.status = ProxyStatus::BadInput;
+    return out;
+  }
+  const Vec3 hip = ws.to_model(hip_device);
+
+  if (!s.contact) {
+    // Free: follow the HIP; look for the first penetration.
+    const Contact c = first_penetration(model, locator, hip, p, s);
+    s.last_hip = hip;
+    s.has_last_hip = true;
+    if (!c.penetrating()) {
+      release(s, hip);
+      return out;
+    }
+    enter_contact(s, c);
+  }
+  s.last_hip = hip;
+  s.has_last_hip = true;
+
+  Contact at;
+  follow_surface(model, s, at);
+  const Material m = material_at_proxy(model, p, s);
+  out.mu_static = m.mu_s;
+  out.mu_dynamic = m.mu_d;
+
+  if (!friction_cone(model, locator, hip, p, m, s, at)) {  // HIP above the tangent plane: contact ends
+    release(s, hip);
+    return out;
+  }
+  const Vec3 d2 = hip - s.position;
+  const double depth2 = -d2.dot(s.normal);
+  if (depth2 <= 0) {
+    release(s, hip);
+    return out;
+  }
+  contact_output(ws, hip, velocity, p, m.k, depth2, s, at, out);
   return out;
 }
 

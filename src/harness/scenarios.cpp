@@ -52,32 +52,152 @@ struct RunFlags {
   bool score_normals = true;
 };
 
-// Runs @p n ticks of @p dev against the renderer and scores them. The device is closed-loop
-// (simulated hand) or open-loop (replay); either way the force is scored on the motion it gets.
-ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
-                         const ScenarioSites* sites, const ScenarioOptions& o, const Setup& s, const RunFlags& flags,
-                         HapticDevice& dev, int64_t n) {
+// What score_run accumulates over the ticks, and the previous tick each tick is compared against.
+struct RunTally {
+  std::vector<double> tick_ns, nerr, nerr_smooth, nfloor, steady_force;
+  Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero(), f_ref_prev = Vec3::Zero();
+  Vec3 f_fac_prev = Vec3::Zero();
+  bool f_ref_valid = false, f_fac_valid = false;
+  double returned = 0, absorbed = 0, force_sum = 0;
+  int prev_slab = -1;
+};
+
+// The forces a renderer of the exact input would give at this tick (valid flags: defined at all).
+struct ReferenceForces {
+  Vec3 f_ref = Vec3::Zero(), f_fac = Vec3::Zero();
+  bool ref_valid = false, fac_valid = false;
+};
+
+// The report's identification fields, before any tick is run.
+ScenarioReport report_header(const ScenarioOptions& o, const Setup& s) {
   ScenarioReport r;
   r.scenario = scenario_name(o.scenario);
   r.mode = o.mode == RenderMode::Proxy ? "proxy" : "penalty";
   r.rate_hz = o.rate_hz;
   r.stable_stiffness_n_per_m = o.proxy.force.stiffness;
   r.note = s.note;
+  return r;
+}
+
+// Per-tick buffers sized for @p n ticks, so that scoring does not reallocate mid-run.
+RunTally make_tally(int64_t n) {
+  RunTally t;
+  t.tick_ns.resize(n);
+  t.nerr.reserve(n);
+  t.nerr_smooth.reserve(n);
+  t.nfloor.reserve(n);
+  t.steady_force.reserve(n);
+  return t;
+}
+
+// Energy, force steps while still, contact force and depth, and the steady-part force samples.
+void score_force(ScenarioReport& r, RunTally& t, const Setup& s, const ProxyOutput& out, const Vec3& x, int64_t k,
+                 double max_f) {
+  const Vec3& f = out.force;
+  // Work of the force held over the last period on the handle's motion in that period.
+  const double w = t.f_prev.dot(x - t.x_prev);
+  (w > 0 ? t.returned : t.absorbed) += std::abs(w);
+  if (k > 0 && (x - t.x_prev).norm() < 1e-4)
+    r.max_force_step_pct = std::max(r.max_force_step_pct, 100 * (f - t.f_prev).norm() / max_f);
+  const double fm = f.norm();
+  if (fm > 0) {
+    ++r.contact_ticks;
+    t.force_sum += fm;
+    r.max_force_n = std::max(r.max_force_n, fm);
+    r.max_penetration_mm = std::max(r.max_penetration_mm, 1e3 * out.contact.depth / s.ws.scale);
+  }
+  if (k >= s.steady_begin && k < s.steady_end) t.steady_force.push_back(fm);
+}
+
+// Normal errors of force @p f against the input, and the exact input's reference forces at @p hip.
+ReferenceForces score_normals(RunTally& t, const ScenarioSites& sites, const Setup& s, const ProxyParams& pp,
+                              const ProxyState& st, const Vec3& f, const Vec3& hip, double max_f) {
+  ReferenceForces rf;
+  // The input's face and interpolated normals at its closest point to the proxy (to the SCP
+  // in penalty mode).
+  const SurfacePoint cp = sites.project(st.position);
+  if (cp.face >= 0) {
+    t.nerr.push_back(angle_deg(f, cp.face_normal));
+    t.nerr_smooth.push_back(angle_deg(f, cp.normal));
+    t.nfloor.push_back(angle_deg(cp.face_normal, cp.normal));
+  }
+  // The same contact rendered on the exact input: spring to the HIP's closest input point along
+  // the input's interpolated normal there (what a renderer of the smooth input would give).
+  const SurfacePoint ch = sites.project(hip);
+  if (ch.face >= 0) {
+    rf.f_ref = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale) * ch.normal;
+    rf.ref_valid = true;
+    // Its facets: the spring straight to c, while the HIP is under c's face.
+    const Vec3 g = ch.point - hip;
+    if (g.dot(ch.face_normal) > 0) {
+      rf.f_fac = std::min(max_f, pp.force.stiffness * g.norm() / s.ws.scale) * g.normalized();
+      rf.fac_valid = true;
+    }
+  }
+  return rf;
+}
+
+// The reference renderers' worst force steps while the handle is still (the floor for ours).
+void score_reference_steps(ScenarioReport& r, RunTally& t, const ReferenceForces& rf, bool still, double max_f) {
+  auto reference_step = [&](const Vec3& f_now, bool valid, Vec3& f_before, bool& valid_before, double& worst) {
+    if (valid && valid_before && still) worst = std::max(worst, 100 * (f_now - f_before).norm() / max_f);
+    f_before = f_now;
+    valid_before = valid;
+  };
+  reference_step(rf.f_ref, rf.ref_valid, t.f_ref_prev, t.f_ref_valid, r.reference_force_step_pct);
+  reference_step(rf.f_fac, rf.fac_valid, t.f_fac_prev, t.f_fac_valid, r.reference_facet_force_step_pct);
+}
+
+// Pop-through: a real surface never pulls the handle in, and never lets go of a handle that
+// is inside it or has just passed through it.
+void score_pop_through(ScenarioReport& r, const RunTally& t, const ExactMeshQuery& ref, const Vec3& f,
+                       const Vec3& hip) {
+  const double fp = t.f_prev.norm();
+  if (fp > 0.2 && f.dot(t.f_prev) <= 0) {
+    const bool reversed = f.dot(t.f_prev) < -0.1 * fp * fp;
+    bool through = reversed || ref.inside(hip);
+    if (!through && (hip - t.hip_prev).dot(t.f_prev) < 0) {
+      std::vector<SegmentHit> hits;
+      ref.segment_hits(t.hip_prev, hip, hits);
+      through = !hits.empty();
+    }
+    if (through) ++r.pop_throughs;
+  }
+}
+
+// The run's summary statistics from what was tallied over its @p k ticks.
+void finish_report(ScenarioReport& r, RunTally& t, int64_t k) {
+  r.ticks = k;
+  t.tick_ns.resize(k);
+  r.energy_ratio = t.absorbed > 0 ? t.returned / t.absorbed : 0;
+  r.mean_contact_force_n = r.contact_ticks > 0 ? t.force_sum / r.contact_ticks : 0;
+  r.normal_error_p95_deg = percentile(t.nerr, 0.95);
+  r.normal_error_smooth_p95_deg = percentile(t.nerr_smooth, 0.95);
+  r.normal_floor_p95_deg = percentile(t.nfloor, 0.95);
+  if (!t.steady_force.empty()) {
+    double m = 0, v = 0;
+    for (double x : t.steady_force) m += x;
+    m /= t.steady_force.size();
+    for (double x : t.steady_force) v += (x - m) * (x - m);
+    r.force_cv = m > 0 ? std::sqrt(v / t.steady_force.size()) / m : 0;
+  }
+  const LatencyStats ls = latency_stats(std::move(t.tick_ns));
+  r.tick_ns_median = ls.median;
+  r.tick_ns_p99 = ls.p99;
+  r.tick_ns_max = ls.max;
+}
+
+// Runs @p n ticks of @p dev against the renderer and scores them. The device is closed-loop
+// (simulated hand) or open-loop (replay); either way the force is scored on the motion it gets.
+ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
+                         const ScenarioSites* sites, const ScenarioOptions& o, const Setup& s, const RunFlags& flags,
+                         HapticDevice& dev, int64_t n) {
+  ScenarioReport r = report_header(o, s);
   ProxyParams pp = o.proxy;
   if (!o.friction) pp.friction_scale = 0;
   ProxyState st;
-
-  std::vector<double> tick_ns(n), nerr, nerr_smooth, nfloor, steady_force;
-  nerr.reserve(n);
-  nerr_smooth.reserve(n);
-  nfloor.reserve(n);
-  steady_force.reserve(n);
+  RunTally t = make_tally(n);
   if (o.keep_trace) r.trace.reserve(n);
-  Vec3 f_prev = Vec3::Zero(), x_prev = Vec3::Zero(), hip_prev = Vec3::Zero(), f_ref_prev = Vec3::Zero();
-  Vec3 f_fac_prev = Vec3::Zero();
-  bool f_ref_valid = false, f_fac_valid = false;
-  double returned = 0, absorbed = 0, force_sum = 0;
-  int prev_slab = -1;
   const double max_f = pp.force.max_force;
   using clock = std::chrono::steady_clock;
 
@@ -85,109 +205,40 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
   for (; k < n; ++k) {
     DeviceState ds;
     if (!dev.begin_frame(ds)) break;
-    if (k == 0) x_prev = ds.position, hip_prev = s.ws.to_model(ds.position);
+    if (k == 0) t.x_prev = ds.position, t.hip_prev = s.ws.to_model(ds.position);
     const auto t0 = clock::now();
     const ProxyOutput out = render_step(o.mode, model, locator, s.ws, ds.position, ds.velocity, pp, st);
     const auto t1 = clock::now();
     dev.end_frame(out.force);
-    tick_ns[k] = std::chrono::duration<double, std::nano>(t1 - t0).count();
+    t.tick_ns[k] = std::chrono::duration<double, std::nano>(t1 - t0).count();
 
     const Vec3& x = ds.position;
     const Vec3& f = out.force;
     const Vec3 hip = s.ws.to_model(x);
     if (out.status == ProxyStatus::BadInput) ++r.bad_input_ticks;
-    // Work of the force held over the last period on the handle's motion in that period.
-    const double w = f_prev.dot(x - x_prev);
-    (w > 0 ? returned : absorbed) += std::abs(w);
-    if (k > 0 && (x - x_prev).norm() < 1e-4)
-      r.max_force_step_pct = std::max(r.max_force_step_pct, 100 * (f - f_prev).norm() / max_f);
+    score_force(r, t, s, out, x, k, max_f);
     const double fm = f.norm();
-    if (fm > 0) {
-      ++r.contact_ticks;
-      force_sum += fm;
-      r.max_force_n = std::max(r.max_force_n, fm);
-      r.max_penetration_mm = std::max(r.max_penetration_mm, 1e3 * out.contact.depth / s.ws.scale);
-    }
-    if (k >= s.steady_begin && k < s.steady_end) steady_force.push_back(fm);
-    bool ref_valid = false, fac_valid = false;
-    Vec3 f_ref = Vec3::Zero(), f_fac = Vec3::Zero();
-    if (sites && flags.score_normals && fm > 0.05) {
-      // The input's face and interpolated normals at its closest point to the proxy (to the SCP
-      // in penalty mode).
-      const SurfacePoint cp = sites->project(st.position);
-      if (cp.face >= 0) {
-        nerr.push_back(angle_deg(f, cp.face_normal));
-        nerr_smooth.push_back(angle_deg(f, cp.normal));
-        nfloor.push_back(angle_deg(cp.face_normal, cp.normal));
-      }
-      // The same contact rendered on the exact input: spring to the HIP's closest input point along
-      // the input's interpolated normal there (what a renderer of the smooth input would give).
-      const SurfacePoint ch = sites->project(hip);
-      if (ch.face >= 0) {
-        f_ref = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale) * ch.normal;
-        ref_valid = true;
-        // Its facets: the spring straight to c, while the HIP is under c's face.
-        const Vec3 g = ch.point - hip;
-        if (g.dot(ch.face_normal) > 0) {
-          f_fac = std::min(max_f, pp.force.stiffness * g.norm() / s.ws.scale) * g.normalized();
-          fac_valid = true;
-        }
-      }
-    }
-    const bool still = k > 0 && (x - x_prev).norm() < 1e-4;
-    auto reference_step = [&](const Vec3& f_now, bool valid, Vec3& f_before, bool& valid_before, double& worst) {
-      if (valid && valid_before && still) worst = std::max(worst, 100 * (f_now - f_before).norm() / max_f);
-      f_before = f_now;
-      valid_before = valid;
-    };
-    reference_step(f_ref, ref_valid, f_ref_prev, f_ref_valid, r.reference_force_step_pct);
-    reference_step(f_fac, fac_valid, f_fac_prev, f_fac_valid, r.reference_facet_force_step_pct);
+    ReferenceForces rf;
+    if (sites && flags.score_normals && fm > 0.05) rf = score_normals(t, *sites, s, pp, st, f, hip, max_f);
+    const bool still = k > 0 && (x - t.x_prev).norm() < 1e-4;
+    score_reference_steps(r, t, rf, still, max_f);
     if (o.mode == RenderMode::Proxy && st.contact) {
       Contact e;
       evaluate_surface(model, st.slab, st.coords, e);
       r.proxy_surface_error_max = std::max(r.proxy_surface_error_max, (e.surface_point - st.position).norm() / s.diag);
     }
-    // Pop-through: a real surface never pulls the handle in, and never lets go of a handle that
-    // is inside it or has just passed through it.
-    const double fp = f_prev.norm();
-    if (fp > 0.2 && f.dot(f_prev) <= 0) {
-      const bool reversed = f.dot(f_prev) < -0.1 * fp * fp;
-      bool through = reversed || ref.inside(hip);
-      if (!through && (hip - hip_prev).dot(f_prev) < 0) {
-        std::vector<SegmentHit> hits;
-        ref.segment_hits(hip_prev, hip, hits);
-        through = !hits.empty();
-      }
-      if (through) ++r.pop_throughs;
-    }
+    score_pop_through(r, t, ref, f, hip);
     const int slab = fm > 0 ? out.contact.slab : -1;
-    if (slab >= 0 && prev_slab >= 0 && slab != prev_slab) ++r.slab_crossings;
-    prev_slab = slab;
+    if (slab >= 0 && t.prev_slab >= 0 && slab != t.prev_slab) ++r.slab_crossings;
+    t.prev_slab = slab;
     if (o.keep_trace)
       r.trace.push_back({k / o.rate_hz, x, f, fm > 0 ? 1e3 * out.contact.depth / s.ws.scale : 0.0,
                          static_cast<int>(out.status), slab, s.ws.to_device(st.position), out.contact.normal});
-    f_prev = f;
-    x_prev = x;
-    hip_prev = hip;
+    t.f_prev = f;
+    t.x_prev = x;
+    t.hip_prev = hip;
   }
-  r.ticks = k;
-  tick_ns.resize(k);
-  r.energy_ratio = absorbed > 0 ? returned / absorbed : 0;
-  r.mean_contact_force_n = r.contact_ticks > 0 ? force_sum / r.contact_ticks : 0;
-  r.normal_error_p95_deg = percentile(nerr, 0.95);
-  r.normal_error_smooth_p95_deg = percentile(nerr_smooth, 0.95);
-  r.normal_floor_p95_deg = percentile(nfloor, 0.95);
-  if (!steady_force.empty()) {
-    double m = 0, v = 0;
-    for (double x : steady_force) m += x;
-    m /= steady_force.size();
-    for (double x : steady_force) v += (x - m) * (x - m);
-    r.force_cv = m > 0 ? std::sqrt(v / steady_force.size()) / m : 0;
-  }
-  const LatencyStats ls = latency_stats(std::move(tick_ns));
-  r.tick_ns_median = ls.median;
-  r.tick_ns_p99 = ls.p99;
-  r.tick_ns_max = ls.max;
+  finish_report(r, t, k);
   return r;
 }
 

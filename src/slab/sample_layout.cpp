@@ -46,40 +46,43 @@ void build_csr(Each each, int count, std::vector<int32_t>& offsets, std::vector<
   });
 }
 
-}  // namespace
-
-SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n) {
-  if (n < 1) throw InvalidInput("grid n = " + std::to_string(n) + ": must be at least 1");
-  SampleLayout L;
-  L.n = n;
-  L.per_slab = grid::point_count(n);
-  const auto S = static_cast<int32_t>(slabs.size());
-
-  // Number the undirected coarse edges; each owns n-1 edge samples.
+// The undirected coarse edges, numbered in order of first use; each owns n-1 edge samples.
+struct EdgeSamples {
   std::unordered_map<uint64_t, std::pair<int32_t, int32_t>> edges;  // key -> (index, uses)
-  edges.reserve(slabs.size() * 2);
+  int32_t base = 0;                                                  // id of the first edge sample
+  int n = 1;
+
+  // Sample id of the k-th point (0 < k < n) on the way from coarse vertex a to b.
+  int32_t sample(int32_t a, int32_t b, int k) const {
+    const int32_t e = edges.at(edge_key(a, b)).first;
+    const int t = a < b ? k : n - k;
+    return base + e * (n - 1) + t - 1;
+  }
+};
+
+// Numbers the slabs' coarse edges, rejecting invalid vertex ids and non-manifold edges.
+EdgeSamples number_edges(const std::vector<Tri>& slabs, int coarse_vertex_count, int n) {
+  EdgeSamples E;
+  E.base = coarse_vertex_count;
+  E.n = n;
+  E.edges.reserve(slabs.size() * 2);
+  const auto S = static_cast<int32_t>(slabs.size());
   for (int32_t s = 0; s < S; ++s)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = slabs[s][k], b = slabs[s][(k + 1) % 3];
       if (a < 0 || a >= coarse_vertex_count || b < 0 || b >= coarse_vertex_count || a == b)
         throw InvalidInput("slab " + std::to_string(s) + ": invalid coarse vertex ids");
-      auto [it, fresh] = edges.try_emplace(edge_key(a, b), static_cast<int32_t>(edges.size()), 0);
+      auto [it, fresh] = E.edges.try_emplace(edge_key(a, b), static_cast<int32_t>(E.edges.size()), 0);
       if (++it->second.second > 2)
         throw InvalidInput("slab " + std::to_string(s) + ": coarse edge (" + std::to_string(a) + ", " +
                            std::to_string(b) + ") is shared by more than two slabs (non-manifold)");
     }
-  const int32_t edge_base = coarse_vertex_count;
-  const int32_t interior_base = edge_base + static_cast<int32_t>(edges.size()) * (n - 1);
-  const int32_t interior_per_slab = (n - 1) * (n - 2) / 2;
-  L.count = interior_base + S * interior_per_slab;
+  return E;
+}
 
-  // Sample id of the k-th point (0 < k < n) on the way from coarse vertex a to b.
-  auto edge_sample = [&](int32_t a, int32_t b, int k) {
-    const int32_t e = edges.at(edge_key(a, b)).first;
-    const int t = a < b ? k : n - k;
-    return edge_base + e * (n - 1) + t - 1;
-  };
-
+// The (i, j) grid coordinates of each local point index.
+void fill_point_coords(SampleLayout& L) {
+  const int n = L.n;
   L.point_i.resize(L.per_slab);
   L.point_j.resize(L.per_slab);
   for (int j = 0; j <= n; ++j)
@@ -87,6 +90,14 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
       L.point_i[grid::index(n, i, j)] = static_cast<int16_t>(i);
       L.point_j[grid::index(n, i, j)] = static_cast<int16_t>(j);
     }
+}
+
+// Sample id of every slab slot (corners, shared edge samples, own interior samples) and each
+// sample's home slot (its first); every sample must have one.
+void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const EdgeSamples& E, int32_t interior_base,
+                       int32_t interior_per_slab) {
+  const int n = L.n;
+  const auto S = static_cast<int32_t>(slabs.size());
   L.ids.resize(static_cast<size_t>(S) * L.per_slab);
   L.home_slab.assign(L.count, -1);
   L.home_index.assign(L.count, -1);
@@ -104,11 +115,11 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
         else if (j == n)
           id = Sv;
         else if (j == 0)
-          id = edge_sample(R, T, i);
+          id = E.sample(R, T, i);
         else if (i == 0)
-          id = edge_sample(R, Sv, j);
+          id = E.sample(R, Sv, j);
         else if (i + j == n)
-          id = edge_sample(Sv, T, i);
+          id = E.sample(Sv, T, i);
         else
           id = next_interior++;
         const int local = grid::index(n, i, j);
@@ -121,9 +132,11 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   }
   for (int32_t id = 0; id < L.count; ++id)
     if (L.home_slab[id] < 0) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
-  L.first_interior = interior_base;
+}
 
-  // Grid triangles, counter-clockwise from outside (docs/design.md#sample-grid).
+// Grid triangles, counter-clockwise from outside (docs/design.md#sample-grid).
+void build_grid_triangles(SampleLayout& L, int32_t S) {
+  const int n = L.n;
   L.triangles.reserve(static_cast<size_t>(S) * n * n);
   for (int32_t s = 0; s < S; ++s) {
     const int32_t* g = &L.ids[static_cast<size_t>(s) * L.per_slab];
@@ -135,7 +148,10 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
               {g[grid::index(n, i + 1, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j + 1)]});
       }
   }
+}
 
+// Neighbours and incident triangles of every sample, and the slots of the shared samples.
+void build_adjacency(SampleLayout& L, int32_t interior_base) {
   build_csr(
       [&](auto emit) {
         for (const Tri& t : L.triangles)
@@ -156,6 +172,28 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
           if (L.ids[slot] < interior_base) emit(L.ids[slot], static_cast<int32_t>(slot));
       },
       interior_base, L.shared_slot_offsets, L.slot_of_shared);
+}
+
+}  // namespace
+
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n) {
+  if (n < 1) throw InvalidInput("grid n = " + std::to_string(n) + ": must be at least 1");
+  SampleLayout L;
+  L.n = n;
+  L.per_slab = grid::point_count(n);
+  const auto S = static_cast<int32_t>(slabs.size());
+
+  // Number the undirected coarse edges; each owns n-1 edge samples.
+  const EdgeSamples edges = number_edges(slabs, coarse_vertex_count, n);
+  const int32_t interior_base = edges.base + static_cast<int32_t>(edges.edges.size()) * (n - 1);
+  const int32_t interior_per_slab = (n - 1) * (n - 2) / 2;
+  L.count = interior_base + S * interior_per_slab;
+
+  fill_point_coords(L);
+  assign_sample_ids(L, slabs, edges, interior_base, interior_per_slab);
+  L.first_interior = interior_base;
+  build_grid_triangles(L, S);
+  build_adjacency(L, interior_base);
   return L;
 }
 
