@@ -28,6 +28,7 @@ inline constexpr double kMaxDiagonal = 1e30;
 int scale_exponent(double diagonal, const std::string& what);
 
 /// @brief Multiplies every vertex of @p mesh by 2^@p exponent, exactly (std::ldexp).
+/// @param mesh     the mesh, changed in place [model units].
 /// @param exponent power of two; 0 leaves the mesh as it is.
 /// @note O(#V); no allocation. Exact while the results stay normal doubles, which
 ///       scale_exponent()'s range guarantees for a normalising exponent and its inverse.

@@ -13,6 +13,7 @@ namespace hdm {
 ///
 /// Displacements are fractions of each projection line and fields are unitless, so nothing else
 /// changes: the scaled model is the model of the scaled input.
+/// @param model    the model, changed in place [model units].
 /// @param exponent power of two; 0 leaves the model as it is (no rebuild).
 /// @throws InvalidInput what rebuild_derived() throws on inconsistent stored data.
 /// @note O(#C) for the vertices; with derived data, rebuild_derived()'s cost (allocates).
