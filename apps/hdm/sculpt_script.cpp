@@ -93,9 +93,13 @@ void read_brush_fields(const nlohmann::json& js, const std::string& where, Strok
   st.strength = number(js, "strength", st.strength, 0.0, 1.0, field);
   st.pressure_force_n = number(js, "pressure_force_n", st.pressure_force_n, 1e-3, 1e4, field);
   const bool boolean = st.tool == Tool::Carve || st.tool == Tool::Add;
+  // The strings are read outside the try: text() names the file and key itself, and only the
+  // name parsers' messages need the stroke prefixed.
+  const std::string falloff = text(js, "falloff", boolean ? "constant" : "linear", field);
+  const std::string paint_field = text(js, "field", "colour", field);
   try {
-    st.falloff = parse_falloff(text(js, "falloff", boolean ? "constant" : "linear", field));
-    st.field = parse_brush_field(text(js, "field", "colour", field));
+    st.falloff = parse_falloff(falloff);
+    st.field = parse_brush_field(paint_field);
   } catch (const InvalidInput& e) {
     throw InvalidInput(where + ": " + e.what());
   }
