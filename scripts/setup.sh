@@ -8,7 +8,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 packages=(cmake ninja-build g++ pkg-config
   libeigen3-dev libtbb-dev libembree-dev
   libassimp-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri
   libcgal-dev libcgal-demo assimp-testmodels gnuplot-nox
   libglfw3-dev libimgui-dev xvfb xauth
