@@ -2,6 +2,7 @@
 #include "workloads.h"
 
 #include <hdm/analysis/cgal_closest_point.h>
+#include <hdm/haptics/sphere_proxy.h>
 
 #include <sys/resource.h>
 
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 
 namespace hdm::bench {
@@ -187,6 +189,14 @@ LatencyRuns time_queries(const SlabModel& model, const SlabLocator& locator, con
     const ProxyParams pp;
     out.proxy_tick.push_back(time_batches(path.size(), [&](size_t k) {
       const ProxyOutput o = proxy_step(model, locator, ws, ws.to_device(path[k]), velocity[k], pp, ps);
+      sink += o.force.x();
+    }));
+    // The sphere proxy: the path is the ball's centre, so the ball touches wherever the path comes
+    // within r of the surface.
+    auto ss = std::make_unique<SphereProxyState>();  // ~3 KB of per-sample caches: off the stack
+    SphereProxyParams sp;
+    out.sphere_tick.push_back(time_batches(path.size(), [&](size_t k) {
+      const ProxyOutput o = sphere_proxy_step(model, locator, ws, ws.to_device(path[k]), velocity[k], sp, *ss);
       sink += o.force.x();
     }));
     g_sink = sink;

@@ -88,6 +88,7 @@ std::vector<Vec3> path_velocity(const std::vector<Vec3>& path, const Workspace& 
 /// Latency of every query kind over all repeats (one Stats per repeat, ns per query).
 struct LatencyRuns {
   std::vector<Stats> coherent, global, tick, proxy_tick;  ///< hdm
+  std::vector<Stats> sphere_tick;  ///< hdm's sphere proxy (r = 1 % of the diagonal) on the same path
   std::vector<Stats> embree_coherent, embree_global;      ///< Embree closest point + inside test
   std::vector<Stats> cgal_coherent, cgal_global;          ///< CGAL closest point (when given)
   int64_t in_shell_coherent = 0, in_shell_global = 0;     ///< points in a slab (last repeat)
@@ -97,7 +98,8 @@ struct LatencyRuns {
 /// Times, @p repeat times and interleaved so that machine noise hits all of them: hdm's query on
 /// @p path (coherent, cache kept) and on @p points (a fresh search each), Embree's closest point plus
 /// inside test on both, CGAL's closest point on both (when @p cgal is not null), the servo tick with
-/// the penalty force and with the proxy (proxy_step) on @p path at @p velocity [m/s].
+/// the penalty force, with the proxy (proxy_step) and with the sphere proxy (sphere_proxy_step, its
+/// default radius of 1 % of the diagonal) on @p path at @p velocity [m/s].
 LatencyRuns time_queries(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& exact,
                          const CgalClosestPoint* cgal, const Workspace& ws, const std::vector<Vec3>& path,
                          const std::vector<Vec3>& velocity, const std::vector<Vec3>& points, int repeat);

@@ -364,6 +364,7 @@ PYBIND11_MODULE(hdm, mod) {
           "Raises ValueError (hdm.InvalidInput) for a mesh it cannot bake and OSError (hdm.IoError) for a file it "
           "cannot read, with hdm's message.");
   bind_haptics(mod);
+  bind_sphere_proxy(mod);
   bind_edit(mod);
   bind_feel(mod);
 }

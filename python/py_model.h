@@ -64,6 +64,7 @@ Vec3 vec3_from(const py::handle& h, const char* what);
 inline py::array_t<double> rows_of_3(py::ssize_t n) { return py::array_t<double>({n, py::ssize_t(3)}); }
 
 void bind_haptics(py::module_& m);
+void bind_sphere_proxy(py::module_& m);
 void bind_edit(py::module_& m);
 void bind_feel(py::module_& m);
 

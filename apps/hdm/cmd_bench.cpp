@@ -137,7 +137,8 @@ nlohmann::json latency_figures(const LatencyRuns& lat, bool with_cgal, double cg
            {{"coherent_ns", to_json(s_coh)},
             {"global_ns", to_json(s_glo)},
             {"tick_ns", to_json(s_tick)},
-            {"proxy_tick_ns", have_proxy ? to_json(summarise(lat.proxy_tick)) : none}}},
+            {"proxy_tick_ns", have_proxy ? to_json(summarise(lat.proxy_tick)) : none},
+            {"sphere_tick_ns", lat.sphere_tick.empty() ? none : to_json(summarise(lat.sphere_tick))}}},
           {"baseline",
            {{"embree_ns", to_json(s_ecoh)},
             {"embree_global_ns", to_json(s_eglo)},
@@ -169,6 +170,7 @@ void print_report(const nlohmann::json& j) {
   row("hdm global (random near-surface)", h["global_ns"]);
   row("hdm servo tick (query + force)", h["tick_ns"]);
   row("hdm servo tick (proxy_step)", h["proxy_tick_ns"]);
+  row("hdm sphere proxy tick, r = 1 %", h["sphere_tick_ns"]);
   row("Embree closest+inside, path pts", b["embree_ns"]);
   row("Embree closest+inside, global pts", b["embree_global_ns"]);
   row("CGAL AABB closest, path pts", b["cgal_closest_ns"]);

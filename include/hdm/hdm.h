@@ -19,6 +19,7 @@
 #include <hdm/haptics/force.h>
 #include <hdm/haptics/proxy.h>
 #include <hdm/haptics/servo_loop.h>
+#include <hdm/haptics/sphere_proxy.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/query/slab_locator.h>
 #include <hdm/query/slab_query.h>

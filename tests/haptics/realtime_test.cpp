@@ -3,6 +3,8 @@
 // replaced in this test program and counted), the force envelope, the simulated and replay devices.
 #include "haptics/haptics_fixtures.h"
 
+#include <hdm/haptics/sphere_proxy.h>
+
 #include <hdm/core/error.h>
 #include <hdm/haptics/device.h>
 #include <hdm/haptics/servo_loop.h>
@@ -97,6 +99,30 @@ TEST(Realtime, ProxyTickDoesNotAllocate) {
     EXPECT_EQ(allocations, 0) << (mode == RenderMode::Proxy ? "proxy" : "penalty");
     EXPECT_GT(contact, n / 2) << "the run must exercise contact";
   }
+}
+
+// The sphere proxy's tick on the same path, with friction: zero global allocations.
+TEST(Realtime, SphereProxyTickDoesNotAllocate) {
+  const auto& S = sphere();
+  SlabModel model = S.model;
+  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
+  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  const SlabLocator locator(model);
+  SphereProxyParams p;
+  p.proxy = sphere_params(true);
+  p.radius = 0.1;
+  SphereProxyState st;
+  const int n = 5000;
+  int contact = 0;
+  const long before = g_news.load();
+  for (int k = 0; k < n; ++k) {
+    const double a = 3.0 * k / n;
+    const Vec3 hip = S.ws.to_device(Vec3(std::sin(a), 0.2 * std::sin(3 * a), std::cos(a)).normalized() * 1.06);
+    sphere_proxy_step(model, locator, S.ws, hip, Vec3::Zero(), p, st);
+    contact += st.contact;
+  }
+  EXPECT_EQ(g_news.load() - before, 0);
+  EXPECT_GT(contact, n / 2) << "the run must exercise contact";
 }
 
 // The whole servo loop with edits: device → proxy → envelope → device, strokes of every kind from

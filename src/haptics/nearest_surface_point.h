@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Internal: the point of the displaced surface nearest a point, searched locally over the slabs'
+// grid triangles (what the renderer draws), for the sphere proxy.
+
+#include <hdm/slab/slab_model.h>
+
+namespace hdm::haptics_detail {
+
+/// A point of the displaced surface with where it lies and its force-shading normal.
+struct SurfacePoint {
+  Vec3 point = Vec3::Zero();   ///< on the displaced surface [model units]
+  Vec3 normal = Vec3::UnitZ(); ///< force-shading normal there (unit)
+  Vec3 facet = Vec3::UnitZ();  ///< normal of the grid triangle that holds it (unit)
+  int32_t slab = -1;           ///< slab that holds it
+  double wS = 0, wT = 0;       ///< its barycentrics in that slab (of its grid cell, to a third of a cell)
+};
+
+/// The point of the displaced surface nearest @p c, by descent from (wS, wT) in @p slab: windows of
+/// 3 × 3 grid cells recentred on the best cell until it stays, then on across each slab edge the
+/// best cell touches to the neighbour with a nearer point (at most 6 slabs). A local minimum of
+/// the distance: the nearest point of the surface near the start.
+/// @pre @p model has derived data; @p slab in [0, #S); (wS, wT) barycentrics in it.
+/// @note noexcept, no allocation; 18 triangle tests per window, one window when the start is in
+///       the nearest point's cell.
+SurfacePoint nearest_surface_point(const SlabModel& model, int slab, double wS, double wT, const Vec3& c) noexcept;
+
+}  // namespace hdm::haptics_detail
