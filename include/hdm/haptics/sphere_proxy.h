@@ -30,7 +30,9 @@ struct SphereProxyParams {
 /// Where the ball touched the surface: a slab and barycentrics, where the next tick's search starts.
 struct BallTouch {
   int32_t slab = -1;    ///< slab id
-  float wS = 0, wT = 0;  ///< barycentrics in it
+  /// @{ Barycentrics (wS, wT) in it.
+  float wS = 0, wT = 0;
+  /// @}
 };
 
 /// Ball state carried from tick to tick: plain data, no allocation.
