@@ -16,6 +16,14 @@
 namespace hdm::python {
 namespace {
 
+// The point renderers' modes: the ball has its own call (sphere_proxy_step) and state.
+RenderMode point_render_mode(const std::string& name) {
+  const RenderMode mode = parse_render_mode(name);
+  if (mode == RenderMode::Sphere)
+    throw InvalidInput("mode 'sphere': the ball carries its own state; call sphere_proxy_step with a SphereProxyState");
+  return mode;
+}
+
 // Per-tick results of a run, filled with the GIL released, handed to Python as arrays.
 struct Run {
   std::vector<Vec3> device, force, proxy, normal;
@@ -78,7 +86,7 @@ py::dict proxy_trajectory(Model& m, const Points& trajectory, ProxyState& state,
       throw InvalidInput("velocity: " + std::to_string(velocity->shape(0)) + " rows for a trajectory of " +
                          std::to_string(trajectory.shape(0)));
   }
-  const RenderMode mode = parse_render_mode(mode_name);
+  const RenderMode mode = point_render_mode(mode_name);
   const Workspace ws = workspace_or_fit(m, ws_in);
   const py::ssize_t n = trajectory.shape(0);
   const double* p = trajectory.data();
@@ -109,7 +117,7 @@ py::dict proxy_trajectory(Model& m, const Points& trajectory, ProxyState& state,
 py::dict run_device(Model& m, HapticDevice& device, int64_t ticks, const std::optional<Workspace>& ws_in,
                     const ProxyParams& params, const std::string& mode_name) {
   if (ticks < 0) throw InvalidInput("ticks: must be >= 0");
-  const RenderMode mode = parse_render_mode(mode_name);
+  const RenderMode mode = point_render_mode(mode_name);
   const Workspace ws = workspace_or_fit(m, ws_in);
   Run run;
   {

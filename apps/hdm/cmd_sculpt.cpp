@@ -298,8 +298,8 @@ void print_sculpt_report(const nlohmann::json& j, const SculptArgs& a) {
       n(j["long_ticks"]));
   const nlohmann::json& tick = j["tick_ns"];
   std::printf(
-      "  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (proxy, edits within %.0f µs, publication)\n",
-      d(tick["median"]), d(tick["p99"]), d(tick["max"]), a.budget_us);
+      "  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (%s, edits within %.0f µs, publication)\n",
+      d(tick["median"]), d(tick["p99"]), d(tick["max"]), a.mode == "sphere" ? "ball" : a.mode.c_str(), a.budget_us);
   std::printf("  contact ticks    %lld\n", n(j["contact_ticks"]));
   std::printf(
       "  edits            %lld sweeps (tool position every %lld ticks), %lld samples/texels changed, "
@@ -416,8 +416,10 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_option("--save-every", a->save_every,
                   "save the model to -o from another thread every S seconds while sculpting")
       ->check(CLI::Range(0.01, 1e6));
-  cmd->add_option("--mode", a->mode, "force model: proxy (god-object, default) or penalty (the paper's)")
-      ->check(CLI::IsMember({"proxy", "penalty"}));
+  cmd->add_option("--mode", a->mode,
+                  "force model: proxy (a point god-object, default), penalty (the paper's) or sphere (the brush felt as "
+                  "a ball of its radius held outside the surface, which carves with it)")
+      ->check(CLI::IsMember({"proxy", "penalty", "sphere"}));
   cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)")
       ->check(CLI::IsMember({"newton", "bisection"}));
   cmd->add_option("--forces", a->forces, "write one CSV row per tick here");

@@ -39,9 +39,13 @@ void circle(ImDrawList* list, const RenderCamera& cam, const Vec3& c, const Vec3
 void draw_tool_glyphs(ImDrawList* list, const RenderCamera& cam, const ToolState& t, const GlyphOptions& o) {
   if (!t.hip.allFinite()) return;
   const ImU32 tool_colour = t.tool_on ? IM_COL32(255, 140, 0, 230) : IM_COL32(40, 120, 255, 210);
-  // The tool sphere: three great circles about the HIP.
+  // The tool sphere: three great circles about the HIP, or about the ball held outside the surface
+  // (a sphere proxy) with the HIP's own sphere faint where the hand pushed in.
   const Vec3 axes[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
-  for (int k = 0; k < 3; ++k) circle(list, cam, t.hip, axes[k], axes[(k + 1) % 3], o.brush_radius, tool_colour, 1.0f);
+  const Vec3 centre = t.ball && t.ball_centre.allFinite() ? t.ball_centre : t.hip;
+  for (int k = 0; k < 3; ++k) circle(list, cam, centre, axes[k], axes[(k + 1) % 3], o.brush_radius, tool_colour, 1.0f);
+  if (t.ball && (centre - t.hip).norm() > 1e-3 * o.brush_radius)
+    circle(list, cam, t.hip, axes[0], axes[1], o.brush_radius, IM_COL32(180, 180, 180, 90), 1.0f);
   if (!t.contact || !t.proxy.allFinite()) return;
   // The proxy, the HIP–proxy link and the force (the brush's footprint is drawn on the surface by
   // the slab renderer: SlabRenderer::set_footprint).

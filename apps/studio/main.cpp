@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 1e5));
   app.add_option("--friction", o.friction_scale, "factor on the model's friction coefficients")
       ->check(CLI::Range(0.0, 10.0));
+  app.add_flag("--ball", o.ball,
+               "feel the brush as a ball of its radius held outside the surface (a sphere proxy) instead of a point");
   app.add_option("--script", o.script, "scripted session (JSON, docs/studio.md): device and UI actions, then exit");
   app.add_option("--replay", o.replay,
                  "play this recorded trajectory (hdm sculpt --forces CSV) as the device instead of the mouse");

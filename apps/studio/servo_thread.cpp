@@ -19,7 +19,7 @@ int64_t now_ns() noexcept {
 }  // namespace
 
 ServoThread::ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge)
-    : session_(session), bridge_(bridge), rate_hz_(rate_hz) {
+    : session_(session), bridge_(bridge), ball_(session.render_mode() == RenderMode::Sphere), rate_hz_(rate_hz) {
   thread_ = std::thread([this, &device] {
     ServoOptions o;
     o.rate_hz = rate_hz_;
@@ -67,6 +67,8 @@ void ServoThread::after(void* user, const ServoTick& t, const SessionTick& r) no
   tool.proxy = tool.contact ? r.out.contact.surface_point : tool.hip;
   tool.normal = r.out.contact.normal;
   tool.force = r.out.force;
+  tool.ball = s.ball_;
+  tool.ball_centre = s.ball_ && r.out.status != ProxyStatus::Free ? r.ball_centre : tool.hip;
   tool.tool_on = r.tool_on;
   tool.edit_pending = r.edit_pending;
   tool.tick = t.tick;

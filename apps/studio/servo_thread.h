@@ -23,6 +23,8 @@ struct ToolState {
   Vec3 normal = Vec3::UnitZ();  ///< surface normal at the proxy (contact only)
   Vec3 force = Vec3::Zero();    ///< force rendered [N] (device axes = model axes)
   bool contact = false;         ///< the proxy is on the surface
+  bool ball = false;            ///< the tool is felt as a ball (RenderMode::Sphere)
+  Vec3 ball_centre = Vec3::Zero();  ///< ball: its centre, held outside the surface [model units]
   bool tool_on = false;         ///< the tool button is held
   bool edit_pending = false;    ///< edit work carried over to the next tick
   int64_t tick = 0;             ///< tick index
@@ -69,6 +71,7 @@ class ServoThread {
   static constexpr int kRing = 16384;  // ≥ one second at 10 kHz
   SculptSession& session_;
   bridge::BridgeDevice* bridge_;
+  bool ball_;  // the session feels the tool as a ball
   double rate_hz_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

@@ -119,6 +119,7 @@ class Studio final : public ScriptHost {
     SessionOptions so;
     so.proxy.force.stiffness = o.stiffness;
     so.proxy.friction_scale = o.friction_scale;
+    if (o.ball) so.mode = RenderMode::Sphere;
     posted_proxy_ = so.proxy;
     settings_.stiffness = static_cast<float>(o.stiffness);
     settings_.friction = static_cast<float>(o.friction_scale);
@@ -337,8 +338,8 @@ class Studio final : public ScriptHost {
   bool set_footprint(const ToolState& t) {
     const double r = settings_.radius_mm * mm_;
     Vec3 centre = t.proxy;
-    if (settings_.kind == ToolSettings::Carve)
-      centre = t.hip + t.normal * (r + settings_.resilience_mm * mm_);
+    if (settings_.kind == ToolSettings::Carve)  // a ball's centre is the HIP, a point's is r above it
+      centre = t.hip + t.normal * ((t.ball ? 0.0 : r) + settings_.resilience_mm * mm_);
     else if (settings_.kind == ToolSettings::Add)
       centre = t.proxy + t.normal * (settings_.height_mm * mm_ - r);
     const bool on = t.contact && settings_.kind != ToolSettings::Probe && centre.allFinite();

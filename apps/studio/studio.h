@@ -18,6 +18,9 @@ struct StudioOptions {
   double rate_hz = 1000;           ///< servo rate: 1000 or 10000 [Hz]
   double stiffness = 1000;         ///< proxy stiffness as felt at the device [N/m]
   double friction_scale = 1;       ///< factor on the model's friction coefficients
+  /// Feel the brush as a ball of its radius held outside the surface (RenderMode::Sphere) instead
+  /// of a point: the ball cannot enter a gap narrower than itself, and carving cuts with it.
+  bool ball = false;
   std::string script;              ///< scripted session (JSON); empty: interactive
   /// Replay this recording (`hdm sculpt --forces` CSV: positions and the tool button) as the
   /// device instead of the mouse; the strokes use the panel's brush (carve unless changed).

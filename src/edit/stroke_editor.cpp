@@ -107,7 +107,7 @@ struct StrokeEditor::Impl {
     const Contact& c = t.contact;
     switch (brush.tool) {
       case BrushTool::Carve:
-        return t.hip + e.axis * (brush.radius + std::max(brush.resilience, 0.0));
+        return t.hip + e.axis * ((t.ball_centre ? 0.0 : brush.radius) + std::max(brush.resilience, 0.0));
       case BrushTool::Add: {
         // The starting surface under the contact: the stroke's first-touch displacements,
         // interpolated over the grid cell evaluate_surface uses.

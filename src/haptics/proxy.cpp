@@ -330,7 +330,8 @@ AlphaSolver parse_alpha_solver(const std::string& name) {
 RenderMode parse_render_mode(const std::string& name) {
   if (name == "proxy") return RenderMode::Proxy;
   if (name == "penalty") return RenderMode::Penalty;
-  throw InvalidInput("render mode '" + name + "': expected proxy or penalty");
+  if (name == "sphere") return RenderMode::Sphere;
+  throw InvalidInput("render mode '" + name + "': expected proxy, penalty or sphere");
 }
 
 }  // namespace hdm

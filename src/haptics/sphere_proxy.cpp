@@ -320,11 +320,17 @@ ProxyOutput sphere_proxy_step(const SlabModel& model, const SlabLocator& locator
   out.mu_dynamic = m.mu_d;
   s.normal = n;
   finish_force(f, n, velocity, p.proxy, out);
+  // The contact is the touched point nearest the ball's centre, as the surface there (its slab,
+  // barycentrics, displacement and projection line: what a stroke of the brush starts from).
   if (at) {
-    out.contact.slab = at->slab;
-    out.contact.coords.bary = Vec3(1 - at->wS - at->wT, at->wS, at->wT);
+    SlabCoordinates c;
+    c.bary = Vec3(1 - at->wS - at->wT, at->wS, at->wT);
+    evaluate_surface(model, at->slab, c, out.contact);
+    out.contact.coords.alpha = out.contact.delta;
+    out.contact.surface_point = at->point;
+  } else {
+    out.contact.surface_point = s.center - r * n;
   }
-  out.contact.surface_point = s.center - r * n;
   out.contact.normal = n;
   out.contact.depth = spring.norm();
   return out;

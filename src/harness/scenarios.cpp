@@ -392,6 +392,8 @@ const char* scenario_name(Scenario s) noexcept {
 ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
                             const ScenarioOptions& o) {
   if (!(o.rate_hz > 0)) throw InvalidInput("scenario: rate_hz must be > 0");
+  if (o.mode == RenderMode::Sphere)
+    throw InvalidInput("scenario: mode sphere is not scored here (the scenarios score a point against the exact input)");
   Setup s = base_setup(ref, o);
   RunFlags flags;
   const ScenarioSites sites(ref);
@@ -448,6 +450,8 @@ ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, co
   ScenarioOptions o = options;
   o.rate_hz = device.rate_hz();
   if (!(o.rate_hz > 0)) throw InvalidInput("replay: the trajectory needs at least two rows with increasing time");
+  if (o.mode == RenderMode::Sphere)
+    throw InvalidInput("replay: mode sphere is not scored here (the scenarios score a point against the exact input)");
   Setup s = base_setup(ref, o);
   s.steady_begin = 0;
   s.steady_end = static_cast<int64_t>(device.size());

@@ -53,6 +53,7 @@ struct SculptSession::Impl {
   std::unique_ptr<SlabSnapshots> snapshots;
   CommandQueue commands;
   ProxyState proxy;
+  SphereProxyState ball;  // RenderMode::Sphere
   Brush brush;
   bool tool_on = false;
   bool publishing = false;
@@ -61,6 +62,17 @@ struct SculptSession::Impl {
   SessionStats stats;
   std::vector<EditLogEntry>* edit_log = nullptr;
   std::vector<size_t>* epoch_log = nullptr;
+
+  // The renderer's tick: the point proxy (or penalty), or the ball of the brush's radius.
+  ProxyOutput render(const DeviceState& d) noexcept {
+    if (options.mode != RenderMode::Sphere)
+      return render_step(options.mode, model, locator, ws, d.position, d.velocity, options.proxy, proxy);
+    SphereProxyParams p;
+    p.proxy = options.proxy;
+    p.radius = options.ball_radius > 0 ? options.ball_radius : brush.radius;
+    p.samples = options.ball_samples;
+    return sphere_proxy_step(model, locator, ws, d.position, d.velocity, p, ball);
+  }
 
   // Copies the dirty slabs (all of them, over as many ticks as needed, the editor paused so the
   // model holds no half edit), then commits them as one epoch.
@@ -103,6 +115,10 @@ SculptSession::SculptSession(SlabModel model, const Workspace& ws, const Session
   if (!(options.edit_budget_s > 0) || !(options.publish_interval_s >= 0) || options.edit_every < 1)
     throw InvalidInput("sculpt session: edit_budget_s must be > 0, publish_interval_s >= 0 and edit_every >= 1");
   if (!(ws.scale > 0) || !ws.origin.allFinite()) throw InvalidInput("sculpt session: invalid workspace");
+  if (!(options.ball_radius >= 0) || !std::isfinite(options.ball_radius) || options.ball_samples < 6 ||
+      options.ball_samples > kMaxBallSamples)
+    throw InvalidInput("sculpt session: ball_radius must be finite and >= 0 and ball_samples in [6, " +
+                       std::to_string(kMaxBallSamples) + "]");
   impl_ = std::make_unique<Impl>(std::move(model), ws, options);
 }
 
@@ -128,8 +144,8 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     device.end_frame(Vec3::Zero());
     return r;
   }
-  r.out = render_step(s.options.mode, s.model, s.locator, s.ws, r.device.position, r.device.velocity, s.options.proxy,
-                      s.proxy);
+  r.out = s.render(r.device);
+  r.ball_centre = s.ball.center;
   r.force = r.out.force * t.force_gain;
   device.end_frame(r.force);  // the force first: edits never delay it
   ++s.stats.ticks;
@@ -148,6 +164,7 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     ts.hip = s.ws.to_model(r.device.position);
     ts.normal_force_n = r.out.normal_force;
     ts.time_s = t.time_s;
+    ts.ball_centre = s.options.mode == RenderMode::Sphere;
     s.editor.add_sample(s.model, ts);
   }
 
@@ -177,6 +194,7 @@ void SculptSession::undo() noexcept { impl_->editor.undo(); }
 void SculptSession::redo() noexcept { impl_->editor.redo(); }
 void SculptSession::set_proxy_params(const ProxyParams& params) noexcept { impl_->options.proxy = params; }
 const ProxyParams& SculptSession::proxy_params() const noexcept { return impl_->options.proxy; }
+RenderMode SculptSession::render_mode() const noexcept { return impl_->options.mode; }
 bool SculptSession::post(const SessionCommand& command) noexcept { return impl_->commands.push(command); }
 const SlabSnapshots* SculptSession::snapshots() const noexcept { return impl_->snapshots.get(); }
 const Workspace& SculptSession::workspace() const noexcept { return impl_->ws; }

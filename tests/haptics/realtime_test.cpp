@@ -168,49 +168,53 @@ struct SessionRig {
 
 TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
   const SessionRig rig;
-  SessionOptions o;
-  o.proxy = sphere_params(true);
-  o.publish_interval_s = 0.002;
-  o.edit_budget_s = 1.0;  // every edit completes in its tick: the counts below do not depend on the machine's load
-  SculptSession session(sphere().model, sphere().ws, o);
-  SimulatedDeviceOptions d;
-  d.rate_hz = 10000;
-  SimulatedDevice device(d, rig.targets, rig.targets.front(), rig.buttons);
-  std::atomic<bool> done{false};
-  std::atomic<int> snapshots{0};
-  std::thread reader([&] {  // a renderer's reads: allocations here do not count
-    while (!done.load()) {
-      SnapshotReader r(*session.snapshots());
-      for (int s = 0; s < session.snapshots()->model().slab_count(); s += 7) (void)r.slab(s).points[0].delta;
-      snapshots.fetch_add(1);
-      std::this_thread::yield();
+  for (RenderMode mode : {RenderMode::Proxy, RenderMode::Sphere}) {  // a point, and the brush felt as a ball
+    SCOPED_TRACE(mode == RenderMode::Sphere ? "sphere" : "proxy");
+    SessionOptions o;
+    o.mode = mode;
+    o.proxy = sphere_params(true);
+    o.publish_interval_s = 0.002;
+    o.edit_budget_s = 1.0;  // every edit completes in its tick: the counts below do not depend on the machine's load
+    SculptSession session(sphere().model, sphere().ws, o);
+    SimulatedDeviceOptions d;
+    d.rate_hz = 10000;
+    SimulatedDevice device(d, rig.targets, rig.targets.front(), rig.buttons);
+    std::atomic<bool> done{false};
+    std::atomic<int> snapshots{0};
+    std::thread reader([&] {  // a renderer's reads: allocations here do not count
+      while (!done.load()) {
+        SnapshotReader r(*session.snapshots());
+        for (int s = 0; s < session.snapshots()->model().slab_count(); s += 7) (void)r.slab(s).points[0].delta;
+        snapshots.fetch_add(1);
+        std::this_thread::yield();
+      }
+    });
+    // The reader is under way before the servo loop starts (how often it reads during the loop's
+    // 90 ms is up to the scheduler; the stress test in tests/session checks the reads themselves).
+    while (snapshots.load() == 0) std::this_thread::yield();
+    int64_t sweeps = 0, published = 0, contact = 0;
+    int current = -1;
+    const long before = t_news;
+    for (size_t k = 0; k < rig.targets.size(); ++k) {
+      ServoTick t;
+      t.tick = static_cast<int64_t>(k);
+      t.time_s = 1e-4 * double(k);
+      if (rig.stroke[k] >= 0 && rig.stroke[k] != current) session.set_brush(rig.brushes[current = rig.stroke[k]]);
+      if (k == rig.targets.size() / 2) session.post(SessionCommand{SessionCommand::Undo, {}, {}});
+      if (k == rig.targets.size() / 2 + 100) session.post(SessionCommand{SessionCommand::Redo, {}, {}});
+      const SessionTick out = session.tick(device, t);
+      sweeps += out.sweeps, published += out.published, contact += out.out.status != ProxyStatus::Free;
     }
-  });
-  // The reader is under way before the servo loop starts (how often it reads during the loop's
-  // 90 ms is up to the scheduler; the stress test in tests/session checks the reads themselves).
-  while (snapshots.load() == 0) std::this_thread::yield();
-  int64_t sweeps = 0, published = 0, contact = 0;
-  int current = -1;
-  const long before = t_news;
-  for (size_t k = 0; k < rig.targets.size(); ++k) {
-    ServoTick t;
-    t.tick = static_cast<int64_t>(k);
-    t.time_s = 1e-4 * double(k);
-    if (rig.stroke[k] >= 0 && rig.stroke[k] != current) session.set_brush(rig.brushes[current = rig.stroke[k]]);
-    if (k == rig.targets.size() / 2) session.post(SessionCommand{SessionCommand::Undo, {}, {}});
-    if (k == rig.targets.size() / 2 + 100) session.post(SessionCommand{SessionCommand::Redo, {}, {}});
-    const SessionTick out = session.tick(device, t);
-    sweeps += out.sweeps, published += out.published, contact += out.out.status != ProxyStatus::Free;
+    const long allocations = t_news - before;
+    done = true;
+    reader.join();
+    EXPECT_EQ(allocations, 0);
+    EXPECT_GT(contact, 8000) << "the run must exercise contact";
+    EXPECT_GT(sweeps, 5000) << "and edit on most ticks";
+    EXPECT_GT(published, 20);
+    EXPECT_GE(snapshots.load(), 1);
+    EXPECT_GT(session.editor().history().undo_count(), 2);
   }
-  const long allocations = t_news - before;
-  done = true;
-  reader.join();
-  EXPECT_EQ(allocations, 0);
-  EXPECT_GT(contact, 8000) << "the run must exercise contact";
-  EXPECT_GT(sweeps, 5000) << "and edit on most ticks";
-  EXPECT_GT(published, 20);
-  EXPECT_GE(snapshots.load(), 1);
-  EXPECT_GT(session.editor().history().undo_count(), 2);
 }
 
 // The same through run_session (the servo thread of run_servo_loop): no allocation inside a tick.

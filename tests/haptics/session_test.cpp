@@ -3,11 +3,16 @@
 // friction stripe holds a pull that slides on the bare surface, a stripe painted softer and an
 // exposed under-layer let the same hand force press deeper (against the analytic force balance
 // of the hand spring and the rendered stiffness), and the field is felt on the tick after the
-// sweep that painted it.
+// sweep that painted it. In RenderMode::Sphere the brush is felt as a ball of its radius, held
+// outside the surface (against the analytic sphere and Embree on the displaced surface), and the
+// ball that carves is that ball pushed in by the hand.
 #include "haptics/haptics_fixtures.h"
+#include "support/test_models.h"
 
+#include <hdm/analysis/edit_fidelity.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/session/sculpt_session.h>
+#include <hdm/slab/bake.h>
 
 #include <gtest/gtest.h>
 
@@ -201,6 +206,100 @@ TEST(Session, AnExposedUnderLayerIsFeltWithItsOwnStiffness) {
               want_top * 1e3, pit * 1e3, want_pit * 1e3);
   EXPECT_NEAR(top, want_top, 0.08 * want_top);
   EXPECT_NEAR(pit, want_pit, 0.08 * want_pit);
+}
+
+TEST(Session, TheBallFeltIsTheBrushsSize) {
+  SessionOptions o = options();
+  o.mode = RenderMode::Sphere;
+  o.proxy.friction_scale = 0;
+  SculptSession session(sphere().model, sphere().ws, o);
+  TriangleMesh displaced;
+  displaced_surface(sphere().model, displaced.vertices, displaced.faces);
+  const ExactMeshQuery surface(displaced);
+  for (double r : {0.05, 0.1, 0.2}) {  // 5, 10 and 20 mm at the device
+    Brush b;
+    b.radius = r;
+    session.set_brush(b);
+    Script s;
+    // The ball clear of the surface, then the hand's target 6 mm inside the ball resting on it.
+    s.move(on_sphere(0.4, 0.5, -0.01 - 0.1 * r), 0.2, false);
+    s.move(on_sphere(0.4, 0.5, 0.006 - 0.1 * r), 0.3, false);
+    s.move(on_sphere(0.4, 0.5, 0.006 - 0.1 * r), 0.5, false);
+    const std::vector<SessionTick> out = run(session, s);
+    const SessionTick& last = out.back();
+    ASSERT_EQ(last.out.status, ProxyStatus::Sliding);
+    const Vec3 c = last.ball_centre;
+    // The ball rests on the surface: its centre r from the displaced surface and about 1 + r from
+    // the sphere's centre, the force along the radius.
+    const double gap = surface.closest_point(c).distance;
+    std::printf("r = %.2f: centre %.5f from the surface, %.5f from the sphere's centre\n", r, gap, c.norm());
+    EXPECT_NEAR(gap, r, 0.02 * r);
+    EXPECT_NEAR(c.norm(), 1 + r, 0.02 * r + 0.004);
+    EXPECT_LT(std::acos(std::clamp(last.force.normalized().dot(c.normalized()), -1.0, 1.0)), 2 * M_PI / 180);
+    // The hand spring against the rendered stiffness: the centre is held out by the force balance.
+    EXPECT_NEAR(last.out.contact.depth / sphere().ws.scale, expected_depth(1.0), 0.08 * expected_depth(1.0));
+  }
+}
+
+TEST(Session, TheBallThatCarvesIsTheBallFelt) {
+  // The same press at the pole with a carving brush of 3 mm, felt as a point and as a ball. A
+  // point carves with the sphere standing on the HIP (paper §4.1): centres HIP + axis·r. The ball
+  // carves with itself, centred on the HIP. Reference: the exact boolean of the input sphere with
+  // those balls swept along the HIP's path (measure_edit_fidelity: Embree and analytic capsules).
+  // The sphere fixture's shape on a finer grid (1 mm between samples at the device), so a 3 mm
+  // brush's pit spans several samples and stays within the shell's headroom.
+  const TriangleMesh input = test::icosphere(4, 1.0);
+  const ExactMeshQuery exact(input);
+  BakeOptions bo;
+  bo.slabs = 120;
+  bo.grid_n = 32;
+  const SlabModel fine = bake_slabs(input, "icosphere", bo);
+  for (RenderMode mode : {RenderMode::Proxy, RenderMode::Sphere}) {
+    SessionOptions o = options();
+    o.mode = mode;
+    o.proxy.friction_scale = 0;
+    SculptSession session(fine, sphere().ws, o);
+    Brush b;
+    b.radius = 0.03;
+    session.set_brush(b);
+    // The hand's target 2 mm into the felt tool (the pit stays inside the fixture's thin shell).
+    const bool ball = mode == RenderMode::Sphere;
+    const double into = ball ? 0.002 - 0.003 : 0.002;
+    Script s;
+    s.move(on_sphere(0, 0, -0.02), 0.1, false);
+    s.move(on_sphere(0, 0, into), 0.3, true);
+    s.move(on_sphere(0, 0, into), 0.6, true);
+    s.move(on_sphere(0, 0, -0.02), 0.2, false);
+    const std::vector<SessionTick> out = run(session, s);
+    // The balls swept by a rule: centred on the HIP (ball) or a radius along the axis (point).
+    const auto swept = [&](bool on_hip) {
+      std::vector<ToolCapsule> tools;
+      Vec3 previous = Vec3::Constant(NAN);
+      for (const SessionTick& t : out) {
+        if (!t.tool_on || t.out.status == ProxyStatus::Free || !t.out.contact.in_shell()) continue;
+        const Vec3 centre = sphere().ws.to_model(t.device.position) + (on_hip ? 0.0 : 0.03) * Vec3::UnitZ();
+        ToolCapsule c;
+        c.a = previous.allFinite() ? previous : centre;
+        c.b = previous = centre;
+        c.radius = 0.03;
+        tools.push_back(c);
+      }
+      return tools;
+    };
+    const std::vector<ToolCapsule> tools = swept(ball);
+    ASSERT_GT(tools.size(), 100u);
+    const EditFidelity f = measure_edit_fidelity(session.model(), exact, tools, 0.05, 0.004);
+    // The other rule's boolean is 3 mm off: the bound tells the two apart.
+    const EditFidelity other = measure_edit_fidelity(session.model(), exact, swept(!ball), 0.05, 0.004);
+    std::printf("%s: %lld samples changed; edited surface vs exact boolean: max %.3f%% / %.3f%% of the diagonal "
+                "(the other rule's: %.3f%% / %.3f%%)\n",
+                ball ? "ball" : "point", (long long)session.stats().changed, f.max_pct, f.max_back_pct,
+                other.max_pct, other.max_back_pct);
+    EXPECT_GT(session.stats().changed, 10);
+    EXPECT_LT(f.max_pct, 0.15);
+    EXPECT_LT(f.max_back_pct, 0.15);
+    EXPECT_GT(std::max(other.max_pct, other.max_back_pct), 0.15);
+  }
 }
 
 }  // namespace hdm

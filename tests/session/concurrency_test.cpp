@@ -284,14 +284,16 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
 // The studio's threads without a window: the servo thread (ServoThread: run_session at 10 kHz)
 // reads the mouse device the "render thread" (this one) feeds through a triple buffer, edits,
 // publishes; this thread reads the tool state and the timing ring, posts brushes and undos, and
-// reads snapshots. Under ThreadSanitizer (scripts/test_tsan.sh) it must run clean.
-TEST(Concurrency, StudioServoThreadAndRenderThread) {
+// reads snapshots. Under ThreadSanitizer (scripts/test_tsan.sh) it must run clean. The tool is felt
+// as a point (the proxy) or as a ball of the brush's radius (the sphere proxy, `hdm studio --ball`).
+static void studio_servo_and_render_threads(RenderMode mode) {
   SessionOptions o;
+  o.mode = mode;
   o.publish_interval_s = 0.002;
   o.snapshots.checksums = true;
   SculptSession session(sphere_shell(), Workspace{Vec3::Zero(), 10.0}, o);
   studio::MouseDevice mouse(10000);
-  int64_t last_tick = -1, torn = 0, backwards = 0, read_epochs = 0;
+  int64_t last_tick = -1, torn = 0, backwards = 0, read_epochs = 0, ball_ticks = 0;
   {
     studio::ServoThread servo(session, mouse, 10000);
     const SlabSnapshots& snaps = *session.snapshots();
@@ -331,6 +333,8 @@ TEST(Concurrency, StudioServoThreadAndRenderThread) {
       if (t.tick < last_tick) ++backwards;
       last_tick = t.tick;
       ASSERT_TRUE(t.hip.allFinite());
+      ASSERT_TRUE(t.ball_centre.allFinite());
+      ball_ticks += t.ball;
       (void)servo.figures();
       SnapshotReader r(snaps);
       read_epochs += r.epoch() > 0;
@@ -344,9 +348,16 @@ TEST(Concurrency, StudioServoThreadAndRenderThread) {
     EXPECT_GT(f.sweeps, 0) << "the strokes the mouse device made edited nothing";
   }
   EXPECT_EQ(backwards, 0) << "the tool state went back in time";
+  if (mode == RenderMode::Sphere) EXPECT_GT(ball_ticks, 0) << "the tool was never felt as a ball";
+  else EXPECT_EQ(ball_ticks, 0) << "a point proxy's tool was drawn as a ball";
   EXPECT_EQ(torn, 0);
   EXPECT_GT(read_epochs, 0) << "nothing was published";
   EXPECT_GT(session.stats().sweeps, 0);
+}
+
+TEST(Concurrency, StudioServoThreadAndRenderThread) { studio_servo_and_render_threads(RenderMode::Proxy); }
+TEST(Concurrency, StudioServoThreadWithTheBallAndRenderThread) {
+  studio_servo_and_render_threads(RenderMode::Sphere);
 }
 
 namespace {

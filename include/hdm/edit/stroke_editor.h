@@ -38,6 +38,11 @@ struct ToolSample {
   Vec3 hip = Vec3::Zero();    ///< haptic interaction point [model units]
   double normal_force_n = 0;  ///< rendered normal force [N]: pressure for Smooth, Flatten, Paint
   double time_s = 0;          ///< servo time [s]
+  /// The HIP is the centre of the ball the user feels (RenderMode::Sphere, a ball of the brush's
+  /// radius held outside the surface), not a point on its rim: Carve centres its sphere at
+  /// hip + axis·resilience, so the ball that cuts is the felt ball pushed in by the hand, less the
+  /// resilient band. false: hip + axis·(radius + resilience) (paper §4.1).
+  bool ball_centre = false;
 };
 
 /// One entry of an edit log: what a StrokeEditor applied, in order (StrokeEditor::record_log()).

@@ -17,6 +17,7 @@ namespace hdm {
 enum class RenderMode : uint8_t {
   Proxy,    ///< god-object on the displaced surface (default)
   Penalty,  ///< the paper's memoryless SCP = HIP + n·depth (paper §3.4), for comparison
+  Sphere,   ///< a ball of the tool's radius held outside the surface (sphere_proxy_step(), sphere_proxy.h)
 };
 
 /// Parameters of the proxy, SI at the device unless stated. Defaults suit a desktop device
@@ -130,20 +131,25 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
                          const Vec3& hip_device, const Vec3& velocity, const ProxyParams& params,
                          ProxyState& state) noexcept;
 
-/// @brief Dispatches to proxy_step() or penalty_step().
+/// @brief Dispatches the point renderers: proxy_step() or penalty_step().
+/// @return their output; BadInput (zero force, state unchanged) for RenderMode::Sphere, whose ball
+///         carries its own state (sphere_proxy_step(); hdm::SculptSession runs either).
 /// @note noexcept, real-time safe.
 inline ProxyOutput render_step(RenderMode mode, const SlabModel& model, const SlabLocator& locator, const Workspace& ws,
                                const Vec3& hip_device, const Vec3& velocity, const ProxyParams& params,
                                ProxyState& state) noexcept {
-  return mode == RenderMode::Proxy ? proxy_step(model, locator, ws, hip_device, velocity, params, state)
-                                   : penalty_step(model, locator, ws, hip_device, velocity, params, state);
+  if (mode == RenderMode::Proxy) return proxy_step(model, locator, ws, hip_device, velocity, params, state);
+  if (mode == RenderMode::Penalty) return penalty_step(model, locator, ws, hip_device, velocity, params, state);
+  ProxyOutput bad;
+  bad.status = ProxyStatus::BadInput;
+  return bad;
 }
 
 /// @brief Parses "newton" or "bisection" (the alpha-plane root finder, hdm::AlphaSolver).
 /// @throws InvalidInput for any other name, naming it.
 AlphaSolver parse_alpha_solver(const std::string& name);
 
-/// @brief Parses "proxy" or "penalty".
+/// @brief Parses "proxy", "penalty" or "sphere".
 /// @throws InvalidInput for any other name.
 RenderMode parse_render_mode(const std::string& name);
 

@@ -11,6 +11,7 @@
 #include <hdm/haptics/device.h>
 #include <hdm/haptics/proxy.h>
 #include <hdm/haptics/servo_loop.h>
+#include <hdm/haptics/sphere_proxy.h>
 #include <hdm/slab/slab_snapshots.h>
 
 #include <atomic>
@@ -21,8 +22,12 @@ namespace hdm {
 
 /// Settings of a SculptSession.
 struct SessionOptions {
-  RenderMode mode = RenderMode::Proxy;  ///< force model
+  RenderMode mode = RenderMode::Proxy;  ///< force model: a point (Proxy, Penalty) or the tool's ball (Sphere)
   ProxyParams proxy;                    ///< proxy and force parameters (SI at the device)
+  /// RenderMode::Sphere: the felt ball's radius [model units]; 0 (default): the brush's radius, so
+  /// the ball the user feels is the ball that carves, adds, smooths or paints.
+  double ball_radius = 0;
+  int ball_samples = 32;  ///< RenderMode::Sphere: points on the ball queried per tick (SphereProxyParams::samples)
   /// Time a tick may take with its edit and publication work [s], counted from the tick's start:
   /// after the force is sent, edits run until then (the rest carries over to the next ticks), and for
   /// at least a fifth of it, so a tick lasts about this, or the proxy step plus a fifth of it.
@@ -54,6 +59,7 @@ struct SessionTick {
   DeviceState device;         ///< the device reading of the tick (device frame)
   Vec3 force = Vec3::Zero();  ///< force sent [N], after the envelope's gain
   ProxyOutput out;            ///< the renderer's output (contact, forces, friction)
+  Vec3 ball_centre = Vec3::Zero();  ///< RenderMode::Sphere: the ball's centre (god-object) [model units]
   bool ended = false;         ///< the device had nothing more (begin_frame returned false)
   bool tool_on = false;       ///< the tool button is held
   int32_t sweeps = 0;         ///< sweeps finished in this tick
@@ -114,6 +120,8 @@ class SculptSession {
   void set_proxy_params(const ProxyParams& params) noexcept;
   /// The force and proxy parameters in use. Servo thread, or while no servo loop runs.
   const ProxyParams& proxy_params() const noexcept;
+  /// The force model (SessionOptions::mode), fixed for the session. Any thread.
+  RenderMode render_mode() const noexcept;
   /// @brief Sends a command to the servo thread from one other thread; false when the queue is
   /// full. noexcept, wait-free.
   bool post(const SessionCommand& command) noexcept;
