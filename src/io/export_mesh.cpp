@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include <hdm/core/encode_png.h>
 #include <hdm/core/error.h>
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>
@@ -6,15 +7,6 @@
 #include <hdm/slab/triangle_grid.h>
 
 #include <tiny_gltf.h>
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#define STB_IMAGE_WRITE_STATIC  // private copy: no symbol clash with libstb or tinygltf
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb/stb_image_write.h>
-#pragma GCC diagnostic pop
 
 #include <algorithm>
 #include <cctype>
@@ -78,16 +70,8 @@ void append_pod(std::string& out, T v) {
   out.append(buf, sizeof(T));
 }
 
-std::vector<uint8_t> encode_png(const TextureAtlas& atlas, const std::string& path) {
-  std::vector<uint8_t> png;
-  auto sink = [](void* ctx, void* data, int size) {
-    auto* out = static_cast<std::vector<uint8_t>*>(ctx);
-    out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
-  };
-  if (!stbi_write_png_to_func(sink, &png, atlas.width, atlas.height, 4, atlas.rgba.data(), atlas.width * 4))
-    throw IoError(path + ": PNG encoding of the " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) +
-                  " texture atlas failed");
-  return png;
+std::vector<uint8_t> encode_atlas_png(const TextureAtlas& atlas, const std::string& path) {
+  return encode_png(atlas.width, atlas.height, 4, atlas.rgba, path + ": the texture atlas");
 }
 
 /// Colour the surface shows at displacement sample @p s's grid point (texel (i·m, j·m) of its home
@@ -106,7 +90,7 @@ void export_obj(const SlabModel& m, const std::string& path) {
   const std::string mtl_name = std::filesystem::path(mtl_path).filename().string();
   const std::string png_name = std::filesystem::path(png_path).filename().string();
   const TextureAtlas atlas = build_texture_atlas(m);
-  const std::vector<uint8_t> png = encode_png(atlas, png_path);
+  const std::vector<uint8_t> png = encode_atlas_png(atlas, png_path);
   const std::string mtl =
       "# hdm colour atlas\nnewmtl hdm_colour\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd " + png_name + "\n";
 
@@ -254,7 +238,7 @@ void export_glb(const SlabModel& m, const std::string& path) {
       indices.insert(indices.end(), {base + a, base + b, base + c});
     });
   }
-  const std::vector<uint8_t> png = encode_png(atlas, path);
+  const std::vector<uint8_t> png = encode_atlas_png(atlas, path);
 
   tinygltf::Model g;
   g.asset.version = "2.0";
