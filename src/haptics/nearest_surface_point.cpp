@@ -95,14 +95,27 @@ SlabNearest slab_nearest(const SlabModel& m, int slab, double wS, double wT, con
     corners_of(best.i, best.j, best.down, gi, gj);
     SlabNearest next = best;
     double wn[3], wbest[3] = {w[0], w[1], w[2]};
-    // Candidates: every triangle that shares the nearest point's edge or corner (the cells around it).
+    // Candidates: every triangle that shares the nearest point's edge (the one across it) or
+    // corner (the six around it), found among the cells around that edge or corner.
     int ci = 0, cj = 0, k = 0;
     for (int a = 0; a < 3; ++a) ci += gi[a] * (w[a] > eps), cj += gj[a] * (w[a] > eps), k += w[a] > eps;
     const int lo_i = (zeros == 2 ? ci : ci / std::max(k, 1)) - 1, lo_j = (zeros == 2 ? cj : cj / std::max(k, 1)) - 1;
+    auto shares = [&](int a, int b, bool d) {  // has every corner of the current one with weight > 0
+      int ti[3], tj[3];
+      corners_of(a, b, d, ti, tj);
+      for (int x = 0; x < 3; ++x) {
+        if (!(w[x] > eps)) continue;
+        bool has = false;
+        for (int y = 0; y < 3; ++y) has |= ti[y] == gi[x] && tj[y] == gj[x];
+        if (!has) return false;
+      }
+      return true;
+    };
     for (int a = lo_i; a <= lo_i + 1; ++a)
       for (int b = lo_j; b <= lo_j + 1; ++b)
         for (int d = 0; d < 2; ++d) {
           if (!valid(a, b, d != 0) || (a == best.i && b == best.j && (d != 0) == best.down)) continue;
+          if (!shares(a, b, d != 0)) continue;
           const SlabNearest t = test(a, b, d != 0, wn);
           if (t.d2 < next.d2) next = t, wbest[0] = wn[0], wbest[1] = wn[1], wbest[2] = wn[2];
         }

@@ -21,8 +21,11 @@ using haptics_detail::SurfacePoint;
 constexpr double kNearBand = 0.05;
 // A sample whose surface contact point is within this many r of the centre seeds a search.
 constexpr double kSeedReach = 1.5;
-// Samples queried per tick while touches are known: one in this many.
-constexpr int kWarmStride = 3;
+// Samples queried per tick while touches are known: one in this many at most. A direction is then
+// queried every `stride` ticks; the stride keeps the ball's motion over them within the seed's
+// slack, (kSeedReach − 1)·r, at the speed of its last tick, so a region is found before the ball
+// reaches it. The samples are most of the tick's cost (a slab query each).
+constexpr int kMaxWarmStride = 8;
 // A round moves the centre at most this fraction of r, so the contacts it creates are seen by
 // the next round (at 1 kHz and r = 1.6 mm, 0.4 m/s per round).
 constexpr double kMaxMove = 0.25;
@@ -70,6 +73,16 @@ void fill_directions(SphereProxyState& s, int n) noexcept {
   s.sample_count = n;
 }
 
+// Samples per query while held: the largest stride (at most kMaxWarmStride) over which the ball,
+// moving as far per tick as since the last search, stays within the seed's slack.
+int warm_stride(const Vec3& c, double r, const SphereProxyState& s) noexcept {
+  const double moved = (c - s.searched).norm();  // NaN before the first search
+  const double slack = (kSeedReach - 1) * r;
+  if (!std::isfinite(moved)) return 1;
+  if (moved * kMaxWarmStride <= slack) return kMaxWarmStride;
+  return std::max(1, static_cast<int>(slack / moved));
+}
+
 // Finds the surface regions near the ball at centre @p c: each sample facing @p towards (a unit
 // vector, or all for zero) in the shell, on a surface facing the centre, whose surface contact
 // point is within kSeedReach·r seeds nearest_surface_point(); so do the places the ball touched
@@ -90,10 +103,10 @@ void find_touches(const SlabModel& model, const SlabLocator& locator, const Vec3
   Contact seed[kMaxTouches];
   double seed_distance[kMaxTouches];
   int seeds = 0;
-  // Held by known touches, a third of the samples per tick (in turn) looks for new regions: a
-  // region is found within 3 ticks, while it is still up to (kSeedReach − 1)·r away.
-  const int stride = t.count > 0 ? kWarmStride : 1;
-  s.sample_phase = (s.sample_phase + 1) % kWarmStride;
+  // Held by known touches, one sample in `stride` per tick (in turn) looks for new regions.
+  const int stride = t.count > 0 ? warm_stride(c, r, s) : 1;
+  s.searched = c;
+  s.sample_phase = (s.sample_phase + 1) % stride;
   for (int k = stride > 1 ? s.sample_phase : 0; k < s.sample_count; k += stride) {
     const Vec3& u = s.directions[k];
     if (u.dot(towards) < -0.3) continue;  // the far side of the ball cannot touch first

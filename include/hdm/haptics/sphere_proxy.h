@@ -48,13 +48,16 @@ struct SphereProxyState {
   std::array<QueryCache, kMaxBallSamples> caches{};  ///< one coherence cache per sample point
   std::array<BallTouch, 4> touched{};  ///< where the ball touched last tick (contact only)
   int touched_count = 0;               ///< entries of touched in use
-  int sample_phase = 0;                ///< which third of the samples the next held tick queries
+  int sample_phase = 0;                ///< which of every `stride` samples the next held tick queries
+  Vec3 searched = Vec3::Constant(NAN);  ///< the centre at the last tick's sample search [model units]
 };
 
 /// @brief One tick of the sphere proxy: move the ball towards the HIP as far as the surface lets it.
 ///
 /// Contacts: the slab field is queried (hdm::query) at `samples` points C + r·u_k of the ball's
-/// surface (u_k a Fibonacci sphere, those facing the HIP); a point in the shell whose surface
+/// surface (u_k a Fibonacci sphere, those facing the HIP; while the ball is held, one in every m
+/// per tick, in turn, with m as large as lets the ball move no more than r/2 in m ticks at its
+/// last tick's speed, at most 8); a point in the shell whose surface
 /// contact point lies within 1.5 r seeds a search for the point of the displaced surface nearest
 /// the centre (a descent over the slabs' grid triangles, the surface the renderer draws, crossing
 /// slab edges), as do the places the ball touched last tick. Each such point cp within 1.05 r
