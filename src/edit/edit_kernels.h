@@ -1,0 +1,203 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Internal: what the flood kernels of EditJob share (edit_job.cpp runs them; flood_shape.cpp,
+// flood_relax.cpp and flood_paint.cpp hold one brush family each): the projection lines from
+// tables, the dirty-slab marks, the brush path's distances, the stroke's first-touch records, and
+// the flood fill itself. Inline, since every one runs per visited sample.
+
+#include "edit_job.h"
+
+#include <hdm/query/detail/surface_eval.h>
+#include <hdm/slab/triangle_grid.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdm::detail {
+
+// projection_line() with the same arithmetic (so the same bits), fed from tables: the grid
+// weights come from EditScratch::grid_weights and the six coarse corners of the last home slab are
+// kept, since consecutive samples of a flood fill mostly share their home slab.
+struct LineEvaluator {
+  LineEvaluator(const SlabModel& model, const std::array<double, 3>* w) noexcept : m(model), weights(w) {}
+  const SlabModel& m;
+  const std::array<double, 3>* weights;
+  int32_t slab = -1;
+  Vec3 i0 = Vec3::Zero(), i1 = Vec3::Zero(), i2 = Vec3::Zero(), o0 = Vec3::Zero(), o1 = Vec3::Zero(), o2 = Vec3::Zero();
+  void operator()(int32_t id, Vec3& p0, Vec3& p1) noexcept {
+    const int32_t home = m.samples.home_slab[id];
+    if (home != slab) {
+      slab = home;
+      const Tri& t = m.slabs[home];
+      i0 = m.inner[t[0]], i1 = m.inner[t[1]], i2 = m.inner[t[2]];
+      o0 = m.outer[t[0]], o1 = m.outer[t[1]], o2 = m.outer[t[2]];
+    }
+    const std::array<double, 3>& w = weights[m.samples.home_index[id]];
+    p0 = w[0] * i0 + w[1] * i1 + w[2] * i2;
+    p1 = w[0] * o0 + w[1] * o1 + w[2] * o2;
+  }
+};
+
+// Flags (once, with the list) the slabs of the grid triangles incident to a sample or texel.
+// Consecutive incident triangles mostly share a slab, so the slab range is remembered instead of
+// dividing each time.
+struct DirtyMarker {
+  EditScratch& s;
+  int32_t per_slab;
+  int32_t lo = 0, hi = 0;  // triangle range [lo, hi) of the last slab flagged
+  void flag(int32_t slab) noexcept {
+    if (s.dirty_slabs[slab]) return;
+    s.dirty_slabs[slab] = 1;
+    s.dirty_list[s.dirty_count++] = slab;
+  }
+  void mark(const SampleLayout& L, int32_t id) noexcept {
+    if (id >= L.first_interior) {  // interior: held by its home slab only
+      flag(L.home_slab[id]);
+      return;
+    }
+    for (int32_t e = L.triangle_offsets[id]; e < L.triangle_offsets[id + 1]; ++e) {
+      const int32_t tri = L.incident_triangles[e];
+      if (tri >= lo && tri < hi) continue;
+      const int32_t slab = tri / per_slab;
+      flag(slab);
+      lo = slab * per_slab, hi = lo + per_slab;
+    }
+  }
+};
+
+// Appends sample c and its grid neighbours not yet stamped with @p stamp to out[count...], stamping
+// them; returns the new count. Branch-free, as in the flood (out has room for one more).
+inline int32_t add_with_neighbours(const SampleLayout& L, int32_t c, std::vector<uint32_t>& marks, uint32_t stamp,
+                            int32_t* out, int32_t count) noexcept {
+  for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
+    const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
+    const bool fresh = marks[t] != stamp;
+    marks[t] = stamp;
+    out[count] = t;
+    count += fresh;
+  }
+  return count;
+}
+
+// Distance from point p to the segment a + s·u, s in [0,1].
+inline double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& u, double uu) noexcept {
+  const Vec3 w = p - a;
+  const double s = uu > 0 ? std::clamp(w.dot(u) / uu, 0.0, 1.0) : 0.0;
+  return (w - s * u).norm();
+}
+
+// The brush path as the soft brushes test it: squared distance to the segment, with the divisions
+// done once per sweep.
+struct Segment {
+  Vec3 a, u;
+  double inv_uu;
+  Segment(const Vec3& from, const Vec3& dir) noexcept : a(from), u(dir) {
+    const double uu = dir.squaredNorm();
+    inv_uu = uu > 0 ? 1 / uu : 0.0;
+  }
+  double distance2(const Vec3& p) const noexcept {
+    const Vec3 w = p - a;
+    const double t = std::clamp(w.dot(u) * inv_uu, 0.0, 1.0);
+    return (w - t * u).squaredNorm();
+  }
+};
+
+// Falloff at squared distance d2 from the path, for a radius with 1/r² = inv_r2 (no square root
+// for the constant falloff); 0 outside.
+inline double falloff_at(Falloff f, double d2, double inv_r2) noexcept {
+  const double x2 = d2 * inv_r2;
+  if (!(x2 < 1)) return 0.0;
+  return f == Falloff::Constant ? 1.0 : falloff_weight(f, std::sqrt(x2));
+}
+
+// Distance between the line p0 + t·L (all t) and the segment a + s·u, s in [0,1].
+inline double line_segment_distance(const Vec3& p0, const Vec3& L, const Vec3& a, const Vec3& u, double uu) noexcept {
+  const Vec3 w = p0 - a;
+  const double aa = L.squaredNorm();
+  if (!(aa > 0)) return point_segment_distance(p0, a, u, uu);
+  const double b = L.dot(u), d = L.dot(w), e = u.dot(w);
+  const double denom = aa * uu - b * b;
+  double s = denom > 1e-12 * aa * uu ? std::clamp((aa * e - b * d) / denom, 0.0, 1.0) : 0.0;
+  const double t = (b * s - d) / aa;
+  return (w + t * L - s * u).norm();
+}
+
+// A sample's displacement changed: the query reads the slab-major copy at once (the normals follow
+// in the next refresh), and the sample is listed once for that refresh.
+inline void list_changed(SlabModel& m, EditScratch& s, int32_t id) noexcept {
+  const float v = m.displacement[id];
+  if (m.slab_samples.size() == m.samples.ids.size())
+    m.samples.for_each_slot(id, [&](int32_t slot) { m.slab_samples[slot].delta = v; });
+  if (s.changed_mark[id] == s.changed_epoch) return;
+  s.changed_mark[id] = s.changed_epoch;
+  s.changed[s.changed_count++] = id;
+}
+
+// First touch of a sample (texel) in this stroke: remember and record its values.
+inline void touch_sample(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
+  if (!st || st->sample_mark[id] == st->id) return;
+  st->sample_mark[id] = st->id;
+  const SampleValues v = sample_values(m, id);
+  st->sample_base[id] = v;
+  st->sample_k[id] = 0;
+  if (st->history)
+    st->history->record(
+        {id, {v.delta, v.friction_static, v.friction_dynamic, v.stiffness_scale, v.layer_displacement}});
+}
+inline void touch_texel(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
+  if (!st || st->texel_mark[id] == st->id) return;
+  st->texel_mark[id] = st->id;
+  const TexelValues v = texel_values(m, id);
+  st->texel_base[id] = v;
+  st->texel_k[id] = 0;
+  if (st->history) st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f}});
+}
+// A sample's displacement at the start of the stroke (its current one when there is no stroke).
+inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id) noexcept {
+  return st && st->sample_mark[id] == st->id ? double(st->sample_base[id].delta) : double(m.displacement[id]);
+}
+
+// Stores a new displacement and its position (= sample_position(), same arithmetic).
+inline void EditJob::set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0,
+                               const Vec3& L) noexcept {
+  touch_sample(m, stroke_, id);
+  const double step = double(v) - double(m.displacement[id]);
+  motion2_ = std::max(motion2_, step * step * L.squaredNorm());
+  m.displacement[id] = v;
+  m.positions[id] = (p0 + static_cast<double>(v) * L).cast<float>();
+  list_changed(m, s, id);
+  ++result.changed;
+}
+
+template <class Visit>
+bool EditJob::flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d,
+                    Visit visit) noexcept {
+  int32_t* q = s.queue.data();
+  size_t head = head_, tail = tail_;
+  const uint32_t stamp = stamp_;
+  const int32_t* offsets = L.neighbour_offsets.data();
+  const int32_t* nb = L.neighbours.data();
+  uint32_t* mk = marks.data();
+  while (head < tail) {
+    if (d.expired()) {
+      head_ = head, tail_ = tail;
+      return false;
+    }
+    const int32_t id = q[head++];
+    if (!visit(id)) continue;
+    // Branch-free push: whether a neighbour was already queued is a coin flip inside a patch, and
+    // a mispredicted branch per neighbour costs more than the unconditional stores.
+    for (int32_t e = offsets[id]; e < offsets[id + 1]; ++e) {
+      const int32_t t = nb[e];
+      const bool fresh = mk[t] != stamp;
+      mk[t] = stamp;
+      q[tail] = t;
+      tail += fresh;
+    }
+  }
+  head_ = head, tail_ = tail;
+  result.visited = static_cast<int32_t>(tail);
+  return true;
+}
+
+}  // namespace hdm::detail

@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// The paint brush's flood kernels: per-sample fields and per-texel colour and roughness.
+#include "edit_kernels.h"
+
+namespace hdm::detail {
+
+// Paint of a per-sample field (friction, stiffness, layer thickness), once per stroke.
+bool EditJob::flood_paint_samples(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const double strength = std::clamp(b.strength, 0.0, 1.0);
+  const Segment path(sweep_.from, u_);
+  const double inv_r2 = 1 / r2_;
+  const double pressure = std::clamp(sweep_.pressure, 0.0, 1.0);
+  StrokeMemory* st = stroke_;
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  const SampleLayout& S = m.samples;
+  DirtyMarker dirty{s, S.n * S.n};
+  return flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
+    if (!(w > 0)) return false;
+    const float k = static_cast<float>(pressure * strength * w);
+    if (!(k > (st && st->sample_mark[id] == st->id ? st->sample_k[id] : 0.0f))) return true;
+    touch_sample(m, st, id);
+    const SampleValues base = st ? st->sample_base[id] : sample_values(m, id);
+    if (st) st->sample_k[id] = k;
+    auto blend = [k](float from, float to) { return k * to + (1 - k) * from; };
+    switch (b.field) {
+      case BrushField::FrictionStatic:
+        m.friction_static[id] = blend(base.friction_static, b.value);
+        break;
+      case BrushField::FrictionDynamic:
+        m.friction_dynamic[id] = blend(base.friction_dynamic, b.value);
+        break;
+      case BrushField::Stiffness:
+        m.stiffness_scale[id] = blend(base.stiffness_scale, b.value);
+        break;
+      default: {  // LayerThickness: the layer's top `value` below the stroke's starting surface
+        Vec3 p0, p1;
+        line_of(id, p0, p1);
+        const double len = (p1 - p0).norm();
+        if (!(len > 0)) return true;
+        const float top = static_cast<float>(std::clamp(base.delta - b.value / len, 0.0, 1.0));
+        m.layer_displacement[id] = std::clamp(blend(base.layer_displacement, top), 0.0f, 1.0f);
+      }
+    }
+    ++result.changed;
+    dirty.mark(S, id);
+    return true;
+  });
+}
+
+// Paint of a per-texel field (colour, roughness), once per stroke.
+bool EditJob::flood_paint_texels(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const double strength = std::clamp(b.strength, 0.0, 1.0);
+  const Segment path(sweep_.from, u_);
+  const double inv_r2 = 1 / r2_;
+  const double pressure = std::clamp(sweep_.pressure, 0.0, 1.0);
+  StrokeMemory* st = stroke_;
+  const SampleLayout& T = m.texels;
+  DirtyMarker dirty{s, T.n * T.n};
+  int32_t cached = -1;
+  const SlabGeometry* g = nullptr;
+  const SlabSample* v = nullptr;
+  return flood(T, s.texel_stamp, s, d, [&](int32_t id) noexcept {
+    const int32_t local = T.home_index[id], slab = T.home_slab[id];
+    if (slab != cached) {  // consecutive texels mostly share their home slab
+      cached = slab;
+      g = &m.geometry[slab];
+      v = m.slab_samples.data() + static_cast<size_t>(slab) * m.samples.per_slab;
+    }
+    // The texel on the displaced surface: surface_point() with the cell from the table.
+    const std::array<double, 5>& w = s.texel_weights[local];
+    const std::array<int32_t, 3>& c = s.texel_points[local];
+    const double delta = w[2] * v[c[0]].delta + w[3] * v[c[1]].delta + w[4] * v[c[2]].delta;
+    const Vec3 p = g->R0 + w[0] * g->e1 + w[1] * g->e2 + delta * (g->dR + w[0] * g->d1 + w[1] * g->d2);
+    const double fw = falloff_at(b.falloff, path.distance2(p), inv_r2);
+    if (!(fw > 0)) return false;
+    const float k = static_cast<float>(pressure * strength * fw);
+    if (!(k > (st && st->texel_mark[id] == st->id ? st->texel_k[id] : 0.0f))) return true;
+    touch_texel(m, st, id);
+    const TexelValues base = st ? st->texel_base[id] : texel_values(m, id);
+    if (st) st->texel_k[id] = k;
+    if (b.field == BrushField::Colour) {
+      m.colour[id] = k * b.colour + (1 - k) * Vec3f(base.r, base.g, base.b);
+    } else {
+      m.roughness[id] = std::clamp(k * b.value + (1 - k) * base.roughness, 0.0f, 1.0f);
+    }
+    ++result.changed;
+    dirty.mark(T, id);
+    return true;
+  });
+}
+
+}  // namespace hdm::detail

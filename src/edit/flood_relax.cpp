@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+// The relaxing brushes' flood kernel: smooth and flatten.
+#include "edit_kernels.h"
+
+namespace hdm::detail {
+
+// Smooth / Flatten: relaxes displacements towards the neighbours' mean or the tool's plane.
+bool EditJob::flood_relax(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const Segment path(sweep_.from, u_);
+  const double inv_r2 = 1 / r2_;
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  const SampleLayout& S = m.samples;
+  const bool smooth = kernel_ == Kernel::Smooth;
+  const Vec3 q = sweep_.plane_point, n = sweep_.plane_normal;
+  static constexpr double kInverse[] = {0,       1,       1 / 2.,  1 / 3.,  1 / 4.,  1 / 5.,
+                                        1 / 6.,  1 / 7.,  1 / 8.,  1 / 9.,  1 / 10., 1 / 11.,
+                                        1 / 12., 1 / 13., 1 / 14., 1 / 15., 1 / 16.};
+  return flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
+    if (!(w > 0)) return false;
+    const double e = coef_ * w;
+    // 1 - exp(-e): its series while e is small (per tick e ~ 0.01; error < e⁴/24), else exp.
+    const double lambda = e < 0.02 ? e * (1 - e * (0.5 - e * (1.0 / 6))) : 1 - std::exp(-e);
+    const float cur = m.displacement[id];
+    Vec3 p0, p1;
+    double target;
+    if (smooth) {  // mean of the grid neighbours' displacements (across seams)
+      double sum = 0;
+      const int32_t first = S.neighbour_offsets[id], last = S.neighbour_offsets[id + 1];
+      for (int32_t e = first; e < last; ++e) sum += m.displacement[S.neighbours[e]];
+      const int32_t valence = last - first;
+      if (valence == 0) return true;
+      target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
+      if (static_cast<float>(cur + lambda * (target - cur)) == cur) return true;
+      line_of(id, p0, p1);
+    } else {  // where the projection line meets the tool's plane
+      line_of(id, p0, p1);
+      const Vec3 L = p1 - p0;
+      const double ln = L.dot(n);
+      if (!(std::abs(ln) > 1e-6 * L.norm())) return true;
+      target = std::clamp((q - p0).dot(n) / ln, 0.0, 1.0);
+    }
+    const float v = static_cast<float>(cur + lambda * (target - cur));
+    if (v != cur) set_delta(m, s, id, v, p0, p1 - p0);
+    return true;
+  });
+}
+
+}  // namespace hdm::detail

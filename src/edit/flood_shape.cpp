@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// The shape brushes' flood kernels: carve and add (the swept sphere's boolean) and the paper's cone deposit.
+#include "edit_kernels.h"
+
+namespace hdm::detail {
+
+// Carve / Add: the swept sphere's boolean with the surface, sample by sample.
+bool EditJob::flood_boolean(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const Vec3 A = sweep_.from, u = u_;
+  const double uu = u.squaredNorm(), r = b.radius, strength = std::clamp(b.strength, 0.0, 1.0);
+  StrokeMemory* st = stroke_;
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  // Boolean with the swept sphere. A surface point inside the tool moves to the tool's entry
+  // (carve) or exit (add) on its projection line; one outside stays (a tool buried under a
+  // column leaves it: no cavities; a tool floating over it adds nothing: no overhangs). The
+  // cheap point test decides; the line is intersected only for the samples that change.
+  // The fill continues through the surface within `reach` of the tool, which includes the
+  // surface the previous sweep left on the tool's boundary.
+  const bool add = kernel_ == Kernel::Add;
+  const double reach = r + std::max(0.25 * r, 1.5 * s.sample_spacing), reach2 = reach * reach;
+  const Vec3 B = sweep_.to;
+  const double inv_uu = uu > 0 ? 1 / uu : 0.0;
+  return flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    const Vec3 w = m.positions[id].cast<double>() - A;
+    const double t = std::clamp(w.dot(u) * inv_uu, 0.0, 1.0);
+    const double dist2 = (w - t * u).squaredNorm();
+    if (dist2 > reach2) return false;
+    // On the tool's boundary (within 1e-5 of the radius: where the previous sweep left the
+    // surface) nothing is cut: the new capsule would only move it by rounding.
+    if (dist2 >= r2_ * (1 - 2e-5)) return true;
+    Vec3 p0, p1;
+    line_of(id, p0, p1);
+    const Vec3 L = p1 - p0;
+    double t0, t1;
+    if (!line_capsule(p0, L, A, B, r, t0, t1)) return true;
+    const float cur = m.displacement[id];
+    const double delta = cur;
+    if (add ? !(t0 <= delta && delta < t1) : !(t0 < delta && delta <= t1))
+      return true;  // float position vs exact line
+    double target = add ? std::min(t1, 1.0) : std::max(t0, 0.0);
+    if (soft_) {
+      const double base = base_delta(m, st, id);
+      const double x = line_segment_distance(p0, L, A, u, uu) / r;
+      target = base + strength * falloff_weight(b.falloff, x) * (target - base);
+    }
+    const float v = static_cast<float>(target);
+    if (add ? v > cur : v < cur) set_delta(m, s, id, v, p0, L);
+    return true;
+  });
+}
+
+// The paper's cone deposit (add_material): raises samples under a cone around the contact.
+bool EditJob::flood_paper_cone(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = sweep_.brush;
+  const Vec3 A = sweep_.from;
+  const double r = b.radius;
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  return flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+    Vec3 p0, p1;
+    line_of(id, p0, p1);
+    const Vec3 L = p1 - p0;
+    const double len = L.norm();
+    const double dist = (p0 + double(m.displacement[id]) * L - A).norm();
+    if (dist >= r || len <= 0) return false;
+    const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + b.height * (1 - dist / r) / len));
+    if (raised > m.displacement[id]) set_delta(m, s, id, raised, p0, L);
+    return true;
+  });
+}
+
+}  // namespace hdm::detail
