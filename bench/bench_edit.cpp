@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: MIT
-// Edits per visited sample (texel for paint), two workloads, each against the single-stamp edit kernels
-// (bench/legacy_edit_tools.cpp) in the same run:
+// Edits per visited sample (texel for paint), two workloads:
 // - stroke (warm): the tool slides along the surface at 20 mm/s of device motion (the model's
 //   diagonal on a 16 cm workspace), one tool position per 1 kHz tick. New: StrokeEditor sweeps
-//   the brush from the last position to this one (a capsule). Legacy: a stamp at every tick, as
-//   `hdm sculpt --edit-every-tick` did. Arg: tool radius in thousandths of the diagonal.
+//   the brush from the last position to this one (a capsule). Against it in the same run, a stamp
+//   at every tick (edit_tools.h's carve, add_material, paint: the paper's single stamps). Arg: tool
+//   radius in thousandths of the diagonal.
 // - stamp (cold): single edits at 1024 random places (what a 10 Hz edit meets), restored after.
 // Counters: ns_per_visited (the benchmark's target: 30 ns), ns_per_changed, visited and changed
 // per op. Edits include positions, normals of the changed samples' rings, force-shading normals,
 // dirty-slab marking and (strokes) undo recording.
 #include "bench_common.h"
-#include "legacy_edit_tools.h"
+#include <hdm/edit/edit_tools.h>
 
 #include <hdm/edit/stroke_editor.h>
 #include <hdm/slab/slab_snapshots.h>
@@ -137,8 +137,8 @@ void stroke(benchmark::State& state, Tool tool) {
   report(state, visited, changed);
 }
 
-// The same path with a stamp per tick (the single-stamp kernels).
-void stroke_legacy(benchmark::State& state, Tool tool) {
+// The same path with a stamp per tick (edit_tools.h's single stamps).
+void stroke_stamps(benchmark::State& state, Tool tool) {
   const Fixture& f = fixture();
   const double radius = state.range(0) / 1000.0 * f.diagonal;
   const Path& path = stroke_path(0.2 * state.range(0) / 1000.0);
@@ -156,13 +156,13 @@ void stroke_legacy(benchmark::State& state, Tool tool) {
     EditResult r;
     switch (tool) {
       case Tool::Carve:
-        r = legacy::carve(m, scratch, path.contact[k], path.hip[k], radius, 0.0);
+        r = carve(m, scratch, path.contact[k], path.hip[k], radius, 0.0);
         break;
       case Tool::Add:
-        r = legacy::add_material(m, scratch, path.contact[k], radius, 0.001 * radius);
+        r = add_material(m, scratch, path.contact[k], radius, 0.001 * radius);
         break;
       default:
-        r = legacy::paint(m, scratch, path.contact[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
+        r = paint(m, scratch, path.contact[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
         break;
     }
     visited += r.visited, changed += r.changed;
@@ -172,7 +172,7 @@ void stroke_legacy(benchmark::State& state, Tool tool) {
 }
 
 // Single edits at random places: the cold case (hip 0.2·radius below the surface).
-void stamp_any(benchmark::State& state, Tool tool, bool legacy_code) {
+void stamp(benchmark::State& state, Tool tool) {
   const Fixture& f = fixture();
   SlabModel m = f.model;
   EditScratch scratch(m);
@@ -198,30 +198,16 @@ void stamp_any(benchmark::State& state, Tool tool, bool legacy_code) {
       state.ResumeTiming();
     }
     EditResult r;
-    if (legacy_code) {
-      switch (tool) {
-        case Tool::Carve:
-          r = legacy::carve(m, scratch, contacts[k], hips[k], radius, 0.0);
-          break;
-        case Tool::Add:
-          r = legacy::add_material(m, scratch, contacts[k], radius, 0.1 * radius);
-          break;
-        default:
-          r = legacy::paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
-          break;
-      }
-    } else {
-      switch (tool) {
-        case Tool::Carve:
-          r = carve(m, scratch, contacts[k], hips[k], radius, 0.0);
-          break;
-        case Tool::Add:
-          r = add_material(m, scratch, contacts[k], radius, 0.1 * radius);
-          break;
-        default:
-          r = paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
-          break;
-      }
+    switch (tool) {
+      case Tool::Carve:
+        r = carve(m, scratch, contacts[k], hips[k], radius, 0.0);
+        break;
+      case Tool::Add:
+        r = add_material(m, scratch, contacts[k], radius, 0.1 * radius);
+        break;
+      default:
+        r = paint(m, scratch, contacts[k], radius, Vec3f(0.8f, 0.1f, 0.1f), 0.5);
+        break;
     }
     visited += r.visited, changed += r.changed;
     ++k;
@@ -253,22 +239,17 @@ void publish(benchmark::State& state) {
 BENCHMARK(publish)->Arg(1)->Arg(8)->Arg(64);
 
 BENCHMARK_CAPTURE(stroke, carve, Tool::Carve)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke_legacy, carve, Tool::Carve)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke_stamps, carve, Tool::Carve)->Arg(10)->Arg(20);
 BENCHMARK_CAPTURE(stroke, add, Tool::Add)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke_legacy, add, Tool::Add)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke_stamps, add, Tool::Add)->Arg(10)->Arg(20);
 BENCHMARK_CAPTURE(stroke, smooth, Tool::Smooth)->Arg(10)->Arg(20);
 BENCHMARK_CAPTURE(stroke, flatten, Tool::Flatten)->Arg(10)->Arg(20);
 BENCHMARK_CAPTURE(stroke, paint, Tool::Paint)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke_legacy, paint, Tool::Paint)->Arg(10)->Arg(20);
-void stamp(benchmark::State& state, Tool tool) { stamp_any(state, tool, false); }
-void stamp_legacy(benchmark::State& state, Tool tool) { stamp_any(state, tool, true); }
+BENCHMARK_CAPTURE(stroke_stamps, paint, Tool::Paint)->Arg(10)->Arg(20);
 
 BENCHMARK_CAPTURE(stamp, carve, Tool::Carve)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stamp_legacy, carve, Tool::Carve)->Arg(10)->Arg(20);
 BENCHMARK_CAPTURE(stamp, add, Tool::Add)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stamp_legacy, add, Tool::Add)->Arg(10)->Arg(20);
 BENCHMARK_CAPTURE(stamp, paint, Tool::Paint)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stamp_legacy, paint, Tool::Paint)->Arg(10)->Arg(20);
 
 }  // namespace
 }  // namespace hdm::bench
