@@ -3,6 +3,8 @@
 // snapshots, the mouse as a device, scripted sessions. Threads and figures: docs/studio.md.
 #include "studio_app.h"
 
+#include <hdm/core/percentile.h>
+
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -237,9 +239,8 @@ void Studio::status_panel(const UploadFrame& up, const ToolState& tool, float wi
   }
   if (!fig_.frame_ms.empty()) {
     std::vector<double> recent(fig_.frame_ms.end() - std::min<size_t>(fig_.frame_ms.size(), 120), fig_.frame_ms.end());
-    std::sort(recent.begin(), recent.end());
-    s.frame_ms_median = recent[recent.size() / 2];
-    s.frame_ms_p99 = recent[std::min(recent.size() - 1, static_cast<size_t>(0.99 * double(recent.size())))];
+    s.frame_ms_median = percentile(recent, 0.5);
+    s.frame_ms_p99 = percentile(recent, 0.99);
   }
   s.uploaded = up.uploaded;
   s.uploaded_total = uploader_->total_uploaded();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "studio_report.h"
 
+#include <hdm/core/percentile.h>
 #include <hdm/core/write_file_atomic.h>
 
 #include <algorithm>
@@ -11,9 +12,8 @@ namespace {
 // Median, 99th percentile and maximum of a copy of @p v.
 nlohmann::json percentiles(std::vector<double> v) {
   if (v.empty()) return {{"median", nullptr}, {"p99", nullptr}, {"max", nullptr}, {"count", 0}};
-  std::sort(v.begin(), v.end());
-  const size_t p99 = std::min(v.size() - 1, static_cast<size_t>(0.99 * double(v.size())));
-  return {{"median", v[v.size() / 2]}, {"p99", v[p99]}, {"max", v.back()}, {"count", v.size()}};
+  const double most = *std::max_element(v.begin(), v.end());
+  return {{"median", percentile(v, 0.5)}, {"p99", percentile(v, 0.99)}, {"max", most}, {"count", v.size()}};
 }
 
 // Frames drawn at each level of detail.
