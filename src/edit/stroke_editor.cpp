@@ -42,6 +42,9 @@ struct StrokeEditor::Impl {
   bool producer_open = false;                  // begin_stroke called and end_stroke not yet
   BrushTool producer_tool = BrushTool::Carve;  // the tool of the stroke being fed
   bool axis_valid = false;                     // the producer's low-passed contact normal
+  // Strokes begun by the producer and by the processing: the stroke memory holds the producer's
+  // stroke only while the two agree and that stroke is open.
+  uint64_t producer_strokes = 0, processed_strokes = 0;
   Vec3 axis = Vec3::UnitZ();
   double axis_time = 0;
   // The stroke being processed.
@@ -132,6 +135,9 @@ struct StrokeEditor::Impl {
   Vec3 base_normal(const SlabModel& m, const Contact& c) const noexcept {
     const SampleLayout& L = m.samples;
     const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
+    // The first-touch values in the stroke memory are this stroke's only once its Begin was
+    // processed; before that they are an earlier stroke's (or none), and the model is the start.
+    const bool own_memory = open && processed_strokes == producer_strokes;
     // Base positions of the few samples around the cell, each computed once.
     constexpr int kCache = 48;
     int32_t ids[kCache];
@@ -140,8 +146,8 @@ struct StrokeEditor::Impl {
     auto base_point = [&](int32_t id) -> Vec3 {
       for (int k = 0; k < cached; ++k)
         if (ids[k] == id) return at[k];
-      const double delta =
-          memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta) : double(m.displacement[id]);
+      const double delta = own_memory && memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
+                                                                           : double(m.displacement[id]);
       const std::array<double, 3>& w = scratch.grid_weights[L.home_index[id]];
       const Tri& t = m.slabs[L.home_slab[id]];
       const Vec3 p0 = w[0] * m.inner[t[0]] + w[1] * m.inner[t[1]] + w[2] * m.inner[t[2]];
@@ -230,7 +236,9 @@ void StrokeEditor::begin_stroke(const Brush& brush) noexcept {
   Event e;
   e.kind = Event::Begin;
   e.brush = brush;
-  impl_->producer_open = impl_->push(e, true) || impl_->producer_open;
+  const bool pushed = impl_->push(e, true);
+  impl_->producer_strokes += pushed;
+  impl_->producer_open = pushed || impl_->producer_open;
   impl_->producer_tool = brush.tool;
   impl_->axis_valid = false;
 }
@@ -323,6 +331,7 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
         s.close_stroke();
         s.brush = e.brush;
         s.memory.next_stroke();
+        ++s.processed_strokes;
         s.history.begin_stroke();
         s.open = true;
         s.has_last = false;

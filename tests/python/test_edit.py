@@ -130,7 +130,10 @@ def test_flatten_moves_samples_towards_the_tool_plane_and_smooth_stays_in_range(
     dist = np.linalg.norm(pos0 - point, axis=1)
     inner = dist < 0.5 * r
     assert inner.sum() > 10
-    assert np.all(d1[inner] <= 0.5 * d0[inner] + 1e-6)
+    # The tool's plane is normal to the starting surface's grid normal at the contact, which may turn
+    # from the query's force-shading normal by a fraction of a degree: 0.5° of slack at each sample's
+    # distance from the contact.
+    assert np.all(d1[inner] <= 0.5 * d0[inner] + dist[inner] * np.tan(np.radians(0.5)))
     far = dist > 1.5 * r
     np.testing.assert_array_equal(pos1[far], pos0[far])
     # Smooth relaxes towards neighbour means: no displacement leaves the range it had.
