@@ -31,7 +31,7 @@ void restore(SlabModel& m, const SlabModel& from) {
   m.positions = from.positions;
   m.normals = from.normals;
   m.slab_samples = from.slab_samples;
-  m.haptic_normals = from.haptic_normals;
+  m.force_shading_normals = from.force_shading_normals;
   m.colour = from.colour;
   m.roughness = from.roughness;
 }

@@ -292,7 +292,7 @@ ModelBytes model_bytes(const SlabModel& model, const SlabLocator& locator) {
   ModelBytes b;
   b.samples = bytes(model.displacement) + bytes(model.layer_displacement) + bytes(model.friction_static) +
               bytes(model.friction_dynamic) + bytes(model.stiffness_scale) + bytes(model.positions) +
-              bytes(model.normals) + bytes(model.haptic_normals) + bytes(L.ids) + bytes(L.triangles) +
+              bytes(model.normals) + bytes(model.force_shading_normals) + bytes(L.ids) + bytes(L.triangles) +
               bytes(L.home_slab) + bytes(L.home_index) + bytes(L.neighbour_offsets) + bytes(L.neighbours) +
               bytes(L.triangle_offsets) + bytes(L.incident_triangles) + bytes(L.shared_slot_offsets) +
               bytes(L.slot_of_shared) + bytes(model.slab_samples);

@@ -243,7 +243,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   while (cursor_ < wide_count_) {
     if (d.expired(4 * kChunk)) return false;
     const int32_t n = std::min(kChunk * 2, wide_count_ - cursor_);
-    update_haptic_normals(m, s.queue.data() + cursor_, static_cast<size_t>(n), false);
+    update_force_shading_normals(m, s.queue.data() + cursor_, static_cast<size_t>(n), false);
     cursor_ += n;
   }
   // The listed samples are refreshed: start a new listing.

@@ -60,8 +60,10 @@ struct SlabNearest {
 
 // The corners of grid triangle (i, j, down) as grid coordinates.
 void corners_of(int i, int j, bool down, int gi[3], int gj[3]) noexcept {
-  if (down) gi[0] = i + 1, gj[0] = j + 1, gi[1] = i + 1, gj[1] = j, gi[2] = i, gj[2] = j + 1;
-  else gi[0] = i, gj[0] = j, gi[1] = i + 1, gj[1] = j, gi[2] = i, gj[2] = j + 1;
+  if (down)
+    gi[0] = i + 1, gj[0] = j + 1, gi[1] = i + 1, gj[1] = j, gi[2] = i, gj[2] = j + 1;
+  else
+    gi[0] = i, gj[0] = j, gi[1] = i + 1, gj[1] = j, gi[2] = i, gj[2] = j + 1;
 }
 
 // Walks one slab's grid triangles from the one under (wS, wT) to the nearest point of @p c: from a
@@ -125,9 +127,9 @@ SlabNearest slab_nearest(const SlabModel& m, int slab, double wS, double wT, con
   return best;
 }
 
-// The force-shading normal at @p b (and in @p facet its grid triangle's): the per-sample normals (SlabModel::haptic_normals, else the
-// grid normals) interpolated by the point's barycentrics in its grid triangle, as the point proxy
-// shades its force (Morgenbesser & Srinivasan 1996).
+// The force-shading normal at @p b (and in @p facet its grid triangle's): the per-sample normals
+// (SlabModel::force_shading_normals, else the grid normals) interpolated by the point's barycentrics in its grid
+// triangle, as the point proxy shades its force (Morgenbesser & Srinivasan 1996).
 Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& facet) noexcept {
   const int n = m.grid_n;
   const SlabGeometry& g = m.geometry[slab];
@@ -145,8 +147,8 @@ Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& fac
   double w2 = area > 0 ? (p1 - p0).cross(b.point - p0).dot(face) / area : 1.0 / 3;
   w1 = std::clamp(w1, 0.0, 1.0), w2 = std::clamp(w2, 0.0, 1.0 - w1);
   const double w[3] = {1 - w1 - w2, w1, w2};
-  const bool haptic = m.haptic_normals.size() == m.slab_samples.size() && !m.haptic_normals.empty();
-  const Vec3f* hn = haptic ? m.haptic_normals.data() + static_cast<size_t>(slab) * m.samples.per_slab : nullptr;
+  const bool haptic = m.force_shading_normals.size() == m.slab_samples.size() && !m.force_shading_normals.empty();
+  const Vec3f* hn = haptic ? m.force_shading_normals.data() + static_cast<size_t>(slab) * m.samples.per_slab : nullptr;
   Vec3 sum = Vec3::Zero();
   for (int k = 0; k < 3; ++k)
     sum += w[k] * (haptic ? hn[ids[k]].cast<double>() : Vec3(v[ids[k]].n[0], v[ids[k]].n[1], v[ids[k]].n[2]));

@@ -98,27 +98,28 @@ inline Vec3f face_normal(const SlabModel& m, const Tri& t, float scale) noexcept
 namespace {
 
 // One-ring sum of unit normals, normalised (the force-shading normal of sample s).
-inline void store_haptic_normal(SlabModel& m, int32_t s) noexcept {
+inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
   const SampleLayout& L = m.samples;
   Vec3f sum = m.normals[s];
   for (int32_t k = L.neighbour_offsets[s]; k < L.neighbour_offsets[s + 1]; ++k) sum += m.normals[L.neighbours[k]];
   const float len = sum.norm();
   const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : m.normals[s];
-  L.for_each_slot(s, [&](int32_t slot) { m.haptic_normals[slot] = n; });
+  L.for_each_slot(s, [&](int32_t slot) { m.force_shading_normals[slot] = n; });
 }
 
 }  // namespace
 
-void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept {
+void update_force_shading_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept {
   const SampleLayout& L = model.samples;
-  if (model.haptic_normals.size() != L.ids.size() || model.normals.size() != static_cast<size_t>(L.count)) return;
+  if (model.force_shading_normals.size() != L.ids.size() || model.normals.size() != static_cast<size_t>(L.count))
+    return;
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
-    store_haptic_normal(model, s);
+    store_force_shading_normal(model, s);
     if (!with_ring) continue;
     // A neighbour shared with another listed sample is recomputed once per listing: the same value.
     for (int32_t e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e)
-      store_haptic_normal(model, L.neighbours[e]);
+      store_force_shading_normal(model, L.neighbours[e]);
   }
 }
 
@@ -133,7 +134,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count) noex
       sum += face_normal(model, L.triangles[L.incident_triangles[e]], scale);
     store_normal(model, s, sum, copy);
   }
-  update_haptic_normals(model, samples, count, true);
+  update_force_shading_normals(model, samples, count, true);
 }
 
 FaceNormalCache::FaceNormalCache() : memo(kSlots), pending(2 * kSlots) {}
@@ -155,7 +156,7 @@ void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending, fl
 }  // namespace
 
 void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache,
-                    bool haptic_ring) noexcept {
+                    bool force_shading_ring) noexcept {
   const SampleLayout& L = model.samples;
   const bool copy = model.slab_samples.size() == L.ids.size();
   constexpr int32_t mask = FaceNormalCache::kSlots - 1;
@@ -195,7 +196,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
     }
     store_normal(model, s, sum, copy);
   }
-  if (haptic_ring) update_haptic_normals(model, samples, count, true);
+  if (force_shading_ring) update_force_shading_normals(model, samples, count, true);
 }
 
 namespace {
@@ -298,14 +299,14 @@ void rebuild_derived(SlabModel& m) {
   // slab copies, and a normal is the same sum in the same order whatever the block.
   constexpr size_t block = 16384;
   detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) { update_positions(m, all.data() + b, e - b); });
-  m.haptic_normals.clear();  // filled once below, not per update_normals() ring
+  m.force_shading_normals.clear();  // filled once below, not per update_normals() ring
   std::vector<FaceNormalCache> caches(detail::parallel_workers(ns, block));
   detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t w) {
     update_normals(m, all.data() + b, e - b, caches[w]);  // also fills slab_samples
   });
-  m.haptic_normals.resize(m.samples.ids.size());
+  m.force_shading_normals.resize(m.samples.ids.size());
   detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
-    update_haptic_normals(m, all.data() + b, e - b, false);  // reads the finished normals
+    update_force_shading_normals(m, all.data() + b, e - b, false);  // reads the finished normals
   });
 }
 

@@ -178,7 +178,7 @@ TEST(EditToolsTest, edited_normals_match_a_brute_force_recompute) {
   EXPECT_GT(moved, 200);  // the edits did turn normals
 }
 
-TEST(EditToolsTest, haptic_normals_follow_the_edits) {
+TEST(EditToolsTest, force_shading_normals_follow_the_edits) {
   // The proxy's force-shading field: each sample's normal plus its grid neighbours', normalised.
   // Reference: the neighbours found from the grid triangles of every slab (not the layout's
   // adjacency), after edits, against the brute-force normals.
@@ -200,17 +200,17 @@ TEST(EditToolsTest, haptic_normals_follow_the_edits) {
     ref[s] = sum.normalized();
   }
   // Slab-major: every slot of a shared sample (edges, corners) holds its sample's value.
-  ASSERT_EQ(f.model.haptic_normals.size(), L.ids.size());
+  ASSERT_EQ(f.model.force_shading_normals.size(), L.ids.size());
   std::vector<int64_t> first_slot(L.count, -1);
   for (size_t slot = 0; slot < L.ids.size(); ++slot) {
     const int32_t s = L.ids[slot];
-    ASSERT_LT((f.model.haptic_normals[slot].cast<double>() - ref[s]).norm(), 3e-3) << "slot " << slot;
+    ASSERT_LT((f.model.force_shading_normals[slot].cast<double>() - ref[s]).norm(), 3e-3) << "slot " << slot;
     // Bit for bit the same in every slab that holds the sample, so the interpolated field is the
     // same on a shared edge or corner from either side.
     if (first_slot[s] < 0)
       first_slot[s] = int64_t(slot);
     else
-      ASSERT_EQ(f.model.haptic_normals[slot], f.model.haptic_normals[first_slot[s]]) << "sample " << s;
+      ASSERT_EQ(f.model.force_shading_normals[slot], f.model.force_shading_normals[first_slot[s]]) << "sample " << s;
   }
 }
 

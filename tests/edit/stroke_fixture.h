@@ -46,10 +46,10 @@ struct ModelState {
         colour(m.colour),
         positions(m.positions),
         normals(m.normals),
-        haptic_normals(m.haptic_normals),
+        force_shading_normals(m.force_shading_normals),
         slab_samples(m.slab_samples) {}
   std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement, roughness;
-  std::vector<Vec3f> colour, positions, normals, haptic_normals;
+  std::vector<Vec3f> colour, positions, normals, force_shading_normals;
   std::vector<SlabSample> slab_samples;
 };
 

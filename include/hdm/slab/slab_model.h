@@ -57,11 +57,11 @@ struct UnderLayer {
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
 /// Threading: readers may share a const model; edits (hdm/edit) mutate the stored per-sample and
-/// per-texel fields, `positions`, `normals`, `slab_samples` and `haptic_normals` and must not run
+/// per-texel fields, `positions`, `normals`, `slab_samples` and `force_shading_normals` and must not run
 /// concurrently with readers of the same samples (hdm::SlabSnapshots gives other threads
 /// consistent copies while one thread edits; docs/editing.md). Code that changes `displacement` outside the edit tools
 /// must call update_positions() and update_normals() on the changed samples and their one-ring (or rebuild_derived()),
-/// or the query will read stale values from `slab_samples` (and the proxy from `haptic_normals`).
+/// or the query will read stale values from `slab_samples` (and the proxy from `force_shading_normals`).
 struct SlabModel {
   // ---- stored ----
   int grid_n = 16;                      ///< displacement intervals per slab edge (n)
@@ -97,7 +97,7 @@ struct SlabModel {
   /// force jumps, wherever penetration depth × the normal field's rate of turn exceeds 1 rad; the
   /// grid normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
   /// update_normals() keeps it in sync with `normals` (the samples it is given and their ring).
-  std::vector<Vec3f> haptic_normals;
+  std::vector<Vec3f> force_shading_normals;
   std::vector<SlabGeometry> geometry;                  ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
   /// @{ CSR coarse vertex -> slabs: the slabs around vertex v are
@@ -160,7 +160,7 @@ void update_positions(SlabModel& model, const int32_t* samples, size_t count) no
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; docs/design.md#normals), and refreshes their
-/// displacement and normal in `slab_samples` (when it is built) and `haptic_normals` of them and
+/// displacement and normal in `slab_samples` (when it is built) and `force_shading_normals` of them and
 /// their grid neighbours (when it is built).
 /// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
 ///       samples sharing triangles use the FaceNormalCache overload.
@@ -186,24 +186,24 @@ struct FaceNormalCache {
   uint32_t current = 0;          ///< number of the current call
 };
 
-/// @brief Recomputes `haptic_normals` of @p samples from `normals`: the normalised sum of the
+/// @brief Recomputes `force_shading_normals` of @p samples from `normals`: the normalised sum of the
 /// sample's normal and its grid neighbours' (SampleLayout::neighbours, across seams, so a sample
 /// shared by several slabs has one value). With @p with_ring, the grid neighbours of @p samples
 /// are recomputed too (what a change of their `normals` affects). Every slot of a sample gets
 /// the same value.
 /// @note O(count·valence²) with the ring, O(count·valence) without; no allocation. Does nothing
-///       when `haptic_normals` is not sized to the slots (samples.ids).
-void update_haptic_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept;
+///       when `force_shading_normals` is not sized to the slots (samples.ids).
+void update_force_shading_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept;
 
 /// @brief update_normals() with each affected grid triangle's normal computed once: the same
 /// result bit for bit (same products, same summation order), about a third of the cross products
 /// when the samples form a patch (each triangle has three corners).
-/// With @p haptic_ring (the default) it then calls update_haptic_normals(samples, with_ring);
-/// without, the caller updates `haptic_normals` itself (the edit tools list the ring's
+/// With @p force_shading_ring (the default) it then calls update_force_shading_normals(samples, with_ring);
+/// without, the caller updates `force_shading_normals` itself (the edit tools list the ring's
 /// neighbours once each with their visit stamps, instead of once per listing).
 /// @note O(k·valence); no allocation, noexcept: used by the edit tools in the servo tick.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache,
-                    bool haptic_ring = true) noexcept;
+                    bool force_shading_ring = true) noexcept;
 
 /// @brief Exact per-slab validity: the Jacobian N(α)·D(w) is positive over the whole slab
 /// (docs/design.md#slab-validity: three quadratics positive on [0,1]).
