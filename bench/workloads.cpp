@@ -3,6 +3,7 @@
 
 #include <hdm/analysis/cgal_closest_point.h>
 #include <hdm/haptics/sphere_proxy.h>
+#include <hdm/slab/model_memory.h>
 
 #include <sys/resource.h>
 
@@ -17,11 +18,6 @@ namespace hdm::bench {
 namespace {
 
 volatile double g_sink;  // keeps results alive so the compiler cannot drop the timed work
-
-template <class T>
-size_t bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
 
 }  // namespace
 
@@ -287,20 +283,11 @@ std::vector<EditRow> cold_stamps(SlabModel& model, const SlabLocator& locator, d
 }
 
 ModelBytes model_bytes(const SlabModel& model, const SlabLocator& locator) {
-  const SampleLayout& L = model.samples;
-  const SampleLayout& T = model.texels;
+  const ModelMemory m = model_memory(model);
   ModelBytes b;
-  b.samples = bytes(model.displacement) + bytes(model.layer_displacement) + bytes(model.friction_static) +
-              bytes(model.friction_dynamic) + bytes(model.stiffness_scale) + bytes(model.positions) +
-              bytes(model.normals) + bytes(model.force_shading_normals) + bytes(L.ids) + bytes(L.triangles) +
-              bytes(L.home_slab) + bytes(L.home_index) + bytes(L.neighbour_offsets) + bytes(L.neighbours) +
-              bytes(L.triangle_offsets) + bytes(L.incident_triangles) + bytes(L.shared_slot_offsets) +
-              bytes(L.slot_of_shared) + bytes(model.slab_samples);
-  b.texels = bytes(model.colour) + bytes(model.roughness) + bytes(T.ids) + bytes(T.triangles) + bytes(T.home_slab) +
-             bytes(T.home_index) + bytes(T.neighbour_offsets) + bytes(T.neighbours) + bytes(T.triangle_offsets) +
-             bytes(T.incident_triangles) + bytes(T.shared_slot_offsets) + bytes(T.slot_of_shared);
-  b.slabs = bytes(model.slabs) + bytes(model.geometry) + bytes(model.edge_neighbour) + bytes(model.inner) +
-            bytes(model.outer) + bytes(model.vertex_slab_offsets) + bytes(model.vertex_slabs) + locator.memory_bytes();
+  b.samples = static_cast<size_t>(m.sample_fields + m.sample_layout + m.caches);
+  b.texels = static_cast<size_t>(m.texel_fields + m.texel_layout);
+  b.slabs = static_cast<size_t>(m.coarse + m.slab_constants) + locator.memory_bytes();
   return b;
 }
 

@@ -126,7 +126,7 @@ std::vector<EditRow> warm_strokes(SlabModel& model, const SlabLocator& locator, 
 std::vector<EditRow> cold_stamps(SlabModel& model, const SlabLocator& locator, double diag, std::mt19937_64& rng,
                                  int ops = 40);
 
-/// Memory of a slab model by part [bytes, vector capacities].
+/// Memory of a slab model by part [bytes, vector capacities] (hdm::model_memory() regrouped, plus the locator).
 struct ModelBytes {
   size_t samples = 0;  ///< per-sample fields and the sample layout
   size_t texels = 0;   ///< colour, roughness and the texel layout

@@ -3,6 +3,7 @@
 #include "commands.h"
 
 #include <hdm/io/hdm_file.h>
+#include <hdm/slab/model_memory.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -22,18 +23,6 @@ struct InfoOptions {
   InputLimit limit;
 };
 
-template <class T>
-size_t bytes_of(const std::vector<T>& v) {
-  return v.size() * sizeof(T);
-}
-
-// Bytes of the stored arrays in memory (what a .hdm file holds, without derived data).
-size_t stored_bytes(const SlabModel& m) {
-  return bytes_of(m.inner) + bytes_of(m.outer) + bytes_of(m.slabs) + bytes_of(m.displacement) + bytes_of(m.colour) +
-         bytes_of(m.friction_static) + bytes_of(m.friction_dynamic) + bytes_of(m.stiffness_scale) +
-         bytes_of(m.roughness) + bytes_of(m.layer_displacement) + m.source.size();
-}
-
 void run_info(const InfoOptions& o) {
   const SlabModel m = load_model(o.model, {o.limit.bytes()});
   double lo = 0, hi = 0, sum = 0;
@@ -48,7 +37,7 @@ void run_info(const InfoOptions& o) {
   for (size_t s = 0; s < m.displacement.size() && s < m.layer_displacement.size(); ++s)
     exposed += m.displacement[s] < m.layer_displacement[s];
   const auto file_bytes = static_cast<uintmax_t>(std::filesystem::file_size(o.model));
-  const size_t bytes = stored_bytes(m);
+  const ModelMemory mem = model_memory(m);
 
   if (o.json) {
     const nlohmann::json j = {{"slabs", m.slab_count()},
@@ -61,7 +50,18 @@ void run_info(const InfoOptions& o) {
                               {"source_triangles", m.source_triangles},
                               {"displacement", {{"min", lo}, {"mean", mean}, {"max", hi}}},
                               {"under_layer_exposed_samples", exposed},
-                              {"bytes", bytes},
+                              {"bytes", mem.sample_fields + mem.texel_fields + mem.coarse},
+                              {"memory",
+                               {{"total_bytes", mem.total()},
+                                {"sample_fields", mem.sample_fields},
+                                {"texel_fields", mem.texel_fields},
+                                {"coarse", mem.coarse},
+                                {"sample_layout", mem.sample_layout},
+                                {"texel_layout", mem.texel_layout},
+                                {"caches", mem.caches},
+                                {"slab_constants", mem.slab_constants},
+                                {"bytes_per_sample", mem.per_sample()},
+                                {"bytes_per_texel", mem.per_texel()}}},
                               {"file_bytes", file_bytes}};
     std::printf("%s\n", j.dump().c_str());
     return;
@@ -78,14 +78,21 @@ void run_info(const InfoOptions& o) {
   std::printf("displacement      min %.6g  mean %.6g  max %.6g\n", lo, mean, hi);
   std::printf("under-layer       exposed at %lld samples\n", static_cast<long long>(exposed));
   std::printf("file size         %ju bytes\n", file_bytes);
-  std::printf("stored arrays     %zu bytes in memory\n", bytes);
+  const auto mib = [](int64_t b) { return double(b) / (1 << 20); };
+  std::printf("in memory         %.1f MiB: %.1f bytes per displacement sample, %.1f per colour texel\n",
+              mib(mem.total()), mem.per_sample(), mem.per_texel());
+  std::printf("  stored          %.1f MiB per-sample fields, %.1f MiB per-texel fields, %.1f MiB coarse mesh\n",
+              mib(mem.sample_fields), mib(mem.texel_fields), mib(mem.coarse));
+  std::printf("  derived         %.1f MiB sample layout, %.1f MiB texel layout, %.1f MiB query caches, "
+              "%.1f MiB slab constants\n",
+              mib(mem.sample_layout), mib(mem.texel_layout), mib(mem.caches), mib(mem.slab_constants));
 }
 
 }  // namespace
 
 void add_info_command(CLI::App& app) {
   auto opts = std::make_shared<InfoOptions>();
-  CLI::App* sub = app.add_subcommand("info", "Print the sizes, source and displacement range of a .hdm model");
+  CLI::App* sub = app.add_subcommand("info", "Print the sizes, memory, source and displacement range of a .hdm model");
   sub->add_option("model", opts->model, "model file (.hdm)")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", opts->json, "print one JSON object instead of text");
   add_input_limit(sub, opts->limit);

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/slab/model_memory.h>
+
+#include <vector>
+
+namespace hdm {
+namespace {
+
+template <class T>
+int64_t bytes(const std::vector<T>& v) noexcept {
+  return static_cast<int64_t>(v.capacity() * sizeof(T));
+}
+
+template <class... V>
+int64_t bytes(const V&... v) noexcept {
+  return (bytes(v) + ...);
+}
+
+int64_t layout_bytes(const SampleLayout& l) noexcept {
+  return bytes(l.ids, l.triangles, l.home_slab, l.home_index, l.point_i, l.point_j, l.neighbour_offsets, l.neighbours,
+               l.triangle_offsets, l.incident_triangles, l.shared_slot_offsets, l.slot_of_shared);
+}
+
+}  // namespace
+
+ModelMemory model_memory(const SlabModel& m) noexcept {
+  ModelMemory r;
+  r.sample_fields =
+      bytes(m.displacement, m.friction_static, m.friction_dynamic, m.stiffness_scale, m.layer_displacement);
+  r.texel_fields = bytes(m.colour, m.roughness);
+  r.coarse = bytes(m.inner, m.outer, m.slabs);
+  r.sample_layout = layout_bytes(m.samples);
+  r.texel_layout = layout_bytes(m.texels);
+  r.caches = bytes(m.positions, m.normals, m.force_shading_normals, m.slab_samples);
+  r.slab_constants = bytes(m.geometry, m.edge_neighbour, m.vertex_slab_offsets, m.vertex_slabs);
+  r.samples = m.samples.count;
+  r.texels = m.texels.count;
+  return r;
+}
+
+}  // namespace hdm

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// model_memory() against the allocator: copying a model allocates exactly its arrays, so the heap
+// the copy takes (glibc's mallinfo2) is what model_memory() must count, give or take the
+// allocator's per-block overhead. An array the accounting forgot shows as a larger heap.
+#include "support/test_models.h"
+
+#include <hdm/slab/model_memory.h>
+
+#include <gtest/gtest.h>
+#include <malloc.h>
+
+namespace hdm {
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kOwnAllocator = false;  // the sanitizers' allocators leave mallinfo2 empty
+#else
+constexpr bool kOwnAllocator = true;
+#endif
+
+int64_t heap_in_use() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<int64_t>(m.uordblks + m.hblkhd);  // small blocks + mmapped large ones
+}
+
+TEST(ModelMemory, counts_every_array_the_model_allocates) {
+  if (!kOwnAllocator) GTEST_SKIP() << "needs glibc's allocator";
+  const SlabModel& bunny = test::baked_bunny(0, 16);  // the default bake: ~150k samples
+  const int64_t before = heap_in_use();
+  const auto copy = std::make_unique<SlabModel>(bunny);
+  const int64_t taken = heap_in_use() - before;
+  const ModelMemory m = model_memory(*copy);
+  ASSERT_GT(taken, 0);
+  // Per block: up to 16 bytes of header and alignment, or a page for an mmapped one; 37 arrays
+  // and the source string, so 48 pages bound the overhead. A per-sample float array the
+  // accounting forgot is 4 bytes × ~150k samples, above that bound.
+  EXPECT_LE(m.total(), taken);
+  EXPECT_GE(m.total(), taken - 48 * 4096) << "the copy holds " << taken - m.total() << " bytes the accounting misses";
+}
+
+TEST(ModelMemory, splits_samples_from_texels) {
+  const SlabModel& bunny = test::baked_bunny(0, 16);
+  const ModelMemory m = model_memory(bunny);
+  EXPECT_EQ(m.samples, bunny.samples.count);
+  EXPECT_EQ(m.texels, bunny.texels.count);
+  // The stored displacement alone is a float per sample, the colour three per texel.
+  EXPECT_GE(m.sample_fields, int64_t(sizeof(float)) * m.samples);
+  EXPECT_GE(m.texel_fields, int64_t(3 * sizeof(float)) * m.texels);
+  EXPECT_NEAR(m.per_sample() * double(m.samples) + m.per_texel() * double(m.texels), double(m.total()), 1.0);
+  EXPECT_EQ(model_memory(SlabModel{}).total(), 0);
+  EXPECT_EQ(model_memory(SlabModel{}).per_sample(), 0);
+}
+
+}  // namespace
+}  // namespace hdm
