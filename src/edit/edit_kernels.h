@@ -38,13 +38,13 @@ struct LineEvaluator {
   }
 };
 
-// Flags (once, with the list) the slabs of the grid triangles incident to a sample or texel.
-// Consecutive incident triangles mostly share a slab, so the slab range is remembered instead of
-// dividing each time.
+// Flags (once, with the list) the slabs that hold a sample or texel: its home slab, or for a
+// shared one every slab with a slot of it (SampleLayout::for_each_slot). Consecutive slots mostly
+// share a slab, so the slab's slot range is remembered instead of dividing each time.
 struct DirtyMarker {
   EditScratch& s;
-  int32_t per_slab;
-  int32_t lo = 0, hi = 0;  // triangle range [lo, hi) of the last slab flagged
+  int32_t per_slab;        // grid points per slab of the layout marked (SampleLayout::per_slab)
+  int32_t lo = 0, hi = 0;  // slot range [lo, hi) of the last slab flagged
   void flag(int32_t slab) noexcept {
     if (s.dirty_slabs[slab]) return;
     s.dirty_slabs[slab] = 1;
@@ -55,10 +55,10 @@ struct DirtyMarker {
       flag(L.home_slab[id]);
       return;
     }
-    for (int32_t e = L.triangle_offsets[id]; e < L.triangle_offsets[id + 1]; ++e) {
-      const int32_t tri = L.incident_triangles[e];
-      if (tri >= lo && tri < hi) continue;
-      const int32_t slab = tri / per_slab;
+    for (int32_t k = L.shared_slot_offsets[id]; k < L.shared_slot_offsets[id + 1]; ++k) {
+      const int32_t slot = L.slot_of_shared[k];
+      if (slot >= lo && slot < hi) continue;
+      const int32_t slab = slot / per_slab;
       flag(slab);
       lo = slab * per_slab, hi = lo + per_slab;
     }
@@ -68,7 +68,7 @@ struct DirtyMarker {
 // Appends sample c and its grid neighbours not yet stamped with @p stamp to out[count...], stamping
 // them; returns the new count. Branch-free, as in the flood (out has room for one more).
 inline int32_t add_with_neighbours(const SampleLayout& L, int32_t c, std::vector<uint32_t>& marks, uint32_t stamp,
-                            int32_t* out, int32_t count) noexcept {
+                                   int32_t* out, int32_t count) noexcept {
   for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
     const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
     const bool fresh = marks[t] != stamp;

@@ -49,7 +49,7 @@ void build_csr(Each each, int count, std::vector<int32_t>& offsets, std::vector<
 // The undirected coarse edges, numbered in order of first use; each owns n-1 edge samples.
 struct EdgeSamples {
   std::unordered_map<uint64_t, std::pair<int32_t, int32_t>> edges;  // key -> (index, uses)
-  int32_t base = 0;                                                  // id of the first edge sample
+  int32_t base = 0;                                                 // id of the first edge sample
   int n = 1;
 
   // Sample id of the k-th point (0 < k < n) on the way from coarse vertex a to b.
@@ -150,20 +150,22 @@ void build_grid_triangles(SampleLayout& L, int32_t S) {
   }
 }
 
-// Neighbours and incident triangles of every sample, and the slots of the shared samples.
-void build_adjacency(SampleLayout& L, int32_t interior_base) {
+// Neighbours of every sample, the incident triangles when @p incidence, and the slots of the
+// shared samples.
+void build_adjacency(SampleLayout& L, int32_t interior_base, bool incidence) {
   build_csr(
       [&](auto emit) {
         for (const Tri& t : L.triangles)
           for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
       },
       L.count, L.neighbour_offsets, L.neighbours);
-  build_csr(
-      [&](auto emit) {
-        for (size_t f = 0; f < L.triangles.size(); ++f)
-          for (int k = 0; k < 3; ++k) emit(L.triangles[f][k], static_cast<int32_t>(f));
-      },
-      L.count, L.triangle_offsets, L.incident_triangles);
+  if (incidence)
+    build_csr(
+        [&](auto emit) {
+          for (size_t f = 0; f < L.triangles.size(); ++f)
+            for (int k = 0; k < 3; ++k) emit(L.triangles[f][k], static_cast<int32_t>(f));
+        },
+        L.count, L.triangle_offsets, L.incident_triangles);
 
   // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
   build_csr(
@@ -176,7 +178,7 @@ void build_adjacency(SampleLayout& L, int32_t interior_base) {
 
 }  // namespace
 
-SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n) {
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n, bool with_triangles) {
   if (n < 1) throw InvalidInput("grid n = " + std::to_string(n) + ": must be at least 1");
   SampleLayout L;
   L.n = n;
@@ -193,7 +195,8 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   assign_sample_ids(L, slabs, edges, interior_base, interior_per_slab);
   L.first_interior = interior_base;
   build_grid_triangles(L, S);
-  build_adjacency(L, interior_base);
+  build_adjacency(L, interior_base, with_triangles);
+  if (!with_triangles) std::vector<Tri>().swap(L.triangles);
   return L;
 }
 

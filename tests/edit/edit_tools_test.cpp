@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Edits: carve never raises, add never lowers, seams stay closed, normals stay consistent, paint
 // follows the paper's blend, and the edited model round-trips through save and load.
+#include "edit/stroke_fixture.h"
 #include "support/test_models.h"
 
 #include <hdm/edit/edit_tools.h>
@@ -227,6 +228,39 @@ TEST(EditToolsTest, slab_major_copy_follows_the_edits) {
     ASSERT_EQ(v.delta, f.model.displacement[s]) << "slot " << slot;
     ASSERT_EQ(Vec3f(v.n[0], v.n[1], v.n[2]), f.model.normals[s]) << "slot " << slot;
   }
+}
+
+// The slabs an edit flags dirty (what a renderer re-uploads) are, by a scan of every slab's grid,
+// every slab holding a sample or texel the edit changed, and no other.
+TEST(EditToolsTest, dirty_slabs_are_the_slabs_holding_what_changed) {
+  Fixture f;
+  const test::ModelState before(f.model);
+  clear_dirty(f.scratch);
+  f.carve_and_add(29, 0.012, 0.003);
+  Contact c;
+  Vec3 hip;
+  ASSERT_TRUE(f.contact_at(5000, 0.003, c, hip));
+  ASSERT_GT(paint(f.model, f.scratch, c, 0.02 * f.diag, Vec3f(0, 1, 0), 1.0).changed, 10);
+  std::vector<uint8_t> flagged(f.model.slab_count(), 0);
+  for (int32_t k = 0; k < f.scratch.dirty_count; ++k) flagged[f.scratch.dirty_list[k]] = 1;
+  const test::ModelState after(f.model);
+  const SampleLayout &S = f.model.samples, &T = f.model.texels;
+  int changed_slabs = 0;
+  for (int slab = 0; slab < f.model.slab_count(); ++slab) {
+    bool changed = false;
+    for (int k = 0; k < S.per_slab && !changed; ++k) {
+      const int32_t id = S.ids[size_t(slab) * S.per_slab + k];
+      changed = before.displacement[id] != after.displacement[id] || before.normals[id] != after.normals[id];
+    }
+    for (int k = 0; k < T.per_slab && !changed; ++k) {
+      const int32_t id = T.ids[size_t(slab) * T.per_slab + k];
+      changed = before.colour[id] != after.colour[id];
+    }
+    changed_slabs += changed;
+    ASSERT_EQ(bool(flagged[slab]), changed) << "slab " << slab << (changed ? " changed but is not" : " is")
+                                            << " flagged dirty";
+  }
+  EXPECT_GT(changed_slabs, 20);
 }
 
 TEST(EditToolsTest, paint_blends_with_the_papers_intensity) {

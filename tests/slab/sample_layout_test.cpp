@@ -91,3 +91,24 @@ TEST(SampleLayoutTest, slots_list_every_grid_point_of_a_sample) {
     }
   }
 }
+
+TEST(SampleLayoutTest, without_triangles_the_rest_of_the_layout_is_the_same) {
+  // The texel layout leaves out the grid triangles and their incidence; ids, homes, neighbours
+  // and slots must not depend on that.
+  const TriangleMesh m = test::icosphere(2, 1.0);
+  for (int n : {1, 4, 32}) {
+    const SampleLayout a = build_sample_layout(m.faces, int(m.vertices.size()), n);
+    const SampleLayout b = build_sample_layout(m.faces, int(m.vertices.size()), n, false);
+    EXPECT_TRUE(b.triangles.empty() && b.triangle_offsets.empty() && b.incident_triangles.empty());
+    EXPECT_EQ(b.triangles.capacity(), 0u) << "the grid triangles are freed";
+    EXPECT_EQ(a.count, b.count);
+    EXPECT_EQ(a.first_interior, b.first_interior);
+    EXPECT_EQ(a.ids, b.ids);
+    EXPECT_EQ(a.home_slab, b.home_slab);
+    EXPECT_EQ(a.home_index, b.home_index);
+    EXPECT_EQ(a.neighbour_offsets, b.neighbour_offsets);
+    EXPECT_EQ(a.neighbours, b.neighbours);
+    EXPECT_EQ(a.shared_slot_offsets, b.shared_slot_offsets);
+    EXPECT_EQ(a.slot_of_shared, b.slot_of_shared);
+  }
+}

@@ -24,7 +24,8 @@ struct SampleLayout {
   /// #slabs·per_slab global ids, slab-major, in grid::index order.
   std::vector<int32_t> ids;
   /// #slabs·n² global grid triangles (3 ids each), slab-major, counter-clockwise from outside:
-  /// the triangles drawn, felt and exported.
+  /// the triangles drawn, felt and exported. Empty in a layout built without them
+  /// (build_sample_layout()'s with_triangles), as are `triangle_offsets` and `incident_triangles`.
   std::vector<Tri> triangles;
   /// For each sample, one slab and packed grid index that hold it (its "home"), used to evaluate
   /// the sample's projection line with one fixed formula so shared samples agree bit for bit.
@@ -72,12 +73,18 @@ struct SampleLayout {
 /// @param slabs                #S slabs as coarse-vertex triples (R, S, T).
 /// @param coarse_vertex_count  number of coarse vertices; every id in @p slabs is below it.
 /// @param n                    intervals per slab edge, n >= 1.
+/// @param with_triangles       keep `triangles` and the sample -> triangle CSR (`triangle_offsets`,
+///                             `incident_triangles`). Without them (the colour texels: paint floods
+///                             over `neighbours` and finds a texel's slabs by its slots) the grid
+///                             triangles are built only to derive the neighbours, then freed: at
+///                             n·m = 32 they are 30 of every 90 bytes a texel's layout takes.
 /// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
 ///         the whole one-ring (boundary edges belong to one slab).
 /// @throws InvalidInput if n < 1, an id is out of range, or an edge is used by more than two slabs.
 /// @note O(#S·n²) time and memory; the CSR rows are sorted in parallel (std::thread), and the (sample,
 ///       neighbour) pairs are listed twice rather than stored (at 20,000 slabs and n = 32, the
 ///       colour texels of `hdm bake --slabs 20000`, they would take 1 GB).
-SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n);
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n,
+                                 bool with_triangles = true);
 
 }  // namespace hdm

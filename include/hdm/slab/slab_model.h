@@ -86,7 +86,7 @@ struct SlabModel {
 
   // ---- derived (rebuild_derived) ----
   SampleLayout samples;          ///< displacement samples (grid n)
-  SampleLayout texels;           ///< colour texels (grid n·m)
+  SampleLayout texels;           ///< colour texels (grid n·m), without grid triangles
   std::vector<Vec3f> positions;  ///< #samples surface points (cache of sample_position) [model units]
   std::vector<Vec3f> normals;    ///< #samples unit normals of the displaced surface
   /// #S·samples.per_slab unit normals for force shading (the proxy, hdm::proxy_step), slab-major
