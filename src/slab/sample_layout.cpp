@@ -134,38 +134,42 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
     if (L.home_slab[id] < 0) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
-// Grid triangles, counter-clockwise from outside (docs/design.md#sample-grid).
-void build_grid_triangles(SampleLayout& L, int32_t S) {
+// Calls f(Tri) for every grid triangle of the S slabs, counter-clockwise from outside, slab by
+// slab in the order `triangles` holds them (docs/design.md#sample-grid).
+template <class F>
+void for_each_grid_triangle(const SampleLayout& L, int32_t S, F&& f) {
   const int n = L.n;
-  L.triangles.reserve(static_cast<size_t>(S) * n * n);
   for (int32_t s = 0; s < S; ++s) {
     const int32_t* g = &L.ids[static_cast<size_t>(s) * L.per_slab];
     for (int j = 0; j < n; ++j)
       for (int i = 0; i + j < n; ++i) {
-        L.triangles.push_back({g[grid::index(n, i, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j)]});
+        f(Tri{g[grid::index(n, i, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j)]});
         if (i + j <= n - 2)
-          L.triangles.push_back(
-              {g[grid::index(n, i + 1, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j + 1)]});
+          f(Tri{g[grid::index(n, i + 1, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j + 1)]});
       }
   }
 }
 
-// Neighbours of every sample, the incident triangles when @p incidence, and the slots of the
-// shared samples.
-void build_adjacency(SampleLayout& L, int32_t interior_base, bool incidence) {
+// Neighbours of every sample (from the grid triangles, listed on the fly), the grid triangles and
+// their incidence when @p with_triangles, and the slots of the shared samples.
+void build_adjacency(SampleLayout& L, int32_t S, int32_t interior_base, bool with_triangles) {
   build_csr(
       [&](auto emit) {
-        for (const Tri& t : L.triangles)
+        for_each_grid_triangle(L, S, [&](const Tri& t) {
           for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
+        });
       },
       L.count, L.neighbour_offsets, L.neighbours);
-  if (incidence)
+  if (with_triangles) {
+    L.triangles.reserve(static_cast<size_t>(S) * L.n * L.n);
+    for_each_grid_triangle(L, S, [&](const Tri& t) { L.triangles.push_back(t); });
     build_csr(
         [&](auto emit) {
           for (size_t f = 0; f < L.triangles.size(); ++f)
             for (int k = 0; k < 3; ++k) emit(L.triangles[f][k], static_cast<int32_t>(f));
         },
         L.count, L.triangle_offsets, L.incident_triangles);
+  }
 
   // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
   build_csr(
@@ -194,9 +198,7 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   fill_point_coords(L);
   assign_sample_ids(L, slabs, edges, interior_base, interior_per_slab);
   L.first_interior = interior_base;
-  build_grid_triangles(L, S);
-  build_adjacency(L, interior_base, with_triangles);
-  if (!with_triangles) std::vector<Tri>().swap(L.triangles);
+  build_adjacency(L, S, interior_base, with_triangles);
   return L;
 }
 
