@@ -158,8 +158,8 @@ void EditJob::start_normals(EditScratch& s) noexcept {
 }
 
 bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
-  DirtyMarker dirty_t{s, m.texels.per_slab};
-  DirtyMarker dirty_s{s, m.samples.per_slab};
+  DirtyMarker dirty_t{s};
+  DirtyMarker dirty_s{s};
   while (rec_pos_ < rec_end_) {
     if (d.expired(2)) return false;
     UndoRecord& r = history_->at(rec_pos_++);
@@ -204,7 +204,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   const SampleLayout& L = m.samples;
   constexpr int32_t kChunk = 16;
   if (phase_ == Phase::Ring) {
-    DirtyMarker dirty{s, L.per_slab};
+    DirtyMarker dirty{s};
     while (cursor_ < s.changed_count) {
       if (d.expired(kChunk)) return false;
       const int32_t end = std::min(s.changed_count, cursor_ + kChunk);

@@ -38,12 +38,11 @@ struct LineEvaluator {
   }
 };
 
-// Flags (once, with the list) the slabs that hold a sample or texel: its home slab, or for a
-// shared one every slab with a slot of it (SampleLayout::for_each_slot). Consecutive slots mostly
-// share a slab, so the slab's slot range is remembered instead of dividing each time.
+// Flags (once, with the list) the slabs that hold a sample or texel: the slab of each of its
+// slots (SampleLayout::for_each_slot). Consecutive slots mostly share a slab, so the slab's slot
+// range is remembered instead of dividing each time.
 struct DirtyMarker {
   EditScratch& s;
-  int32_t per_slab;        // grid points per slab of the layout marked (SampleLayout::per_slab)
   int32_t lo = 0, hi = 0;  // slot range [lo, hi) of the last slab flagged
   void flag(int32_t slab) noexcept {
     if (s.dirty_slabs[slab]) return;
@@ -51,17 +50,12 @@ struct DirtyMarker {
     s.dirty_list[s.dirty_count++] = slab;
   }
   void mark(const SampleLayout& L, int32_t id) noexcept {
-    if (id >= L.first_interior) {  // interior: held by its home slab only
-      flag(L.home_slab[id]);
-      return;
-    }
-    for (int32_t k = L.shared_slot_offsets[id]; k < L.shared_slot_offsets[id + 1]; ++k) {
-      const int32_t slot = L.slot_of_shared[k];
-      if (slot >= lo && slot < hi) continue;
-      const int32_t slab = slot / per_slab;
+    L.for_each_slot(id, [&](int32_t slot) noexcept {
+      if (slot >= lo && slot < hi) return;
+      const int32_t slab = slot / L.per_slab;
       flag(slab);
-      lo = slab * per_slab, hi = lo + per_slab;
-    }
+      lo = slab * L.per_slab, hi = lo + L.per_slab;
+    });
   }
 };
 

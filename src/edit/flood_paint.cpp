@@ -14,7 +14,7 @@ bool EditJob::flood_paint_samples(SlabModel& m, EditScratch& s, Deadline& d) noe
   StrokeMemory* st = stroke_;
   LineEvaluator line_of{m, s.grid_weights.data()};
   const SampleLayout& S = m.samples;
-  DirtyMarker dirty{s, S.per_slab};
+  DirtyMarker dirty{s};
   return flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
     const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
     if (!(w > 0)) return false;
@@ -58,7 +58,7 @@ bool EditJob::flood_paint_texels(SlabModel& m, EditScratch& s, Deadline& d) noex
   const double pressure = std::clamp(sweep_.pressure, 0.0, 1.0);
   StrokeMemory* st = stroke_;
   const SampleLayout& T = m.texels;
-  DirtyMarker dirty{s, T.per_slab};
+  DirtyMarker dirty{s};
   int32_t cached = -1;
   const SlabGeometry* g = nullptr;
   const SlabSample* v = nullptr;
