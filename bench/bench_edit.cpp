@@ -10,8 +10,9 @@
 // per op. Edits include positions, normals of the changed samples' rings, force-shading normals,
 // dirty-slab marking and (strokes) undo recording.
 #include "bench_common.h"
+#include "workloads.h"
+#include <hdm/edit/brush_registry.h>
 #include <hdm/edit/edit_tools.h>
-
 #include <hdm/edit/stroke_editor.h>
 #include <hdm/slab/slab_snapshots.h>
 
@@ -19,11 +20,10 @@
 
 #include <map>
 #include <random>
+#include <string>
 
 namespace hdm::bench {
 namespace {
-
-enum class Tool { Carve, Add, Smooth, Flatten, Paint };
 
 // Restores the edited members from the fixture's model (paused: not timed).
 void restore(SlabModel& m, const SlabModel& from) {
@@ -71,29 +71,6 @@ const Path& stroke_path(double depth_frac) {
   return p;
 }
 
-Brush brush_for(Tool tool, double radius) {
-  Brush b;
-  b.radius = radius;
-  switch (tool) {
-    case Tool::Carve:
-      b.tool = BrushTool::Carve;
-      break;
-    case Tool::Add:
-      b.tool = BrushTool::Add, b.height = 0.2 * radius;
-      break;
-    case Tool::Smooth:
-      b.tool = BrushTool::Smooth, b.strength = 0.5, b.falloff = Falloff::Smooth;
-      break;
-    case Tool::Flatten:
-      b.tool = BrushTool::Flatten, b.strength = 0.5, b.falloff = Falloff::Smooth;
-      break;
-    case Tool::Paint:
-      b.tool = BrushTool::Paint, b.falloff = Falloff::Linear, b.colour = Vec3f(0.8f, 0.1f, 0.1f);
-      break;
-  }
-  return b;
-}
-
 void report(benchmark::State& state, int64_t visited, int64_t changed) {
   state.counters["visited_per_op"] = benchmark::Counter(double(visited) / state.iterations());
   state.counters["changed_per_op"] = benchmark::Counter(double(changed) / state.iterations());
@@ -104,13 +81,13 @@ void report(benchmark::State& state, int64_t visited, int64_t changed) {
 }
 
 // One iteration = one servo tick of a stroke: StrokeEditor::add_sample + work to the end.
-void stroke(benchmark::State& state, Tool tool) {
+void stroke(benchmark::State& state, BrushTool tool) {
   const Fixture& f = fixture();
   const double radius = state.range(0) / 1000.0 * f.diagonal;
   const Path& path = stroke_path(0.2 * state.range(0) / 1000.0);
   SlabModel m = f.model;
   StrokeEditor editor(m);
-  const Brush brush = brush_for(tool, radius);
+  const Brush brush = workload_brush(tool, radius);
   int64_t visited = 0, changed = 0;
   size_t k = 0;
   editor.begin_stroke(brush);
@@ -138,7 +115,7 @@ void stroke(benchmark::State& state, Tool tool) {
 }
 
 // The same path with a stamp per tick (edit_tools.h's single stamps).
-void stroke_stamps(benchmark::State& state, Tool tool) {
+void stroke_stamps(benchmark::State& state, BrushTool tool) {
   const Fixture& f = fixture();
   const double radius = state.range(0) / 1000.0 * f.diagonal;
   const Path& path = stroke_path(0.2 * state.range(0) / 1000.0);
@@ -155,10 +132,10 @@ void stroke_stamps(benchmark::State& state, Tool tool) {
     }
     EditResult r;
     switch (tool) {
-      case Tool::Carve:
+      case BrushTool::Carve:
         r = carve(m, scratch, path.contact[k], path.hip[k], radius, 0.0);
         break;
-      case Tool::Add:
+      case BrushTool::Add:
         r = add_material(m, scratch, path.contact[k], radius, 0.001 * radius);
         break;
       default:
@@ -172,7 +149,7 @@ void stroke_stamps(benchmark::State& state, Tool tool) {
 }
 
 // Single edits at random places: the cold case (hip 0.2·radius below the surface).
-void stamp(benchmark::State& state, Tool tool) {
+void stamp(benchmark::State& state, BrushTool tool) {
   const Fixture& f = fixture();
   SlabModel m = f.model;
   EditScratch scratch(m);
@@ -199,10 +176,10 @@ void stamp(benchmark::State& state, Tool tool) {
     }
     EditResult r;
     switch (tool) {
-      case Tool::Carve:
+      case BrushTool::Carve:
         r = carve(m, scratch, contacts[k], hips[k], radius, 0.0);
         break;
-      case Tool::Add:
+      case BrushTool::Add:
         r = add_material(m, scratch, contacts[k], radius, 0.1 * radius);
         break;
       default:
@@ -238,20 +215,26 @@ void publish(benchmark::State& state) {
 }
 BENCHMARK(publish)->Arg(1)->Arg(8)->Arg(64);
 
-BENCHMARK_CAPTURE(stroke, carve, Tool::Carve)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke_stamps, carve, Tool::Carve)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke, add, Tool::Add)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke_stamps, add, Tool::Add)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke, smooth, Tool::Smooth)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke, flatten, Tool::Flatten)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke, paint, Tool::Paint)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stroke_stamps, paint, Tool::Paint)->Arg(10)->Arg(20);
-
-BENCHMARK_CAPTURE(stamp, carve, Tool::Carve)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stamp, add, Tool::Add)->Arg(10)->Arg(20);
-BENCHMARK_CAPTURE(stamp, paint, Tool::Paint)->Arg(10)->Arg(20);
+// The paper's single stamps (edit_tools.h): carve, add_material and paint.
+BENCHMARK_CAPTURE(stroke_stamps, carve, BrushTool::Carve)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke_stamps, add, BrushTool::Add)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stroke_stamps, paint, BrushTool::Paint)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp, carve, BrushTool::Carve)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp, add, BrushTool::Add)->Arg(10)->Arg(20);
+BENCHMARK_CAPTURE(stamp, paint, BrushTool::Paint)->Arg(10)->Arg(20);
 
 }  // namespace
 }  // namespace hdm::bench
 
-BENCHMARK_MAIN();
+// Strokes of every registered brush: stroke/<name>/<radius>.
+int main(int argc, char** argv) {
+  for (const hdm::BrushInfo& b : hdm::brush_registry())
+    benchmark::RegisterBenchmark((std::string("stroke/") + b.name).c_str(), hdm::bench::stroke, b.tool)
+        ->Arg(10)
+        ->Arg(20);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -2,6 +2,7 @@
 #include "workloads.h"
 
 #include <hdm/analysis/cgal_closest_point.h>
+#include <hdm/edit/brush_registry.h>
 #include <hdm/haptics/sphere_proxy.h>
 #include <hdm/slab/model_memory.h>
 
@@ -13,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 
 namespace hdm::bench {
 namespace {
@@ -200,6 +202,19 @@ LatencyRuns time_queries(const SlabModel& model, const SlabLocator& locator, con
   return out;
 }
 
+Brush workload_brush(BrushTool tool, double radius) {
+  const BrushInfo* info = find_brush(tool);
+  Brush b;
+  b.tool = tool;
+  b.radius = radius;
+  b.height = 0.2 * radius;
+  if (info) b.falloff = info->falloff;
+  // The relaxing brushes at half their rate; a brush not named here strokes at full strength.
+  const std::string_view name = info ? info->name : "";
+  if (name == "smooth" || name == "flatten") b.strength = 0.5;
+  return b;
+}
+
 std::vector<EditRow> warm_strokes(SlabModel& model, const SlabLocator& locator, const Workspace& ws,
                                   const std::vector<Vec3>& path, double diag, int ticks) {
   std::vector<EditRow> rows;
@@ -223,14 +238,9 @@ std::vector<EditRow> warm_strokes(SlabModel& model, const SlabLocator& locator, 
         if (t.contact.in_shell()) samples.push_back(t);
       }
     }
-    for (const char* tool : {"carve", "add", "smooth", "flatten", "paint"}) {
-      Brush b;
-      b.tool = parse_brush_tool(tool);
-      b.radius = radius;
-      b.height = 0.2 * radius;
-      if (b.tool == BrushTool::Smooth || b.tool == BrushTool::Flatten) b.strength = 0.5, b.falloff = Falloff::Smooth;
-      if (b.tool == BrushTool::Paint) b.falloff = Falloff::Linear;
-      EditRow row{tool, pct};
+    for (const BrushInfo& info : brush_registry()) {
+      const Brush b = workload_brush(info.tool, radius);
+      EditRow row{info.name, pct};
       editor.begin_stroke(b);
       for (const ToolSample& t : samples) {
         const auto t0 = Clock::now();

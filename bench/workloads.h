@@ -88,11 +88,11 @@ std::vector<Vec3> path_velocity(const std::vector<Vec3>& path, const Workspace& 
 /// Latency of every query kind over all repeats (one Stats per repeat, ns per query).
 struct LatencyRuns {
   std::vector<Stats> coherent, global, tick, proxy_tick;  ///< hdm
-  std::vector<Stats> sphere_tick;  ///< hdm's sphere proxy (r = 1 % of the diagonal) on the same path
-  std::vector<Stats> embree_coherent, embree_global;      ///< Embree closest point + inside test
-  std::vector<Stats> cgal_coherent, cgal_global;          ///< CGAL closest point (when given)
-  int64_t in_shell_coherent = 0, in_shell_global = 0;     ///< points in a slab (last repeat)
-  int64_t contacts = 0;                                   ///< path ticks with a penalty force (last repeat)
+  std::vector<Stats> sphere_tick;                     ///< hdm's sphere proxy (r = 1 % of the diagonal) on the same path
+  std::vector<Stats> embree_coherent, embree_global;  ///< Embree closest point + inside test
+  std::vector<Stats> cgal_coherent, cgal_global;      ///< CGAL closest point (when given)
+  int64_t in_shell_coherent = 0, in_shell_global = 0;  ///< points in a slab (last repeat)
+  int64_t contacts = 0;                                ///< path ticks with a penalty force (last repeat)
 };
 
 /// Times, @p repeat times and interleaved so that machine noise hits all of them: hdm's query on
@@ -114,10 +114,15 @@ struct EditRow {
   double ns = 0;        ///< total time [ns]
 };
 
+/// The brush the edit workloads stroke with for @p tool (a registered brush) at @p radius [model
+/// units]: the brush's default falloff (hdm::BrushInfo::falloff), a ridge of 0.2 radius (add),
+/// strength 0.5 for smooth and flatten (half their rate) and 1 for the others, the default colour.
+Brush workload_brush(BrushTool tool, double radius);
+
 /// Warm strokes: one tool sample per 1 kHz tick, the tool sliding at 20 mm/s of device motion over
 /// the surface under @p path (StrokeEditor::add_sample + work, timed together per tick), the HIP 0.2
-/// radius under the surface, at most @p ticks ticks; carve, add, smooth, flatten and paint at radii 1
-/// and 2 % of @p diag. Each stroke is undone afterwards, which restores @p model bit for bit.
+/// radius under the surface, at most @p ticks ticks; every registered brush (workload_brush()) at
+/// radii 1 and 2 % of @p diag. Each stroke is undone afterwards, which restores @p model bit for bit.
 std::vector<EditRow> warm_strokes(SlabModel& model, const SlabLocator& locator, const Workspace& ws,
                                   const std::vector<Vec3>& path, double diag, int ticks);
 

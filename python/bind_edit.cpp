@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The Python module's edits: brushes, strokes along a path of tool positions (carve, add, smooth,
-// flatten, paint through hdm::StrokeEditor), undo and redo, the under-layer, and the per-sample
+// The Python module's edits: brushes, strokes along a path of tool positions (one method per
+// registered brush, through hdm::StrokeEditor), undo and redo, the under-layer, and the per-sample
 // and per-texel fields as arrays.
 #include <hdm/edit/brush.h>
+#include <hdm/edit/brush_registry.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/edit/stroke_editor.h>
 #include <hdm/query/slab_query.h>
@@ -33,14 +34,6 @@ void drain(Model& m, EditWork* total = nullptr) {
     if (e.idle()) break;
   }
   clear_dirty(e.scratch());
-}
-
-void check_brush(const Brush& b) {
-  if (!(b.radius > 0) || !std::isfinite(b.radius)) throw InvalidInput("radius: must be positive and finite");
-  if (!(b.strength >= 0 && b.strength <= 1)) throw InvalidInput("strength: must be in [0, 1]");
-  if (!(b.resilience >= 0) || !std::isfinite(b.resilience)) throw InvalidInput("resilience: must be >= 0");
-  if (!std::isfinite(b.height) || b.height < 0) throw InvalidInput("height: must be >= 0 and finite");
-  if (!(b.pressure_force_n > 0)) throw InvalidInput("pressure_force_n: must be positive");
 }
 
 // One stroke: a tool position per row of `path` [model units], one servo tick each.
@@ -107,16 +100,11 @@ Brush make_brush(const std::string& tool, double radius, double strength, const 
   b.tool = parse_brush_tool(tool);
   b.radius = radius;
   b.strength = strength;
-  b.falloff = falloff.empty() ? (b.tool == BrushTool::Carve || b.tool == BrushTool::Add ? Falloff::Constant
-                                 : b.tool == BrushTool::Paint                           ? Falloff::Linear
-                                                                                        : Falloff::Smooth)
-                              : parse_falloff(falloff);
+  b.falloff = falloff.empty() ? find_brush(b.tool)->falloff : parse_falloff(falloff);
   b.resilience = resilience;
   b.height = height;
   b.field = parse_brush_field(field);
   if (!colour.is_none()) b.colour = vec3_from(colour, "colour").cast<float>();
-  if (!(b.colour.minCoeff() >= 0 && b.colour.maxCoeff() <= 1))
-    throw InvalidInput("colour: components must be in [0, 1]");
   b.value = float(value);
   b.pressure_force_n = pressure_force_n;
   check_brush(b);
@@ -128,16 +116,19 @@ py::array_t<T> copy_of(const std::vector<T>& v) {
   return py::array_t<T>(py::ssize_t(v.size()), v.data());
 }
 
-// The Brush class (hdm::Brush).
+const char* falloff_name(Falloff f) {
+  return f == Falloff::Constant ? "constant" : f == Falloff::Linear ? "linear" : "smooth";
+}
+
+// The Brush class (hdm::Brush), its docstring from the brush registry.
 void bind_brush(py::module_& m) {
-  py::class_<Brush>(m, "Brush",
-                    "A sculpting or painting brush. Lengths in model units. tool: 'carve' (remove material in the "
-                    "swept sphere whose bottom is the tool position; paper §4.1), 'add' (a ridge of `height` above "
-                    "the stroke's starting surface; §4.2), 'smooth', 'flatten' (relax towards the neighbours' mean "
-                    "or the tool's plane at strength·pressure·20 /s of contact), 'paint' (blend a field towards a "
-                    "value; §5). falloff: 'constant', 'linear' or 'smooth' (default: constant for carve and add, "
-                    "linear for paint, smooth otherwise). field (paint): 'colour', 'roughness', 'friction_static', "
-                    "'friction_dynamic', 'stiffness', 'layer_thickness'.")
+  std::string doc = "A sculpting or painting brush. Lengths in model units. tool:";
+  for (const BrushInfo& i : brush_registry())
+    doc += std::string(" '") + i.name + "' (" + i.summary + "; default falloff " + falloff_name(i.falloff) + ");";
+  doc +=
+      " falloff: 'constant', 'linear' or 'smooth'. field (paint): 'colour', 'roughness', 'friction_static', "
+      "'friction_dynamic', 'stiffness', 'layer_thickness'.";
+  py::class_<Brush>(m, "Brush", doc.c_str())
       .def(py::init(&make_brush), py::arg("tool"), py::arg("radius"), py::kw_only(), py::arg("strength") = 1.0,
            py::arg("falloff") = "", py::arg("resilience") = 0.0, py::arg("height") = 0.0, py::arg("field") = "colour",
            py::arg("colour") = py::none(), py::arg("value") = 0.0, py::arg("pressure_force_n") = 1.0,
@@ -150,9 +141,30 @@ void bind_brush(py::module_& m) {
       .def_readonly("strength", &Brush::strength)
       .def_readonly("height", &Brush::height)
       .def_readonly("resilience", &Brush::resilience);
+  m.def(
+      "brushes",
+      [] {
+        py::list out;
+        for (const BrushInfo& i : brush_registry()) {
+          py::dict d;
+          d["name"] = i.name, d["label"] = i.label, d["summary"] = i.summary, d["falloff"] = falloff_name(i.falloff);
+          py::dict params;
+          for (int p = 0; p < brush_param_count; ++p) {
+            if (!i.uses(BrushParam(p))) continue;
+            const BrushParamRange& r = brush_param_range(BrushParam(p));
+            params[r.name] = py::make_tuple(r.lo, r.hi, r.lo_open);
+          }
+          d["params"] = params;
+          out.append(d);
+        }
+        return out;
+      },
+      "The registered brushes, in order: a list of dicts with name (Brush's tool), label (the studio's), summary, "
+      "falloff (the default) and params ({keyword: (lo, hi, lo_open)}: the parameters the brush reads and their "
+      "valid range; lo = hi = 0 for the enumerations falloff and field).");
 }
 
-// Model.stroke and one method per tool (carve, add, smooth, flatten, paint).
+// Model.stroke and one method per registered brush (carve, add, smooth, flatten, paint).
 void bind_strokes(py::module_& m) {
   auto model = py::reinterpret_borrow<py::class_<Model, ModelPtr>>(m.attr("Model"));
   model.def("stroke", &stroke, py::arg("path"), py::arg("brush"), py::kw_only(), py::arg("rate_hz") = 1000.0,
@@ -166,6 +178,7 @@ void bind_strokes(py::module_& m) {
                          "pressure). One undo step. ") +
              kStrokeReturns)
                 .c_str());
+  // pybind11 copies the name and the doc; the captured tool name is the registry's (static).
   auto tool = [&](const char* name, const char* tool_name, const char* doc) {
     model.def(
         name,
@@ -181,15 +194,13 @@ void bind_strokes(py::module_& m) {
         py::arg("colour") = py::none(), py::arg("value") = 0.0, py::arg("rate_hz") = 1000.0,
         py::arg("force_n") = std::nullopt, doc);
   };
-  tool("carve", "carve",
-       "Carves along path ((N, 3) or (1, 3) float64 tool positions [model units]): Model.stroke with "
-       "Brush('carve', radius, ...). A single row is the paper's single stamp. Returns Model.stroke's dict.");
-  tool("add", "add", "Adds a ridge `height` [model units] high along path: Model.stroke with Brush('add', ...).");
-  tool("smooth", "smooth", "Smooths along path: Model.stroke with Brush('smooth', ...).");
-  tool("flatten", "flatten", "Flattens along path: Model.stroke with Brush('flatten', ...).");
-  tool("paint", "paint",
-       "Paints along path: Model.stroke with Brush('paint', ...); field= names the field, colour= (3,) linear RGB "
-       "or value= for a scalar field.");
+  for (const BrushInfo& i : brush_registry()) {
+    const std::string doc =
+        std::string("Model.stroke with Brush('") + i.name + "', radius, ...) along path ((N, 3) or " +
+        "(1, 3) float64 tool positions [model units]; a single row is a single stamp): " + i.summary +
+        ". Returns Model.stroke's dict.";
+    tool(i.name, i.name, doc.c_str());
+  }
 }
 
 // Model.undo, redo, set_under_layer and field.

@@ -178,8 +178,7 @@ void apply_script_surface(SlabModel& model, const Script& script, double mm) {
 std::vector<uint32_t> tool_buttons(const Trajectory& path) {
   std::vector<uint32_t> buttons(path.position.size(), 0);
   for (size_t k = 0; k < buttons.size(); ++k) {
-    const Tool t = path.tool[k];
-    buttons[k] = (t == Tool::Carve || t == Tool::Add || t == Tool::Paint || t == Tool::Smooth || t == Tool::Flatten);
+    buttons[k] = path.tool[k] == Tool::Brush;
   }
   return buttons;
 }
@@ -297,9 +296,9 @@ void print_sculpt_report(const nlohmann::json& j, const SculptArgs& a) {
       n(j["ticks"]), d(j["seconds"]), d(j["rate_hz"]), a.rate, a.fast ? ", --fast" : "", n(j["overruns"]),
       n(j["long_ticks"]));
   const nlohmann::json& tick = j["tick_ns"];
-  std::printf(
-      "  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (%s, edits within %.0f µs, publication)\n",
-      d(tick["median"]), d(tick["p99"]), d(tick["max"]), a.mode == "sphere" ? "ball" : a.mode.c_str(), a.budget_us);
+  std::printf("  tick compute     median %.0f ns, p99 %.0f ns, max %.0f ns (%s, edits within %.0f µs, publication)\n",
+              d(tick["median"]), d(tick["p99"]), d(tick["max"]), a.mode == "sphere" ? "ball" : a.mode.c_str(),
+              a.budget_us);
   std::printf("  contact ticks    %lld\n", n(j["contact_ticks"]));
   std::printf(
       "  edits            %lld sweeps (tool position every %lld ticks), %lld samples/texels changed, "
@@ -325,7 +324,8 @@ void print_sculpt_report(const nlohmann::json& j, const SculptArgs& a) {
           t, d(c["rms_pct"]), d(c["max_pct"]), d(c["rms_back_pct"]), d(c["max_back_pct"]), n(c["sweeps"]),
           a.check_against.c_str());
     }
-  if (j.contains("realtime_note")) std::printf("  note             %s\n", j["realtime_note"].get<std::string>().c_str());
+  if (j.contains("realtime_note"))
+    std::printf("  note             %s\n", j["realtime_note"].get<std::string>().c_str());
   if (!a.output.empty()) std::printf("  wrote            %s\n", a.output.c_str());
   if (!a.forces.empty()) std::printf("  wrote            %s\n", a.forces.c_str());
 }
@@ -416,9 +416,10 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_option("--save-every", a->save_every,
                   "save the model to -o from another thread every S seconds while sculpting")
       ->check(CLI::Range(0.01, 1e6));
-  cmd->add_option("--mode", a->mode,
-                  "force model: proxy (a point god-object, default), penalty (the paper's) or sphere (the brush felt as "
-                  "a ball of its radius held outside the surface, which carves with it)")
+  cmd->add_option(
+         "--mode", a->mode,
+         "force model: proxy (a point god-object, default), penalty (the paper's) or sphere (the brush felt as "
+         "a ball of its radius held outside the surface, which carves with it)")
       ->check(CLI::IsMember({"proxy", "penalty", "sphere"}));
   cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)")
       ->check(CLI::IsMember({"newton", "bisection"}));

@@ -2,6 +2,7 @@
 #include "sculpt_script.h"
 
 #include <hdm/core/error.h>
+#include <hdm/edit/brush_registry.h>
 #include <hdm/io/read_file.h>
 
 #include <nlohmann/json.hpp>
@@ -70,14 +71,16 @@ double number(const nlohmann::json& j, const char* key, double fallback, double 
   return x;
 }
 
-Tool tool_named(const std::string& s, const std::string& where) {
-  if (s == "probe") return Tool::Probe;
-  if (s == "carve") return Tool::Carve;
-  if (s == "add") return Tool::Add;
-  if (s == "paint") return Tool::Paint;
-  if (s == "smooth") return Tool::Smooth;
-  if (s == "flatten") return Tool::Flatten;
-  throw InvalidInput(where + ": unknown tool '" + s + "' (probe, carve, add, paint, smooth, flatten)");
+// "probe" or a registered brush's name.
+void read_tool(const std::string& s, const std::string& where, Stroke& st) {
+  if (s == "probe") {
+    st.tool = Tool::Probe;
+    return;
+  }
+  const BrushInfo* b = find_brush(s);
+  if (!b) throw InvalidInput(where + ": unknown tool '" + s + "' (probe, " + brush_names() + ")");
+  st.tool = Tool::Brush;
+  st.brush = b->tool;
 }
 
 // A string field with its default; @p prefix names the object.
@@ -90,9 +93,14 @@ std::string text(const nlohmann::json& j, const char* key, const std::string& fa
 // The brush fields of a stroke (strength, falloff, paint field and value, pressure).
 void read_brush_fields(const nlohmann::json& js, const std::string& where, Stroke& st) {
   const std::string field = where + ".";
-  st.strength = number(js, "strength", st.strength, 0.0, 1.0, field);
+  const BrushParamRange& strength = brush_param_range(BrushParam::Strength);
+  st.strength = number(js, "strength", st.strength, strength.lo, strength.hi, field);
   st.pressure_force_n = number(js, "pressure_force_n", st.pressure_force_n, 1e-3, 1e4, field);
-  const bool boolean = st.tool == Tool::Carve || st.tool == Tool::Add;
+  // Constant for the boolean brushes (their default: the exact boolean), linear otherwise (a
+  // probe's brush is never used). Scripts keep linear where the studio and Python default to
+  // smoothstep, so that a script's strokes stay what they were.
+  const BrushInfo* info = st.tool == Tool::Brush ? find_brush(st.brush) : nullptr;
+  const bool boolean = info && info->falloff == Falloff::Constant;
   // The strings are read outside the try: text() names the file and key itself, and only the
   // name parsers' messages need the stroke prefixed.
   const std::string falloff = text(js, "falloff", boolean ? "constant" : "linear", field);
@@ -211,7 +219,7 @@ Script parse_script(std::string_view text, const std::string& path) {
                   "strength", "pressure_force_n", "falloff", "field", "value"},
                  where);
       if (js.contains("tool") && !js["tool"].is_string()) throw InvalidInput(where + ".tool: expected a string");
-      st.tool = tool_named(js.value("tool", "probe"), where + ".tool");
+      read_tool(js.value("tool", "probe"), where + ".tool", st);
       if (!js.contains("from") || !js.contains("to")) throw InvalidInput(where + ": needs 'from' and 'to'");
       st.from = vec3(js["from"], where + ".from", min_coordinate, max_coordinate);
       st.to = vec3(js["to"], where + ".to", min_coordinate, max_coordinate);
@@ -242,23 +250,7 @@ Script read_script(const std::string& path, uint64_t max_bytes) {
 }
 Brush stroke_brush(const Stroke& s, double mm) {
   Brush b;
-  switch (s.tool) {
-    case Tool::Carve:
-      b.tool = BrushTool::Carve;
-      break;
-    case Tool::Add:
-      b.tool = BrushTool::Add;
-      break;
-    case Tool::Smooth:
-      b.tool = BrushTool::Smooth;
-      break;
-    case Tool::Flatten:
-      b.tool = BrushTool::Flatten;
-      break;
-    default:
-      b.tool = BrushTool::Paint;
-      break;
-  }
+  b.tool = s.brush;
   b.radius = s.radius_mm * mm;
   b.strength = s.strength;
   b.falloff = s.falloff;

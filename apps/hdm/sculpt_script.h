@@ -15,19 +15,21 @@
 
 namespace hdm::app {
 
-/// A script step: a stroke with a tool (Probe touches without editing), or an undo / redo step.
-enum class Tool : uint8_t { None, Probe, Carve, Add, Paint, Smooth, Flatten, Undo, Redo };
+/// A script step: a stroke with a brush (Stroke::brush), a probe (touches without editing), or an
+/// undo / redo step.
+enum class Tool : uint8_t { None, Probe, Brush, Undo, Redo };
 
 /// One step. Lengths are device-space millimetres (the workspace maps them to the model).
 struct Stroke {
   Tool tool = Tool::Probe;
+  BrushTool brush = BrushTool::Carve;           ///< Tool::Brush: the registered brush ("tool" names it)
   Vec3 from = Vec3::Zero(), to = Vec3::Zero();  ///< ends in normalised bounding-box coordinates [0,1]³
   double radius_mm = 3, speed_mm_s = 30;
   double depth_mm = 1;         ///< the hand's target this far under the surface (the closed loop presses less deep)
   double resilience_mm = 0.3;  ///< carve: resilient band
   double height_mm = 0.5;      ///< add: ridge height above the stroke's starting surface
   double strength = 1;         ///< brush strength in [0,1]
-  Falloff falloff = Falloff::Constant;    ///< brush falloff (default: constant for carve and add, linear otherwise)
+  Falloff falloff = Falloff::Constant;    ///< brush falloff (default: see parse_script())
   BrushField field = BrushField::Colour;  ///< paint: the field written
   float value = 0;                        ///< paint of a scalar field (layer_thickness in mm)
   double pressure_force_n = 1.0;          ///< paint, smooth, flatten: normal force of full pressure [N]
@@ -70,12 +72,13 @@ Brush stroke_brush(const Stroke& s, double model_units_per_mm);
 /// max_force_n in [0.001, 1e4]; surface {colour (three numbers in [0, 1]), roughness in [0, 1]};
 /// under_layer {thickness_mm in [0, 1e4], colour, stiffness and roughness in [0, 1],
 /// friction_static and friction_dynamic in [0, 10]}; strokes, a non-empty array of objects: either
-/// {"undo": n} or {"redo": n} with a whole n in [1, 1000], or tool (probe, carve, add, paint,
-/// smooth, flatten), from and to (three numbers each in [-1, 2], normalised box coordinates),
-/// radius_mm in [0.001, 1e4], depth_mm, resilience_mm and height_mm in [0, 1e4], speed_mm_s in
-/// [0.01, 1e5], colour (three numbers in [0, 1]), strength in [0, 1], pressure_force_n in
-/// [0.001, 1e4], falloff and field (strings), value in [-1e4, 1e4]. Any other key is refused,
-/// naming the nearest known one (a misspelt key would otherwise leave its default in force).
+/// {"undo": n} or {"redo": n} with a whole n in [1, 1000], or tool (probe or a registered brush's
+/// name: carve, add, smooth, flatten, paint; hdm::brush_registry()), from and to (three numbers each in [-1, 2],
+/// normalised box coordinates), radius_mm in [0.001, 1e4], depth_mm, resilience_mm and height_mm in [0, 1e4],
+/// speed_mm_s in [0.01, 1e5], colour (three numbers in [0, 1]), strength in [0, 1], pressure_force_n in [0.001, 1e4],
+/// falloff and field (strings), value in [-1e4, 1e4]. The default falloff is the brush's when that is constant (carve,
+/// add: the exact boolean), linear otherwise. Any other key is refused, naming the nearest known one (a misspelt key
+/// would otherwise leave its default in force).
 /// @throws InvalidInput "<name>: ..." naming the field when the text is not JSON, a field has the
 ///         wrong type or lies outside its range.
 /// @note O(text size); the JSON document takes a small multiple of the text's size in memory.

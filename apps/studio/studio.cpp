@@ -58,7 +58,7 @@ Studio::Studio(Window& window, SlabModel model, const StudioOptions& o, const Wi
     auto bridge = bridge::BridgeDevice::open(o.device, bo);
     bridge_ = bridge.get();
     device_ = std::move(bridge);
-    settings_.kind = ToolSettings::Carve;  // the driver's tool button strokes with the panel's brush
+    settings_.brush = BrushTool::Carve;  // the driver's tool button strokes with the panel's brush
     post_brush_if_changed();
   } else if (o.replay.empty()) {
     auto mouse = std::make_unique<MouseDevice>(o.rate_hz);
@@ -66,7 +66,7 @@ Studio::Studio(Window& window, SlabModel model, const StudioOptions& o, const Wi
     device_ = std::move(mouse);
   } else {
     device_ = std::make_unique<ReplayDevice>(o.replay);
-    settings_.kind = ToolSettings::Carve;  // the recording's tool button strokes with the panel's brush
+    settings_.brush = BrushTool::Carve;  // the recording's tool button strokes with the panel's brush
     post_brush_if_changed();
   }
   servo_ = std::make_unique<ServoThread>(*session_, *device_, o.rate_hz, bridge_);
@@ -193,7 +193,7 @@ void Studio::post_proxy_if_changed() {
 }
 
 void Studio::post_brush_if_changed() {
-  if (settings_.kind == ToolSettings::Probe) return;
+  if (!settings_.brush) return;
   const Brush b = tool_brush(settings_, mm_);
   const Brush& p = posted_brush_;
   if (posted_ && b.tool == p.tool && b.radius == p.radius && b.strength == p.strength && b.falloff == p.falloff &&
@@ -261,14 +261,10 @@ SlabModel Studio::snapshot_model() const {
 
 void Studio::write_report(const ServoStats& st) {
   if (o_.report.empty()) return;
-  const StudioReportContext c{o_,
-                              fig_,
-                              slabs_,
-                              renderer_->level_count(),
-                              workspace_,
-                              servo_->realtime_note() ? servo_->realtime_note() : "SCHED_FIFO",
-                              mouse_,
-                              bake_ ? &*bake_ : nullptr};
+  const StudioReportContext c{o_,         fig_,
+                              slabs_,     renderer_->level_count(),
+                              workspace_, servo_->realtime_note() ? servo_->realtime_note() : "SCHED_FIFO",
+                              mouse_,     bake_ ? &*bake_ : nullptr};
   write_studio_report(c, st, session_->stats());  // the servo has stopped
 }
 

@@ -7,6 +7,7 @@
 #include <hdm/edit/brush.h>
 #include <hdm/slab/slab_model.h>
 
+#include <optional>
 #include <string>
 
 namespace hdm::studio {
@@ -21,7 +22,7 @@ struct StudioOptions {
   /// Feel the brush as a ball of its radius held outside the surface (RenderMode::Sphere) instead
   /// of a point: the ball cannot enter a gap narrower than itself, and carving cuts with it.
   bool ball = false;
-  std::string script;              ///< scripted session (JSON); empty: interactive
+  std::string script;  ///< scripted session (JSON); empty: interactive
   /// Replay this recording (`hdm sculpt --forces` CSV: positions and the tool button) as the
   /// device instead of the mouse; the strokes use the panel's brush (carve unless changed).
   std::string replay;
@@ -44,7 +45,8 @@ struct StudioOptions {
 
 /// The tool settings of the panel (and of scripts). Lengths in device millimetres.
 struct ToolSettings {
-  enum Kind : int { Probe, Carve, Add, Smooth, Flatten, Paint } kind = Probe;
+  /// The brush (one of hdm::brush_registry()); empty: the probe, which touches without editing.
+  std::optional<BrushTool> brush;
   float radius_mm = 3;                   ///< tool radius
   float strength = 1;                    ///< see hdm::BrushTool
   float depth_mm = 0.8f;                 ///< how far the mouse pushes the tool in below the surface under the cursor
@@ -57,14 +59,14 @@ struct ToolSettings {
   float friction = 1;      ///< factor on the model's friction coefficients (live)
 };
 
-/// @brief The brush of @p t for a model with @p mm model units per device millimetre
-/// (carve and add: constant falloff, the exact boolean; smooth and flatten: smoothstep; paint:
-/// the paper's linear cone).
+/// @brief The brush of @p t for a model with @p mm model units per device millimetre, with the
+/// brush's default falloff (BrushInfo::falloff: carve and add constant, the exact boolean; smooth
+/// and flatten smoothstep; paint the paper's linear cone). The probe gives a default Brush.
 Brush tool_brush(const ToolSettings& t, double mm);
-/// @brief Name of a tool kind (probe, carve, add, smooth, flatten, paint); parse_tool_kind()
-/// reads it back and throws InvalidInput naming @p name for anything else.
-const char* tool_kind_name(ToolSettings::Kind kind) noexcept;
-ToolSettings::Kind parse_tool_kind(const std::string& name);
+/// @brief Name of the tool of @p t: "probe" or the brush's registered name; parse_tool() reads it
+/// back and throws InvalidInput naming @p name for anything else.
+const char* tool_name(const ToolSettings& t) noexcept;
+std::optional<BrushTool> parse_tool(const std::string& name);
 
 /// @brief Opens the window and runs the studio on @p model until the window closes, the script
 /// ends or options.frames frames are drawn.

@@ -3,6 +3,8 @@
 // actions, and the script host's calls (cursor, probes, screenshots, saving, the view).
 #include "studio_app.h"
 
+#include <hdm/edit/brush_registry.h>
+
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -50,13 +52,13 @@ void Studio::probe(const std::string& name) {
   const ToolState& t = servo_->tool();
   auto v = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
   fig_.probes[name] = {{"tick", t.tick},
-                   {"contact", t.contact},
-                   {"hip_m", v(workspace_.to_device(t.hip))},
-                   {"proxy_m", v(workspace_.to_device(t.proxy))},
-                   {"normal", v(t.normal)},
-                   {"force_n", v(t.force)},
-                   {"stiffness_n_per_m", settings_.stiffness},
-                   {"friction", settings_.friction}};
+                       {"contact", t.contact},
+                       {"hip_m", v(workspace_.to_device(t.hip))},
+                       {"proxy_m", v(workspace_.to_device(t.proxy))},
+                       {"normal", v(t.normal)},
+                       {"force_n", v(t.force)},
+                       {"stiffness_n_per_m", settings_.stiffness},
+                       {"friction", settings_.friction}};
 }
 
 void Studio::save(const std::string& path) {
@@ -81,11 +83,13 @@ void Studio::view(double azimuth_deg, double elevation_deg, double zoom) {
 bool Studio::set_footprint(const ToolState& t) {
   const double r = settings_.radius_mm * mm_;
   Vec3 centre = t.proxy;
-  if (settings_.kind == ToolSettings::Carve)  // a ball's centre is the HIP, a point's is r above it
+  const BrushInfo* info = settings_.brush ? find_brush(*settings_.brush) : nullptr;
+  const ToolPlacement place = info ? info->placement : ToolPlacement::Contact;
+  if (place == ToolPlacement::BehindHip)  // a ball's centre is the HIP, a point's is r above it
     centre = t.hip + t.normal * ((t.ball ? 0.0 : r) + settings_.resilience_mm * mm_);
-  else if (settings_.kind == ToolSettings::Add)
+  else if (place == ToolPlacement::StartSurface)
     centre = t.proxy + t.normal * (settings_.height_mm * mm_ - r);
-  const bool on = t.contact && settings_.kind != ToolSettings::Probe && centre.allFinite();
+  const bool on = t.contact && info && centre.allFinite();
   renderer_->set_footprint(centre, on ? r : 0.0);
   return on;
 }
@@ -145,7 +149,7 @@ void Studio::drive_device(const RenderCamera& cam) {
   const int w = cam.width, h = cam.height;
   const int px = std::clamp(static_cast<int>(cursor_.x()), 0, w - 1);
   const int py = std::clamp(static_cast<int>(cursor_.y()), 0, h - 1);
-  const bool editing = button_ && settings_.kind != ToolSettings::Probe;
+  const bool editing = button_ && settings_.brush.has_value();
   if (editing && (!stroke_frozen_ || frozen_cam_.view != cam.view || frozen_cam_.projection != cam.projection ||
                   frozen_w_ != w || frozen_h_ != h)) {
     frozen_.resize(static_cast<size_t>(w) * h);

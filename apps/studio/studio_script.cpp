@@ -52,7 +52,7 @@ void apply_tool_json(const nlohmann::json& j, ToolSettings& t, const std::string
     const std::string at = where + ": \"" + key + "\"";
     if (key == "tool") {
       if (!v.is_string()) throw InvalidInput(at + " must be a tool name");
-      t.kind = parse_tool_kind(v.get<std::string>());
+      t.brush = parse_tool(v.get<std::string>());
     } else if (key == "radius_mm")
       t.radius_mm = number(v, at, 0.05, 100);
     else if (key == "strength")

@@ -1,73 +1,44 @@
 // SPDX-License-Identifier: MIT
 #include "panels.h"
 
-#include <hdm/core/error.h>
-#include <hdm/edit/brush.h>
+#include <hdm/edit/brush_registry.h>
 
 #include <imgui.h>
 
 namespace hdm::studio {
 
-const char* tool_kind_name(ToolSettings::Kind kind) noexcept {
-  static const char* const names[] = {"probe", "carve", "add", "smooth", "flatten", "paint"};
-  return names[static_cast<int>(kind)];
+namespace {
+
+// The tool combo's entries: the probe, then every registered brush's label.
+bool tool_label(void*, int k, const char** out) {
+  const auto brushes = brush_registry();
+  if (k < 0 || k > static_cast<int>(brushes.size())) return false;
+  *out = k == 0 ? "probe" : brushes[static_cast<size_t>(k - 1)].label;
+  return true;
 }
 
-ToolSettings::Kind parse_tool_kind(const std::string& name) {
-  for (int k = ToolSettings::Probe; k <= ToolSettings::Paint; ++k)
-    if (name == tool_kind_name(static_cast<ToolSettings::Kind>(k))) return static_cast<ToolSettings::Kind>(k);
-  throw InvalidInput("tool \"" + name + "\": expected probe, carve, add, smooth, flatten or paint");
-}
-
-Brush tool_brush(const ToolSettings& t, double mm) {
-  Brush b;
-  switch (t.kind) {
-    case ToolSettings::Add:
-      b.tool = BrushTool::Add;
-      break;
-    case ToolSettings::Smooth:
-      b.tool = BrushTool::Smooth;
-      b.falloff = Falloff::Smooth;
-      break;
-    case ToolSettings::Flatten:
-      b.tool = BrushTool::Flatten;
-      b.falloff = Falloff::Smooth;
-      break;
-    case ToolSettings::Paint:
-      b.tool = BrushTool::Paint;
-      b.falloff = Falloff::Linear;
-      break;
-    default:
-      b.tool = BrushTool::Carve;
-      break;
-  }
-  b.radius = t.radius_mm * mm;
-  b.strength = t.strength;
-  b.resilience = t.resilience_mm * mm;
-  b.height = t.height_mm * mm;
-  b.field = static_cast<BrushField>(t.field);
-  b.colour = Vec3f(t.colour[0], t.colour[1], t.colour[2]);
-  b.value = b.field == BrushField::LayerThickness ? static_cast<float>(t.value * mm) : t.value;
-  return b;
-}
+}  // namespace
 
 PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::string& message) {
   PanelActions a;
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::Begin("Tools", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
   ImGui::PushItemWidth(170);
-  static const char* const tools[] = {"probe", "carve", "add", "smooth", "flatten", "paint"};
-  int kind = t.kind;
-  ImGui::Combo("tool", &kind, tools, IM_ARRAYSIZE(tools));
-  t.kind = static_cast<ToolSettings::Kind>(kind);
+  int kind = t.brush ? static_cast<int>(*t.brush) + 1 : 0;
+  ImGui::Combo("tool", &kind, &tool_label, nullptr, static_cast<int>(brush_registry().size()) + 1);
+  t.brush = kind == 0 ? std::nullopt : std::optional<BrushTool>(static_cast<BrushTool>(kind - 1));
+  const BrushInfo* info = t.brush ? find_brush(*t.brush) : nullptr;
+  if (info && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", info->summary);
   ImGui::SliderFloat("radius [mm]", &t.radius_mm, 0.2f, 20.0f, "%.1f");
   ImGui::SliderFloat("depth [mm]", &t.depth_mm, 0.0f, 5.0f, "%.2f");
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("how far the tool goes in below the surface under the cursor (shift+wheel)");
   ImGui::SliderFloat("strength", &t.strength, 0.0f, 1.0f, "%.2f");
-  if (t.kind == ToolSettings::Add) ImGui::SliderFloat("height [mm]", &t.height_mm, 0.0f, 5.0f, "%.2f");
-  if (t.kind == ToolSettings::Carve) ImGui::SliderFloat("resilience [mm]", &t.resilience_mm, 0.0f, 2.0f, "%.2f");
-  if (t.kind == ToolSettings::Paint) {
+  // Only the settings the brush reads (its registry entry's parameters).
+  if (info && info->uses(BrushParam::Height)) ImGui::SliderFloat("height [mm]", &t.height_mm, 0.0f, 5.0f, "%.2f");
+  if (info && info->uses(BrushParam::Resilience))
+    ImGui::SliderFloat("resilience [mm]", &t.resilience_mm, 0.0f, 2.0f, "%.2f");
+  if (info && info->uses(BrushParam::Field)) {
     static const char* const fields[] = {"colour",           "roughness", "friction_static",
                                          "friction_dynamic", "stiffness", "layer_thickness"};
     ImGui::Combo("field", &t.field, fields, IM_ARRAYSIZE(fields));

@@ -12,6 +12,7 @@
 #include <hdm/core/error.h>
 #include <hdm/core/types.h>
 #include <hdm/edit/brush.h>
+#include <hdm/edit/brush_registry.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/edit/stroke_editor.h>
 #include <hdm/edit/undo_history.h>

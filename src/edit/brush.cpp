@@ -1,16 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
 #include <hdm/edit/brush.h>
+#include <hdm/edit/brush_registry.h>
 
 namespace hdm {
 
 BrushTool parse_brush_tool(const std::string& name) {
-  if (name == "carve") return BrushTool::Carve;
-  if (name == "add") return BrushTool::Add;
-  if (name == "smooth") return BrushTool::Smooth;
-  if (name == "flatten") return BrushTool::Flatten;
-  if (name == "paint") return BrushTool::Paint;
-  throw InvalidInput("brush tool '" + name + "': expected carve, add, smooth, flatten or paint");
+  if (const BrushInfo* b = find_brush(name)) return b->tool;
+  throw InvalidInput("brush tool '" + name + "': expected " + brush_names());
 }
 
 Falloff parse_falloff(const std::string& name) {
@@ -32,19 +29,8 @@ BrushField parse_brush_field(const std::string& name) {
 }
 
 const char* brush_tool_name(BrushTool tool) noexcept {
-  switch (tool) {
-    case BrushTool::Carve:
-      return "carve";
-    case BrushTool::Add:
-      return "add";
-    case BrushTool::Smooth:
-      return "smooth";
-    case BrushTool::Flatten:
-      return "flatten";
-    case BrushTool::Paint:
-      return "paint";
-  }
-  return "?";
+  const BrushInfo* b = find_brush(tool);
+  return b ? b->name : "?";
 }
 
 }  // namespace hdm

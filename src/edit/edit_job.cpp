@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "edit_kernels.h"
 
+#include <hdm/edit/brush_registry.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -46,49 +48,32 @@ void cell_points(const SampleLayout& L, int slab, const Vec3& bary, int32_t out[
 
 }  // namespace
 
-void EditJob::start_sweep(const SlabModel& m, EditScratch& s, const BrushSweep& sw, StrokeMemory* stroke) noexcept {
+void EditJob::start_sweep(const SlabModel& m, EditScratch& s, const BrushSweep& sw, StrokeMemory* st) noexcept {
   result = {};
   motion2_ = 0;
   phase_ = Phase::Idle;
   const Brush& b = sw.brush;
-  if (sw.seed_slab < 0 || sw.seed_slab >= m.slab_count() || !(b.radius > 0) || !sw.from.allFinite() ||
+  const BrushInfo* info = find_brush(b.tool);
+  if (!info || sw.seed_slab < 0 || sw.seed_slab >= m.slab_count() || !(b.radius > 0) || !sw.from.allFinite() ||
       !sw.to.allFinite() || !sw.seed_bary.allFinite())
     return;
-  sweep_ = sw;
-  stroke_ = stroke;
-  u_ = sw.to - sw.from;
-  r2_ = b.radius * b.radius;
+  sweep = sw;
+  stroke = st;
+  u = sw.to - sw.from;
+  r2 = b.radius * b.radius;
   const double strength = std::clamp(b.strength, 0.0, 1.0), pressure = std::clamp(sw.pressure, 0.0, 1.0);
-  soft_ = strength < 1 || b.falloff != Falloff::Constant;
+  soft = strength < 1 || b.falloff != Falloff::Constant;
   // Smooth and flatten relax at 20 s⁻¹ × strength × pressure (time constant 50 ms at full strength).
-  coef_ = 20.0 * strength * pressure * std::max(sw.dt, 0.0);
-  switch (b.tool) {
-    case BrushTool::Carve:
-      kernel_ = Kernel::Carve;
-      break;
-    case BrushTool::Add:
-      kernel_ = Kernel::Add;
-      break;
-    case BrushTool::Smooth:
-      kernel_ = Kernel::Smooth;
-      break;
-    case BrushTool::Flatten:
-      kernel_ = Kernel::Flatten;
-      break;
-    case BrushTool::Paint:
-      kernel_ =
-          b.field == BrushField::Colour || b.field == BrushField::Roughness ? Kernel::PaintTexel : Kernel::PaintSample;
-      break;
-  }
-  if ((kernel_ == Kernel::Smooth || kernel_ == Kernel::Flatten) && !(coef_ > 0)) return;
-  if ((kernel_ == Kernel::PaintTexel || kernel_ == Kernel::PaintSample) && !(strength * pressure > 0)) return;
-  if (kernel_ == Kernel::Flatten && !(sw.plane_normal.allFinite() && sw.plane_point.allFinite())) return;
-  if (kernel_ == Kernel::Add && !(b.height > 0)) return;
-  const SampleLayout& L = kernel_ == Kernel::PaintTexel ? m.texels : m.samples;
+  coef = 20.0 * strength * pressure * std::max(sw.dt, 0.0);
+  const FloodOn on = info->hooks->start(sw, coef);
+  if (on == FloodOn::Nothing) return;
+  flood_ = info->hooks->flood;
+  const bool texels = on == FloodOn::Texels;
+  const SampleLayout& L = texels ? m.texels : m.samples;
   int32_t seeds[3];
   cell_points(L, sw.seed_slab, sw.seed_bary, seeds);
   stamp_ = next_stamp(s);
-  std::vector<uint32_t>& marks = kernel_ == Kernel::PaintTexel ? s.texel_stamp : s.sample_stamp;
+  std::vector<uint32_t>& marks = texels ? s.texel_stamp : s.sample_stamp;
   head_ = tail_ = 0;
   for (int k = 0; k < 3; ++k)
     if (marks[seeds[k]] != stamp_) marks[seeds[k]] = stamp_, s.queue[tail_++] = seeds[k];
@@ -105,7 +90,7 @@ void EditJob::start_paper_cone(const SlabModel& m, EditScratch& s, const Contact
   sw.seed_slab = c.in_shell() ? c.slab : -1;
   sw.seed_bary = c.coords.bary;
   start_sweep(m, s, sw, nullptr);
-  if (phase_ != Phase::Idle) kernel_ = Kernel::PaperCone;
+  if (phase_ != Phase::Idle) flood_ = &paper_cone_flood;
 }
 
 void EditJob::start_history(EditScratch& s, UndoHistory& h, bool redo) noexcept {
@@ -123,29 +108,7 @@ void EditJob::start_history(EditScratch& s, UndoHistory& h, bool redo) noexcept 
 }
 
 bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
-  bool done = false;
-  switch (kernel_) {
-    case Kernel::Carve:
-    case Kernel::Add:
-      done = flood_boolean(m, s, d);
-      break;
-    case Kernel::PaperCone:
-      done = flood_paper_cone(m, s, d);
-      break;
-    case Kernel::Smooth:
-    case Kernel::Flatten:
-      done = flood_relax(m, s, d);
-      break;
-    case Kernel::PaintSample:
-      done = flood_paint_samples(m, s, d);
-      break;
-    case Kernel::PaintTexel:
-      done = flood_paint_texels(m, s, d);
-      break;
-    default:
-      done = true;
-  }
-  if (!done) return false;
+  if (!flood_(*this, m, s, d)) return false;
   phase_ = Phase::Idle;
   return true;
 }

@@ -61,8 +61,19 @@ class Deadline {
   int countdown_ = 1;
 };
 
-// What a sweep does per visited element (internal refinement of BrushTool).
-enum class Kernel : uint8_t { None, Carve, Add, Smooth, Flatten, PaintSample, PaintTexel, PaperCone };
+class EditJob;
+
+// What a sweep floods: nothing (the sweep has no effect), the samples or the texels.
+enum class FloodOn : uint8_t { Nothing, Samples, Texels };
+
+// A brush's kernel (src/edit/brush_registry.cpp lists one per brush; each is defined in its
+// family's flood_*.cpp). `start` decides from the sweep and its relaxation coefficient (rate ×
+// strength × pressure × dt) whether and what the sweep floods; `flood` runs the job's flood until
+// done (true) or until the deadline, resumable with the same result bit for bit.
+struct BrushHooks {
+  FloodOn (*start)(const BrushSweep& sweep, double coef) noexcept;
+  bool (*flood)(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexcept;
+};
 
 class EditJob {
  public:
@@ -82,40 +93,41 @@ class EditJob {
   double motion2() const noexcept { return motion2_; }
   EditResult result;
 
- private:
-  enum class Phase : uint8_t { Idle, Flood, History, Ring, Normals, Wide, Haptic };
+  // What the kernels read: the sweep being run and its constants, derived once per sweep.
+  BrushSweep sweep;
+  StrokeMemory* stroke = nullptr;
+  Vec3 u = Vec3::Zero();  // to − from
+  double r2 = 0;          // radius²
+  double coef = 0;        // relaxation exponent per unit falloff: 20 s⁻¹ × strength × pressure × dt
+  bool soft = false;      // strength < 1 or a falloff other than constant
+
+  // The flood fill from the seeds start_sweep queued: visit(id) returns whether the fill goes on
+  // through that element; resumable at the deadline.
   template <class Visit>
   bool flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d, Visit visit) noexcept;
-  bool run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
-  // The flood of each kernel: Carve / Add (boolean with the swept sphere), the paper's cone,
-  // Smooth / Flatten (relaxation), paint of a per-sample field, paint of a per-texel field.
-  bool flood_boolean(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
-  bool flood_paper_cone(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
-  bool flood_relax(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
-  bool flood_paint_samples(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
-  bool flood_paint_texels(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
   // Stores a sample's new displacement and position, recording its first touch in the stroke.
   void set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0, const Vec3& L) noexcept;
+
+ private:
+  enum class Phase : uint8_t { Idle, Flood, History, Ring, Normals, Wide, Haptic };
+  bool run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
   bool run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
   bool run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
 
   Phase phase_ = Phase::Idle;
-  Kernel kernel_ = Kernel::None;
-  BrushSweep sweep_;
-  StrokeMemory* stroke_ = nullptr;
+  bool (*flood_)(EditJob&, SlabModel&, EditScratch&, Deadline&) noexcept = nullptr;
   UndoHistory* history_ = nullptr;
   bool redo_ = false;
   uint64_t rec_pos_ = 0, rec_end_ = 0;
   // flood state
   size_t head_ = 0, tail_ = 0;
   uint32_t stamp_ = 0;
-  // derived sweep constants
-  Vec3 u_ = Vec3::Zero();
-  double r2_ = 0, coef_ = 0;
-  bool soft_ = false;
   // normals state
   int32_t cursor_ = 0, ring_count_ = 0, wide_count_ = 0;
   double motion2_ = 0;
 };
+
+// The paper's cone deposit (add_material), the one kernel that is not a brush (flood_shape.cpp).
+bool paper_cone_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexcept;
 
 }  // namespace hdm::detail

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal: what the flood kernels of EditJob share (edit_job.cpp runs them; flood_shape.cpp,
-// flood_relax.cpp and flood_paint.cpp hold one brush family each): the projection lines from
+// Internal: what the brushes' flood kernels share (edit_job.cpp runs them through the brush
+// registry; flood_shape.cpp, flood_relax.cpp and flood_paint.cpp hold one brush family each): the projection lines from
 // tables, the dirty-slab marks, the brush path's distances, the stroke's first-touch records, and
 // the flood fill itself. Inline, since every one runs per visited sample.
 
@@ -154,7 +154,7 @@ inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id)
 // Stores a new displacement and its position (= sample_position(), same arithmetic).
 inline void EditJob::set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0,
                                const Vec3& L) noexcept {
-  touch_sample(m, stroke_, id);
+  touch_sample(m, stroke, id);
   const double step = double(v) - double(m.displacement[id]);
   motion2_ = std::max(motion2_, step * step * L.squaredNorm());
   m.displacement[id] = v;

@@ -1,21 +1,23 @@
 // SPDX-License-Identifier: MIT
-// The paint brush's flood kernels: per-sample fields and per-texel colour and roughness.
+// The paint brush's kernel: per-sample fields, and per-texel colour and roughness.
 #include "edit_kernels.h"
 
 namespace hdm::detail {
 
+namespace {
+
 // Paint of a per-sample field (friction, stiffness, layer thickness), once per stroke.
-bool EditJob::flood_paint_samples(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
-  const Brush& b = sweep_.brush;
+bool flood_paint_samples(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = job.sweep.brush;
   const double strength = std::clamp(b.strength, 0.0, 1.0);
-  const Segment path(sweep_.from, u_);
-  const double inv_r2 = 1 / r2_;
-  const double pressure = std::clamp(sweep_.pressure, 0.0, 1.0);
-  StrokeMemory* st = stroke_;
+  const Segment path(job.sweep.from, job.u);
+  const double inv_r2 = 1 / job.r2;
+  const double pressure = std::clamp(job.sweep.pressure, 0.0, 1.0);
+  StrokeMemory* st = job.stroke;
   LineEvaluator line_of{m, s.grid_weights.data()};
   const SampleLayout& S = m.samples;
   DirtyMarker dirty{s};
-  return flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
+  return job.flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
     const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
     if (!(w > 0)) return false;
     const float k = static_cast<float>(pressure * strength * w);
@@ -43,26 +45,26 @@ bool EditJob::flood_paint_samples(SlabModel& m, EditScratch& s, Deadline& d) noe
         m.layer_displacement[id] = std::clamp(blend(base.layer_displacement, top), 0.0f, 1.0f);
       }
     }
-    ++result.changed;
+    ++job.result.changed;
     dirty.mark(S, id);
     return true;
   });
 }
 
 // Paint of a per-texel field (colour, roughness), once per stroke.
-bool EditJob::flood_paint_texels(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
-  const Brush& b = sweep_.brush;
+bool flood_paint_texels(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  const Brush& b = job.sweep.brush;
   const double strength = std::clamp(b.strength, 0.0, 1.0);
-  const Segment path(sweep_.from, u_);
-  const double inv_r2 = 1 / r2_;
-  const double pressure = std::clamp(sweep_.pressure, 0.0, 1.0);
-  StrokeMemory* st = stroke_;
+  const Segment path(job.sweep.from, job.u);
+  const double inv_r2 = 1 / job.r2;
+  const double pressure = std::clamp(job.sweep.pressure, 0.0, 1.0);
+  StrokeMemory* st = job.stroke;
   const SampleLayout& T = m.texels;
   DirtyMarker dirty{s};
   int32_t cached = -1;
   const SlabGeometry* g = nullptr;
   const SlabSample* v = nullptr;
-  return flood(T, s.texel_stamp, s, d, [&](int32_t id) noexcept {
+  return job.flood(T, s.texel_stamp, s, d, [&](int32_t id) noexcept {
     const int32_t local = T.home_index[id], slab = T.home_slab[id];
     if (slab != cached) {  // consecutive texels mostly share their home slab
       cached = slab;
@@ -86,10 +88,27 @@ bool EditJob::flood_paint_texels(SlabModel& m, EditScratch& s, Deadline& d) noex
     } else {
       m.roughness[id] = std::clamp(k * b.value + (1 - k) * base.roughness, 0.0f, 1.0f);
     }
-    ++result.changed;
+    ++job.result.changed;
     dirty.mark(T, id);
     return true;
   });
 }
+
+bool texel_field(BrushField f) noexcept { return f == BrushField::Colour || f == BrushField::Roughness; }
+
+// Paint blends once per stroke: nothing at zero strength or pressure.
+FloodOn paint_start(const BrushSweep& sw, double) noexcept {
+  if (!(std::clamp(sw.brush.strength, 0.0, 1.0) * std::clamp(sw.pressure, 0.0, 1.0) > 0)) return FloodOn::Nothing;
+  return texel_field(sw.brush.field) ? FloodOn::Texels : FloodOn::Samples;
+}
+bool paint_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  return texel_field(job.sweep.brush.field) ? flood_paint_texels(job, m, s, d) : flood_paint_samples(job, m, s, d);
+}
+
+}  // namespace
+
+// The registry's entry (brush_registry.cpp) points at this.
+extern const BrushHooks paint_brush;
+const BrushHooks paint_brush{&paint_start, &paint_flood};
 
 }  // namespace hdm::detail

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/edit/stroke_editor.h>
 
+#include <hdm/edit/brush_registry.h>
 #include <hdm/query/detail/surface_eval.h>
 #include "edit_job.h"
 
@@ -39,9 +40,9 @@ struct StrokeEditor::Impl {
   detail::EditJob job;
   std::vector<Event> queue;
   size_t head = 0, count = 0;
-  bool producer_open = false;                  // begin_stroke called and end_stroke not yet
-  BrushTool producer_tool = BrushTool::Carve;  // the tool of the stroke being fed
-  bool axis_valid = false;                     // the producer's low-passed contact normal
+  bool producer_open = false;  // begin_stroke called and end_stroke not yet
+  bool producer_axis = true;   // the stroke being fed orients its tool along the axis
+  bool axis_valid = false;     // the producer's low-passed contact normal
   // Strokes begun by the producer and by the processing: the stroke memory holds the producer's
   // stroke only while the two agree and that stroke is open.
   uint64_t producer_strokes = 0, processed_strokes = 0;
@@ -99,8 +100,9 @@ struct StrokeEditor::Impl {
     --count;
   }
 
-  // Where the tool is for this sample: Carve the sphere's centre, Add the sphere whose top stands
-  // `height` above the stroke's starting surface, the others the surface contact point.
+  // Where the tool is for this sample (the brush's placement): the sphere's centre behind the HIP
+  // (carve), the sphere whose top stands `height` above the stroke's starting surface (add), or
+  // the surface contact point.
   Vec3 tool_point(const SlabModel& m, Event& e) const noexcept {
     if (!e.has_point) e.point = compute_tool_point(m, e), e.has_point = true;
     return e.point;
@@ -108,10 +110,11 @@ struct StrokeEditor::Impl {
   Vec3 compute_tool_point(const SlabModel& m, const Event& e) const noexcept {
     const ToolSample& t = e.sample;
     const Contact& c = t.contact;
-    switch (brush.tool) {
-      case BrushTool::Carve:
+    const BrushInfo* info = find_brush(brush.tool);
+    switch (info ? info->placement : ToolPlacement::Contact) {
+      case ToolPlacement::BehindHip:
         return t.hip + e.axis * ((t.ball_centre ? 0.0 : brush.radius) + std::max(brush.resilience, 0.0));
-      case BrushTool::Add: {
+      case ToolPlacement::StartSurface: {
         // The starting surface under the contact: the stroke's first-touch displacements,
         // interpolated over the grid cell evaluate_surface uses.
         const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
@@ -147,7 +150,7 @@ struct StrokeEditor::Impl {
       for (int k = 0; k < cached; ++k)
         if (ids[k] == id) return at[k];
       const double delta = own_memory && memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
-                                                                           : double(m.displacement[id]);
+                                                                             : double(m.displacement[id]);
       const std::array<double, 3>& w = scratch.grid_weights[L.home_index[id]];
       const Tri& t = m.slabs[L.home_slab[id]];
       const Vec3 p0 = w[0] * m.inner[t[0]] + w[1] * m.inner[t[1]] + w[2] * m.inner[t[2]];
@@ -239,7 +242,8 @@ void StrokeEditor::begin_stroke(const Brush& brush) noexcept {
   const bool pushed = impl_->push(e, true);
   impl_->producer_strokes += pushed;
   impl_->producer_open = pushed || impl_->producer_open;
-  impl_->producer_tool = brush.tool;
+  const BrushInfo* info = find_brush(brush.tool);
+  impl_->producer_axis = info && info->along_axis;
   impl_->axis_valid = false;
 }
 
@@ -248,10 +252,8 @@ void StrokeEditor::add_sample(const SlabModel& model, const ToolSample& sample) 
       !sample.contact.surface_point.allFinite() || !sample.contact.normal.allFinite())
     return;
   Impl& s = *impl_;
-  // Only carve, add and flatten place their tool along the axis.
-  const bool axis =
-      s.producer_tool == BrushTool::Carve || s.producer_tool == BrushTool::Add || s.producer_tool == BrushTool::Flatten;
-  const Vec3 n = axis ? s.base_normal(model, sample.contact) : sample.contact.normal;
+  // Only the brushes placed or oriented along the axis (carve, add, flatten) need the starting surface's normal.
+  const Vec3 n = s.producer_axis ? s.base_normal(model, sample.contact) : sample.contact.normal;
   if (!s.axis_valid) {
     s.axis = n;
     s.axis_valid = true;

@@ -168,7 +168,8 @@ TEST(SculptScript, EveryStrokeKeyIsRead) {
   const Script s = parse(with_strokes({stroke}));
   ASSERT_EQ(s.strokes.size(), 1u);
   const Stroke& st = s.strokes[0];
-  EXPECT_EQ(st.tool, Tool::Paint);
+  EXPECT_EQ(st.tool, Tool::Brush);
+  EXPECT_EQ(st.brush, BrushTool::Paint);
   EXPECT_TRUE(st.from.isApprox(Vec3(0.1, 0.2, 0.3)));
   EXPECT_TRUE(st.to.isApprox(Vec3(0.4, 0.5, 0.6)));
   EXPECT_DOUBLE_EQ(st.radius_mm, 4.5);
@@ -224,13 +225,20 @@ TEST(SculptScript, FalloffDefaultsToConstantOnlyForCarveAndAdd) {
 }
 
 TEST(SculptScript, EveryToolFalloffAndFieldNameIsRead) {
-  const std::vector<std::pair<std::string, Tool>> tools = {{"probe", Tool::Probe},   {"carve", Tool::Carve},
-                                                           {"add", Tool::Add},       {"paint", Tool::Paint},
-                                                           {"smooth", Tool::Smooth}, {"flatten", Tool::Flatten}};
-  for (const auto& [name, tool] : tools) {
+  json probe = plain_stroke();
+  probe["tool"] = "probe";
+  EXPECT_EQ(parse(with_strokes({probe})).strokes[0].tool, Tool::Probe);
+  const std::vector<std::pair<std::string, BrushTool>> brushes = {{"carve", BrushTool::Carve},
+                                                                  {"add", BrushTool::Add},
+                                                                  {"paint", BrushTool::Paint},
+                                                                  {"smooth", BrushTool::Smooth},
+                                                                  {"flatten", BrushTool::Flatten}};
+  for (const auto& [name, brush] : brushes) {
     json stroke = plain_stroke();
     stroke["tool"] = name;
-    EXPECT_EQ(parse(with_strokes({stroke})).strokes[0].tool, tool) << name;
+    const Stroke st = parse(with_strokes({stroke})).strokes[0];
+    EXPECT_EQ(st.tool, Tool::Brush) << name;
+    EXPECT_EQ(st.brush, brush) << name;
   }
   const std::vector<std::pair<std::string, Falloff>> falloffs = {
       {"constant", Falloff::Constant}, {"linear", Falloff::Linear}, {"smooth", Falloff::Smooth}};

@@ -14,7 +14,8 @@
 
 namespace hdm {
 
-/// What a brush does.
+/// What a brush does. The value is the brush's index in hdm::brush_registry(), where each brush
+/// is described (name, parameters and their ranges, kernel: hdm/edit/brush_registry.h).
 enum class BrushTool : uint8_t {
   /// Removes material inside the swept sphere of radius r centred at HIP + n·(r + resilience)
   /// (paper §4.1; a capsule between consecutive tool positions): the surface is cut to the
@@ -89,15 +90,15 @@ inline double falloff_weight(Falloff f, double x) noexcept {
   }
 }
 
-/// @brief Parses a tool name: carve, add, smooth, flatten, paint.
-/// @throws InvalidInput naming @p name otherwise.
+/// @brief Parses a tool name: a registered brush's name (carve, add, smooth, flatten, paint).
+/// @throws InvalidInput naming @p name and listing the registered names otherwise.
 BrushTool parse_brush_tool(const std::string& name);
 /// @brief Parses a falloff name: constant, linear, smooth. @throws InvalidInput otherwise.
 Falloff parse_falloff(const std::string& name);
 /// @brief Parses a field name: colour, roughness, friction_static, friction_dynamic, stiffness,
 /// layer_thickness. @throws InvalidInput otherwise.
 BrushField parse_brush_field(const std::string& name);
-/// Name of @p tool as parse_brush_tool() reads it.
+/// Name of @p tool as parse_brush_tool() reads it ("?" for an unregistered value).
 const char* brush_tool_name(BrushTool tool) noexcept;
 
 }  // namespace hdm

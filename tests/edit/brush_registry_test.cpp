@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+// The brush registry: every brush is found by its BrushTool and its name, the defaults and
+// parameters are those docs/editing.md gives, every range check names its parameter, and an
+// unregistered tool edits nothing (without throwing: edits run in the servo tick).
+#include "support/test_models.h"
+
+#include <hdm/core/error.h>
+#include <hdm/edit/brush_registry.h>
+#include <hdm/edit/edit_tools.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+
+using namespace hdm;
+
+namespace {
+
+// What docs/editing.md documents for each brush: its default falloff and its own parameters
+// (beyond radius, strength and falloff, which every brush reads).
+struct Documented {
+  Falloff falloff;
+  std::vector<BrushParam> own;
+};
+const std::map<std::string, Documented> kDocumented = {
+    {"carve", {Falloff::Constant, {BrushParam::Resilience}}},
+    {"add", {Falloff::Constant, {BrushParam::Height}}},
+    {"smooth", {Falloff::Smooth, {BrushParam::Pressure}}},
+    {"flatten", {Falloff::Smooth, {BrushParam::Pressure}}},
+    {"paint", {Falloff::Linear, {BrushParam::Field, BrushParam::Colour, BrushParam::Value, BrushParam::Pressure}}},
+};
+
+std::string refusal(const Brush& b) {
+  try {
+    check_brush(b);
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "";
+}
+
+Brush valid_brush() {
+  Brush b;
+  b.radius = 0.1;
+  return b;
+}
+
+}  // namespace
+
+TEST(BrushRegistry, every_brush_is_found_by_its_tool_and_its_name) {
+  ASSERT_FALSE(brush_registry().empty());
+  for (const BrushInfo& info : brush_registry()) {
+    SCOPED_TRACE(info.name);
+    EXPECT_EQ(find_brush(info.tool), &info);
+    EXPECT_EQ(find_brush(std::string_view(info.name)), &info);
+    EXPECT_EQ(parse_brush_tool(info.name), info.tool);
+    EXPECT_STREQ(brush_tool_name(info.tool), info.name);
+    EXPECT_NE(brush_names().find(info.name), std::string::npos);
+    EXPECT_NE(std::string(info.label), "");
+    EXPECT_NE(std::string(info.summary), "");
+    EXPECT_NE(info.hooks, nullptr);
+  }
+  EXPECT_EQ(find_brush(std::string_view("chisel")), nullptr);
+  EXPECT_EQ(find_brush(static_cast<BrushTool>(200)), nullptr);
+  EXPECT_STREQ(brush_tool_name(static_cast<BrushTool>(200)), "?");
+  EXPECT_THROW(parse_brush_tool("chisel"), InvalidInput);
+}
+
+TEST(BrushRegistry, defaults_and_parameters_are_the_documented_ones) {
+  for (const BrushInfo& info : brush_registry()) {
+    SCOPED_TRACE(info.name);
+    const auto doc = kDocumented.find(info.name);
+    ASSERT_NE(doc, kDocumented.end()) << "document the brush '" << info.name << "' here and in docs/editing.md";
+    EXPECT_EQ(info.falloff, doc->second.falloff);
+    for (BrushParam p : {BrushParam::Radius, BrushParam::Strength, BrushParam::Falloff}) EXPECT_TRUE(info.uses(p));
+    for (int p = 0; p < brush_param_count; ++p) {
+      const BrushParam param = static_cast<BrushParam>(p);
+      if (param == BrushParam::Radius || param == BrushParam::Strength || param == BrushParam::Falloff) continue;
+      const bool own = std::find(doc->second.own.begin(), doc->second.own.end(), param) != doc->second.own.end();
+      EXPECT_EQ(info.uses(param), own) << brush_param_range(param).name;
+    }
+  }
+}
+
+TEST(BrushRegistry, every_range_check_names_its_parameter_and_the_reason) {
+  EXPECT_EQ(refusal(valid_brush()), "");
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  struct Case {
+    const char* name;
+    std::function<void(Brush&)> set;
+  };
+  const std::vector<Case> bad = {
+      {"radius", [](Brush& b) { b.radius = 0; }},
+      {"radius", [](Brush& b) { b.radius = -1; }},
+      {"radius", [&](Brush& b) { b.radius = nan; }},
+      {"radius", [&](Brush& b) { b.radius = inf; }},
+      {"strength", [](Brush& b) { b.strength = -0.01; }},
+      {"strength", [](Brush& b) { b.strength = 1.01; }},
+      {"resilience", [](Brush& b) { b.resilience = -1e-9; }},
+      {"height", [](Brush& b) { b.height = -1; }},
+      {"height", [&](Brush& b) { b.height = inf; }},
+      {"colour", [](Brush& b) { b.colour = Vec3f(0.5f, 1.5f, 0.5f); }},
+      {"colour", [](Brush& b) { b.colour = Vec3f(-0.1f, 0.5f, 0.5f); }},
+      {"value", [&](Brush& b) { b.value = static_cast<float>(nan); }},
+      {"pressure_force_n", [](Brush& b) { b.pressure_force_n = 0; }},
+  };
+  for (const Case& c : bad) {
+    Brush b = valid_brush();
+    c.set(b);
+    const std::string m = refusal(b);
+    EXPECT_EQ(m.rfind(std::string(c.name) + " = ", 0), 0u) << c.name << ": " << m;
+    EXPECT_NE(m.find("must be"), std::string::npos) << m;
+  }
+  // The bounds themselves are valid where the range is closed.
+  Brush edge = valid_brush();
+  edge.strength = 0, edge.resilience = 0, edge.height = 0, edge.colour = Vec3f(0, 1, 0), edge.value = -1e6f;
+  EXPECT_EQ(refusal(edge), "");
+  edge.strength = 1;
+  EXPECT_EQ(refusal(edge), "");
+  Brush unknown = valid_brush();
+  unknown.tool = static_cast<BrushTool>(200);
+  EXPECT_NE(refusal(unknown).find("tool"), std::string::npos);
+}
+
+TEST(BrushRegistry, an_unregistered_tool_edits_nothing) {
+  SlabModel m = test::baked_bunny(150, 16);
+  EditScratch scratch(m);
+  const std::vector<float> before = m.displacement;
+  BrushSweep sw;
+  sw.brush.tool = static_cast<BrushTool>(200);
+  sw.brush.radius = 0.05 * m.source_diagonal;
+  sw.seed_slab = 0;
+  sw.seed_bary = Vec3(1 / 3.0, 1 / 3.0, 1 / 3.0);
+  sw.from = sw.to = m.positions[m.samples.ids[0]].cast<double>();
+  const EditResult r = apply_brush(m, scratch, sw);
+  EXPECT_EQ(r.visited, 0);
+  EXPECT_EQ(r.changed, 0);
+  EXPECT_EQ(m.displacement, before);
+}
