@@ -169,8 +169,6 @@ bool EditJob::flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScr
   int32_t* q = s.queue.data();
   size_t head = head_, tail = tail_;
   const uint32_t stamp = stamp_;
-  const int32_t* offsets = L.neighbour_offsets.data();
-  const int32_t* nb = L.neighbours.data();
   uint32_t* mk = marks.data();
   while (head < tail) {
     if (d.expired()) {
@@ -181,13 +179,12 @@ bool EditJob::flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScr
     if (!visit(id)) continue;
     // Branch-free push: whether a neighbour was already queued is a coin flip inside a patch, and
     // a mispredicted branch per neighbour costs more than the unconditional stores.
-    for (int32_t e = offsets[id]; e < offsets[id + 1]; ++e) {
-      const int32_t t = nb[e];
+    L.for_each_neighbour(id, [&](int32_t t) {
       const bool fresh = mk[t] != stamp;
       mk[t] = stamp;
       q[tail] = t;
       tail += fresh;
-    }
+    });
   }
   head_ = head, tail_ = tail;
   result.visited = static_cast<int32_t>(tail);

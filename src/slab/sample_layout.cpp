@@ -150,17 +150,17 @@ void for_each_grid_triangle(const SampleLayout& L, int32_t S, F&& f) {
   }
 }
 
-// Neighbours of every sample (from the grid triangles, listed on the fly), the grid triangles and
-// their incidence when @p with_triangles, and the slots of the shared samples.
-void build_adjacency(SampleLayout& L, int32_t S, int32_t interior_base, bool with_triangles) {
-  build_csr(
-      [&](auto emit) {
-        for_each_grid_triangle(L, S, [&](const Tri& t) {
-          for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
-        });
-      },
-      L.count, L.neighbour_offsets, L.neighbours);
-  if (with_triangles) {
+// With @p with_adjacency, the neighbours of every sample (from the grid triangles, listed on the
+// fly), the grid triangles and their incidence; always the slots of the shared samples.
+void build_adjacency(SampleLayout& L, int32_t S, int32_t interior_base, bool with_adjacency) {
+  if (with_adjacency) {
+    build_csr(
+        [&](auto emit) {
+          for_each_grid_triangle(L, S, [&](const Tri& t) {
+            for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
+          });
+        },
+        L.count, L.neighbour_offsets, L.neighbours);
     L.triangles.reserve(static_cast<size_t>(S) * L.n * L.n);
     for_each_grid_triangle(L, S, [&](const Tri& t) { L.triangles.push_back(t); });
     build_csr(
@@ -182,7 +182,7 @@ void build_adjacency(SampleLayout& L, int32_t S, int32_t interior_base, bool wit
 
 }  // namespace
 
-SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n, bool with_triangles) {
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n, bool with_adjacency) {
   if (n < 1) throw InvalidInput("grid n = " + std::to_string(n) + ": must be at least 1");
   SampleLayout L;
   L.n = n;
@@ -198,7 +198,7 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   fill_point_coords(L);
   assign_sample_ids(L, slabs, edges, interior_base, interior_per_slab);
   L.first_interior = interior_base;
-  build_adjacency(L, S, interior_base, with_triangles);
+  build_adjacency(L, S, interior_base, with_adjacency);
   return L;
 }
 

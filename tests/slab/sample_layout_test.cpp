@@ -92,23 +92,34 @@ TEST(SampleLayoutTest, slots_list_every_grid_point_of_a_sample) {
   }
 }
 
-TEST(SampleLayoutTest, without_triangles_the_rest_of_the_layout_is_the_same) {
-  // The texel layout leaves out the grid triangles and their incidence; ids, homes, neighbours
-  // and slots must not depend on that.
+TEST(SampleLayoutTest, without_adjacency_the_rest_of_the_layout_is_the_same) {
+  // The texel layout leaves out the grid triangles, their incidence and the neighbour rows; ids,
+  // homes and slots must not depend on that, and for_each_neighbour() must list, from the slots
+  // alone, exactly the samples a grid edge joins: counted here from the grid triangles of the
+  // full layout (brute force over every triangle's three edges).
   const TriangleMesh m = test::icosphere(2, 1.0);
   for (int n : {1, 4, 32}) {
     const SampleLayout a = build_sample_layout(m.faces, int(m.vertices.size()), n);
     const SampleLayout b = build_sample_layout(m.faces, int(m.vertices.size()), n, false);
     EXPECT_TRUE(b.triangles.empty() && b.triangle_offsets.empty() && b.incident_triangles.empty());
-    EXPECT_EQ(b.triangles.capacity(), 0u) << "the grid triangles are freed";
+    EXPECT_TRUE(b.neighbour_offsets.empty() && b.neighbours.empty());
+    EXPECT_EQ(b.triangles.capacity(), 0u) << "the grid triangles are never allocated";
     EXPECT_EQ(a.count, b.count);
     EXPECT_EQ(a.first_interior, b.first_interior);
     EXPECT_EQ(a.ids, b.ids);
     EXPECT_EQ(a.home_slab, b.home_slab);
     EXPECT_EQ(a.home_index, b.home_index);
-    EXPECT_EQ(a.neighbour_offsets, b.neighbour_offsets);
-    EXPECT_EQ(a.neighbours, b.neighbours);
     EXPECT_EQ(a.shared_slot_offsets, b.shared_slot_offsets);
     EXPECT_EQ(a.slot_of_shared, b.slot_of_shared);
+    std::vector<std::set<int32_t>> joined(a.count);
+    for (const Tri& t : a.triangles)
+      for (int k = 0; k < 3; ++k) joined[t[k]].insert(t[(k + 1) % 3]), joined[t[(k + 1) % 3]].insert(t[k]);
+    for (int32_t s = 0; s < a.count; ++s) {
+      std::set<int32_t> seen_a, seen_b;
+      a.for_each_neighbour(s, [&](int32_t t) { seen_a.insert(t); });
+      b.for_each_neighbour(s, [&](int32_t t) { seen_b.insert(t); });
+      ASSERT_EQ(seen_b, joined[s]) << "n = " << n << ", sample " << s;
+      ASSERT_EQ(seen_a, joined[s]) << "n = " << n << ", sample " << s;
+    }
   }
 }

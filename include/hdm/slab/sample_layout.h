@@ -6,6 +6,7 @@
 /// for displacement samples (grid n) and colour texels (grid n·m).
 
 #include <hdm/core/types.h>
+#include <hdm/slab/triangle_grid.h>
 
 #include <cstdint>
 #include <vector>
@@ -24,8 +25,8 @@ struct SampleLayout {
   /// #slabs·per_slab global ids, slab-major, in grid::index order.
   std::vector<int32_t> ids;
   /// #slabs·n² global grid triangles (3 ids each), slab-major, counter-clockwise from outside:
-  /// the triangles drawn, felt and exported. Empty in a layout built without them
-  /// (build_sample_layout()'s with_triangles), as are `triangle_offsets` and `incident_triangles`.
+  /// the triangles drawn, felt and exported. Empty in a layout built without adjacency
+  /// (build_sample_layout()'s with_adjacency), as are `triangle_offsets` and `incident_triangles`.
   std::vector<Tri> triangles;
   /// For each sample, one slab and packed grid index that hold it (its "home"), used to evaluate
   /// the sample's projection line with one fixed formula so shared samples agree bit for bit.
@@ -37,7 +38,8 @@ struct SampleLayout {
   std::vector<int16_t> point_i, point_j;
   /// @}
   /// CSR adjacency over grid edges: neighbours of sample s are
-  /// neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]).
+  /// neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]), sorted. Empty in a layout built
+  /// without adjacency (build_sample_layout()'s with_adjacency); for_each_neighbour() reads either.
   /// @{
   std::vector<int32_t> neighbour_offsets, neighbours;
   /// @}
@@ -67,17 +69,47 @@ struct SampleLayout {
     }
     for (int32_t k = shared_slot_offsets[s]; k < shared_slot_offsets[s + 1]; ++k) f(slot_of_shared[k]);
   }
+
+  /// @brief Calls @p f(t) for every sample t that shares a grid edge with sample @p s: the stored
+  /// row (sorted, each once) when the layout has adjacency, else the grid neighbours (i±1, j),
+  /// (i, j±1), (i+1, j-1), (i-1, j+1) of each grid point holding @p s, where a neighbour seen from
+  /// two slabs (along a slab edge) comes twice.
+  /// @note O(neighbours), no allocation: 6 for an interior sample; noexcept if @p f is.
+  template <class F>
+  void for_each_neighbour(int32_t s, F&& f) const {
+    if (!neighbour_offsets.empty()) {
+      for (int32_t e = neighbour_offsets[s]; e < neighbour_offsets[s + 1]; ++e) f(neighbours[e]);
+      return;
+    }
+    if (s >= first_interior) {  // all six grid neighbours in the home slab, rows of n+1-j points
+      const int32_t* g = &ids[static_cast<size_t>(home_slab[s]) * per_slab];
+      const int32_t p = home_index[s], row = n + 1 - point_j[p];
+      f(g[p + 1]), f(g[p - 1]), f(g[p + row]), f(g[p + row - 1]), f(g[p - row]), f(g[p - row - 1]);
+      return;
+    }
+    for_each_slot(s, [&](int32_t slot) {
+      const int32_t slab = slot / per_slab, p = slot - slab * per_slab;
+      const int32_t* g = &ids[static_cast<size_t>(slab) * per_slab];
+      const int i = point_i[p], j = point_j[p];
+      constexpr int di[6] = {1, -1, 0, 0, 1, -1}, dj[6] = {0, 0, 1, -1, -1, 1};
+      for (int k = 0; k < 6; ++k) {
+        const int a = i + di[k], b = j + dj[k];
+        if (a >= 0 && b >= 0 && a + b <= n) f(g[grid::index(n, a, b)]);
+      }
+    });
+  }
 };
 
 /// @brief Builds the global sample layout of a slab mesh.
 /// @param slabs                #S slabs as coarse-vertex triples (R, S, T).
 /// @param coarse_vertex_count  number of coarse vertices; every id in @p slabs is below it.
 /// @param n                    intervals per slab edge, n >= 1.
-/// @param with_triangles       keep `triangles` and the sample -> triangle CSR (`triangle_offsets`,
-///                             `incident_triangles`). Without them (the colour texels: paint floods
-///                             over `neighbours` and finds a texel's slabs by its slots) the
-///                             neighbours come from grid triangles listed on the fly, never
-///                             stored: at n·m = 32 those arrays were 52 of the 94 bytes per texel.
+/// @param with_adjacency       keep the grid triangles, the sample -> triangle CSR
+///                             (`triangle_offsets`, `incident_triangles`) and the neighbour CSR.
+///                             Without them (the colour texels: paint floods over
+///                             for_each_neighbour() and finds a texel's slabs by its slots) none of
+///                             the three is stored: at n·m = 32 they were 80 of the 94 bytes per
+///                             texel.
 /// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
 ///         the whole one-ring (boundary edges belong to one slab).
 /// @throws InvalidInput if n < 1, an id is out of range, or an edge is used by more than two slabs.
@@ -85,6 +117,6 @@ struct SampleLayout {
 ///       neighbour) pairs are listed twice rather than stored (at 20,000 slabs and n = 32, the
 ///       colour texels of `hdm bake --slabs 20000`, they would take 1 GB).
 SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n,
-                                 bool with_triangles = true);
+                                 bool with_adjacency = true);
 
 }  // namespace hdm
