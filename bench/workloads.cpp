@@ -117,12 +117,12 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
 
 std::vector<Vec3> global_points(const SlabModel& m, int count, double dist, std::mt19937_64& rng) {
   const SampleLayout& L = m.samples;
-  std::uniform_int_distribution<size_t> tri(0, L.triangles.size() - 1);
+  std::uniform_int_distribution<int32_t> tri(0, L.triangle_count() - 1);
   std::uniform_real_distribution<double> u01(0, 1), off(-dist, dist);
   std::vector<Vec3> pts;
   pts.reserve(count);
   for (int k = 0; k < count; ++k) {
-    const Tri& t = L.triangles[tri(rng)];
+    const Tri t = L.grid_triangle(tri(rng));
     double a = u01(rng), b = u01(rng);
     if (a + b > 1) a = 1 - a, b = 1 - b;
     const Vec3 p0 = m.positions[t[0]].cast<double>(), p1 = m.positions[t[1]].cast<double>(),

@@ -164,11 +164,10 @@ struct StrokeEditor::Impl {
     const double weight[3] = {cell.wa, cell.wb, cell.wd};
     for (int i = 0; i < 3; ++i) {
       Vec3 n = Vec3::Zero();
-      for (int32_t e = L.triangle_offsets[corner[i]]; e < L.triangle_offsets[corner[i] + 1]; ++e) {
-        const Tri& t = L.triangles[L.incident_triangles[e]];
+      L.for_each_incident_triangle(corner[i], [&](int32_t, const Tri& t) {
         const Vec3 a = base_point(t[0]);
         n += (base_point(t[1]) - a).cross(base_point(t[2]) - a);
-      }
+      });
       const double len = n.norm();
       if (len > 0) sum += weight[i] * (n / len);
     }

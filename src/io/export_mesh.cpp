@@ -97,7 +97,7 @@ void export_obj(const SlabModel& m, const std::string& path) {
   const int n = m.grid_n, S = m.slab_count(), per_slab = m.samples.per_slab;
   std::string out;
   out.reserve(static_cast<size_t>(m.samples.count) * 80 + static_cast<size_t>(S) * per_slab * 30 +
-              m.samples.triangles.size() * 60);
+              size_t(m.samples.triangle_count()) * 60);
   out += "# hdm displaced surface of " + m.source + "\nmtllib " + mtl_name + "\n";
   for (int s = 0; s < m.samples.count; ++s) {
     const Vec3 p = sample_position(m, s);
@@ -146,8 +146,8 @@ void export_obj(const SlabModel& m, const std::string& path) {
     });
   }
   // One set: a failed export leaves neither a new OBJ nor a new MTL or PNG beside the old ones.
-  const FileBytes set[] = {{path, out.data(), out.size()}, {mtl_path, mtl.data(), mtl.size()},
-                           {png_path, png.data(), png.size()}};
+  const FileBytes set[] = {
+      {path, out.data(), out.size()}, {mtl_path, mtl.data(), mtl.size()}, {png_path, png.data(), png.size()}};
   write_files_atomic(set);
 }
 
@@ -160,9 +160,9 @@ void export_ply(const SlabModel& m, const std::string& path) {
                     "property float nx\nproperty float ny\nproperty float nz\n"
                     "property uchar red\nproperty uchar green\nproperty uchar blue\n"
                     "element face " +
-                    std::to_string(m.samples.triangles.size()) +
+                    std::to_string(m.samples.triangle_count()) +
                     "\nproperty list uchar int vertex_indices\nend_header\n";
-  out.reserve(out.size() + static_cast<size_t>(m.samples.count) * 27 + m.samples.triangles.size() * 13);
+  out.reserve(out.size() + static_cast<size_t>(m.samples.count) * 27 + size_t(m.samples.triangle_count()) * 13);
   for (int s = 0; s < m.samples.count; ++s) {
     const Vec3f p = sample_position(m, s).cast<float>();
     const Vec3f& q = m.normals[s];
@@ -171,10 +171,10 @@ void export_ply(const SlabModel& m, const std::string& path) {
     for (int k = 0; k < 3; ++k) append_pod(out, q[k]);
     for (int k = 0; k < 3; ++k) append_pod(out, linear_to_srgb8(c[k]));
   }
-  for (const Tri& t : m.samples.triangles) {
+  m.samples.for_each_triangle([&](const Tri& t) {
     append_pod(out, uint8_t{3});
     for (int32_t v : t) append_pod(out, v);
-  }
+  });
   write_file_atomic(path, out.data(), out.size());
 }
 
@@ -215,7 +215,7 @@ void export_glb(const SlabModel& m, const std::string& path) {
   // Vertices duplicated per slab (slab-major, packed grid order), so each has its slab's uv.
   std::vector<float> positions(V * 3), normals(V * 3), uvs(V * 2);
   std::vector<uint32_t> indices;
-  indices.reserve(m.samples.triangles.size() * 3);
+  indices.reserve(size_t(m.samples.triangle_count()) * 3);
   std::vector<double> lo(3, std::numeric_limits<double>::infinity()), hi(3, -std::numeric_limits<double>::infinity());
   for (int s = 0; s < S; ++s)
     for (int k = 0; k < per_slab; ++k) {

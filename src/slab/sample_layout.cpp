@@ -6,6 +6,7 @@
 #include "../core/parallel_for.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <unordered_map>
 
@@ -134,42 +135,17 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
     if (L.home_slab[id] < 0) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
-// Calls f(Tri) for every grid triangle of the S slabs, counter-clockwise from outside, slab by
-// slab in the order `triangles` holds them (docs/design.md#sample-grid).
-template <class F>
-void for_each_grid_triangle(const SampleLayout& L, int32_t S, F&& f) {
-  const int n = L.n;
-  for (int32_t s = 0; s < S; ++s) {
-    const int32_t* g = &L.ids[static_cast<size_t>(s) * L.per_slab];
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i + j < n; ++i) {
-        f(Tri{g[grid::index(n, i, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j)]});
-        if (i + j <= n - 2)
-          f(Tri{g[grid::index(n, i + 1, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j + 1)]});
-      }
-  }
-}
-
-// With @p with_adjacency, the neighbours of every sample (from the grid triangles, listed on the
-// fly), the grid triangles and their incidence; always the slots of the shared samples.
-void build_adjacency(SampleLayout& L, int32_t S, int32_t interior_base, bool with_adjacency) {
-  if (with_adjacency) {
+// With @p with_neighbours, the neighbours of every sample, from the grid triangles (listed on the
+// fly, never stored); always the slots of the shared samples.
+void build_adjacency(SampleLayout& L, int32_t interior_base, bool with_neighbours) {
+  if (with_neighbours)
     build_csr(
         [&](auto emit) {
-          for_each_grid_triangle(L, S, [&](const Tri& t) {
+          L.for_each_triangle([&](const Tri& t) {
             for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
           });
         },
         L.count, L.neighbour_offsets, L.neighbours);
-    L.triangles.reserve(static_cast<size_t>(S) * L.n * L.n);
-    for_each_grid_triangle(L, S, [&](const Tri& t) { L.triangles.push_back(t); });
-    build_csr(
-        [&](auto emit) {
-          for (size_t f = 0; f < L.triangles.size(); ++f)
-            for (int k = 0; k < 3; ++k) emit(L.triangles[f][k], static_cast<int32_t>(f));
-        },
-        L.count, L.triangle_offsets, L.incident_triangles);
-  }
 
   // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
   build_csr(
@@ -182,7 +158,7 @@ void build_adjacency(SampleLayout& L, int32_t S, int32_t interior_base, bool wit
 
 }  // namespace
 
-SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n, bool with_adjacency) {
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n, bool with_neighbours) {
   if (n < 1) throw InvalidInput("grid n = " + std::to_string(n) + ": must be at least 1");
   SampleLayout L;
   L.n = n;
@@ -198,8 +174,19 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   fill_point_coords(L);
   assign_sample_ids(L, slabs, edges, interior_base, interior_per_slab);
   L.first_interior = interior_base;
-  build_adjacency(L, S, interior_base, with_adjacency);
+  build_adjacency(L, interior_base, with_neighbours);
   return L;
+}
+
+Tri SampleLayout::grid_triangle(int32_t t) const noexcept {
+  const int32_t k = t / (n * n), local = t - k * n * n;
+  // Row j is the largest with row_start(j) = n² - (n - j)² <= local.
+  int j = static_cast<int>(n - std::sqrt(static_cast<double>(n) * n - local));
+  while (j > 0 && row_start(j) > local) --j;
+  while (j + 1 < n && row_start(j + 1) <= local) ++j;
+  const int32_t r = local - row_start(j);
+  const int32_t* g = &ids[static_cast<size_t>(k) * per_slab];
+  return r % 2 == 0 ? up_triangle(g, r / 2, j) : down_triangle(g, r / 2, j);
 }
 
 }  // namespace hdm

@@ -130,8 +130,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count) noex
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
-    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e)
-      sum += face_normal(model, L.triangles[L.incident_triangles[e]], scale);
+    L.for_each_incident_triangle(s, [&](int32_t, const Tri& t) { sum += face_normal(model, t, scale); });
     store_normal(model, s, sum, copy);
   }
   update_force_shading_normals(model, samples, count, true);
@@ -148,7 +147,7 @@ void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending, fl
   for (size_t k = 0; k < pending; ++k) {
     const int32_t f = cache.pending[k];
     FaceNormalCache::Entry& e = cache.memo[f & mask];
-    if (e.tri == f) e.face = face_normal(m, m.samples.triangles[f], scale);
+    if (e.tri == f) e.face = face_normal(m, m.samples.grid_triangle(f), scale);
   }
   pending = 0;
 }
@@ -173,27 +172,24 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
   const size_t room = cache.pending.size();
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
-    const int32_t first = L.triangle_offsets[s], last = L.triangle_offsets[s + 1];
-    if (pending + static_cast<size_t>(last - first) > room) flush_faces(model, cache, pending, scale);
-    for (int32_t e = first; e < last; ++e) {
-      const int32_t f = L.incident_triangles[e];
+    L.for_each_incident_triangle(s, [&](int32_t f, const Tri&) {
+      if (pending == room) flush_faces(model, cache, pending, scale);  // rare: a long listing
       FaceNormalCache::Entry& m = cache.memo[f & mask];
       const bool fresh = m.tri != f || m.stamp != now;
       m.tri = f, m.stamp = now;
       cache.pending[pending] = f;
       pending += fresh;
-    }
+    });
   }
   flush_faces(model, cache, pending, scale);
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
     // Same triangles in the same order as the overload above: the same sum, bit for bit.
-    for (int32_t e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
-      const int32_t f = L.incident_triangles[e];
+    L.for_each_incident_triangle(s, [&](int32_t f, const Tri& t) {
       const FaceNormalCache::Entry& m = cache.memo[f & mask];
-      sum += m.tri == f ? m.face : face_normal(model, L.triangles[f], scale);  // recompute if evicted
-    }
+      sum += m.tri == f ? m.face : face_normal(model, t, scale);  // recompute if evicted
+    });
     store_normal(model, s, sum, copy);
   }
   if (force_shading_ring) update_force_shading_normals(model, samples, count, true);
@@ -313,7 +309,9 @@ void rebuild_derived(SlabModel& m) {
 void displaced_surface(const SlabModel& model, std::vector<Vec3>& vertices, std::vector<Tri>& faces) {
   vertices.resize(model.samples.count);
   for (int s = 0; s < model.samples.count; ++s) vertices[s] = sample_position(model, s);
-  faces = model.samples.triangles;
+  faces.clear();
+  faces.reserve(static_cast<size_t>(model.samples.triangle_count()));
+  model.samples.for_each_triangle([&](const Tri& t) { faces.push_back(t); });
 }
 
 }  // namespace hdm

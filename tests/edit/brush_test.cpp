@@ -29,11 +29,10 @@ double roughness(const SlabModel& m, const Vec3& centre, double radius) {
     for (int e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e)
       mean += sample_position(m, L.neighbours[e]);
     mean /= double(L.neighbour_offsets[s + 1] - L.neighbour_offsets[s]);
-    for (int e = L.triangle_offsets[s]; e < L.triangle_offsets[s + 1]; ++e) {
-      const Tri& t = L.triangles[L.incident_triangles[e]];
+    L.for_each_incident_triangle(s, [&](int32_t, const Tri& t) {
       normal += (sample_position(m, t[1]) - sample_position(m, t[0]))
                     .cross(sample_position(m, t[2]) - sample_position(m, t[0]));
-    }
+    });
     sum += std::pow((p - mean).dot(normal.normalized()), 2);
     ++n;
   }

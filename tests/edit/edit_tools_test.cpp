@@ -188,10 +188,11 @@ TEST(EditToolsTest, force_shading_normals_follow_the_edits) {
   const SampleLayout& L = f.model.samples;
   const std::vector<Vec3> n = brute_force_normals(f.model);
   std::vector<std::vector<int32_t>> nb(L.count);
-  for (const Tri& t : L.triangles)
+  L.for_each_triangle([&](const Tri& t) {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
         if (a != b) nb[t[a]].push_back(t[b]);
+  });
   std::vector<Vec3> ref(L.count);
   for (int s = 0; s < L.count; ++s) {
     std::sort(nb[s].begin(), nb[s].end());
@@ -257,8 +258,8 @@ TEST(EditToolsTest, dirty_slabs_are_the_slabs_holding_what_changed) {
       changed = before.colour[id] != after.colour[id];
     }
     changed_slabs += changed;
-    ASSERT_EQ(bool(flagged[slab]), changed) << "slab " << slab << (changed ? " changed but is not" : " is")
-                                            << " flagged dirty";
+    ASSERT_EQ(bool(flagged[slab]), changed)
+        << "slab " << slab << (changed ? " changed but is not" : " is") << " flagged dirty";
   }
   EXPECT_GT(changed_slabs, 20);
 }

@@ -72,6 +72,13 @@ std::vector<int> match_samples(const SlabModel& m, const std::vector<Vec3>& poin
   return out;
 }
 
+// The model's grid triangles, as its sample layout lists them.
+std::vector<Tri> all_triangles(const SlabModel& model) {
+  std::vector<Tri> tris;
+  model.samples.for_each_triangle([&](const Tri& t) { tris.push_back(t); });
+  return tris;
+}
+
 std::vector<Tri> canonical(std::vector<Tri> tris) {
   for (Tri& t : tris) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
   std::sort(tris.begin(), tris.end());
@@ -82,7 +89,7 @@ std::vector<Tri> canonical(std::vector<Tri> tris) {
 // checked against the closed form too), and the faces are the grid triangles with their winding.
 void check_surface(const SlabModel& model, const TriangleMesh& mesh) {
   ASSERT_EQ(mesh.vertices.size(), size_t(model.samples.count));
-  ASSERT_EQ(mesh.faces.size(), model.samples.triangles.size());
+  ASSERT_EQ(mesh.faces.size(), size_t(model.samples.triangle_count()));
   const std::vector<int> sample = match_samples(model, mesh.vertices, 1e-6);
   std::vector<int> seen(model.samples.count, 0);
   for (size_t v = 0; v < sample.size(); ++v) {
@@ -93,7 +100,7 @@ void check_surface(const SlabModel& model, const TriangleMesh& mesh) {
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), model.samples.count) << "not one vertex per sample";
   std::vector<Tri> faces;
   for (const Tri& f : mesh.faces) faces.push_back({sample[f[0]], sample[f[1]], sample[f[2]]});
-  EXPECT_EQ(canonical(faces), canonical(model.samples.triangles));
+  EXPECT_EQ(canonical(faces), canonical(all_triangles(model)));
 }
 
 struct Image {
@@ -177,7 +184,7 @@ TEST_F(Export, ObjReadsBackAndItsUvsPointAtTheTexelColours) {
   EXPECT_TRUE(mtllib);
   EXPECT_EQ(v.size(), size_t(model.samples.count));
   EXPECT_EQ(vt.size(), size_t(model.slab_count() * model.samples.per_slab));
-  EXPECT_EQ(corners, 3 * model.samples.triangles.size());
+  EXPECT_EQ(corners, 3 * size_t(model.samples.triangle_count()));
 }
 
 TEST_F(Export, PlyReadsBackWithNormalsAndColours) {
@@ -197,7 +204,7 @@ TEST_F(Export, PlyReadsBackWithNormalsAndColours) {
                         "property list uchar int vertex_indices\n"})
     EXPECT_NE(head.find(p), std::string::npos) << p;
   EXPECT_NE(head.find("element vertex " + std::to_string(model.samples.count) + "\n"), std::string::npos);
-  ASSERT_EQ(b.size(), body + size_t(model.samples.count) * 27 + model.samples.triangles.size() * 13);
+  ASSERT_EQ(b.size(), body + size_t(model.samples.count) * 27 + size_t(model.samples.triangle_count()) * 13);
   for (int v = 0; v < model.samples.count; ++v) {
     const uint8_t* rec = &b[body + size_t(v) * 27];
     float f[6];
@@ -240,7 +247,7 @@ TEST_F(Export, GlbParsesBackWithTinyGltf) {
   EXPECT_EQ(V, size_t(model.slab_count() * model.samples.per_slab)) << "vertices are duplicated per slab";
   EXPECT_EQ(Vn, V);
   EXPECT_EQ(Vt, V);
-  ASSERT_EQ(I, 3 * model.samples.triangles.size());
+  ASSERT_EQ(I, 3 * size_t(model.samples.triangle_count()));
 
   // Material -> texture -> embedded PNG image, decoded by tinygltf.
   ASSERT_EQ(prim.material, 0);
@@ -272,7 +279,7 @@ TEST_F(Export, GlbParsesBackWithTinyGltf) {
     for (uint32_t i : t) ASSERT_LT(i, V);
     faces.push_back({sample[t[0]], sample[t[1]], sample[t[2]]});
   }
-  EXPECT_EQ(canonical(faces), canonical(model.samples.triangles));
+  EXPECT_EQ(canonical(faces), canonical(all_triangles(model)));
 }
 
 TEST_F(Export, UnsupportedExtensionThrowsInvalidInputNamingThePath) {

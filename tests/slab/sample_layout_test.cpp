@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <set>
 
 using namespace hdm;
@@ -35,7 +36,7 @@ TEST(SampleLayoutTest, counts_follow_euler_formula) {
   for (int n : {1, 2, 5, 16}) {
     const SampleLayout L = build_sample_layout(m.faces, C, n);
     EXPECT_EQ(L.count, C + (n - 1) * E + (n - 1) * (n - 2) / 2 * S) << "n = " << n;
-    EXPECT_EQ(int(L.triangles.size()), S * n * n);
+    EXPECT_EQ(L.triangle_count(), S * n * n);
     std::set<int32_t> seen(L.ids.begin(), L.ids.end());
     EXPECT_EQ(int(seen.size()), L.count);  // every id used
   }
@@ -57,10 +58,10 @@ TEST(SampleLayoutTest, shared_samples_have_identical_projection_lines) {
 
 TEST(SampleLayoutTest, grid_triangles_face_outward) {
   const SlabModel s = sphere_shell(4, 1);
-  for (const Tri& t : s.samples.triangles) {
+  s.samples.for_each_triangle([&](const Tri& t) {
     const Vec3 a = sample_position(s, t[0]), b = sample_position(s, t[1]), c = sample_position(s, t[2]);
     EXPECT_GT((b - a).cross(c - a).dot(a + b + c), 0.0);
-  }
+  });
   // Normals point away from the centre, within the facet angle of the 80-face polyhedron (< 12°).
   for (int id = 0; id < s.samples.count; ++id)
     EXPECT_GT(s.normals[id].cast<double>().dot(sample_position(s, id).normalized()), std::cos(12 * M_PI / 180));
@@ -92,29 +93,62 @@ TEST(SampleLayoutTest, slots_list_every_grid_point_of_a_sample) {
   }
 }
 
-TEST(SampleLayoutTest, without_adjacency_the_rest_of_the_layout_is_the_same) {
-  // The texel layout leaves out the grid triangles, their incidence and the neighbour rows; ids,
-  // homes and slots must not depend on that, and for_each_neighbour() must list, from the slots
-  // alone, exactly the samples a grid edge joins: counted here from the grid triangles of the
-  // full layout (brute force over every triangle's three edges).
+// The grid triangles of slab k at grid n, listed from triangle_grid.h's definition of the split
+// (every cell's "up" triangle, then its "down" one where there is one), independently of the
+// layout's own enumeration: packed grid indices, row by row.
+std::vector<std::array<int, 3>> grid_split(int n) {
+  std::vector<std::array<int, 3>> out;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i + j < n; ++i) {
+      out.push_back({grid::index(n, i, j), grid::index(n, i, j + 1), grid::index(n, i + 1, j)});
+      if (i + j <= n - 2)
+        out.push_back({grid::index(n, i + 1, j), grid::index(n, i, j + 1), grid::index(n, i + 1, j + 1)});
+    }
+  return out;
+}
+
+TEST(SampleLayoutTest, derived_triangles_and_neighbours_match_brute_force) {
+  // Nothing but ids, homes and slots is stored for the triangles (and, without neighbours, for
+  // the neighbours): for_each_triangle(), grid_triangle(), for_each_incident_triangle() and
+  // for_each_neighbour() must give what a brute-force scan of the split gives.
   const TriangleMesh m = test::icosphere(2, 1.0);
-  for (int n : {1, 4, 32}) {
+  for (int n : {1, 2, 4, 32}) {
     const SampleLayout a = build_sample_layout(m.faces, int(m.vertices.size()), n);
     const SampleLayout b = build_sample_layout(m.faces, int(m.vertices.size()), n, false);
-    EXPECT_TRUE(b.triangles.empty() && b.triangle_offsets.empty() && b.incident_triangles.empty());
     EXPECT_TRUE(b.neighbour_offsets.empty() && b.neighbours.empty());
-    EXPECT_EQ(b.triangles.capacity(), 0u) << "the grid triangles are never allocated";
-    EXPECT_EQ(a.count, b.count);
-    EXPECT_EQ(a.first_interior, b.first_interior);
     EXPECT_EQ(a.ids, b.ids);
     EXPECT_EQ(a.home_slab, b.home_slab);
     EXPECT_EQ(a.home_index, b.home_index);
     EXPECT_EQ(a.shared_slot_offsets, b.shared_slot_offsets);
     EXPECT_EQ(a.slot_of_shared, b.slot_of_shared);
+    std::vector<Tri> tris;
+    const std::vector<std::array<int, 3>> split = grid_split(n);
+    for (size_t k = 0; k < m.faces.size(); ++k)
+      for (const auto& c : split) {
+        const int32_t* g = &a.ids[k * a.per_slab];
+        tris.push_back({g[c[0]], g[c[1]], g[c[2]]});
+      }
+    ASSERT_EQ(a.triangle_count(), int32_t(tris.size()));
+    std::vector<Tri> listed;
+    a.for_each_triangle([&](const Tri& t) { listed.push_back(t); });
+    ASSERT_EQ(listed, tris) << "n = " << n;
+    std::vector<std::vector<int32_t>> incident(a.count);
     std::vector<std::set<int32_t>> joined(a.count);
-    for (const Tri& t : a.triangles)
-      for (int k = 0; k < 3; ++k) joined[t[k]].insert(t[(k + 1) % 3]), joined[t[(k + 1) % 3]].insert(t[k]);
+    for (int32_t t = 0; t < int32_t(tris.size()); ++t) {
+      ASSERT_EQ(a.grid_triangle(t), tris[t]) << "n = " << n << ", triangle " << t;
+      for (int k = 0; k < 3; ++k) {
+        incident[tris[t][k]].push_back(t);
+        joined[tris[t][k]].insert(tris[t][(k + 1) % 3]), joined[tris[t][(k + 1) % 3]].insert(tris[t][k]);
+      }
+    }
     for (int32_t s = 0; s < a.count; ++s) {
+      std::vector<int32_t> seen;
+      a.for_each_incident_triangle(s, [&](int32_t t, const Tri& corners) {
+        seen.push_back(t);
+        EXPECT_EQ(corners, tris[t]);
+      });
+      ASSERT_EQ(seen, incident[s]) << "n = " << n << ", sample " << s
+                                   << ": every incident triangle, in increasing order";
       std::set<int32_t> seen_a, seen_b;
       a.for_each_neighbour(s, [&](int32_t t) { seen_a.insert(t); });
       b.for_each_neighbour(s, [&](int32_t t) { seen_b.insert(t); });

@@ -16,7 +16,7 @@ struct ModelMemory {
   int64_t sample_fields = 0;  ///< stored per sample: displacement, friction μs and μd, stiffness, layer top
   int64_t texel_fields = 0;   ///< stored per texel: colour and roughness
   int64_t coarse = 0;         ///< stored per coarse vertex and slab: inner, outer, slabs
-  int64_t sample_layout = 0;  ///< derived: the samples' SampleLayout (ids, grid triangles, adjacency, homes)
+  int64_t sample_layout = 0;  ///< derived: the samples' SampleLayout (ids, neighbours, homes, shared slots)
   int64_t texel_layout = 0;   ///< derived: the texels' SampleLayout
   /// Derived caches of the query and proxy: positions, normals, force-shading normals and the
   /// slab-major copy `slab_samples`.

@@ -24,10 +24,6 @@ struct SampleLayout {
   int count = 0;     ///< number of distinct samples
   /// #slabs·per_slab global ids, slab-major, in grid::index order.
   std::vector<int32_t> ids;
-  /// #slabs·n² global grid triangles (3 ids each), slab-major, counter-clockwise from outside:
-  /// the triangles drawn, felt and exported. Empty in a layout built without adjacency
-  /// (build_sample_layout()'s with_adjacency), as are `triangle_offsets` and `incident_triangles`.
-  std::vector<Tri> triangles;
   /// For each sample, one slab and packed grid index that hold it (its "home"), used to evaluate
   /// the sample's projection line with one fixed formula so shared samples agree bit for bit.
   /// @{
@@ -39,13 +35,9 @@ struct SampleLayout {
   /// @}
   /// CSR adjacency over grid edges: neighbours of sample s are
   /// neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]), sorted. Empty in a layout built
-  /// without adjacency (build_sample_layout()'s with_adjacency); for_each_neighbour() reads either.
+  /// without them (build_sample_layout()'s with_neighbours); for_each_neighbour() reads either.
   /// @{
   std::vector<int32_t> neighbour_offsets, neighbours;
-  /// @}
-  /// CSR sample -> incident grid triangles (indices into `triangles`).
-  /// @{
-  std::vector<int32_t> triangle_offsets, incident_triangles;
   /// @}
   /// Samples with id >= first_interior are interior to their home slab: their only grid point is
   /// (home_slab, home_index). Corner and edge samples (ids below it) may be held by several slabs.
@@ -98,18 +90,82 @@ struct SampleLayout {
       }
     });
   }
+
+  /// Number of grid triangles: #slabs·n². The grid triangles (the surface drawn, felt and
+  /// exported) are not stored: grid_triangle(), for_each_triangle() and
+  /// for_each_incident_triangle() derive them from `ids`.
+  int32_t triangle_count() const noexcept { return static_cast<int32_t>(ids.size() / per_slab) * n * n; }
+
+  /// @brief Calls @p f(corners) for every grid triangle, slab by slab, in triangle index order
+  /// (triangle t of slab k has index k·n² + t; within a slab, row by row, each cell's "up"
+  /// triangle then its "down" one, hdm/slab/triangle_grid.h), corners counter-clockwise from outside.
+  /// @note O(#slabs·n²), no allocation.
+  template <class F>
+  void for_each_triangle(F&& f) const {
+    const int32_t slabs = static_cast<int32_t>(ids.size() / per_slab);
+    for (int32_t k = 0; k < slabs; ++k) {
+      const int32_t* g = &ids[static_cast<size_t>(k) * per_slab];
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i + j < n; ++i) {
+          f(up_triangle(g, i, j));
+          if (i + j <= n - 2) f(down_triangle(g, i, j));
+        }
+    }
+  }
+
+  /// @brief Corners of grid triangle @p t (see for_each_triangle()), counter-clockwise from outside.
+  /// Precondition: 0 <= t < triangle_count(). @note O(1) (a square root), noexcept.
+  Tri grid_triangle(int32_t t) const noexcept;
+
+  /// @brief Calls @p f(t, corners) for every grid triangle t with sample @p s as a corner, in
+  /// increasing t (the order of a sorted incidence list: sums over them are the same bit for bit
+  /// as with a stored one), with its corners counter-clockwise from outside.
+  /// @note O(6 × the slabs holding s), no allocation; noexcept if @p f is.
+  template <class F>
+  void for_each_incident_triangle(int32_t s, F&& f) const {
+    for_each_slot(s, [&](int32_t slot) {
+      const int32_t k = slot / per_slab, p = slot - k * per_slab;
+      const int32_t* g = &ids[static_cast<size_t>(k) * per_slab];
+      const int i = point_i[p], j = point_j[p];
+      const int32_t here = k * n * n + row_start(j), below = here - row_start(j) + row_start(j - 1);
+      // Row j-1 then row j, each in increasing index: down(i-1, j-1), up(i, j-1), down(i, j-1),
+      // up(i-1, j), down(i-1, j), up(i, j); a cell outside the grid is skipped.
+      if (j >= 1) {
+        if (i >= 1) f(below + 2 * i - 1, down_triangle(g, i - 1, j - 1));
+        f(below + 2 * i, up_triangle(g, i, j - 1));
+        if (i + j <= n - 1) f(below + 2 * i + 1, down_triangle(g, i, j - 1));
+      }
+      if (i >= 1) {
+        f(here + 2 * i - 2, up_triangle(g, i - 1, j));
+        if (i + j <= n - 1) f(here + 2 * i - 1, down_triangle(g, i - 1, j));
+      }
+      if (i + j <= n - 1) f(here + 2 * i, up_triangle(g, i, j));
+    });
+  }
+
+ private:
+  // Index within its slab of the first triangle of row j: rows j' < j hold 2(n - j') - 1 each.
+  int32_t row_start(int j) const noexcept { return j * (2 * n - j); }
+  // The "up" triangle of cell (i, j), (i,j) (i,j+1) (i+1,j), and its "down" triangle,
+  // (i+1,j) (i,j+1) (i+1,j+1), from a slab's ids @p g.
+  Tri up_triangle(const int32_t* g, int i, int j) const noexcept {
+    return {g[grid::index(n, i, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j)]};
+  }
+  Tri down_triangle(const int32_t* g, int i, int j) const noexcept {
+    return {g[grid::index(n, i + 1, j)], g[grid::index(n, i, j + 1)], g[grid::index(n, i + 1, j + 1)]};
+  }
 };
 
 /// @brief Builds the global sample layout of a slab mesh.
 /// @param slabs                #S slabs as coarse-vertex triples (R, S, T).
 /// @param coarse_vertex_count  number of coarse vertices; every id in @p slabs is below it.
 /// @param n                    intervals per slab edge, n >= 1.
-/// @param with_adjacency       keep the grid triangles, the sample -> triangle CSR
-///                             (`triangle_offsets`, `incident_triangles`) and the neighbour CSR.
-///                             Without them (the colour texels: paint floods over
-///                             for_each_neighbour() and finds a texel's slabs by its slots) none of
-///                             the three is stored: at n·m = 32 they were 80 of the 94 bytes per
-///                             texel.
+/// @param with_neighbours      keep the neighbour CSR (`neighbour_offsets`, `neighbours`): the
+///                             samples' normals, relaxation and force-shading ring read it every
+///                             tick. Without it (the colour texels: paint floods over
+///                             for_each_neighbour() and finds a texel's slabs by its slots) it is
+///                             not stored: at n·m = 32, 28 bytes per texel. No layout stores its
+///                             grid triangles (for_each_triangle()).
 /// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
 ///         the whole one-ring (boundary edges belong to one slab).
 /// @throws InvalidInput if n < 1, an id is out of range, or an edge is used by more than two slabs.
@@ -117,6 +173,6 @@ struct SampleLayout {
 ///       neighbour) pairs are listed twice rather than stored (at 20,000 slabs and n = 32, the
 ///       colour texels of `hdm bake --slabs 20000`, they would take 1 GB).
 SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n,
-                                 bool with_adjacency = true);
+                                 bool with_neighbours = true);
 
 }  // namespace hdm
