@@ -187,25 +187,26 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       update_normals(m, s.ring.data() + cursor_, static_cast<size_t>(n), s.faces, false);  // also the slab-major copy
       cursor_ += n;
     }
-    phase_ = Phase::Wide;
-    cursor_ = wide_count_ = 0;
+    phase_ = Phase::ShadingRing;
+    cursor_ = shading_count_ = 0;
     stamp_ = next_stamp(s);
   }
-  if (phase_ == Phase::Wide) {
+  if (phase_ == Phase::ShadingRing) {
     // The force-shading normals read the one-ring of normals: the ring and its neighbours change,
     // each listed once (the flood is done, so its queue is free to hold them).
     while (cursor_ < ring_count_) {
       if (d.expired(kChunk)) return false;
       const int32_t end = std::min(ring_count_, cursor_ + kChunk);
       for (; cursor_ < end; ++cursor_)
-        wide_count_ = add_with_neighbours(L, s.ring[cursor_], s.sample_stamp, stamp_, s.queue.data(), wide_count_);
+        shading_count_ =
+            add_with_neighbours(L, s.ring[cursor_], s.sample_stamp, stamp_, s.queue.data(), shading_count_);
     }
-    phase_ = Phase::Haptic;
+    phase_ = Phase::ForceShading;
     cursor_ = 0;
   }
-  while (cursor_ < wide_count_) {
+  while (cursor_ < shading_count_) {
     if (d.expired(4 * kChunk)) return false;
-    const int32_t n = std::min(kChunk * 2, wide_count_ - cursor_);
+    const int32_t n = std::min(kChunk * 2, shading_count_ - cursor_);
     update_force_shading_normals(m, s.queue.data() + cursor_, static_cast<size_t>(n), false);
     cursor_ += n;
   }

@@ -109,7 +109,10 @@ class EditJob {
   void set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0, const Vec3& L) noexcept;
 
  private:
-  enum class Phase : uint8_t { Idle, Flood, History, Ring, Normals, Wide, Haptic };
+  // An edit's phases, in order: the flood over the tool (Flood) or an undo record's replay
+  // (History); the changed samples and their one-ring listed (Ring), their normals (Normals); the
+  // ring's ring listed (ShadingRing), whose force-shading normals are recomputed (ForceShading).
+  enum class Phase : uint8_t { Idle, Flood, History, Ring, Normals, ShadingRing, ForceShading };
   bool run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
   bool run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
   bool run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept;
@@ -123,7 +126,7 @@ class EditJob {
   size_t head_ = 0, tail_ = 0;
   uint32_t stamp_ = 0;
   // normals state
-  int32_t cursor_ = 0, ring_count_ = 0, wide_count_ = 0;
+  int32_t cursor_ = 0, ring_count_ = 0, shading_count_ = 0;
   double motion2_ = 0;
 };
 
