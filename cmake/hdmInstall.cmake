@@ -12,11 +12,12 @@ set(HDM_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/hdm)
 
 # component: CMake target. Each component is its own export set (hdm-<component>-targets.cmake):
 # the config loads only the components asked for and the third-party packages they need.
-set(hdm_components core bake analysis repair reference io render harness bridge hdm)
+set(hdm_components core bake analysis repair pipeline reference io render harness bridge hdm)
 set(hdm_target_core hdm_core)
 set(hdm_target_bake hdm_bake)
 set(hdm_target_analysis hdm_analysis)
 set(hdm_target_repair hdm_repair)
+set(hdm_target_pipeline hdm_pipeline)
 set(hdm_target_reference hdm_reference)
 set(hdm_target_io hdm_io)
 set(hdm_target_render hdm_render)

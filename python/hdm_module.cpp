@@ -3,19 +3,14 @@
 // haptic queries, export. Docstrings give shapes, dtypes and units. Errors are Python exceptions
 // carrying the C++ message: ValueError for InvalidInput, OSError for IoError, RuntimeError
 // otherwise.
-#include <hdm/analysis/bake_to_tolerance.h>
-#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/analysis/fidelity.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/slab/shell_check.h>
 #include <hdm/core/error.h>
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
-#include <hdm/mesh/orient_mesh.h>
-#include <hdm/mesh/scale_mesh.h>
-#include <hdm/slab/scale_model.h>
-#include <hdm/mesh/repair_mesh.h>
-#include <hdm/mesh/self_intersections.h>
+#include <hdm/pipeline/bake_input.h>
 #include <hdm/query/slab_locator.h>
 #include <hdm/query/slab_query.h>
 #include <hdm/slab/bake.h>
@@ -98,14 +93,8 @@ py::dict fidelity_dict(const Fidelity& f) {
   return d;
 }
 
-// The Python bake's input preparation: the mesh data validated (at least one face, finite
-// coordinates, vertex ids in range); scaled by a power of two to a diagonal in [1, 2) (exact);
-// repaired when needed (default RepairOptions), or with repair=False refused unless it can be baked
-// as is; oriented outward; where it crosses itself, resolved by resolve_self_intersections() (a
-// closed or nearly closed input, its holes filled first, to the boundary of its union; the crumpled
-// spots of other open sheets triangulated again) and the buried faces left out of the fidelity;
-// baked; the model scaled back to the input's units. Unlike `hdm bake` (prepare_input()), the seams
-// of open patches that cross are not joined and the folds of open sheets are not removed.
+// hdm.bake(): bake_input(), the bake `hdm bake` and the studio run, so a mesh baked here with the
+// same options gives the same model byte for byte.
 py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& input, int slabs, int grid,
                     double density, int texels, double max_error, double rms_error, bool error_bound, bool repair) {
   std::string name = "arrays";
@@ -117,62 +106,38 @@ py::tuple bake_mesh(const std::variant<std::string, std::pair<Points, Faces>>& i
     const auto& arrays = std::get<std::pair<Points, Faces>>(input);
     mesh = mesh_from_arrays(arrays.first, arrays.second);
   }
-  py::dict report;
+  BakeInputOptions o;
+  o.bake.slabs = slabs;
+  o.bake.grid_n = grid;
+  o.bake.density = density;
+  o.bake.texel_density = texels;
+  o.prepare.repair = repair;
+  o.tolerance.max_pct = max_error;
+  o.tolerance.rms_pct = rms_error;
+  o.bounded = error_bound;
+  BakeInputReport rep;
   SlabModel model;
   {
     py::gil_scoped_release release;
-    validate_mesh_data(mesh, name);
-    // Every step at one size (a power of two, exact), and the model back in the input's units.
-    const int exponent = scale_exponent(bounds(mesh).diagonal(), name);
-    scale_mesh(mesh, exponent);
-    if (!repair)
-      validate_for_bake(mesh, name);
-    else if (needs_repair(mesh))
-      mesh = repair_mesh(mesh, name);
-    orient_outward(mesh);
-    const int64_t crossing = count_self_intersections(mesh);
-    SelfIntersectionReport si;
-    if (crossing > 0) mesh = resolve_self_intersections(mesh, &si);
-    std::vector<uint8_t> buried;
-    const ExactMeshQuery exact(mesh);
-    if (crossing > 0) buried = buried_faces(exact);
-    BakeOptions o;
-    o.slabs = slabs;
-    o.grid_n = grid;
-    o.density = density;
-    o.texel_density = texels;
-    BakeReport r;
-    Fidelity f;
-    if (error_bound) {
-      Tolerance t;
-      t.max_pct = max_error;
-      t.rms_pct = rms_error;
-      t.adapt_grid = true;
-      if (!buried.empty()) t.buried = &buried;
-      std::vector<ToleranceRound> rounds;
-      model = bake_to_tolerance(exact, name, o, t, &rounds, &r);
-      f = rounds.back().fidelity;
-      py::gil_scoped_acquire acquire;
-      report["bound_met"] = rounds.back().met;
-      report["rounds"] = rounds.size();
-      report["stopped_because"] = describe_stop(rounds.back(), t, r.input_triangles);
-    } else {
-      model = bake_slabs(exact, name, o, &r);
-      f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);
-    }
-    scale_model(model, -exponent);
-    py::gil_scoped_acquire acquire;
-    report["slabs"] = r.slabs;
-    report["grid"] = r.grid_n;
-    report["samples"] = r.samples;
-    report["input_triangles"] = r.input_triangles;
-    report["invalid_slabs"] = r.invalid_slabs;
-    report["overlapping_pairs"] = r.overlapping_pairs;
-    report["ray_misses"] = r.ray_misses;
-    report["bake_seconds"] = r.seconds;
-    report["self_intersections"] = crossing;
-    report["fidelity"] = fidelity_dict(f);
+    model = bake_input(std::move(mesh), name, o, &rep);
   }
+  const BakeReport& r = rep.bake;
+  py::dict report;
+  if (error_bound) {
+    report["bound_met"] = rep.rounds.back().met;
+    report["rounds"] = rep.rounds.size();
+    report["stopped_because"] = describe_stop(rep.rounds.back(), o.tolerance, r.input_triangles);
+  }
+  report["slabs"] = r.slabs;
+  report["grid"] = r.grid_n;
+  report["samples"] = r.samples;
+  report["input_triangles"] = r.input_triangles;
+  report["invalid_slabs"] = r.invalid_slabs;
+  report["overlapping_pairs"] = r.overlapping_pairs;
+  report["ray_misses"] = r.ray_misses;
+  report["bake_seconds"] = r.seconds;
+  report["self_intersections"] = rep.input.self_intersections;
+  report["fidelity"] = fidelity_dict(rep.fidelity);
   return py::make_tuple(std::make_shared<Model>(std::move(model)), report);
 }
 
@@ -349,10 +314,10 @@ PYBIND11_MODULE(hdm, mod) {
           py::arg("error_bound") = true, py::arg("repair") = true,
           "Bakes a triangle mesh into a slab model. The mesh is validated (at least one face, finite coordinates, "
           "vertex ids in range), scaled by a power of two to a bounding-box diagonal in [1, 2) (exact), repaired when "
-          "needed, oriented outward and, where it crosses itself, resolved (a closed or nearly closed input, its holes "
-          "filled first, to the surface of the solid it bounds; the crumpled spots of other open sheets triangulated "
-          "again); the model is scaled back to the input's units. Unlike "
-          "`hdm bake`, it does not join the seams of open patches that cross or remove the folds of open sheets.\n\n"
+          "needed, oriented outward, open patches that cross joined at their seams, the folds of open sheets removed "
+          "and, where it still crosses itself, resolved to the surface of the solid it bounds; the model is scaled "
+          "back to the input's units. This is the bake `hdm bake` runs: the same mesh and options give the same model "
+          "byte for byte.\n\n"
           "mesh: a file path (OBJ, PLY, OFF, STL) or a (vertices, faces) pair of arrays: (N, 3) float64 [model units] "
           "and (M, 3) integer vertex indices, counter-clockwise seen from outside.\n"
           "slabs: target slab count (0: input triangles * density / grid^2); grid: intervals per slab edge; "

@@ -5,11 +5,8 @@
 #include "input_mesh.h"
 #include "progress_bar.h"
 
-#include <hdm/analysis/bake_to_tolerance.h>
-#include <hdm/analysis/fidelity.h>
 #include <hdm/io/hdm_file.h>
-#include <hdm/slab/bake.h>
-#include <hdm/slab/scale_model.h>
+#include <hdm/pipeline/bake_input.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -46,132 +43,122 @@ double peak_rss_mib() {
   return u.ru_maxrss / 1024.0;
 }
 
-void run_bake(const BakeArgs& a) {
-  guard_bake({a.input, a.output, a.slabs, a.grid, a.texels, a.density, a.limit.bytes()});
-  const auto start = std::chrono::steady_clock::now();
-  ProgressBar bar;
-  bar("read", 0);
-  PreparedInput prepared = prepare_input(a.input, a.in, a.limit.bytes(), true);
-  TriangleMesh& mesh = prepared.mesh;
-  const RepairReport& fixed = prepared.repair;
-  BakeOptions o;
-  o.slabs = a.slabs;
-  o.grid_n = a.grid;
-  o.density = a.density;
-  o.texel_density = a.texels;
-  o.progress = [&](const char* stage, double f) { bar(stage, f); };
-  BakeReport r;
+// The bake's options as the command line gives them: the error bound of hdm (0.2 % max, 0.02 %
+// RMS, both ways) unless --slabs is given without a bound, or --no-error-bound.
+BakeInputOptions bake_options(const BakeArgs& a) {
+  BakeInputOptions o;
+  o.bake.slabs = a.slabs;
+  o.bake.grid_n = a.grid;
+  o.bake.density = a.density;
+  o.bake.texel_density = a.texels;
+  o.prepare = a.in.prepare();
   const bool given = !std::isnan(a.max_error) || !std::isnan(a.rms_error);
-  const bool bounded = !a.no_error_bound && (given || a.slabs == 0);
-  const double max_error = !given ? 0.2 : std::isnan(a.max_error) ? INFINITY : a.max_error;
-  const double rms_error = !given ? 0.02 : std::isnan(a.rms_error) ? INFINITY : a.rms_error;
-  // One Embree BVH over the input for the bake's rays and the fidelity measurement; the bake
-  // time reported includes its build, as when the bake built it.
-  bar("input BVH", 0);
-  const auto bvh_start = std::chrono::steady_clock::now();
-  validate_mesh_data(mesh, a.input);
-  const ExactMeshQuery reference(mesh);
-  // A mesh that crosses itself bounds the union of its parts; faces buried inside it are not on
-  // the surface the model follows, and the fidelity leaves them out.
-  std::vector<uint8_t> buried;
-  if (prepared.self_intersections > 0) buried = buried_faces(reference);
-  const double bvh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - bvh_start).count();
-  std::vector<ToleranceRound> rounds;
-  Fidelity f;
-  SlabModel model;
-  Tolerance t;
-  if (bounded) {
-    if (!buried.empty()) t.buried = &buried;
-    t.max_pct = max_error;
-    t.rms_pct = rms_error;
-    t.max_slabs = a.max_slabs;
-    t.adapt_grid = !a.grid_given;  // an explicit --grid is kept in every round
-    model = bake_to_tolerance(reference, a.input, o, t, &rounds, &r);
-    f = rounds.back().fidelity;
-  } else {
-    model = bake_slabs(reference, a.input, o, &r);
-    bar("fidelity", 0);
-    f = measure_fidelity(model, reference, buried.empty() ? nullptr : &buried);
-    bar("fidelity", 1);
-  }
-  r.seconds += bvh_seconds;  // the last round's bake and the input BVH it used
-  bar.finish();
-  scale_model(model, -prepared.scale_exponent);  // back to the input's units, exactly
-  save_model(model, a.output);
-  nlohmann::json j = {
-      {"input", a.input},
-      {"output", a.output},
-      {"slabs", r.slabs},
-      {"grid", r.grid_n},
-      {"samples", r.samples},
-      {"input_triangles", r.input_triangles},
-      {"submesh_triangles", r.submesh_triangles},
-      {"bake_seconds", r.seconds},
-      {"total_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
-      {"invalid_slabs", r.invalid_slabs},
-      {"ray_misses", r.ray_misses},
-      {"overlapping_pairs", r.overlapping_pairs},
-      {"undercut_columns", r.undercut_columns},
-      {"separated", r.separated},
-      {"peak_rss_mib", peak_rss_mib()},
-      {"repair",
-       {{"merged_vertices", fixed.merged_vertices},
-        {"removed_faces", fixed.removed_faces},
-        {"split_vertices", fixed.split_vertices},
-        {"flipped_faces", fixed.flipped_faces},
-        {"filled_holes", fixed.filled_holes},
-        {"added_faces", fixed.added_faces},
-        {"open_boundaries", fixed.open_boundaries}}},
-      {"folds",
-       {{"flap_faces", prepared.folds.flap_faces},
-        {"folded_stars", prepared.folds.folded_before},
-        {"moved_vertices", prepared.folds.moved},
-        {"max_move", std::ldexp(prepared.folds.max_move, -prepared.scale_exponent)},
-        {"max_deviation", prepared.folds.max_deviation},
-        {"rim_faces", prepared.folds.rim_faces},
-        {"folded_stars_left", prepared.folds.folded_after}}},
-      {"self_intersections", prepared.self_intersections},
-      {"self_intersections_left", prepared.resolved.pairs_after},
-      {"seam_vertices", prepared.resolved.seam_vertices},
-      {"orient",
-       {{"components", prepared.orient.components},
-        {"closed", prepared.orient.closed},
-        {"nearly_closed", prepared.orient.nearly_closed},
-        {"sheets", prepared.orient.sheets},
-        {"flipped", prepared.orient.flipped},
-        {"flipped_faces", prepared.orient.flipped_faces}}},
-      {"fidelity",
-       {{"rms_pct", f.rms_pct},
-        {"max_pct", f.max_pct},
-        {"rms_back_pct", f.rms_back_pct},
-        {"max_back_pct", f.max_back_pct}}}};
-  if (bounded) {
-    nlohmann::json tried = nlohmann::json::array();
-    for (const ToleranceRound& t : rounds)
-      tried.push_back({{"slabs", t.slabs},
-                       {"grid", t.grid_n},
-                       {"rms_pct", t.fidelity.rms_pct},
-                       {"max_pct", t.fidelity.max_pct},
-                       {"rms_back_pct", t.fidelity.rms_back_pct},
-                       {"max_back_pct", t.fidelity.max_back_pct},
-                       {"invalid_slabs", t.invalid_slabs},
-                       {"overlapping_pairs", t.overlapping_pairs},
-                       {"ray_misses", t.ray_misses},
-                       {"met", t.met}});
-    j["tolerance"] = {{"max_pct", std::isfinite(max_error) ? nlohmann::json(max_error) : nlohmann::json(nullptr)},
-                      {"rms_pct", std::isfinite(rms_error) ? nlohmann::json(rms_error) : nlohmann::json(nullptr)},
-                      {"met", rounds.back().met},
-                      {"stopped_because", describe_stop(rounds.back(), t, r.input_triangles)},
-                      {"rounds", tried}};
-    if (!rounds.back().met)
-      std::fprintf(stderr,
-                   "hdm: warning: %s: the error bound is not met at %d slabs: %s; saved the finest model tried\n",
-                   a.input.c_str(), r.slabs, describe_stop(rounds.back(), t, r.input_triangles).c_str());
-  }
-  if (a.json) {
-    std::printf("%s\n", j.dump(2).c_str());
-    return;
-  }
+  o.bounded = !a.no_error_bound && (given || a.slabs == 0);
+  o.tolerance.max_pct = !given ? 0.2 : std::isnan(a.max_error) ? INFINITY : a.max_error;
+  o.tolerance.rms_pct = !given ? 0.02 : std::isnan(a.rms_error) ? INFINITY : a.rms_error;
+  o.tolerance.max_slabs = a.max_slabs;
+  o.tolerance.adapt_grid = !a.grid_given;  // an explicit --grid is kept in every round
+  return o;
+}
+
+nlohmann::json fidelity_json(const Fidelity& f) {
+  return {{"rms_pct", f.rms_pct},
+          {"max_pct", f.max_pct},
+          {"rms_back_pct", f.rms_back_pct},
+          {"max_back_pct", f.max_back_pct}};
+}
+
+// What prepare_input() did, as the JSON report's "repair", "folds", "orient" and crossing keys.
+void add_input_json(nlohmann::json& j, const PrepareReport& in) {
+  const RepairReport& fixed = in.repair;
+  j["repair"] = {{"merged_vertices", fixed.merged_vertices}, {"removed_faces", fixed.removed_faces},
+                 {"split_vertices", fixed.split_vertices},   {"flipped_faces", fixed.flipped_faces},
+                 {"filled_holes", fixed.filled_holes},       {"added_faces", fixed.added_faces},
+                 {"open_boundaries", fixed.open_boundaries}};
+  j["folds"] = {
+      {"flap_faces", in.folds.flap_faces},         {"folded_stars", in.folds.folded_before},
+      {"moved_vertices", in.folds.moved},          {"max_move", std::ldexp(in.folds.max_move, -in.scale_exponent)},
+      {"max_deviation", in.folds.max_deviation},   {"rim_faces", in.folds.rim_faces},
+      {"folded_stars_left", in.folds.folded_after}};
+  j["self_intersections"] = in.self_intersections;
+  j["self_intersections_left"] = in.resolved.pairs_after;
+  j["seam_vertices"] = in.resolved.seam_vertices;
+  j["orient"] = {
+      {"components", in.orient.components}, {"closed", in.orient.closed},   {"nearly_closed", in.orient.nearly_closed},
+      {"sheets", in.orient.sheets},         {"flipped", in.orient.flipped}, {"flipped_faces", in.orient.flipped_faces}};
+}
+
+nlohmann::json tolerance_json(const BakeInputOptions& o, const BakeInputReport& rep) {
+  nlohmann::json tried = nlohmann::json::array();
+  for (const ToleranceRound& t : rep.rounds)
+    tried.push_back({{"slabs", t.slabs},
+                     {"grid", t.grid_n},
+                     {"rms_pct", t.fidelity.rms_pct},
+                     {"max_pct", t.fidelity.max_pct},
+                     {"rms_back_pct", t.fidelity.rms_back_pct},
+                     {"max_back_pct", t.fidelity.max_back_pct},
+                     {"invalid_slabs", t.invalid_slabs},
+                     {"overlapping_pairs", t.overlapping_pairs},
+                     {"ray_misses", t.ray_misses},
+                     {"met", t.met}});
+  const auto bound = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  return {{"max_pct", bound(o.tolerance.max_pct)},
+          {"rms_pct", bound(o.tolerance.rms_pct)},
+          {"met", rep.rounds.back().met},
+          {"stopped_because", describe_stop(rep.rounds.back(), o.tolerance, rep.bake.input_triangles)},
+          {"rounds", tried}};
+}
+
+nlohmann::json bake_json(const BakeArgs& a, const BakeInputOptions& o, const BakeInputReport& rep) {
+  const BakeReport& r = rep.bake;
+  nlohmann::json j = {{"input", a.input},
+                      {"output", a.output},
+                      {"slabs", r.slabs},
+                      {"grid", r.grid_n},
+                      {"samples", r.samples},
+                      {"input_triangles", r.input_triangles},
+                      {"submesh_triangles", r.submesh_triangles},
+                      {"bake_seconds", r.seconds},
+                      {"total_seconds", rep.seconds},
+                      {"invalid_slabs", r.invalid_slabs},
+                      {"ray_misses", r.ray_misses},
+                      {"overlapping_pairs", r.overlapping_pairs},
+                      {"undercut_columns", r.undercut_columns},
+                      {"separated", r.separated},
+                      {"peak_rss_mib", peak_rss_mib()},
+                      {"fidelity", fidelity_json(rep.fidelity)}};
+  add_input_json(j, rep.input);
+  if (o.bounded) j["tolerance"] = tolerance_json(o, rep);
+  return j;
+}
+
+// The lines on what prepare_input() changed in the input (nothing printed for a clean mesh).
+void print_input_changes(const PrepareReport& in, double diagonal) {
+  if (const RepairReport& fixed = in.repair; fixed.changed())
+    std::printf(
+        "  repaired input      %lld vertices welded, %lld faces removed, %lld vertices split, %lld faces flipped, "
+        "%d holes filled (%lld faces), %d open boundaries kept\n",
+        (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
+        (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
+  if (const FoldReport& fo = in.folds; fo.flap_faces + fo.moved + fo.rim_faces > 0)
+    std::printf(
+        "  folds removed       %lld rim flap faces and %lld faces of folded stars cut, %lld vertices moved to "
+        "unfold %lld folded stars (%lld left); the surface changed by at most %.3g%% of the diagonal\n",
+        (long long)fo.flap_faces, (long long)fo.rim_faces, (long long)fo.moved, (long long)fo.folded_before,
+        (long long)fo.folded_after, 100 * fo.max_deviation / diagonal);
+  if (in.self_intersections > 0)
+    std::printf(
+        "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces, %lld "
+        "seam vertices stitched); buried faces left out of the fidelity\n",
+        (long long)in.self_intersections, (long long)in.resolved.pairs_after, (long long)in.resolved.faces_before,
+        (long long)in.resolved.faces_after, (long long)in.resolved.seam_vertices);
+  if (in.orient.flipped)
+    std::printf("  oriented outward    %d of %d parts reversed (%lld faces)\n", in.orient.flipped, in.orient.components,
+                (long long)in.orient.flipped_faces);
+}
+
+void print_bake(const BakeArgs& a, const BakeInputReport& rep) {
+  const BakeReport& r = rep.bake;
   std::printf("baked %s -> %s\n", a.input.c_str(), a.output.c_str());
   std::printf("  slabs               %d (grid n = %d, %lld samples)\n", r.slabs, r.grid_n, (long long)r.samples);
   std::printf("  input triangles     %lld\n", (long long)r.input_triangles);
@@ -179,29 +166,8 @@ void run_bake(const BakeArgs& a) {
   std::printf(
       "  bake time           %.2f s (peak memory %.0f MiB; %.2f s with reading, repair, every round and "
       "the fidelity measurement)\n",
-      r.seconds, peak_rss_mib(), j["total_seconds"].get<double>());
-  if (fixed.changed())
-    std::printf(
-        "  repaired input      %lld vertices welded, %lld faces removed, %lld vertices split, %lld faces flipped, "
-        "%d holes filled (%lld faces), %d open boundaries kept\n",
-        (long long)fixed.merged_vertices, (long long)fixed.removed_faces, (long long)fixed.split_vertices,
-        (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
-  if (const FoldReport& fo = prepared.folds; fo.flap_faces + fo.moved + fo.rim_faces > 0)
-    std::printf(
-        "  folds removed       %lld rim flap faces and %lld faces of folded stars cut, %lld vertices moved to "
-        "unfold %lld folded stars (%lld left); the surface changed by at most %.3g%% of the diagonal\n",
-        (long long)fo.flap_faces, (long long)fo.rim_faces, (long long)fo.moved, (long long)fo.folded_before,
-        (long long)fo.folded_after, 100 * fo.max_deviation / bounds(prepared.mesh).diagonal());
-  if (prepared.self_intersections > 0)
-    std::printf(
-        "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces, %lld "
-        "seam vertices stitched); buried faces left out of the fidelity\n",
-        (long long)prepared.self_intersections, (long long)prepared.resolved.pairs_after,
-        (long long)prepared.resolved.faces_before, (long long)prepared.resolved.faces_after,
-        (long long)prepared.resolved.seam_vertices);
-  if (prepared.orient.flipped)
-    std::printf("  oriented outward    %d of %d parts reversed (%lld faces)\n", prepared.orient.flipped,
-                prepared.orient.components, (long long)prepared.orient.flipped_faces);
+      r.seconds, peak_rss_mib(), rep.seconds);
+  print_input_changes(rep.input, rep.diagonal);
   std::printf("  invalid slabs       %d\n", r.invalid_slabs);
   std::printf("  ray misses          %lld (filled at the point of the line nearest the input)\n",
               (long long)r.ray_misses);
@@ -209,13 +175,39 @@ void run_bake(const BakeArgs& a) {
   std::printf("  overlapping pairs   %lld\n", (long long)r.overlapping_pairs);
   std::printf("  slab separation     %s\n",
               r.separated ? "on (overlapping slabs thinned apart)" : "off (see hdm check for overlaps)");
-  for (size_t k = 0; k < rounds.size(); ++k)
+  for (size_t k = 0; k < rep.rounds.size(); ++k) {
+    const ToleranceRound& t = rep.rounds[k];
     std::printf("  error-bounded round %zu: %d slabs (n = %d), max %.4f%% / %.4f%% back, RMS %.4f%% / %.4f%% back%s\n",
-                k + 1, rounds[k].slabs, rounds[k].grid_n, rounds[k].fidelity.max_pct, rounds[k].fidelity.max_back_pct,
-                rounds[k].fidelity.rms_pct, rounds[k].fidelity.rms_back_pct, rounds[k].met ? " (bound met)" : "");
+                k + 1, t.slabs, t.grid_n, t.fidelity.max_pct, t.fidelity.max_back_pct, t.fidelity.rms_pct,
+                t.fidelity.rms_back_pct, t.met ? " (bound met)" : "");
+  }
+  const Fidelity& f = rep.fidelity;
   std::printf("  fidelity (%% of bounding-box diagonal)\n");
   std::printf("    model -> input    RMS %.4f%%  max %.4f%%\n", f.rms_pct, f.max_pct);
   std::printf("    input -> model    RMS %.4f%%  max %.4f%%\n", f.rms_back_pct, f.max_back_pct);
+}
+
+void run_bake(const BakeArgs& a) {
+  guard_bake({a.input, a.output, a.slabs, a.grid, a.texels, a.density, a.limit.bytes()});
+  const auto start = std::chrono::steady_clock::now();
+  ProgressBar bar;
+  bar("read", 0);
+  TriangleMesh mesh = read_input(a.input, a.limit.bytes());
+  BakeInputOptions o = bake_options(a);
+  o.bake.progress = [&](const char* stage, double f) { bar(stage, f); };
+  BakeInputReport rep;
+  SlabModel model = bake_input(std::move(mesh), a.input, o, &rep);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();  // with reading
+  bar.finish();
+  save_model(model, a.output);
+  if (o.bounded && !rep.rounds.back().met)
+    std::fprintf(stderr, "hdm: warning: %s: the error bound is not met at %d slabs: %s; saved the finest model tried\n",
+                 a.input.c_str(), rep.bake.slabs,
+                 describe_stop(rep.rounds.back(), o.tolerance, rep.bake.input_triangles).c_str());
+  if (a.json)
+    std::printf("%s\n", bake_json(a, o, rep).dump(2).c_str());
+  else
+    print_bake(a, rep);
 }
 
 }  // namespace

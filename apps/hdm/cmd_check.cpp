@@ -30,16 +30,18 @@ struct CheckArgs {
 };
 
 void run_check(const CheckArgs& a) {
-  require_memory(check_peak_bytes(file_bytes(a.model), file_bytes(a.input), a.points), a.budget,
-                 "hdm check " + a.model, std::to_string(a.points) + " contact points (--points)");
+  require_memory(check_peak_bytes(file_bytes(a.model), file_bytes(a.input), a.points), a.budget, "hdm check " + a.model,
+                 std::to_string(a.points) + " contact points (--points)");
   SlabModel model = load_model(a.model, {a.limit.bytes()});
   // The input as `hdm bake` prepared it (the same scale, repair and orientation, from the input
   // alone), and the model at that scale: every figure is relative to the diagonal.
-  const PreparedInput prepared = prepare_input(a.input, a.in, a.limit.bytes());
-  scale_model(model, prepared.scale_exponent);
+  PrepareOptions prepare = a.in.prepare();
+  prepare.resolve = false;  // measured against the input's own faces, not the bake's resolution of them
+  const PreparedInput prepared = prepare_input(read_input(a.input, a.limit.bytes()), a.input, prepare);
+  scale_model(model, prepared.report.scale_exponent);
   const ExactMeshQuery exact(prepared.mesh);
   std::vector<uint8_t> buried;
-  if (prepared.self_intersections > 0) buried = buried_faces(exact);
+  if (prepared.report.self_intersections > 0) buried = buried_faces(exact);
   const Fidelity f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);
   const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0, buried.empty() ? nullptr : &buried);
   const int invalid = count_invalid_slabs(model);
@@ -65,7 +67,7 @@ void run_check(const CheckArgs& a) {
                             {"invalid_slabs", invalid},
                             {"overlapping_pairs", overlapping},
                             {"undercut_columns", undercut},
-                            {"self_intersections", prepared.self_intersections},
+                            {"self_intersections", prepared.report.self_intersections},
                             {"buried_faces", std::count(buried.begin(), buried.end(), uint8_t(1))},
                             {"samples", model.samples.count}};
   if (a.json) {

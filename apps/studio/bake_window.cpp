@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "bake_window.h"
 
-#include "input_mesh.h"  // apps/hdm: the input as `hdm bake` prepares it
+#include "input_mesh.h"  // apps/hdm: the input read as `hdm bake` reads it
 
-#include <hdm/analysis/bake_to_tolerance.h>
-#include <hdm/mesh/exact_mesh_query.h>
-#include <hdm/slab/scale_model.h>
+#include <hdm/pipeline/bake_input.h>
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -53,26 +51,14 @@ SlabModel bake_in_window(GLFWwindow* window, const std::string& mesh_path, Windo
   std::atomic<bool> done{false};
   std::exception_ptr error;
   SlabModel model;
-  std::vector<ToleranceRound> rounds;
+  BakeInputReport bake;
   const auto start = std::chrono::steady_clock::now();
-  // As `hdm bake MESH` with its defaults: repaired and oriented input, the error-bounded bake
-  // (0.2 % max and 0.02 % RMS of the diagonal, both ways, measured against the input).
+  // As `hdm bake MESH` with its defaults (bake_input(): the same model, byte for byte).
   std::thread worker([&] {
     try {
-      app::PreparedInput in = app::prepare_input(mesh_path, app::InputOptions{}, uint64_t(1) << 30, true);
-      progress.set("input BVH", 0);
-      validate_mesh_data(in.mesh, mesh_path);
-      const ExactMeshQuery reference(in.mesh);
-      std::vector<uint8_t> buried;
-      if (in.self_intersections > 0) buried = buried_faces(reference);
-      BakeOptions o;
-      o.progress = [&](const char* stage, double f) { progress.set(stage, f); };
-      Tolerance t;
-      t.max_pct = 0.2;
-      t.rms_pct = 0.02;
-      if (!buried.empty()) t.buried = &buried;
-      model = bake_to_tolerance(reference, mesh_path, o, t, &rounds);
-      scale_model(model, -in.scale_exponent);  // back to the input's units, exactly
+      BakeInputOptions o;
+      o.bake.progress = [&](const char* stage, double f) { progress.set(stage, f); };
+      model = bake_input(app::read_input(mesh_path, uint64_t(1) << 30), mesh_path, o, &bake);
     } catch (...) {
       error = std::current_exception();
     }
@@ -118,11 +104,11 @@ SlabModel bake_in_window(GLFWwindow* window, const std::string& mesh_path, Windo
   report.stages = progress.stages;
   report.slabs = model.slab_count();
   report.grid = model.grid_n;
-  if (!rounds.empty()) {
-    const Fidelity& f = rounds.back().fidelity;
+  if (!bake.rounds.empty()) {
+    const Fidelity& f = bake.rounds.back().fidelity;
     report.max_pct = f.max_pct, report.max_back_pct = f.max_back_pct;
     report.rms_pct = f.rms_pct, report.rms_back_pct = f.rms_back_pct;
-    report.met = rounds.back().met;
+    report.met = bake.rounds.back().met;
   }
   return model;
 }

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/pipeline/bake_input.h>
+#include <hdm/slab/scale_model.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace hdm {
+
+SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInputOptions& options,
+                     BakeInputReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto since = [](auto t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); };
+  BakeInputReport local;
+  BakeInputReport& r = report ? *report : local;
+  r = BakeInputReport{};
+  const auto progress = [&](const char* stage, double f) {
+    if (options.bake.progress) options.bake.progress(stage, f);
+  };
+  progress("prepare", 0);
+  PrepareOptions prepare = options.prepare;
+  prepare.resolve = true;
+  PreparedInput in = prepare_input(std::move(mesh), name, prepare);
+  r.input = in.report;
+  r.diagonal = bounds(in.mesh).diagonal();
+  // One BVH over the prepared mesh for the bake's rays and the fidelity measurement; the bake
+  // time reported includes its build.
+  progress("input BVH", 0);
+  const auto bvh_start = std::chrono::steady_clock::now();
+  const ExactMeshQuery reference(in.mesh);
+  // A mesh that crossed itself bounds the union of its parts; faces buried inside it are not on
+  // the surface the model follows, and the fidelity leaves them out.
+  std::vector<uint8_t> buried;
+  if (r.input.self_intersections > 0) buried = buried_faces(reference);
+  r.buried_faces = std::count(buried.begin(), buried.end(), uint8_t(1));
+  const double bvh_seconds = since(bvh_start);
+  SlabModel model;
+  if (options.bounded) {
+    Tolerance t = options.tolerance;
+    t.buried = buried.empty() ? nullptr : &buried;
+    model = bake_to_tolerance(reference, name, options.bake, t, &r.rounds, &r.bake);
+    r.fidelity = r.rounds.back().fidelity;
+  } else {
+    model = bake_slabs(reference, name, options.bake, &r.bake);
+    progress("fidelity", 0);
+    r.fidelity = measure_fidelity(model, reference, buried.empty() ? nullptr : &buried);
+    progress("fidelity", 1);
+  }
+  r.bake.seconds += bvh_seconds;
+  scale_model(model, -r.input.scale_exponent);  // back to the input's units, exactly
+  r.seconds = since(start);
+  return model;
+}
+
+}  // namespace hdm

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+#include <hdm/mesh/scale_mesh.h>
+#include <hdm/pipeline/prepare_input.h>
+
+#include <utility>
+
+namespace hdm {
+namespace {
+
+// Steps 4 and 5 of prepare_input(): an open mesh that crosses itself is joined at its seams, and
+// a nearly closed one that still crosses is closed. Returns whether the seams closed it.
+bool close_crossing_parts(PreparedInput& in, bool& open) {
+  PrepareReport& r = in.report;
+  bool closed_by_seams = false;
+  TriangleMesh joined = stitch_seams(in.mesh, &r.seams);
+  if (r.seams.inserted + r.seams.snapped > 0) {
+    orient_outward(joined);  // r.orient keeps the report of the input's own parts
+    in.mesh = std::move(joined);
+    closed_by_seams = r.seams.boundary_edges_after == 0;
+    open = !closed_by_seams;
+  }
+  // A nearly closed input that crosses itself is the solid it nearly bounds: its holes are filled
+  // for the bake and the check alike, so the check measures the caps the model has, and the
+  // buried faces are those inside that solid.
+  if (open) {
+    TriangleMesh filled = fill_nearly_closed(in.mesh);
+    if (!filled.faces.empty()) {  // only returned closed
+      r.filled_faces = static_cast<int64_t>(filled.faces.size() - in.mesh.faces.size());
+      in.mesh = std::move(filled);
+      open = false;
+    }
+  }
+  return closed_by_seams;
+}
+
+}  // namespace
+
+PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const PrepareOptions& options) {
+  PreparedInput in;
+  PrepareReport& r = in.report;
+  in.mesh = std::move(mesh);
+  validate_mesh_data(in.mesh, name);
+  r.scale_exponent = scale_exponent(bounds(in.mesh).diagonal(), name);
+  scale_mesh(in.mesh, r.scale_exponent);
+  if (!options.repair) {
+    validate_for_bake(in.mesh, name);
+  } else if (needs_repair(in.mesh)) {
+    RepairOptions ro;
+    ro.max_hole_edges = options.max_hole_edges;
+    ro.max_hole_size = options.max_hole_size;
+    in.mesh = repair_mesh(in.mesh, name, ro, &r.repair);
+  }
+  r.orient = orient_outward(in.mesh);
+  r.self_intersections = count_self_intersections(in.mesh);
+  bool open = r.orient.nearly_closed + r.orient.sheets > 0;  // some part has a boundary edge
+  const bool closed_by_seams = r.self_intersections > 0 && open && close_crossing_parts(in, open);
+  if (open) r.folds = remove_folds(in.mesh);
+  if (!options.resolve || r.self_intersections == 0) return in;
+  if (closed_by_seams) {
+    // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL 5.5's
+    // refinement of a closed union crashes on some such surfaces.
+    r.resolved.pairs_before = r.self_intersections;
+    r.resolved.pairs_after = count_self_intersections(in.mesh);
+  } else {
+    in.mesh = resolve_self_intersections(in.mesh, &r.resolved);
+    r.resolved.filled_faces = r.filled_faces;
+  }
+  if (r.seams.inserted + r.seams.snapped > 0) r.resolved.seam_vertices = r.seams.inserted + r.seams.snapped;
+  return in;
+}
+
+}  // namespace hdm

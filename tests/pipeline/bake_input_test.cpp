@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: MIT
+// The one bake of every front end, judged against analytic shapes: two boxes pushed into each
+// other bake to their union (its signed distance, volume and area), in the input's own units.
+#include <hdm/core/error.h>
+#include <hdm/pipeline/bake_input.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace hdm;
+
+namespace {
+
+// An axis-aligned box [lo, hi], each face cut into k x k quads of two triangles, counter-clockwise
+// seen from outside.
+void add_box(TriangleMesh& m, const Vec3& lo, const Vec3& hi, int k) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const int base = static_cast<int>(m.vertices.size());
+      for (int i = 0; i <= k; ++i)
+        for (int j = 0; j <= k; ++j) {
+          Vec3 p;
+          p[axis] = side ? hi[axis] : lo[axis];
+          p[u] = lo[u] + (hi[u] - lo[u]) * i / k;
+          p[v] = lo[v] + (hi[v] - lo[v]) * j / k;
+          m.vertices.push_back(p);
+        }
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          const int a = base + i * (k + 1) + j, b = a + (k + 1), c = b + 1, d = a + 1;
+          // (u, v, axis) is right-handed: a, b, c winds counter-clockwise seen from +axis.
+          if (side) {
+            m.faces.push_back({a, b, c});
+            m.faces.push_back({a, c, d});
+          } else {
+            m.faces.push_back({a, c, b});
+            m.faces.push_back({a, d, c});
+          }
+        }
+    }
+}
+
+// Signed distance to the box [lo, hi] (negative inside).
+double box_distance(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  const Vec3 q = (p - (lo + hi) / 2).cwiseAbs() - (hi - lo) / 2;
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+struct TwoBoxes {
+  double scale = 3e-3;  // not a power of two: the model must come back in these units
+  Vec3 offset{0.01, -0.02, 0.005};
+  Vec3 a_lo{0, 0, 0}, a_hi{1, 1, 1}, b_lo{0.5, 0.25, 0.25}, b_hi{1.5, 0.75, 0.75};  // before scale and offset
+  TriangleMesh mesh() const {
+    TriangleMesh m;
+    add_box(m, a_lo, a_hi, 12);
+    add_box(m, b_lo, b_hi, 12);
+    for (Vec3& p : m.vertices) p = p * scale + offset;
+    return m;
+  }
+  double union_distance(const Vec3& p) const {
+    const Vec3 q = (p - offset) / scale;
+    return scale * std::min(box_distance(q, a_lo, a_hi), box_distance(q, b_lo, b_hi));
+  }
+  double volume() const { return std::pow(scale, 3) * (1.0 + 0.5 * 0.5 * 0.5); }
+  // A's 6 faces less the 0.5 x 0.5 where B leaves it, plus B's part outside A: 4 sides and its end.
+  double area() const { return scale * scale * (6.0 - 0.25 + 4 * 0.25 + 0.25); }
+};
+
+void volume_and_area(const TriangleMesh& m, double& volume, double& area) {
+  volume = area = 0;
+  for (const Tri& t : m.faces) {
+    const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+    volume += a.dot(b.cross(c)) / 6;
+    area += (b - a).cross(c - a).norm() / 2;
+  }
+}
+
+}  // namespace
+
+TEST(BakeInput, TwoBoxesPushedIntoEachOtherBakeToTheirUnionInTheInputsUnits) {
+  const TwoBoxes boxes;
+  BakeInputReport report;
+  const SlabModel model = bake_input(boxes.mesh(), "two boxes", {}, &report);
+  EXPECT_GT(report.input.self_intersections, 0);
+  EXPECT_GT(report.input.resolved.buried_faces, 0);  // B's faces inside A and A's inside B, dropped
+  TriangleMesh surface;
+  displaced_surface(model, surface.vertices, surface.faces);
+  const double diagonal = boxes.scale * Vec3(1.5, 1, 1).norm();
+  double worst = 0;
+  for (const Vec3& p : surface.vertices) worst = std::max(worst, std::abs(boxes.union_distance(p)));
+  // The bound is on the distance to the input's surface the model follows (0.2 % of the diagonal).
+  EXPECT_LE(100 * worst / diagonal, 0.2 + 1e-6);
+  double volume = 0, area = 0;
+  volume_and_area(surface, volume, area);
+  EXPECT_NEAR(volume / boxes.volume(), 1.0, 0.01);
+  EXPECT_NEAR(area / boxes.area(), 1.0, 0.01);
+}
+
+TEST(BakeInput, WithoutRepairADirtyMeshIsRefusedByName) {
+  // Three triangles on one edge: non-manifold, which only the repair accepts.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  m.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  BakeInputOptions o;
+  o.prepare.repair = false;
+  try {
+    bake_input(m, "fan.obj", o);
+    FAIL() << "a non-manifold mesh was baked without repair";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("fan.obj"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BakeInput, RefusesMeshDataWithNaNByName) {
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, NAN, 0}};
+  m.faces = {{0, 1, 2}};
+  try {
+    bake_input(m, "nan.off");
+    FAIL() << "a NaN vertex was baked";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("nan.off"), std::string::npos) << e.what();
+  }
+}
