@@ -10,6 +10,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <utility>
 
 namespace hdm {
 namespace {
@@ -79,7 +80,9 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
   const double near = 1e-2 * diag;
   const Sum fwd = distances(ns + nt, input, near,
                             [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
-  const ExactMeshQuery recon(surface, BvhQuality::medium);  // about one query per triangle
+  // About one query per triangle (medium quality); the surface is handed over, not copied (0.6 GB
+  // at 10^5 slabs), as only the reconstruction's queries read it from here on.
+  const ExactMeshQuery recon(std::move(surface), BvhQuality::medium);
   // Input points on the surface of the material: every vertex and centroid, or without buried faces.
   std::vector<Vec3> back_points;
   if (buried) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <unordered_map>
+#include <utility>
 
 namespace hdm {
 
@@ -22,8 +23,9 @@ struct ExactMeshQuery::Impl {
   std::unordered_map<uint64_t, Vec3> edge_normal;
 };
 
-ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
-    : impl_(std::make_unique<Impl>()), mesh_(mesh) {
+ExactMeshQuery::ExactMeshQuery(TriangleMesh mesh_in, BvhQuality quality)
+    : impl_(std::make_unique<Impl>()), mesh_(std::move(mesh_in)) {
+  const TriangleMesh& mesh = mesh_;
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw NumericalError("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
@@ -35,12 +37,13 @@ ExactMeshQuery::ExactMeshQuery(const TriangleMesh& mesh, BvhQuality quality)
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                          3 * sizeof(float), mesh.vertices.size()));
-  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                            3 * sizeof(unsigned), mesh.faces.size()));
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
     for (int a = 0; a < 3; ++a) vb[3 * v + a] = static_cast<float>(mesh.vertices[v][a]);
-  for (size_t f = 0; f < mesh.faces.size(); ++f)
-    for (int a = 0; a < 3; ++a) ib[3 * f + a] = static_cast<unsigned>(mesh.faces[f][a]);
+  // Embree reads the faces in place (three int32 per face: the bits of UINT3 for valid ids), as
+  // a copy would cost 12 B per face; mesh_ is never modified, and the object never moves.
+  static_assert(sizeof(Tri) == 3 * sizeof(unsigned), "Tri must be three packed 32-bit ids");
+  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh_.faces.data(), 0, sizeof(Tri),
+                             mesh_.faces.size());
   rtcCommitGeometry(geom);
   rtcAttachGeometry(impl_->scene, geom);
   rtcReleaseGeometry(geom);
