@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <utility>
 
 namespace hdm::app {
 namespace {
@@ -37,9 +38,9 @@ void run_check(const CheckArgs& a) {
   // alone), and the model at that scale: every figure is relative to the diagonal.
   PrepareOptions prepare = a.in.prepare();
   prepare.resolve = false;  // measured against the input's own faces, not the bake's resolution of them
-  const PreparedInput prepared = prepare_input(read_input(a.input, a.limit.bytes()), a.input, prepare);
+  PreparedInput prepared = prepare_input(read_input(a.input, a.limit.bytes()), a.input, prepare);
   scale_model(model, prepared.report.scale_exponent);
-  const ExactMeshQuery exact(prepared.mesh);
+  const ExactMeshQuery exact(std::move(prepared.mesh));
   std::vector<uint8_t> buried;
   if (prepared.report.self_intersections > 0) buried = buried_faces(exact);
   const Fidelity f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);

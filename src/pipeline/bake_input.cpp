@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace hdm {
 
@@ -27,7 +28,7 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
   // time reported includes its build.
   progress("input BVH", 0);
   const auto bvh_start = std::chrono::steady_clock::now();
-  const ExactMeshQuery reference(in.mesh);
+  const ExactMeshQuery reference(std::move(in.mesh));  // the prepared mesh lives on in the BVH alone
   // A mesh that crossed itself bounds the union of its parts; faces buried inside it are not on
   // the surface the model follows, and the fidelity leaves them out.
   std::vector<uint8_t> buried;
