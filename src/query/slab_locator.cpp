@@ -53,6 +53,7 @@ SlabLocator::SlabLocator(const SlabModel& model)
   filters_.resize(S);
   for (int s = 0; s < S; ++s) filters_[s] = {boxes[s], sides[s]};
   build_grid();
+  build_occupancy(model);
   classify_cells();
   edge_ = model.edge_neighbour;
 
@@ -71,6 +72,42 @@ SlabLocator::SlabLocator(const SlabModel& model)
     ring_.insert(ring_.end(), tmp.begin(), tmp.end());
     ring_offsets_[s + 1] = static_cast<int32_t>(ring_.size());
   }
+  ring_blocks_ = pack_lists(ring_offsets_, ring_);
+}
+
+SlabLocator::BoxLists SlabLocator::pack_lists(const std::vector<int32_t>& offsets,
+                                              const std::vector<int32_t>& slabs) const {
+  BoxLists out;
+  const size_t lists = offsets.size() - 1;
+  out.offsets.assign(lists + 1, 0);
+  for (size_t k = 0; k < lists; ++k) out.offsets[k + 1] = out.offsets[k] + (offsets[k + 1] - offsets[k] + 3) / 4;
+  BoxBlock empty;
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < 4; ++i) empty.lo[a][i] = INFINITY, empty.hi[a][i] = -INFINITY;
+  for (int i = 0; i < 4; ++i) empty.slab[i] = -1;
+  out.blocks.assign(out.offsets[lists], empty);
+  for (size_t k = 0; k < lists; ++k)
+    for (int32_t e = offsets[k]; e < offsets[k + 1]; ++e) {
+      const int j = e - offsets[k];
+      BoxBlock& b = out.blocks[out.offsets[k] + j / 4];
+      const Box& box = filters_[slabs[e]].box;
+      for (int a = 0; a < 3; ++a) b.lo[a][j % 4] = box.lo[a], b.hi[a][j % 4] = box.hi[a];
+      b.slab[j % 4] = slabs[e];
+    }
+  return out;
+}
+
+int SlabLocator::scan(const BoxBlock* b, const BoxBlock* e, const Vec3& p, float x, float y, float z, int32_t skip,
+                      AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
+  const auto& g = *geometry_;
+  int edge;
+  for (; b != e; ++b)
+    for (unsigned m = b->contains(x, y, z); m != 0; m &= m - 1) {
+      const int32_t s = b->slab[__builtin_ctz(m)];
+      if (s != skip && filters_[s].sides.may_contain(x, y, z) && locate_in_slab(g[s], p, solver, guess, c, edge))
+        return s;
+    }
+  return -1;
 }
 
 void SlabLocator::build_grid() {
@@ -109,7 +146,7 @@ void SlabLocator::build_grid() {
     total *= static_cast<size_t>(grid_dim_[a]);
   }
   // Two passes over every slab's cell range: count, then fill.
-  grid_offsets_.assign(total + 1, 0);
+  std::vector<int32_t> offsets(total + 1, 0);
   auto for_cells = [&](int s, auto&& f) {
     const Box& b = filters_[s].box;
     int lo[3], hi[3];
@@ -118,30 +155,96 @@ void SlabLocator::build_grid() {
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int x = lo[0]; x <= hi[0]; ++x) f((static_cast<size_t>(z) * grid_dim_[1] + y) * grid_dim_[0] + x);
   };
-  for (int s = 0; s < S; ++s) for_cells(s, [&](size_t k) { ++grid_offsets_[k + 1]; });
-  for (size_t k = 0; k < total; ++k) grid_offsets_[k + 1] += grid_offsets_[k];
-  grid_entries_.resize(grid_offsets_[total]);
-  std::vector<int32_t> fill(grid_offsets_.begin(), grid_offsets_.end() - 1);
-  for (int s = 0; s < S; ++s) for_cells(s, [&](size_t k) { grid_entries_[fill[k]++] = {filters_[s].box, s}; });
+  for (int s = 0; s < S; ++s) for_cells(s, [&](size_t k) { ++offsets[k + 1]; });
+  for (size_t k = 0; k < total; ++k) offsets[k + 1] += offsets[k];
+  std::vector<int32_t> listed(offsets[total]);
+  std::vector<int32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (int s = 0; s < S; ++s) for_cells(s, [&](size_t k) { listed[fill[k]++] = s; });
+  grid_ = pack_lists(offsets, listed);
 }
 
 int SlabLocator::find_grid(const Vec3& p, AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
   const float x = static_cast<float>(p.x()), y = static_cast<float>(p.y()), z = static_cast<float>(p.z());
-  // Outside the union of the (float) boxes no slab can hold the point.
-  if (!(x >= grid_lo_[0] && x <= grid_hi_[0] && y >= grid_lo_[1] && y <= grid_hi_[1] && z >= grid_lo_[2] &&
-        z <= grid_hi_[2]))
-    return -1;
-  const size_t k =
-      (static_cast<size_t>(cell_coord(z, 2)) * grid_dim_[1] + cell_coord(y, 1)) * grid_dim_[0] + cell_coord(x, 0);
-  const auto& g = *geometry_;
-  int edge;
-  for (int32_t e = grid_offsets_[k]; e < grid_offsets_[k + 1]; ++e) {
-    const GridEntry& ge = grid_entries_[e];
-    if (ge.box.contains(x, y, z) && filters_[ge.slab].sides.may_contain(x, y, z) &&
-        locate_in_slab(g[ge.slab], p, solver, guess, c, edge))
-      return ge.slab;
+  size_t k;
+  uint64_t bit;
+  // Outside the union of the (float) boxes, or in a sub-cell no slab reaches: no slab holds p.
+  if (!cell_of(x, y, z, k, bit) || !(occupied_[k] & bit)) return -1;
+  return scan_cell(k, p, x, y, z, solver, guess, c);
+}
+
+namespace {
+
+// Bounding planes n·x <= d of the slab: the support planes of its six corners along the normals
+// of its inner and outer faces, both ways (any direction gives a valid bound; these four are the
+// tight ones for a thin slab), with the margin of the side planes.
+void face_planes(const SlabModel& model, int s, Vec3 n[4], double d[4]) noexcept {
+  const Tri& t = model.slabs[s];
+  Vec3 corner[6];
+  double M = (model.geometry[s].box.max - model.geometry[s].box.min).norm();
+  for (int k = 0; k < 3; ++k) {
+    corner[k] = model.inner[t[k]], corner[k + 3] = model.outer[t[k]];
+    M = std::max({M, corner[k].cwiseAbs().maxCoeff(), corner[k + 3].cwiseAbs().maxCoeff()});
   }
-  return -1;
+  for (int f = 0; f < 2; ++f) {
+    const Vec3* v = corner + 3 * f;
+    Vec3 fn = (v[1] - v[0]).cross(v[2] - v[0]);
+    const double len = fn.norm();
+    fn = len > 0 ? Vec3(fn / len) : Vec3::Zero();
+    for (int sign = 0; sign < 2; ++sign) {
+      Vec3& nn = n[2 * f + sign];
+      nn = sign ? Vec3(-fn) : fn;
+      double m = -INFINITY;
+      for (const Vec3& c : corner) m = std::max(m, nn.dot(c));
+      d[2 * f + sign] = len > 0 ? m + 1e-5 * M : INFINITY;
+    }
+  }
+}
+
+}  // namespace
+
+void SlabLocator::build_occupancy(const SlabModel& model) {
+  occupied_.assign(grid_.offsets.empty() ? 0 : grid_.offsets.size() - 1, 0);
+  double w[3], margin[3];
+  for (int a = 0; a < 3; ++a) {
+    w[a] = 0.25 / grid_inv_[a];  // sub-cell width
+    margin[a] = 0.01 * w[a];     // far above the float rounding of the point's cell coordinate
+  }
+  for (int s = 0; s < static_cast<int>(filters_.size()); ++s) {
+    const Filter& f = filters_[s];
+    Vec3 n[7];
+    double d[7];
+    face_planes(model, s, n, d);
+    for (int e = 0; e < 3; ++e) n[4 + e] = Vec3f(f.sides.n[e]).cast<double>(), d[4 + e] = f.sides.d[e];
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = cell_coord(f.box.lo[a], a), hi[a] = cell_coord(f.box.hi[a], a);
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+          const int cell[3] = {x, y, z};
+          // Per axis, the sub-cells (grown by the margin) that meet the slab's box, and their bounds.
+          int j0[3], j1[3];
+          double s0[3][4], s1[3][4];
+          for (int a = 0; a < 3; ++a) {
+            j0[a] = 4, j1[a] = -1;
+            for (int j = 0; j < 4; ++j) {
+              s0[a][j] = grid_lo_[a] + (4 * cell[a] + j) * w[a] - margin[a];
+              s1[a][j] = grid_lo_[a] + (4 * cell[a] + j + 1) * w[a] + margin[a];
+              if (s1[a][j] >= f.box.lo[a] && s0[a][j] <= f.box.hi[a]) j0[a] = std::min(j0[a], j), j1[a] = j;
+            }
+          }
+          uint64_t bits = 0;
+          for (int sz = j0[2]; sz <= j1[2]; ++sz)
+            for (int sy = j0[1]; sy <= j1[1]; ++sy)
+              for (int sx = j0[0]; sx <= j1[0]; ++sx) {
+                const Vec3 lo3(s0[0][sx], s0[1][sy], s0[2][sz]), hi3(s1[0][sx], s1[1][sy], s1[2][sz]);
+                const Vec3 centre = 0.5 * (lo3 + hi3), half = 0.5 * (hi3 - lo3);
+                bool meets = true;  // separated when the sub-cell's lowest n·x is above d
+                for (int k = 0; k < 7 && meets; ++k) meets = n[k].dot(centre) - n[k].cwiseAbs().dot(half) <= d[k];
+                if (meets) bits |= uint64_t{1} << ((sz * 4 + sy) * 4 + sx);
+              }
+          occupied_[(static_cast<size_t>(z) * grid_dim_[1] + y) * grid_dim_[0] + x] |= bits;
+        }
+  }
 }
 
 namespace {
@@ -171,37 +274,38 @@ int SlabLocator::winding_along_x(const Vec3& p, bool stop_at_classified) const n
   for (int i = cell_coord(static_cast<float>(p.x()), 0); i < grid_dim_[0]; ++i) {
     const size_t k = row + i;
     if (stop_at_classified && cell_winding_[k] != kMixed) return winding + cell_winding_[k];
-    for (int32_t e = grid_offsets_[k]; e < grid_offsets_[k + 1]; ++e) {
-      const GridEntry& ge = grid_entries_[e];
-      if (!(y >= ge.box.lo[1] && y <= ge.box.hi[1] && z >= ge.box.lo[2] && z <= ge.box.hi[2])) continue;
-      const Tri& t = (*inner_faces_)[ge.slab];
-      const Vec3 &a = (*inner_)[t[0]], &b = (*inner_)[t[1]], &c = (*inner_)[t[2]];
-      double wa, wb, wc;  // edge functions opposite a, b, c: barycentric weights of the hit
-      const int sa = edge_sign(b, c, p.y(), p.z(), wa), sb = edge_sign(c, a, p.y(), p.z(), wb),
-                sc = edge_sign(a, b, p.y(), p.z(), wc);
-      if (sa != sb || sb != sc) continue;  // the ray misses the face
-      const double sum = wa + wb + wc;     // twice the signed projected area: 0 for a face parallel to x
-      if (sum == 0) continue;
-      // Clamped to the face's x range: on a face almost parallel to x the quotient may round
-      // outside it, and then outside the cells that list the face.
-      const double hx = std::clamp((wa * a.x() + wb * b.x() + wc * c.x()) / sum, std::min({a.x(), b.x(), c.x()}),
-                                   std::max({a.x(), b.x(), c.x()}));
-      // Each crossing is counted in the one cell its x falls in (the function that listed the
-      // face's box), so a face listed in several cells of the row counts once.
-      if (!(hx > p.x()) || cell_coord(static_cast<float>(hx), 0) != i) continue;
-      winding += sa;  // sa > 0: the face's normal has n.x > 0, the ray leaves through its front
-    }
+    for (int32_t e = grid_.offsets[k]; e < grid_.offsets[k + 1]; ++e)
+      for (int l = 0; l < 4; ++l) {
+        const BoxBlock& gb = grid_.blocks[e];
+        if (!(y >= gb.lo[1][l] && y <= gb.hi[1][l] && z >= gb.lo[2][l] && z <= gb.hi[2][l])) continue;
+        const Tri& t = (*inner_faces_)[gb.slab[l]];
+        const Vec3 &a = (*inner_)[t[0]], &b = (*inner_)[t[1]], &c = (*inner_)[t[2]];
+        double wa, wb, wc;  // edge functions opposite a, b, c: barycentric weights of the hit
+        const int sa = edge_sign(b, c, p.y(), p.z(), wa), sb = edge_sign(c, a, p.y(), p.z(), wb),
+                  sc = edge_sign(a, b, p.y(), p.z(), wc);
+        if (sa != sb || sb != sc) continue;  // the ray misses the face
+        const double sum = wa + wb + wc;     // twice the signed projected area: 0 for a face parallel to x
+        if (sum == 0) continue;
+        // Clamped to the face's x range: on a face almost parallel to x the quotient may round
+        // outside it, and then outside the cells that list the face.
+        const double hx = std::clamp((wa * a.x() + wb * b.x() + wc * c.x()) / sum, std::min({a.x(), b.x(), c.x()}),
+                                     std::max({a.x(), b.x(), c.x()}));
+        // Each crossing is counted in the one cell its x falls in (the function that listed the
+        // face's box), so a face listed in several cells of the row counts once.
+        if (!(hx > p.x()) || cell_coord(static_cast<float>(hx), 0) != i) continue;
+        winding += sa;  // sa > 0: the face's normal has n.x > 0, the ray leaves through its front
+      }
   }
   return winding;
 }
 
 void SlabLocator::classify_cells() {
-  const size_t total = grid_offsets_.empty() ? 0 : grid_offsets_.size() - 1;
+  const size_t total = grid_.offsets.empty() ? 0 : grid_.offsets.size() - 1;
   cell_winding_.assign(total, kMixed);
   if (total == 0) return;
   constexpr int8_t kUnset = INT8_MIN + 1;
   for (size_t k = 0; k < total; ++k)
-    if (grid_offsets_[k] == grid_offsets_[k + 1]) cell_winding_[k] = kUnset;
+    if (grid_.offsets[k] == grid_.offsets[k + 1]) cell_winding_[k] = kUnset;
   const int X = grid_dim_[0], Y = grid_dim_[1], Z = grid_dim_[2];
   std::vector<size_t> queue;
   // Flood fill of one component of empty cells (face neighbours) with winding w.
@@ -252,8 +356,8 @@ bool SlabLocator::inside_inner_shell(const Vec3& p) const noexcept {
 
 size_t SlabLocator::memory_bytes() const noexcept {
   return cell_winding_.capacity() + filters_.capacity() * sizeof(Filter) + edge_.capacity() * sizeof(edge_[0]) +
-         ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t) +
-         grid_offsets_.capacity() * sizeof(int32_t) + grid_entries_.capacity() * sizeof(GridEntry);
+         ring_offsets_.capacity() * sizeof(int32_t) + ring_.capacity() * sizeof(int32_t) + grid_.memory_bytes() +
+         ring_blocks_.memory_bytes();
 }
 
 int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess, SlabCoordinates& c) const noexcept {
@@ -270,12 +374,14 @@ int SlabLocator::find(const Vec3& p, int hint, AlphaSolver solver, double guess,
     const int32_t across = near_hint && edge >= 0 ? edge_[hint][edge] : -1;
     if (across >= 0 && candidate(across, x, y, z) && locate_in_slab(g[across], p, solver, guess, c, edge))
       return across;
-    int count = 0;
-    const int32_t* ring = neighbourhood(hint, count);
-    for (int k = 0; k < count; ++k) {
-      const int32_t s = ring[k];
-      if (s != across && candidate(s, x, y, z) && locate_in_slab(g[s], p, solver, guess, c, edge)) return s;
-    }
+    size_t k;
+    uint64_t bit;
+    // A point in a sub-cell no slab reaches is in none: answered before the neighbourhood and the cell.
+    if (!cell_of(x, y, z, k, bit) || !(occupied_[k] & bit)) return -1;
+    const BoxBlock* b = ring_blocks_.blocks.data();
+    const int s =
+        scan(b + ring_blocks_.offsets[hint], b + ring_blocks_.offsets[hint + 1], p, x, y, z, across, solver, guess, c);
+    return s >= 0 ? s : scan_cell(k, p, x, y, z, solver, guess, c);
   }
   return find_grid(p, solver, guess, c);
 }
