@@ -241,14 +241,22 @@ void bind_model_edits(py::module_& m) {
             if (name == "friction_static") return copy_of(s.friction_static);
             if (name == "friction_dynamic") return copy_of(s.friction_dynamic);
             if (name == "stiffness") return copy_of(s.stiffness_scale);
-            if (name == "roughness") return copy_of(s.roughness);
+            if (name == "roughness") {  // decoded, like colour: the values a brush's `value` is compared with
+              py::array_t<float> a(py::ssize_t(s.roughness.size()));
+              for (size_t i = 0; i < s.roughness.size(); ++i) a.mutable_data()[i] = unorm8_to_unit(s.roughness[i]);
+              return a;
+            }
             if (name == "layer_displacement") return copy_of(s.layer_displacement);
             if (name == "colour" || name == "positions" || name == "normals") {
-              const auto& v = name == "colour" ? s.colour : name == "positions" ? s.positions : s.normals;
-              py::array_t<float> a({py::ssize_t(v.size()), py::ssize_t(3)});
+              const bool colour = name == "colour";
+              const auto& v = name == "positions" ? s.positions : s.normals;
+              const size_t n = colour ? s.colour.size() : v.size();
+              py::array_t<float> a({py::ssize_t(n), py::ssize_t(3)});
               float* d = a.mutable_data();
-              for (size_t i = 0; i < v.size(); ++i)
-                for (int k = 0; k < 3; ++k) d[3 * i + k] = v[i][k];
+              for (size_t i = 0; i < n; ++i) {
+                const Vec3f c = colour ? decode_srgb8(s.colour[i]) : v[i];
+                for (int k = 0; k < 3; ++k) d[3 * i + k] = c[k];
+              }
               return a;
             }
             throw InvalidInput("field: '" + name +
@@ -259,7 +267,9 @@ void bind_model_edits(py::module_& m) {
           "A copy of a stored field as a float32 array: per displacement sample (#samples,): displacement δ in [0, "
           "1], friction_static, friction_dynamic, stiffness (scale in [0, 1]), layer_displacement (empty without "
           "an under-layer); per sample (#samples, 3): positions [model units], normals (unit); per texel: colour "
-          "(#texels, 3) linear RGB, roughness (#texels,).");
+          "(#texels, 3) linear RGB decoded from the stored 8-bit sRGB, roughness (#texels,) decoded from unorm8 (code "
+          "/ "
+          "255).");
 }
 
 }  // namespace

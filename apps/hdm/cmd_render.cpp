@@ -47,7 +47,7 @@ void restyle(SlabModel& m, const RenderArgs& a) {
                     double(T.point_i[local]) / T.n);
       Contact at;
       evaluate_surface(m, T.home_slab[t], c, at);
-      m.colour[t] = displacement_colour(at.delta);
+      m.colour[t] = encode_srgb8(displacement_colour(at.delta));
     }
   }
   if (a.surface != "displaced") {

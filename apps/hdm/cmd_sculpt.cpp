@@ -170,8 +170,10 @@ void require_sculpt_memory(const SculptArgs& a, int64_t ticks) {
 // The model as the script sets it up: an under-layer, a surface colour and roughness.
 void apply_script_surface(SlabModel& model, const Script& script, double mm) {
   if (script.layer.present) set_under_layer(model, script.layer.thickness_mm * mm, script.layer.material);
-  if (script.surface.has_colour) std::fill(model.colour.begin(), model.colour.end(), script.surface.colour);
-  if (script.surface.has_roughness) std::fill(model.roughness.begin(), model.roughness.end(), script.surface.roughness);
+  if (script.surface.has_colour)
+    std::fill(model.colour.begin(), model.colour.end(), encode_srgb8(script.surface.colour));
+  if (script.surface.has_roughness)
+    std::fill(model.roughness.begin(), model.roughness.end(), unit_to_unorm8(script.surface.roughness));
 }
 
 // The hand holds the tool button down during each editing stroke (not while probing or travelling).

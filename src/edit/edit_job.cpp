@@ -145,8 +145,7 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     } else {
       const int32_t id = -(r.index + 1);
       const TexelValues now = texel_values(m, id);
-      m.colour[id] = Vec3f(r.v[0], r.v[1], r.v[2]);
-      m.roughness[id] = r.v[3];
+      set_texel_values(m, id, r.v[0], r.v[1], r.v[2], r.v[3]);
       r.v[0] = now.r, r.v[1] = now.g, r.v[2] = now.b, r.v[3] = now.roughness;
       dirty_t.mark(m.texels, id);
       ++result.changed;

@@ -33,9 +33,15 @@ inline SampleValues sample_values(const SlabModel& m, int32_t s) noexcept {
   return {m.displacement[s], m.friction_static[s], m.friction_dynamic[s], m.stiffness_scale[s],
           m.layer_displacement[s]};
 }
+// The texel's stored codes decoded; set_texel_values() of them writes the same codes back
+// (every code survives decode → encode), so undo and the stroke's base restore texels exactly.
 inline TexelValues texel_values(const SlabModel& m, int32_t t) noexcept {
-  const Vec3f& c = m.colour[t];
-  return {c.x(), c.y(), c.z(), m.roughness[t]};
+  const Vec3f c = decode_srgb8(m.colour[t]);
+  return {c.x(), c.y(), c.z(), unorm8_to_unit(m.roughness[t])};
+}
+inline void set_texel_values(SlabModel& m, int32_t t, float r, float g, float b, float roughness) noexcept {
+  m.colour[t] = encode_srgb8(Vec3f(r, g, b));
+  m.roughness[t] = unit_to_unorm8(roughness);
 }
 
 // Deadline on steady_clock, read once every `kEvery` checks (a clock read costs ~25 ns).

@@ -138,13 +138,22 @@ inline void touch_sample(const SlabModel& m, StrokeMemory* st, int32_t id) noexc
     st->history->record(
         {id, {v.delta, v.friction_static, v.friction_dynamic, v.stiffness_scale, v.layer_displacement}});
 }
+// A texel is recorded for undo only when its 8-bit codes first change (record_texel), so a touch
+// that rounds to the same codes leaves no record and flags no slab.
 inline void touch_texel(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
   if (!st || st->texel_mark[id] == st->id) return;
   st->texel_mark[id] = st->id;
-  const TexelValues v = texel_values(m, id);
-  st->texel_base[id] = v;
+  st->texel_base[id] = texel_values(m, id);
   st->texel_k[id] = 0;
-  if (st->history) st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f}});
+}
+// Before a touched texel's codes change: records its values at the stroke's start, the first time
+// (while its codes still decode to them; decoding is one-to-one).
+inline void record_texel(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
+  if (!st || !st->history) return;
+  const TexelValues& v = st->texel_base[id];
+  const TexelValues now = texel_values(m, id);
+  if (now.r == v.r && now.g == v.g && now.b == v.b && now.roughness == v.roughness)
+    st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f}});
 }
 // A sample's displacement at the start of the stroke (its current one when there is no stroke).
 inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id) noexcept {

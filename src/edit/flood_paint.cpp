@@ -82,12 +82,20 @@ bool flood_paint_texels(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d)
     if (!(k > (st && st->texel_mark[id] == st->id ? st->texel_k[id] : 0.0f))) return true;
     touch_texel(m, st, id);
     const TexelValues base = st ? st->texel_base[id] : texel_values(m, id);
+    // Blended from the stroke's base, never from the stored (quantised) value, and rounded once
+    // to 8 bits: later ticks of the stroke rewrite the texel, they do not drift it.
+    Srgb8 colour = m.colour[id];
+    uint8_t roughness = m.roughness[id];
+    if (b.field == BrushField::Colour)
+      colour = encode_srgb8(k * b.colour + (1 - k) * Vec3f(base.r, base.g, base.b));
+    else
+      roughness = unit_to_unorm8(k * b.value + (1 - k) * base.roughness);
     if (st) st->texel_k[id] = k;
-    if (b.field == BrushField::Colour) {
-      m.colour[id] = k * b.colour + (1 - k) * Vec3f(base.r, base.g, base.b);
-    } else {
-      m.roughness[id] = std::clamp(k * b.value + (1 - k) * base.roughness, 0.0f, 1.0f);
-    }
+    // A rise of k too small to move a code changes nothing: no undo record, no dirty slab.
+    if (colour == m.colour[id] && roughness == m.roughness[id]) return true;
+    record_texel(m, st, id);
+    m.colour[id] = colour;
+    m.roughness[id] = roughness;
     ++job.result.changed;
     dirty.mark(T, id);
     return true;

@@ -140,6 +140,43 @@ void get_vectors(Reader& r, const char (&t)[5], std::vector<V>& v) {
     }
 }
 
+// 8-bit texel arrays (version 3): stored as they lie in memory, 3 or 1 bytes per texel.
+static_assert(sizeof(Srgb8) == 3 && alignof(Srgb8) == 1);
+template <class T>
+void put_bytes(Writer& w, const char (&t)[5], const std::vector<T>& v) {
+  w.tag(t, v.size());
+  const auto* p = reinterpret_cast<const uint8_t*>(v.data());
+  w.bytes.insert(w.bytes.end(), p, p + v.size() * sizeof(T));
+}
+template <class T>
+void get_bytes(Reader& r, const char (&t)[5], std::vector<T>& v) {
+  v.resize(r.section(t, sizeof(T)));
+  if (!v.empty()) std::memcpy(v.data(), r.take(v.size() * sizeof(T)), v.size() * sizeof(T));
+}
+
+// Versions 1 and 2 stored colour as 3 float32 linear RGB and roughness as float32: read and
+// encoded to 8 bits once, refusing what those versions' loader refused (non-finite colours,
+// roughness outside [0,1]).
+void get_float_colour(Reader& r, SlabModel& m, const std::string& path) {
+  std::vector<Vec3f> linear;
+  get_vectors<Vec3f, float>(r, "COLR", linear);
+  m.colour.resize(linear.size());
+  for (size_t t = 0; t < linear.size(); ++t) {
+    if (!linear[t].allFinite()) throw InvalidInput(path + ": colour of texel " + std::to_string(t) + " is not finite");
+    m.colour[t] = encode_srgb8(linear[t]);
+  }
+}
+void get_float_roughness(Reader& r, SlabModel& m, const std::string& path) {
+  std::vector<float> v;
+  get_scalars(r, "RUFF", v);
+  m.roughness.resize(v.size());
+  for (size_t t = 0; t < v.size(); ++t) {
+    if (!(v[t] >= 0.0f && v[t] <= 1.0f))
+      throw InvalidInput(path + ": roughness of texel " + std::to_string(t) + " is outside [0, 1] or not finite");
+    m.roughness[t] = unit_to_unorm8(v[t]);
+  }
+}
+
 // Checks the sizes the stored counts imply before rebuild_derived() builds the sample and texel
 // layouts from them: grid_n and texel_density alone decide how much those layouts allocate, so
 // the file must hold one displacement per sample and one colour per texel of exactly that layout.
@@ -191,7 +228,7 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
 
 void save_model(const SlabModel& m, const std::string& path) {
   Writer w;
-  w.bytes.reserve(64 + m.inner.size() * 48 + m.slabs.size() * 12 + m.displacement.size() * 16 + m.colour.size() * 12 +
+  w.bytes.reserve(64 + m.inner.size() * 48 + m.slabs.size() * 12 + m.displacement.size() * 16 + m.colour.size() * 4 +
                   m.source.size());
   w.bytes.insert(w.bytes.end(), kMagic, kMagic + 4);
   w.put(hdm_format_version);
@@ -202,7 +239,7 @@ void save_model(const SlabModel& m, const std::string& path) {
   put_vectors(w, "OUTR", m.outer);
   put_vectors(w, "SLAB", m.slabs);
   put_scalars(w, "DISP", m.displacement);
-  put_vectors(w, "COLR", m.colour);
+  put_bytes(w, "COLR", m.colour);
   put_scalars(w, "FRST", m.friction_static);
   put_scalars(w, "FRDY", m.friction_dynamic);
   put_scalars(w, "STIF", m.stiffness_scale);
@@ -213,7 +250,7 @@ void save_model(const SlabModel& m, const std::string& path) {
   w.tag("SRCD", 1);
   w.put(m.source_diagonal);
   // Version 2: rendering roughness, the under-layer's depth and material.
-  put_scalars(w, "RUFF", m.roughness);
+  put_bytes(w, "RUFF", m.roughness);
   put_scalars(w, "LAYD", m.layer_displacement);
   const UnderLayer& u = m.under_layer;
   w.tag("LAYM", 1);
@@ -252,7 +289,10 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
   get_vectors<Vec3, double>(r, "OUTR", m.outer);
   get_vectors<Tri, int32_t>(r, "SLAB", m.slabs);
   get_scalars(r, "DISP", m.displacement);
-  get_vectors<Vec3f, float>(r, "COLR", m.colour);
+  if (version >= 3)
+    get_bytes(r, "COLR", m.colour);
+  else
+    get_float_colour(r, m, path);
   get_scalars(r, "FRST", m.friction_static);
   get_scalars(r, "FRDY", m.friction_dynamic);
   get_scalars(r, "STIF", m.stiffness_scale);
@@ -265,7 +305,10 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
   r.fixed_section("SRCD", 8, 1);
   r.get(m.source_diagonal, "SRCD");
   if (version >= 2) {
-    get_scalars(r, "RUFF", m.roughness);
+    if (version >= 3)
+      get_bytes(r, "RUFF", m.roughness);
+    else
+      get_float_roughness(r, m, path);
     get_scalars(r, "LAYD", m.layer_displacement);
     r.fixed_section("LAYM", 28, 1);
     float v[7];

@@ -614,7 +614,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   model.colour.clear();
   progress(o, "derived data", 0);
   rebuild_derived(model);
-  model.colour.assign(model.texels.count, o.colour);
+  model.colour.assign(model.texels.count, encode_srgb8(o.colour));
   progress(o, "derived data", 1);
 
   for (int s = 0; s < model.slab_count(); ++s) {

@@ -267,14 +267,12 @@ void rebuild_derived(SlabModel& m) {
   for (size_t s = 0; s < ns; ++s)
     if (!(m.displacement[s] >= 0.0f && m.displacement[s] <= 1.0f))
       check(false, "displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
-  fill_default(m.colour, nt, Vec3f(0.8f, 0.8f, 0.8f), "colour");
+  fill_default(m.colour, nt, encode_srgb8(Vec3f(0.8f, 0.8f, 0.8f)), "colour");
   fill_default(m.friction_static, ns, 0.3f, "friction_static");
   fill_default(m.friction_dynamic, ns, 0.2f, "friction_dynamic");
   fill_default(m.stiffness_scale, ns, 1.0f, "stiffness_scale");
-  fill_default(m.roughness, nt, 1.0f, "roughness");
+  fill_default(m.roughness, nt, uint8_t{255}, "roughness");
   fill_default(m.layer_displacement, ns, 0.0f, "layer_displacement");
-  for (size_t t = 0; t < nt; ++t)
-    if (!m.colour[t].allFinite()) check(false, "colour of texel " + std::to_string(t) + " is not finite");
   for (size_t s = 0; s < ns; ++s)
     if (!(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) &&
           std::isfinite(m.stiffness_scale[s])))
@@ -282,9 +280,7 @@ void rebuild_derived(SlabModel& m) {
   for (size_t s = 0; s < ns; ++s)
     if (!(m.layer_displacement[s] >= 0.0f && m.layer_displacement[s] <= 1.0f))
       check(false, "layer displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
-  for (size_t t = 0; t < nt; ++t)
-    if (!(m.roughness[t] >= 0.0f && m.roughness[t] <= 1.0f))
-      check(false, "roughness of texel " + std::to_string(t) + " is outside [0, 1] or not finite");
+  // Every 8-bit colour and roughness code is a valid value: the texels need no check.
   {
     const UnderLayer& u = m.under_layer;
     if (!(u.colour.allFinite() && std::isfinite(u.stiffness_scale) && std::isfinite(u.friction_static) &&

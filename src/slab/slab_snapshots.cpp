@@ -71,8 +71,8 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
   const int32_t* tids = m.texels.ids.data() + size_t(slab) * T;
   for (size_t k = 0; k < T; ++k) {
     const int32_t id = tids[k];
-    const Vec3f& c = m.colour[id];
-    tx[4 * k] = c.x(), tx[4 * k + 1] = c.y(), tx[4 * k + 2] = c.z(), tx[4 * k + 3] = m.roughness[id];
+    const Vec3f c = decode_srgb8(m.colour[id]);
+    tx[4 * k] = c.x(), tx[4 * k + 1] = c.y(), tx[4 * k + 2] = c.z(), tx[4 * k + 3] = unorm8_to_unit(m.roughness[id]);
   }
 }
 
@@ -226,8 +226,8 @@ SlabModel SnapshotReader::stored_model() const {
   m.roughness.resize(size_t(T.count));
   for (int32_t id = 0; id < T.count; ++id) {
     const float* t = views[size_t(T.home_slab[id])].texels + 4 * size_t(T.home_index[id]);
-    m.colour[id] = Vec3f(t[0], t[1], t[2]);
-    m.roughness[id] = t[3];
+    m.colour[id] = encode_srgb8(Vec3f(t[0], t[1], t[2]));  // the decoded codes: the same codes back
+    m.roughness[id] = unit_to_unorm8(t[3]);
   }
   return m;
 }

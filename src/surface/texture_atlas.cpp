@@ -24,17 +24,9 @@ double interpolate_layer(const SlabModel& m, int slab, double wS, double wT) noe
 
 }  // namespace
 
-uint8_t linear_to_srgb8(float linear) noexcept {
-  if (!(linear > 0.0f)) return 0;  // also NaN
-  if (linear >= 1.0f) return 255;
-  const double c = linear;
-  const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(s * 255.0));
-}
-
 Vec3f surface_colour(const SlabModel& m, int texel) noexcept {
   const SampleLayout& T = m.texels;
-  if (m.layer_displacement.size() != static_cast<size_t>(m.samples.count)) return m.colour[texel];
+  if (m.layer_displacement.size() != static_cast<size_t>(m.samples.count)) return decode_srgb8(m.colour[texel]);
   const int local = T.home_index[texel], slab = T.home_slab[texel];
   const double wS = double(T.point_j[local]) / T.n, wT = double(T.point_i[local]) / T.n;
   SlabCoordinates c;
@@ -42,7 +34,7 @@ Vec3f surface_colour(const SlabModel& m, int texel) noexcept {
   Contact at;
   evaluate_surface(m, slab, c, at);
   const double layer = interpolate_layer(m, slab, wS, wT);
-  return layer > at.delta ? m.under_layer.colour : m.colour[texel];
+  return layer > at.delta ? m.under_layer.colour : decode_srgb8(m.colour[texel]);
 }
 
 namespace {
@@ -69,8 +61,6 @@ void walk_tile(int N, uint8_t* out, int stride, Rgba&& rgba) noexcept {
     }
 }
 
-uint8_t unit_to_byte(float v) noexcept { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255)); }
-
 }  // namespace
 
 void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, uint8_t* out, int stride,
@@ -79,11 +69,10 @@ void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, ui
   const bool paint = content == AtlasContent::PaintAndRoughness;
   walk_tile(a.texel_n, out, stride, [&](int local, uint8_t* px) {
     const int32_t texel = ids[local];
-    const Vec3f colour = paint ? model.colour[texel] : surface_colour(model, texel);
-    px[0] = linear_to_srgb8(colour.x());
-    px[1] = linear_to_srgb8(colour.y());
-    px[2] = linear_to_srgb8(colour.z());
-    px[3] = paint && texel < static_cast<int32_t>(model.roughness.size()) ? unit_to_byte(model.roughness[texel]) : 255;
+    // The stored codes as they are where the painted colour shows: no decode and re-encode.
+    const Srgb8 c = paint ? model.colour[texel] : encode_srgb8(surface_colour(model, texel));
+    px[0] = c.r, px[1] = c.g, px[2] = c.b;
+    px[3] = paint && texel < static_cast<int32_t>(model.roughness.size()) ? model.roughness[texel] : 255;
   });
 }
 
@@ -93,7 +82,7 @@ void fill_atlas_tile(const TextureAtlas& a, const float* texels, uint8_t* out, i
     px[0] = linear_to_srgb8(t[0]);
     px[1] = linear_to_srgb8(t[1]);
     px[2] = linear_to_srgb8(t[2]);
-    px[3] = unit_to_byte(t[3]);
+    px[3] = unit_to_unorm8(t[3]);
   });
 }
 

@@ -127,7 +127,7 @@ TEST(Workloads, warm_strokes_edit_and_leave_the_model_as_it_was) {
   SlabModel model = test::baked_bunny(150, 16);
   const SlabLocator locator(model);
   const std::vector<float> before = model.displacement;
-  const std::vector<Vec3f> colour = model.colour;
+  const std::vector<Srgb8> colour = model.colour;
   Aabb box;
   for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
   const Workspace ws = fit_workspace(box, 0.16);

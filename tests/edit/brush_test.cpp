@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace hdm;
@@ -119,6 +120,30 @@ TEST(Brushes, flatten_moves_the_surface_towards_the_tools_plane) {
   expect_in_shell_and_untouched_outside(f.model, test::baked_bunny(0, 16), c, r);
 }
 
+// A paint brush of @p field with linear falloff, radius 3 mm.
+Brush linear_paint(const test::BunnyStrokes& f, BrushField field, float value) {
+  Brush paint;
+  paint.tool = BrushTool::Paint;
+  paint.field = field;
+  paint.value = value;
+  paint.radius = 3 * f.mm;
+  paint.falloff = Falloff::Linear;
+  return paint;
+}
+
+// The largest linear-falloff intensity 1 − d/r that the logged sweeps reached at @p p, d the
+// distance from @p p to each sweep's segment.
+double k_max(const std::vector<EditLogEntry>& log, const Vec3& p, double radius) {
+  double k = 0;
+  for (const EditLogEntry& e : log)
+    if (e.kind == EditLogEntry::Sweep) {
+      const Vec3 u = e.sweep.to - e.sweep.from;
+      const double t = u.squaredNorm() > 0 ? std::clamp((p - e.sweep.from).dot(u) / u.squaredNorm(), 0.0, 1.0) : 0.0;
+      k = std::max(k, std::max(0.0, 1 - (p - e.sweep.from - t * u).norm() / radius));
+    }
+  return k;
+}
+
 TEST(Brushes, paint_blends_once_per_stroke_whatever_the_dwell) {
   // The paper's blend k·value + (1 − k)·base with k = pressure·strength·falloff(d/r), d the distance
   // from the sample to the brush's path, once per stroke (the largest k the stroke reached): a brush
@@ -132,26 +157,14 @@ TEST(Brushes, paint_blends_once_per_stroke_whatever_the_dwell) {
     std::vector<EditLogEntry> log;
     log.reserve(1000);
     editor.record_log(&log);
-    Brush paint;
-    paint.tool = BrushTool::Paint;
-    paint.field = BrushField::FrictionStatic;
-    paint.value = 0.9f;
-    paint.radius = 3 * f.mm;
-    paint.falloff = Falloff::Linear;
+    const Brush paint = linear_paint(f, BrushField::FrictionStatic, 0.9f);
     const int ticks = run == 0 ? 10 : 300;
     f.stroke(editor, paint, std::vector<Vec3>(ticks, c), std::vector<Vec3>(ticks, n), 0.5 * f.mm, 1e-3, 10.0);
     results[run] = f.model.friction_static;
     const SlabModel& before = test::baked_bunny(0, 16);
     int painted = 0;
     for (int s = 0; s < f.model.samples.count; ++s) {
-      double k = 0;
-      for (const EditLogEntry& e : log)
-        if (e.kind == EditLogEntry::Sweep) {
-          const Vec3 p = f.model.positions[s].cast<double>(), u = e.sweep.to - e.sweep.from;
-          const double t =
-              u.squaredNorm() > 0 ? std::clamp((p - e.sweep.from).dot(u) / u.squaredNorm(), 0.0, 1.0) : 0.0;
-          k = std::max(k, std::max(0.0, 1 - (p - e.sweep.from - t * u).norm() / paint.radius));
-        }
+      const double k = k_max(log, f.model.positions[s].cast<double>(), paint.radius);
       const double expected = before.friction_static[s] + k * (0.9 - before.friction_static[s]);
       ASSERT_NEAR(f.model.friction_static[s], expected, 1e-5) << "sample " << s;
       painted += k > 0.5;
@@ -159,6 +172,47 @@ TEST(Brushes, paint_blends_once_per_stroke_whatever_the_dwell) {
     EXPECT_GT(painted, 20);
   }
   EXPECT_TRUE(results[0] == results[1]) << "a longer dwell must not paint more";
+}
+
+TEST(Brushes, paint_of_8_bit_texels_does_not_drift_over_many_ticks) {
+  // A stroke creeping 300 ticks towards its end raises k at the texels ahead of it on nearly every
+  // tick; each texel must still end at base + k_max·(value − base) rounded once to 8 bits, within
+  // one code step (blending from the already rounded value would compound the rounding).
+  for (const BrushField field : {BrushField::Colour, BrushField::Roughness}) {
+    test::BunnyStrokes f;
+    Vec3 n;
+    const Vec3 c = site(f, Vec3(0.6, 0.5, 1.0), n);
+    const Vec3 along = n.cross(std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).normalized();
+    StrokeEditor editor(f.model);
+    std::vector<EditLogEntry> log;
+    log.reserve(1000);
+    editor.record_log(&log);
+    Brush paint = linear_paint(f, field, 0.1f);
+    paint.colour = Vec3f(0.9f, 0.05f, 0.3f);
+    const int ticks = 300;
+    std::vector<Vec3> path;
+    for (int k = 0; k < ticks; ++k) path.push_back(c + (2 * f.mm * k / ticks) * along);
+    f.stroke(editor, paint, path, std::vector<Vec3>(ticks, n), 0.5 * f.mm, 1e-3, 10.0);
+    const SlabModel& before = test::baked_bunny(0, 16);
+    int checked = 0;
+    test::for_each_sample_texel(f.model, [&](int s, int t) {
+      const double k = k_max(log, f.model.positions[s].cast<double>(), paint.radius);
+      if (field == BrushField::Roughness) {
+        const double base = before.roughness[t] / 255.0;
+        ASSERT_LE(std::abs(f.model.roughness[t] - 255 * (base + k * (paint.value - base))), 1.0) << t;
+      } else {
+        const int got[3] = {f.model.colour[t].r, f.model.colour[t].g, f.model.colour[t].b};
+        const int was[3] = {before.colour[t].r, before.colour[t].g, before.colour[t].b};
+        for (int q = 0; q < 3; ++q) {
+          const double base = srgb8_to_linear(uint8_t(was[q]));
+          ASSERT_LE(std::abs(got[q] - test::srgb_code(base + k * (paint.colour[q] - base))), 1.0)
+              << "texel " << t << " channel " << q;
+        }
+      }
+      checked += k > 0.2 && k < 0.9;
+    });
+    EXPECT_GT(checked, 10);
+  }
 }
 
 TEST(Brushes, strength_scales_the_cut) {

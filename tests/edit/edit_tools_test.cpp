@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -269,29 +270,25 @@ TEST(EditToolsTest, paint_blends_with_the_papers_intensity) {
   Contact c;
   Vec3 hip;
   ASSERT_TRUE(f.contact_at(2000, 0.003, c, hip));
-  const std::vector<Vec3f> before = f.model.colour;
+  const std::vector<Srgb8> before = f.model.colour;
   const double r = 0.02 * f.diag, pressure = 0.7;
   const Vec3f brush(1, 0, 0);
   const EditResult res = paint(f.model, f.scratch, c, r, brush, pressure);
   EXPECT_GT(res.changed, 10);
   // Texels on displacement samples (every m-th texel) sit at the sample's surface point, an
   // independent position: check c_new = k·brush + (1-k)·c_old with k = p·(1 - d/r).
-  const SampleLayout& T = f.model.texels;
-  const SampleLayout& S = f.model.samples;
-  const int m = f.model.texel_density;
   int checked = 0;
-  for (int slab = 0; slab < f.model.slab_count(); ++slab)
-    for (int j = 0; j <= S.n; ++j)
-      for (int i = 0; i + j <= S.n; ++i) {
-        const int sample = S.ids[slab * S.per_slab + (j * (S.n + 1) - j * (j - 1) / 2 + i)];
-        const int N = T.n, ti = i * m, tj = j * m;
-        const int texel = T.ids[slab * T.per_slab + (tj * (N + 1) - tj * (tj - 1) / 2 + ti)];
-        const double d = (sample_position(f.model, sample) - c.surface_point).norm();
-        const float k = d < r ? float(pressure * (1 - d / r)) : 0.0f;
-        const Vec3f expected = k * brush + (1 - k) * before[texel];
-        ASSERT_LT((f.model.colour[texel] - expected).norm(), 2e-5) << "texel " << texel;
-        checked += k > 0;
-      }
+  test::for_each_sample_texel(f.model, [&](int sample, int texel) {
+    const double d = (sample_position(f.model, sample) - c.surface_point).norm();
+    const float k = d < r ? float(pressure * (1 - d / r)) : 0.0f;
+    // Rounded once to 8-bit sRGB: within half a code step, plus the float error of k.
+    const Vec3f expected = k * brush + (1 - k) * decode_srgb8(before[texel]);
+    const Srgb8 got = f.model.colour[texel];
+    const int code[3] = {got.r, got.g, got.b};
+    for (int q = 0; q < 3; ++q)
+      ASSERT_LE(std::abs(code[q] - test::srgb_code(expected[q])), 0.55) << "texel " << texel << " channel " << q;
+    checked += k > 0;
+  });
   EXPECT_GT(checked, 5);
   EXPECT_DOUBLE_EQ(paint_pressure(0.5, 1.0, 2.0), 0.0);  // dead zone
   EXPECT_DOUBLE_EQ(paint_pressure(1.5, 1.0, 2.0), 0.5);
@@ -311,7 +308,7 @@ TEST(EditToolsTest, edited_model_round_trips_bit_for_bit) {
   std::filesystem::remove(path);
   ASSERT_EQ(back.displacement.size(), f.model.displacement.size());
   EXPECT_EQ(0, std::memcmp(back.displacement.data(), f.model.displacement.data(), back.displacement.size() * 4));
-  EXPECT_EQ(0, std::memcmp(back.colour.data(), f.model.colour.data(), back.colour.size() * sizeof(Vec3f)));
+  EXPECT_EQ(0, std::memcmp(back.colour.data(), f.model.colour.data(), back.colour.size() * sizeof(Srgb8)));
   EXPECT_EQ(back.inner, f.model.inner);
   EXPECT_EQ(back.outer, f.model.outer);
   EXPECT_EQ(back.slabs, f.model.slabs);

@@ -8,6 +8,7 @@
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/edit/stroke_editor.h>
 
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -48,10 +49,34 @@ struct ModelState {
         normals(m.normals),
         force_shading_normals(m.force_shading_normals),
         slab_samples(m.slab_samples) {}
-  std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement, roughness;
-  std::vector<Vec3f> colour, positions, normals, force_shading_normals;
+  std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement;
+  std::vector<uint8_t> roughness;
+  std::vector<Srgb8> colour;
+  std::vector<Vec3f> positions, normals, force_shading_normals;
   std::vector<SlabSample> slab_samples;
 };
+
+/// Calls @p fn(sample, texel) at every displacement sample's grid point of every slab: the texel
+/// there (every m-th texel) lies at the sample's surface point, a position found independently of
+/// the texel code. A sample on a slab edge is visited once per slab holding it.
+template <class Fn>
+void for_each_sample_texel(const SlabModel& model, Fn&& fn) {
+  const SampleLayout &S = model.samples, &T = model.texels;
+  const int m = model.texel_density, N = T.n;
+  for (int slab = 0; slab < model.slab_count(); ++slab)
+    for (int j = 0; j <= S.n; ++j)
+      for (int i = 0; i + j <= S.n; ++i) {
+        const int ti = i * m, tj = j * m;
+        fn(S.ids[slab * S.per_slab + (j * (S.n + 1) - j * (j - 1) / 2 + i)],
+           T.ids[slab * T.per_slab + (tj * (N + 1) - tj * (tj - 1) / 2 + ti)]);
+      }
+}
+
+/// IEC 61966-2-1: a linear channel (clamped to [0,1]) sRGB-encoded, in 8-bit code units (not rounded).
+inline double srgb_code(double linear) {
+  const double c = linear < 0 ? 0 : linear > 1 ? 1 : linear;
+  return 255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055);
+}
 
 /// Names the first array of @p a that differs from @p b bit for bit, or returns "".
 std::string first_difference(const ModelState& a, const ModelState& b);

@@ -63,8 +63,8 @@ void reseal(std::vector<uint8_t>& b) { set_u64(b, b.size() - 8, reference_fnv1a(
 // Section tag -> offset of its count field, walking the layout the format spec in hdm_file.h gives.
 std::map<std::string, size_t> section_offsets(const std::vector<uint8_t>& b) {
   const std::map<std::string, size_t> element_bytes = {
-      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 12}, {"FRST", 4}, {"FRDY", 4},
-      {"STIF", 4}, {"SRCN", 1},  {"SRCT", 8},  {"SRCD", 8},  {"RUFF", 4}, {"LAYD", 4},  {"LAYM", 28}};
+      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 3}, {"FRST", 4}, {"FRDY", 4},
+      {"STIF", 4}, {"SRCN", 1},  {"SRCT", 8},  {"SRCD", 8},  {"RUFF", 1}, {"LAYD", 4}, {"LAYM", 28}};
   std::map<std::string, size_t> at;
   size_t pos = 8;
   for (const char* tag : {"GRID", "INNR", "OUTR", "SLAB", "DISP", "COLR", "FRST", "FRDY", "STIF", "SRCN", "SRCT",
@@ -139,7 +139,7 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   const std::vector<uint8_t> b = test::read_bytes(path);
   ASSERT_GT(b.size(), 16u);
   EXPECT_EQ(std::memcmp(b.data(), "HDM\0", 4), 0);
-  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 2);
+  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 3);
   EXPECT_EQ(get_u64(b, b.size() - 8), reference_fnv1a(b.data(), b.size() - 8));
   const auto at = section_offsets(b);
   EXPECT_EQ(get_u64(b, at.at("DISP")), model.displacement.size());
@@ -156,6 +156,12 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
     float d;
     std::memcpy(&d, &bits, 4);
     EXPECT_EQ(d, test::sample_displacement(int(s)));
+  }
+  // Colour as 3 bytes R, G, B per texel, roughness as 1 byte: the texel pattern's sRGB codes.
+  for (size_t t = 0; t < model.colour.size(); ++t) {
+    const Vec3f c = test::texel_colour(int(t));
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(b[at.at("COLR") + 8 + 3 * t + size_t(k)], test::srgb8(c[k])) << t;
+    ASSERT_EQ(b[at.at("RUFF") + 8 + t], std::lround(255.0 * double(t % 5) / 4.0)) << t;
   }
   const uint64_t x0 = get_u64(b, at.at("INNR") + 8);
   double x;
@@ -187,26 +193,7 @@ TEST_F(HdmFile, WrongVersionFails) {
   reseal(b);
   test::write_bytes(path, b);
   const std::string msg = expect_load_error<IoError>(path);
-  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 2"), std::string::npos) << msg;
-}
-
-// A version-1 file (no roughness, under-layer sections) still loads, with those fields' defaults.
-TEST_F(HdmFile, Version1FileLoadsWithDefaults) {
-  std::vector<uint8_t> b = test::read_bytes(path);
-  const auto at = section_offsets(b);
-  b.resize(at.at("RUFF") - 4);  // drop the version-2 sections (and the checksum after them)
-  b[4] = 1;
-  b.resize(b.size() + 8);
-  reseal(b);
-  test::write_bytes(path, b);
-  const SlabModel loaded = load_model(path);
-  EXPECT_TRUE(same_bits(loaded.displacement, model.displacement));
-  EXPECT_TRUE(same_bits(loaded.colour, model.colour));
-  ASSERT_EQ(loaded.roughness.size(), model.roughness.size());
-  for (float r : loaded.roughness) ASSERT_EQ(r, 1.0f);
-  ASSERT_EQ(loaded.layer_displacement.size(), model.layer_displacement.size());
-  for (float d : loaded.layer_displacement) ASSERT_EQ(d, 0.0f);
-  EXPECT_EQ(loaded.under_layer.colour, UnderLayer{}.colour);
+  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 3"), std::string::npos) << msg;
 }
 
 TEST_F(HdmFile, BadMagicFails) {

@@ -72,8 +72,8 @@ inline SlabModel octahedron_model(int n = 4, int m = 2) {
     model.layer_displacement.push_back(0.25f * sample_displacement(s));
   }
   for (int t = 0; t < texels; ++t) {
-    model.colour.push_back(texel_colour(t));
-    model.roughness.push_back(float(t % 5) / 4.0f);
+    model.colour.push_back(encode_srgb8(texel_colour(t)));
+    model.roughness.push_back(unit_to_unorm8(float(t % 5) / 4.0f));
   }
   model.under_layer = UnderLayer{Vec3f(0.9f, 0.7f, 0.2f), 0.4f, 0.6f, 0.45f, 0.3f};
   model.source = "octahedron (hand-built test model)";

@@ -100,14 +100,15 @@ SlabModel make_model(const CoarseMesh& mesh, int n, int m) {
   const size_t samples = C + (n - 1) * E + (n - 1) * (n - 2) / 2 * S;
   const size_t texels = C + (N - 1) * E + (N - 1) * (N - 2) / 2 * S;
   model.displacement.assign(samples, 0.5f);
-  model.colour.assign(texels, Vec3f(1, 1, 1));
+  model.colour.assign(texels, Srgb8{255, 255, 255});
   rebuild_derived(model);
   return model;
 }
 
 void paint_slab(SlabModel& model, int slab, const Vec3f& colour) {
   const SampleLayout& L = model.texels;
-  for (int k = 0; k < L.per_slab; ++k) model.colour[L.ids[static_cast<size_t>(slab) * L.per_slab + k]] = colour;
+  for (int k = 0; k < L.per_slab; ++k)
+    model.colour[L.ids[static_cast<size_t>(slab) * L.per_slab + k]] = encode_srgb8(colour);
 }
 
 Vec3 towards_eye(double az_deg, double el_deg) {

@@ -48,7 +48,7 @@ TEST_P(Atlas, TexelsSitAtTheirUvAndPaddingCopiesTheNearestTexel) {
         if (i == 0 && j == 0) x0 = int(x), y0 = int(y);
         EXPECT_EQ(int(x), x0 + i);
         EXPECT_EQ(int(y), y0 + j);
-        EXPECT_EQ(pixel(a, int(x), int(y)), expected(model.colour[ids[grid::index(N, i, j)]]))
+        EXPECT_EQ(pixel(a, int(x), int(y)), expected(test::texel_colour(ids[grid::index(N, i, j)])))
             << "slab " << s << " texel " << i << "," << j;
       }
     // Every pixel of the tile (texels and a one-pixel border) holds the colour of a valid texel at
@@ -66,7 +66,7 @@ TEST_P(Atlas, TexelsSitAtTheirUvAndPaddingCopiesTheNearestTexel) {
         for (int j = 0; j <= N && !found; ++j)
           for (int i = 0; i + j <= N && !found; ++i)
             found = (i - c) * (i - c) + (j - b) * (j - b) == best &&
-                    pixel(a, x, y) == expected(model.colour[ids[grid::index(N, i, j)]]);
+                    pixel(a, x, y) == expected(test::texel_colour(ids[grid::index(N, i, j)]));
         EXPECT_TRUE(found) << "slab " << s << " pixel " << c << "," << b;
       }
   }

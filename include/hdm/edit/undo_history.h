@@ -20,7 +20,7 @@ struct SampleValues {
 
 /// Every stored per-texel value an edit may change (SlabModel's colour and roughness).
 struct TexelValues {
-  /// @{ The texel's linear RGB colour and roughness, each in [0,1].
+  /// @{ The texel's linear RGB colour and roughness, each in [0,1], decoded from its 8-bit codes.
   float r, g, b, roughness;
   /// @}
 };

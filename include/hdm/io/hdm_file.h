@@ -4,12 +4,12 @@
 /// The `.hdm` file: a slab model's stored data in a versioned little-endian binary format
 /// (docs/design.md#file-format).
 ///
-/// Format version 2, all integers and floats little-endian, IEEE-754:
+/// Format version 3, all integers and floats little-endian, IEEE-754:
 ///
 /// | bytes | content |
 /// | --- | --- |
 /// | 4 | magic `"HDM\0"` |
-/// | 4 | uint32 format version (= 2) |
+/// | 4 | uint32 format version (= 3) |
 /// | ... | 15 sections, in the order below (version 1: the first 12) |
 /// | 8 | uint64 FNV-1a (64-bit) hash of every byte before it |
 ///
@@ -22,19 +22,21 @@
 /// | `OUTR` | #C | 3 float64: outer position [model units] |
 /// | `SLAB` | #S | 3 int32: coarse vertex ids R, S, T |
 /// | `DISP` | #samples | float32 displacement δ |
-/// | `COLR` | #texels | 3 float32 linear RGB |
+/// | `COLR` | #texels | 3 uint8: 8-bit sRGB R, G, B (SlabModel::colour; versions 1 and 2: 3 float32 linear RGB) |
 /// | `FRST` | #samples | float32 friction_static |
 /// | `FRDY` | #samples | float32 friction_dynamic |
 /// | `STIF` | #samples | float32 stiffness_scale |
 /// | `SRCN` | bytes | uint8: source name (no terminator) |
 /// | `SRCT` | 1 | int64 source_triangles |
 /// | `SRCD` | 1 | float64 source_diagonal [model units] |
-/// | `RUFF` | #texels | float32 roughness (version 2) |
+/// | `RUFF` | #texels | uint8 roughness as unorm8, code/255 (version 2: float32 in [0,1]; from version 2) |
 /// | `LAYD` | #samples | float32 layer_displacement (version 2) |
 /// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness
-/// (version 2) |
+/// (from version 2) |
 ///
 /// Version 1 files (without the last three sections) load with the defaults of those fields.
+/// Version 1 and 2 files' float colours and roughness are encoded to 8 bits on load (rounded once,
+/// so colours move by at most half an sRGB code step); save_model() always writes version 3.
 /// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels
 /// follow from the counts (#C + (k-1)·#E + (k-1)(k-2)/2·#S for k = grid_n and grid_n·texel_density,
 /// #E the distinct slab edges); `DISP` and `COLR` must hold exactly that many, and `FRST`, `FRDY`,
@@ -57,7 +59,7 @@ namespace hdm {
 inline constexpr double max_model_coordinate = 1e15;
 
 /// Version of the `.hdm` format that save_model() writes and load_model() reads.
-inline constexpr uint32_t hdm_format_version = 2;
+inline constexpr uint32_t hdm_format_version = 3;
 
 /// @brief Writes the stored members of @p model to @p path (format in this file's header).
 /// @param model  slab model; its stored arrays have the sizes rebuild_derived() checks.
@@ -79,15 +81,17 @@ struct ModelLoadOptions {
 /// @brief Reads a model written by save_model() and rebuilds its derived members.
 /// @param path     `.hdm` file.
 /// @param options  size limit.
-/// @return the model; every stored member equals the saved one bit for bit.
+/// @return the model; every stored member equals the saved one bit for bit (a version 1 or 2
+///         file: its colours and roughness encoded to 8 bits, see the header).
 /// @throws IoError "<path>: <reason>" when the file is missing or unreadable, larger than
 ///         options.max_file_bytes, is not an `.hdm` file, has another format version ("<path>:
 ///         format version 7, this hdm reads
-///         versions 1 to 2"), is truncated ("<path>: truncated ..."),
+///         versions 1 to 3"), is truncated ("<path>: truncated ..."),
 ///         has a count larger than the remaining bytes allow (checked before anything is
 ///         allocated), or fails the checksum ("<path>: checksum mismatch (file corrupt)").
 /// @throws InvalidInput "<path>: ..." when the content is inconsistent: grid sizes out of range,
-///         invalid slab corners, a coarse vertex beyond ±max_model_coordinate, `DISP` or `COLR`
+///         invalid slab corners, a coarse vertex beyond ±max_model_coordinate, a version 1 or 2
+///         colour that is not finite or roughness outside [0,1], `DISP` or `COLR`
 ///         not of the layout's size (checked before the
 ///         layouts are built, so no allocation follows grid_n or texel_density alone), or what
 ///         rebuild_derived() refuses.

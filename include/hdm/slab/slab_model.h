@@ -4,6 +4,7 @@
 /// The slab model: coarse slabs around a detailed surface, each holding a triangular displacement
 /// map (paper §2), plus colour texels and per-sample surface fields.
 
+#include <hdm/core/srgb.h>
 #include <hdm/core/types.h>
 #include <hdm/slab/sample_layout.h>
 
@@ -64,17 +65,21 @@ struct UnderLayer {
 /// or the query will read stale values from `slab_samples` (and the proxy from `force_shading_normals`).
 struct SlabModel {
   // ---- stored ----
-  int grid_n = 16;                      ///< displacement intervals per slab edge (n)
-  int texel_density = 2;                ///< colour texels per displacement interval (m); texel grid n·m
-  std::vector<Vec3> inner;              ///< #C inner coarse vertex positions V0 [model units]
-  std::vector<Vec3> outer;              ///< #C outer coarse vertex positions V1 [model units]
-  std::vector<Tri> slabs;               ///< #S slabs as coarse-vertex triples R, S, T (CCW from outside)
-  std::vector<float> displacement;      ///< #samples δ in [0,1] along each projection line (0 inner, 1 outer)
-  std::vector<Vec3f> colour;            ///< #texels linear RGB in [0,1]
+  int grid_n = 16;                  ///< displacement intervals per slab edge (n)
+  int texel_density = 2;            ///< colour texels per displacement interval (m); texel grid n·m
+  std::vector<Vec3> inner;          ///< #C inner coarse vertex positions V0 [model units]
+  std::vector<Vec3> outer;          ///< #C outer coarse vertex positions V1 [model units]
+  std::vector<Tri> slabs;           ///< #S slabs as coarse-vertex triples R, S, T (CCW from outside)
+  std::vector<float> displacement;  ///< #samples δ in [0,1] along each projection line (0 inner, 1 outer)
+  /// #texels colour as 8-bit sRGB (decode_srgb8() gives the linear RGB it stands for; writers
+  /// encode linear RGB with encode_srgb8(), rounding once)
+  std::vector<Srgb8> colour;
   std::vector<float> friction_static;   ///< #samples static friction coefficient μs
   std::vector<float> friction_dynamic;  ///< #samples dynamic friction coefficient μd
   std::vector<float> stiffness_scale;   ///< #samples factor on the rendered stiffness, in [0,1]
-  std::vector<float> roughness;         ///< #texels rendering roughness in [0,1] (0 glossy, 1 matte; default 1)
+  /// #texels rendering roughness as unorm8 (code/255 in [0,1]; 0 glossy, 255 matte, the default;
+  /// unorm8_to_unit(), unit_to_unorm8())
+  std::vector<uint8_t> roughness;
   /// #samples: displacement of the top of the under-layer on each projection line, in [0,1]
   /// (default 0: no under-layer above the inner face). The surface is the under-layer where
   /// δ < this value (exposed by carving); see UnderLayer and layer_exposure().
@@ -131,7 +136,7 @@ inline double layer_exposure(double depth_below_layer, double band) noexcept {
 /// Optional stored arrays that are empty (colour, friction, stiffness, roughness,
 /// layer_displacement) are filled with their defaults.
 /// @throws InvalidInput when the stored data are inconsistent (sizes, ids, non-finite values,
-///         displacements or layer displacements outside [0,1], roughness outside [0,1],
+///         displacements or layer displacements outside [0,1], the under-layer's roughness outside [0,1],
 ///         grid_n < 1 or texel_density < 1), naming the member.
 /// @note O(#S·n²·m²); allocates; positions, normals and the layouts' CSR rows in parallel (std::thread).
 void rebuild_derived(SlabModel& model);

@@ -75,10 +75,6 @@ TextureAtlas build_texture_atlas(const SlabModel& model, AtlasContent content = 
 /// @note noexcept, O(1).
 Vec3f surface_colour(const SlabModel& model, int texel) noexcept;
 
-/// @brief Encodes a linear colour channel in [0,1] as an 8-bit sRGB value (IEC 61966-2-1);
-/// values outside [0,1] are clamped, NaN gives 0.
-uint8_t linear_to_srgb8(float linear) noexcept;
-
 /// @brief Writes the tile×tile RGBA8 pixels of slab @p slab's tile (padding included, row 0
 /// first) of @p layout into @p out, whose rows are @p stride pixels apart. build_texture_atlas()
 /// uses it for every slab; a renderer uses it to re-upload one edited slab's colours.

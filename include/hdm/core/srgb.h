@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// 8-bit texel encodings: sRGB colour (IEC 61966-2-1) and unorm8 scalars. SlabModel stores its
+/// per-texel colour and roughness in them; everything that reads a colour as linear RGB decodes.
+
+#include <hdm/core/types.h>
+
+#include <cstdint>
+
+namespace hdm {
+
+/// An 8-bit sRGB colour texel: each channel is round(255 · oetf(linear)) with the sRGB transfer
+/// function of IEC 61966-2-1 (no alpha). 3 bytes; trivially copyable, so arrays of it can be
+/// uploaded as GL_SRGB8 / written to PNG as they are.
+struct Srgb8 {
+  /// @{ encoded red, green and blue (0 → linear 0, 255 → linear 1)
+  uint8_t r = 0, g = 0, b = 0;
+  /// @}
+  /// @brief Channel-wise equality of the codes.
+  friend bool operator==(const Srgb8&, const Srgb8&) = default;
+};
+
+/// @brief Encodes a linear colour channel in [0,1] as an 8-bit sRGB value (IEC 61966-2-1):
+/// round(255 · s) with s = 12.92·c for c ≤ 0.0031308, else 1.055·c^(1/2.4) − 0.055. Values
+/// outside [0,1] are clamped, NaN gives 0.
+/// @note noexcept, no allocation, two table lookups (a bucket of the linear value, then one code
+/// boundary), usable in the servo tick.
+uint8_t linear_to_srgb8(float linear) noexcept;
+
+/// @brief Decodes an 8-bit sRGB value to a linear channel in [0,1] (the inverse transfer function
+/// of IEC 61966-2-1); linear_to_srgb8(srgb8_to_linear(c)) == c for every code.
+/// @note noexcept, a table lookup.
+float srgb8_to_linear(uint8_t code) noexcept;
+
+/// @brief linear_to_srgb8() of each channel of the linear RGB colour @p linear.
+/// @note noexcept, no allocation.
+Srgb8 encode_srgb8(const Vec3f& linear) noexcept;
+
+/// @brief srgb8_to_linear() of each channel: the linear RGB colour @p c stands for.
+/// @note noexcept, three table lookups.
+Vec3f decode_srgb8(Srgb8 c) noexcept;
+
+/// @brief Encodes @p v in [0,1] as unorm8, round(255 · v); outside [0,1] clamped, NaN gives 0.
+/// @note noexcept, O(1).
+uint8_t unit_to_unorm8(float v) noexcept;
+
+/// @brief Decodes a unorm8 value: @p code / 255, in [0,1].
+/// @note noexcept, O(1).
+inline float unorm8_to_unit(uint8_t code) noexcept { return static_cast<float>(code) * (1.0f / 255.0f); }
+
+}  // namespace hdm

@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT
+// .hdm files of format versions 1 and 2 (float colour and roughness) still load: written here
+// section by section from the table in hdm_file.h, loaded, and their texels compared with the IEC
+// 61966-2-1 and unorm8 encodings of the written floats.
+#include "io/io_test_util.h"
+
+#include <hdm/core/error.h>
+#include <hdm/io/hdm_file.h>
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace hdm {
+namespace {
+
+using test::TempDir;
+
+// A writer of the version 1 and 2 layouts: little-endian values, tagged sections, FNV-1a.
+struct LegacyWriter {
+  std::vector<uint8_t> b;
+  template <class U>
+  void bits(U v) {
+    for (size_t k = 0; k < sizeof(U); ++k) b.push_back(uint8_t(v >> (8 * k)));
+  }
+  void f32(float v) { bits(std::bit_cast<uint32_t>(v)); }
+  void f64(double v) { bits(std::bit_cast<uint64_t>(v)); }
+  void tag(const char* t, uint64_t count) {
+    b.insert(b.end(), t, t + 4);
+    bits(count);
+  }
+  void floats(const char* t, const std::vector<float>& v) {
+    tag(t, v.size());
+    for (float x : v) f32(x);
+  }
+  void seal() {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (uint8_t c : b) h = (h ^ c) * 0x100000001b3ull;
+    bits(h);
+  }
+};
+
+// The model's stored data as a version 1 or 2 file, with @p colour and @p roughness as the floats
+// those versions kept (version 1 stops after SRCD).
+std::vector<uint8_t> legacy_file(const SlabModel& m, const std::vector<Vec3f>& colour,
+                                 const std::vector<float>& roughness, uint32_t version) {
+  LegacyWriter w;
+  w.b = {'H', 'D', 'M', 0};
+  w.bits(version);
+  w.tag("GRID", 2);
+  w.bits(uint32_t(m.grid_n));
+  w.bits(uint32_t(m.texel_density));
+  for (const auto* v : {&m.inner, &m.outer}) {
+    w.tag(v == &m.inner ? "INNR" : "OUTR", v->size());
+    for (const Vec3& p : *v)
+      for (int k = 0; k < 3; ++k) w.f64(p[k]);
+  }
+  w.tag("SLAB", m.slabs.size());
+  for (const Tri& t : m.slabs)
+    for (int k = 0; k < 3; ++k) w.bits(uint32_t(t[k]));
+  w.floats("DISP", m.displacement);
+  w.tag("COLR", colour.size());
+  for (const Vec3f& c : colour)
+    for (int k = 0; k < 3; ++k) w.f32(c[k]);
+  w.floats("FRST", m.friction_static);
+  w.floats("FRDY", m.friction_dynamic);
+  w.floats("STIF", m.stiffness_scale);
+  w.tag("SRCN", m.source.size());
+  w.b.insert(w.b.end(), m.source.begin(), m.source.end());
+  w.tag("SRCT", 1);
+  w.bits(uint64_t(m.source_triangles));
+  w.tag("SRCD", 1);
+  w.f64(m.source_diagonal);
+  if (version >= 2) {
+    w.floats("RUFF", roughness);
+    w.floats("LAYD", m.layer_displacement);
+    w.tag("LAYM", 1);
+    const UnderLayer& u = m.under_layer;
+    for (float v : {u.colour.x(), u.colour.y(), u.colour.z(), u.stiffness_scale, u.friction_static, u.friction_dynamic,
+                    u.roughness})
+      w.f32(v);
+  }
+  w.seal();
+  return w.b;
+}
+
+// IEC 61966-2-1: the encoded value of a linear channel in [0,1], in [0,1].
+double srgb_encoded(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
+
+class HdmLegacyFile : public ::testing::Test {
+ protected:
+  SlabModel model = test::octahedron_model();
+  std::vector<Vec3f> colour;
+  std::vector<float> roughness;
+  TempDir dir;
+  std::string path = dir.file("old.hdm");
+  void SetUp() override {
+    // Floats between the 8-bit codes, so the load must round.
+    for (size_t t = 0; t < model.colour.size(); ++t) {
+      const float f = float(t) / float(model.colour.size());
+      colour.emplace_back(f, 0.37f * f + 0.01f, 1.0f - f);
+      roughness.push_back(0.5f * f + 0.013f);
+    }
+  }
+  // The loaded texels are the written floats rounded once: within half a code step of each.
+  void expect_quantised(const SlabModel& loaded, bool with_roughness) const {
+    ASSERT_EQ(loaded.colour.size(), colour.size());
+    for (size_t t = 0; t < colour.size(); ++t) {
+      const Srgb8 c = loaded.colour[t];
+      const int code[3] = {c.r, c.g, c.b};
+      for (int k = 0; k < 3; ++k)
+        ASSERT_LE(std::abs(code[k] - 255.0 * srgb_encoded(colour[t][k])), 0.5 + 1e-9) << t << " " << k;
+      const double r = with_roughness ? roughness[t] : 1.0;
+      ASSERT_LE(std::abs(loaded.roughness[t] - 255.0 * r), 0.5 + 1e-9) << t;
+    }
+  }
+};
+
+TEST_F(HdmLegacyFile, Version2FileLoadsWithColoursRoundedOnce) {
+  test::write_bytes(path, legacy_file(model, colour, roughness, 2));
+  const SlabModel loaded = load_model(path);
+  expect_quantised(loaded, true);
+  EXPECT_EQ(loaded.displacement, model.displacement);
+  EXPECT_EQ(loaded.layer_displacement, model.layer_displacement);
+  EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
+  // Saved again, it is a version 3 file holding the same codes.
+  const std::string again = dir.file("again.hdm");
+  save_model(loaded, again);
+  const std::vector<uint8_t> b = test::read_bytes(again);
+  EXPECT_EQ(b[4], 3);
+  const SlabModel reloaded = load_model(again);
+  EXPECT_EQ(reloaded.colour, loaded.colour);
+  EXPECT_EQ(reloaded.roughness, loaded.roughness);
+}
+
+// A version-1 file (no roughness, under-layer sections) loads with those fields' defaults.
+TEST_F(HdmLegacyFile, Version1FileLoadsWithDefaults) {
+  test::write_bytes(path, legacy_file(model, colour, roughness, 1));
+  const SlabModel loaded = load_model(path);
+  expect_quantised(loaded, false);
+  ASSERT_EQ(loaded.layer_displacement.size(), model.layer_displacement.size());
+  for (float d : loaded.layer_displacement) ASSERT_EQ(d, 0.0f);
+  EXPECT_EQ(loaded.under_layer.colour, UnderLayer{}.colour);
+}
+
+TEST_F(HdmLegacyFile, NonFiniteColourOrRoughnessOutsideTheUnitIntervalIsRefused) {
+  colour[5].y() = std::nanf("");
+  test::write_bytes(path, legacy_file(model, colour, roughness, 2));
+  try {
+    load_model(path);
+    ADD_FAILURE() << "a NaN colour loaded";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": colour of texel 5 is not finite"), std::string::npos) << e.what();
+  }
+  colour[5].y() = 0.5f;
+  roughness[7] = 1.5f;
+  test::write_bytes(path, legacy_file(model, colour, roughness, 2));
+  try {
+    load_model(path);
+    ADD_FAILURE() << "a roughness of 1.5 loaded";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("roughness of texel 7 is outside [0, 1]"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hdm
