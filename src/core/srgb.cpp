@@ -36,44 +36,34 @@ std::array<float, 256> make_decode() noexcept {
   return t;
 }
 
+}  // namespace
+
 // Built before main; nothing runs encode or decode during static initialisation.
-const std::array<float, 256> kBound = make_bounds();
-const std::array<float, 256> kDecode = make_decode();
+const std::array<float, 256> detail::srgb_bound = make_bounds();
+const std::array<float, 256> detail::srgb_decode = make_decode();
+
+namespace {
 
 // The code of each bucket's lower end, linear [i/kBuckets, (i+1)/kBuckets): the steepest part of the
 // curve (12.92·255 codes per unit near 0) crosses fewer than one code boundary per bucket, so a
-// value's code is its bucket's plus at most one. A binary search over kBound alone is 8 dependent
+// value's code is its bucket's plus at most one. A binary search over srgb_bound alone is 8 dependent
 // loads per channel, which doubled the paint brush's cost per texel.
 constexpr int kBuckets = 4096;
-static_assert(12.92 * 255 < kBuckets);
+static_assert(12.92 * 255 < kBuckets && kBuckets == 4096);
 std::array<uint8_t, kBuckets> make_buckets() noexcept {
   std::array<uint8_t, kBuckets> t{};
   unsigned c = 0;
   for (int i = 0; i < kBuckets; ++i) {
     const float x = float(i) / kBuckets;
-    while (kBound[c] <= x) ++c;
+    while (detail::srgb_bound[c] <= x) ++c;
     t[size_t(i)] = static_cast<uint8_t>(c);
   }
   return t;
 }
-const std::array<uint8_t, kBuckets> kBucket = make_buckets();
 
 }  // namespace
 
-uint8_t linear_to_srgb8(float linear) noexcept {
-  if (!(linear > 0.0f)) return 0;  // also NaN
-  if (linear >= 1.0f) return 255;
-  const unsigned c = kBucket[static_cast<size_t>(linear * kBuckets)];
-  return static_cast<uint8_t>(c + (kBound[c] <= linear ? 1u : 0u));
-}
-
-float srgb8_to_linear(uint8_t code) noexcept { return kDecode[code]; }
-
-Srgb8 encode_srgb8(const Vec3f& linear) noexcept {
-  return {linear_to_srgb8(linear.x()), linear_to_srgb8(linear.y()), linear_to_srgb8(linear.z())};
-}
-
-Vec3f decode_srgb8(Srgb8 c) noexcept { return {kDecode[c.r], kDecode[c.g], kDecode[c.b]}; }
+const std::array<uint8_t, 4096> detail::srgb_bucket = make_buckets();
 
 uint8_t unit_to_unorm8(float v) noexcept {
   if (!(v > 0.0f)) return 0;

@@ -6,6 +6,7 @@
 
 #include <hdm/core/types.h>
 
+#include <array>
 #include <cstdint>
 
 namespace hdm {
@@ -21,25 +22,46 @@ struct Srgb8 {
   friend bool operator==(const Srgb8&, const Srgb8&) = default;
 };
 
+namespace detail {
+/// @{ Tables of the sRGB encodings (src/core/srgb.cpp), built before main: srgb_bound[k] is the
+/// least float whose code is above k (srgb_bound[255] = +inf), srgb_bucket[i] the code of linear
+/// i/4096, srgb_decode[k] the linear value of code k. Inline so that paint's per-texel blend
+/// needs no call.
+extern const std::array<float, 256> srgb_bound, srgb_decode;
+extern const std::array<uint8_t, 4096> srgb_bucket;
+/// @}
+}  // namespace detail
+
 /// @brief Encodes a linear colour channel in [0,1] as an 8-bit sRGB value (IEC 61966-2-1):
 /// round(255 · s) with s = 12.92·c for c ≤ 0.0031308, else 1.055·c^(1/2.4) − 0.055. Values
 /// outside [0,1] are clamped, NaN gives 0.
 /// @note noexcept, no allocation, two table lookups (a bucket of the linear value, then one code
 /// boundary), usable in the servo tick.
-uint8_t linear_to_srgb8(float linear) noexcept;
+inline uint8_t linear_to_srgb8(float linear) noexcept {
+  if (!(linear > 0.0f)) return 0;  // also NaN
+  if (linear >= 1.0f) return 255;
+  // A bucket spans less than one code boundary (12.92·255 codes per unit at the steepest), so the
+  // code is the bucket's or the next.
+  const unsigned c = detail::srgb_bucket[static_cast<size_t>(linear * 4096.0f)];
+  return static_cast<uint8_t>(c + (detail::srgb_bound[c] <= linear ? 1u : 0u));
+}
 
 /// @brief Decodes an 8-bit sRGB value to a linear channel in [0,1] (the inverse transfer function
 /// of IEC 61966-2-1); linear_to_srgb8(srgb8_to_linear(c)) == c for every code.
 /// @note noexcept, a table lookup.
-float srgb8_to_linear(uint8_t code) noexcept;
+inline float srgb8_to_linear(uint8_t code) noexcept { return detail::srgb_decode[code]; }
 
 /// @brief linear_to_srgb8() of each channel of the linear RGB colour @p linear.
 /// @note noexcept, no allocation.
-Srgb8 encode_srgb8(const Vec3f& linear) noexcept;
+inline Srgb8 encode_srgb8(const Vec3f& linear) noexcept {
+  return {linear_to_srgb8(linear.x()), linear_to_srgb8(linear.y()), linear_to_srgb8(linear.z())};
+}
 
 /// @brief srgb8_to_linear() of each channel: the linear RGB colour @p c stands for.
 /// @note noexcept, three table lookups.
-Vec3f decode_srgb8(Srgb8 c) noexcept;
+inline Vec3f decode_srgb8(Srgb8 c) noexcept {
+  return {detail::srgb_decode[c.r], detail::srgb_decode[c.g], detail::srgb_decode[c.b]};
+}
 
 /// @brief Encodes @p v in [0,1] as unorm8, round(255 · v); outside [0,1] clamped, NaN gives 0.
 /// @note noexcept, O(1).
