@@ -50,10 +50,11 @@ namespace {
 // loads per channel, which doubled the paint brush's cost per texel.
 constexpr int kBuckets = 4096;
 static_assert(12.92 * 255 < kBuckets && kBuckets == 4096);
-std::array<uint8_t, kBuckets> make_buckets() noexcept {
-  std::array<uint8_t, kBuckets> t{};
+// One entry per bucket plus linear 1.0 itself, so that the clamped value needs no test.
+std::array<uint8_t, kBuckets + 1> make_buckets() noexcept {
+  std::array<uint8_t, kBuckets + 1> t{};
   unsigned c = 0;
-  for (int i = 0; i < kBuckets; ++i) {
+  for (int i = 0; i <= kBuckets; ++i) {
     const float x = float(i) / kBuckets;
     while (detail::srgb_bound[c] <= x) ++c;
     t[size_t(i)] = static_cast<uint8_t>(c);
@@ -63,12 +64,6 @@ std::array<uint8_t, kBuckets> make_buckets() noexcept {
 
 }  // namespace
 
-const std::array<uint8_t, 4096> detail::srgb_bucket = make_buckets();
-
-uint8_t unit_to_unorm8(float v) noexcept {
-  if (!(v > 0.0f)) return 0;
-  if (v >= 1.0f) return 255;
-  return static_cast<uint8_t>(std::lround(v * 255.0f));
-}
+const std::array<uint8_t, kBuckets + 1> detail::srgb_bucket = make_buckets();
 
 }  // namespace hdm

@@ -9,21 +9,34 @@
 #include <hdm/edit/edit_tools.h>
 #include <hdm/edit/undo_history.h>
 
+#include <bit>
 #include <chrono>
 #include <cstdint>
 #include <vector>
 
 namespace hdm::detail {
 
+// A texel's stored codes (SlabModel::colour and roughness): 4 bytes, copied without decoding and
+// compared as one word (no branch per channel: paint compares every blend it makes).
+struct TexelCodes {
+  Srgb8 colour;
+  uint8_t roughness = 0;
+  friend bool operator==(const TexelCodes& a, const TexelCodes& b) noexcept {
+    return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b);
+  }
+};
+static_assert(sizeof(TexelCodes) == 4);
+
 // Per-stroke memory: the values each sample and texel had when the stroke first touched it, and the
 // largest paint intensity the stroke reached there. Lets Add measure from the stroke's starting
-// surface, Paint blend once per stroke, and undo record each value once.
+// surface, Paint blend once per stroke, and undo record each value once. Texels keep their codes
+// (4 bytes, not 16 of decoded floats): paint decodes them to blend, undo when it records.
 struct StrokeMemory {
   explicit StrokeMemory(const SlabModel& m);
   uint32_t id = 0;  // current stroke (0: none); marks equal to id are valid
   std::vector<uint32_t> sample_mark, texel_mark;
   std::vector<SampleValues> sample_base;
-  std::vector<TexelValues> texel_base;
+  std::vector<TexelCodes> texel_base;
   std::vector<float> sample_k, texel_k;
   UndoHistory* history = nullptr;  // receives a record at each first touch (optional)
   void next_stroke() noexcept;
@@ -35,10 +48,12 @@ inline SampleValues sample_values(const SlabModel& m, int32_t s) noexcept {
 }
 // The texel's stored codes decoded; set_texel_values() of them writes the same codes back
 // (every code survives decode → encode), so undo and the stroke's base restore texels exactly.
-inline TexelValues texel_values(const SlabModel& m, int32_t t) noexcept {
-  const Vec3f c = decode_srgb8(m.colour[t]);
-  return {c.x(), c.y(), c.z(), unorm8_to_unit(m.roughness[t])};
+inline TexelCodes texel_codes(const SlabModel& m, int32_t t) noexcept { return {m.colour[t], m.roughness[t]}; }
+inline TexelValues decode_texel(TexelCodes c) noexcept {
+  const Vec3f v = decode_srgb8(c.colour);
+  return {v.x(), v.y(), v.z(), unorm8_to_unit(c.roughness)};
 }
+inline TexelValues texel_values(const SlabModel& m, int32_t t) noexcept { return decode_texel(texel_codes(m, t)); }
 inline void set_texel_values(SlabModel& m, int32_t t, float r, float g, float b, float roughness) noexcept {
   m.colour[t] = encode_srgb8(Vec3f(r, g, b));
   m.roughness[t] = unit_to_unorm8(roughness);

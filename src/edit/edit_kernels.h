@@ -49,6 +49,13 @@ struct DirtyMarker {
     s.dirty_slabs[slab] = 1;
     s.dirty_list[s.dirty_count++] = slab;
   }
+  // Flags @p slab when @p changed, without a branch on it (a slab is newly flagged once per job,
+  // so the one branch left is predictable): for an interior sample, whose only slab is its home.
+  void flag_if(int32_t slab, bool changed) noexcept {
+    const bool fresh = changed & !s.dirty_slabs[slab];
+    s.dirty_slabs[slab] |= changed;
+    if (fresh) s.dirty_list[s.dirty_count++] = slab;
+  }
   void mark(const SampleLayout& L, int32_t id) noexcept {
     L.for_each_slot(id, [&](int32_t slot) noexcept {
       if (slot >= lo && slot < hi) return;
@@ -143,17 +150,17 @@ inline void touch_sample(const SlabModel& m, StrokeMemory* st, int32_t id) noexc
 inline void touch_texel(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
   if (!st || st->texel_mark[id] == st->id) return;
   st->texel_mark[id] = st->id;
-  st->texel_base[id] = texel_values(m, id);
+  st->texel_base[id] = texel_codes(m, id);
   st->texel_k[id] = 0;
 }
-// Before a touched texel's codes change: records its values at the stroke's start, the first time
-// (while its codes still decode to them; decoding is one-to-one).
-inline void record_texel(const SlabModel& m, StrokeMemory* st, int32_t id) noexcept {
+// Before a touched texel's codes change from @p stored: records its values at the stroke's start,
+// the first time (while its stored codes are still the stroke's base codes).
+inline void record_texel(StrokeMemory* st, int32_t id, TexelCodes stored) noexcept {
   if (!st || !st->history) return;
-  const TexelValues& v = st->texel_base[id];
-  const TexelValues now = texel_values(m, id);
-  if (now.r == v.r && now.g == v.g && now.b == v.b && now.roughness == v.roughness)
-    st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f}});
+  const TexelCodes base = st->texel_base[id];
+  if (!(stored == base)) return;
+  const TexelValues v = decode_texel(base);
+  st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f}});
 }
 // A sample's displacement at the start of the stroke (its current one when there is no stroke).
 inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id) noexcept {

@@ -81,23 +81,27 @@ bool flood_paint_texels(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d)
     const float k = static_cast<float>(pressure * strength * fw);
     if (!(k > (st && st->texel_mark[id] == st->id ? st->texel_k[id] : 0.0f))) return true;
     touch_texel(m, st, id);
-    const TexelValues base = st ? st->texel_base[id] : texel_values(m, id);
     // Blended from the stroke's base, never from the stored (quantised) value, and rounded once
     // to 8 bits: later ticks of the stroke rewrite the texel, they do not drift it.
-    Srgb8 colour = m.colour[id];
-    uint8_t roughness = m.roughness[id];
+    const TexelCodes stored = texel_codes(m, id), base = st ? st->texel_base[id] : stored;
+    TexelCodes now = stored;
     if (b.field == BrushField::Colour)
-      colour = encode_srgb8(k * b.colour + (1 - k) * Vec3f(base.r, base.g, base.b));
+      now.colour = encode_srgb8(k * b.colour + (1 - k) * decode_srgb8(base.colour));
     else
-      roughness = unit_to_unorm8(k * b.value + (1 - k) * base.roughness);
+      now.roughness = unit_to_unorm8(k * b.value + (1 - k) * unorm8_to_unit(base.roughness));
     if (st) st->texel_k[id] = k;
-    // A rise of k too small to move a code changes nothing: no undo record, no dirty slab.
-    if (colour == m.colour[id] && roughness == m.roughness[id]) return true;
-    record_texel(m, st, id);
-    m.colour[id] = colour;
-    m.roughness[id] = roughness;
-    ++job.result.changed;
-    dirty.mark(T, id);
+    // A rise of k too small to move a code changes nothing: no undo record, no dirty slab. Whether
+    // it moved is a coin flip at the brush's rim, so the stores, the count and the flag of an
+    // interior texel's slab do not branch on it.
+    const bool moved = !(now == stored);
+    m.colour[id] = now.colour;
+    m.roughness[id] = now.roughness;
+    job.result.changed += moved;
+    if (moved & (stored == base)) record_texel(st, id, stored);  // its first change this stroke
+    if (id >= T.first_interior)
+      dirty.flag_if(slab, moved);
+    else if (moved)
+      dirty.mark(T, id);
     return true;
   });
 }

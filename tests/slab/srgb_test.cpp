@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -43,6 +45,50 @@ TEST(Srgb8, LinearToCodeAndBackIsWithinHalfACodeStep) {
   EXPECT_EQ(linear_to_srgb8(std::numeric_limits<float>::infinity()), 255);
   EXPECT_EQ(linear_to_srgb8(std::nanf("")), 0);
   EXPECT_EQ(linear_to_srgb8(0.5f), 188);  // published sRGB value of linear 0.5
+}
+
+// The code of linear @p c by the formula, rounded once in double: the reference for exact rounding.
+int reference_code(float c) { return int(std::lround(255.0 * encoded(double(c)))); }
+
+TEST(Srgb8, EveryFloatInTheUnitIntervalEncodesAsTheFormulaRounds) {
+  // All 1,065,353,217 floats in [0,1] in increasing order (their bit patterns are). The encoder
+  // must never decrease and must step by exactly one code; where it steps, the formula must give
+  // the same code on both sides. The formula is non-decreasing too, so between two steps (where
+  // the encoder is constant) it is pinned to the same code: the two agree at every float.
+  const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+  int prev = linear_to_srgb8(0.0f), steps = 0;
+  ASSERT_EQ(prev, reference_code(0.0f));
+  for (uint32_t bits = 1; bits <= one; ++bits) {
+    const float c = std::bit_cast<float>(bits);
+    const int code = linear_to_srgb8(c);
+    if (code == prev) continue;
+    ASSERT_EQ(code, prev + 1) << c;
+    const float before = std::bit_cast<float>(bits - 1);
+    ASSERT_EQ(prev, reference_code(before)) << before;
+    ASSERT_EQ(code, reference_code(c)) << c;
+    prev = code, ++steps;
+  }
+  EXPECT_EQ(prev, 255);
+  EXPECT_EQ(steps, 255);
+}
+
+TEST(Srgb8, UnitValuesRoundToTheNearestCodeHalvesUp) {
+  // The nearest code: |255·v − code| ≤ 1/2, a half going up (255·v is exact in double), over a
+  // dense sweep and the floats either side of every half-code.
+  auto check = [](float v) {
+    const double x = 255.0 * double(v);
+    const int code = unit_to_unorm8(v);
+    ASSERT_TRUE(x - code < 0.5 && code - x <= 0.5) << v;
+  };
+  for (int k = 0; k <= 1000000; ++k) check(float(k) / 1000000.0f);
+  for (int k = 0; k < 255; ++k) {
+    const float half = float((k + 0.5) / 255.0);
+    for (float v : {std::nextafter(half, 0.0f), half, std::nextafter(half, 2.0f)}) check(v);
+  }
+  EXPECT_EQ(unit_to_unorm8(1.0f), 255);
+  EXPECT_EQ(unit_to_unorm8(2.0f), 255);
+  EXPECT_EQ(unit_to_unorm8(std::numeric_limits<float>::infinity()), 255);
+  EXPECT_EQ(unit_to_unorm8(-std::numeric_limits<float>::infinity()), 0);
 }
 
 TEST(Srgb8, ColoursEncodeChannelByChannel) {

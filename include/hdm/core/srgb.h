@@ -25,25 +25,28 @@ struct Srgb8 {
 namespace detail {
 /// @{ Tables of the sRGB encodings (src/core/srgb.cpp), built before main: srgb_bound[k] is the
 /// least float whose code is above k (srgb_bound[255] = +inf), srgb_bucket[i] the code of linear
-/// i/4096, srgb_decode[k] the linear value of code k. Inline so that paint's per-texel blend
-/// needs no call.
+/// i/4096 (i = 0..4096), srgb_decode[k] the linear value of code k. Inline so that paint's
+/// per-texel blend needs no call.
 extern const std::array<float, 256> srgb_bound, srgb_decode;
-extern const std::array<uint8_t, 4096> srgb_bucket;
+extern const std::array<uint8_t, 4097> srgb_bucket;
 /// @}
 }  // namespace detail
 
 /// @brief Encodes a linear colour channel in [0,1] as an 8-bit sRGB value (IEC 61966-2-1):
-/// round(255 · s) with s = 12.92·c for c ≤ 0.0031308, else 1.055·c^(1/2.4) − 0.055. Values
-/// outside [0,1] are clamped, NaN gives 0.
-/// @note noexcept, no allocation, two table lookups (a bucket of the linear value, then one code
-/// boundary), usable in the servo tick.
+/// round(255 · s) with s = 12.92·c for c ≤ 0.0031308, else 1.055·c^(1/2.4) − 0.055, exactly
+/// (every float agrees with the formula evaluated in double). Values outside [0,1] are clamped,
+/// NaN gives 0.
+/// @note noexcept, no allocation, no branch: two dependent table lookups (the code at the lower end
+/// of the value's 1/4096 bucket, then the one code boundary the bucket may hold), ~2 ns; usable in
+/// the servo tick.
 inline uint8_t linear_to_srgb8(float linear) noexcept {
-  if (!(linear > 0.0f)) return 0;  // also NaN
-  if (linear >= 1.0f) return 255;
+  // Clamped with selects (minss / maxss), not branches: paint encodes each channel of every texel
+  // it blends, and the branches cost more than the lookups. NaN fails `>` and becomes 0.
+  const float c = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;
   // A bucket spans less than one code boundary (12.92·255 codes per unit at the steepest), so the
-  // code is the bucket's or the next.
-  const unsigned c = detail::srgb_bucket[static_cast<size_t>(linear * 4096.0f)];
-  return static_cast<uint8_t>(c + (detail::srgb_bound[c] <= linear ? 1u : 0u));
+  // code is the bucket's or the next; 1.0 indexes the last entry (code 255, below bound +inf).
+  const unsigned code = detail::srgb_bucket[static_cast<uint32_t>(static_cast<int32_t>(c * 4096.0f))];
+  return static_cast<uint8_t>(code + (detail::srgb_bound[code] <= c ? 1u : 0u));
 }
 
 /// @brief Decodes an 8-bit sRGB value to a linear channel in [0,1] (the inverse transfer function
@@ -63,9 +66,15 @@ inline Vec3f decode_srgb8(Srgb8 c) noexcept {
   return {detail::srgb_decode[c.r], detail::srgb_decode[c.g], detail::srgb_decode[c.b]};
 }
 
-/// @brief Encodes @p v in [0,1] as unorm8, round(255 · v); outside [0,1] clamped, NaN gives 0.
-/// @note noexcept, O(1).
-uint8_t unit_to_unorm8(float v) noexcept;
+/// @brief Encodes @p v in [0,1] as unorm8, round(255 · v) with halves up; outside [0,1] clamped,
+/// NaN gives 0.
+/// @note noexcept, O(1), no branch.
+inline uint8_t unit_to_unorm8(float v) noexcept {
+  const float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+  // 255 · c and the added half are exact in double (8 + 24 bits), so truncation rounds 255 · c
+  // itself, not a float product already rounded.
+  return static_cast<uint8_t>(static_cast<int32_t>(static_cast<double>(c) * 255.0 + 0.5));
+}
 
 /// @brief Decodes a unorm8 value: @p code / 255, in [0,1].
 /// @note noexcept, O(1).
