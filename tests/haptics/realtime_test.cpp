@@ -3,6 +3,7 @@
 // replaced in this test program and counted), the force envelope, the simulated and replay devices.
 #include "haptics/haptics_fixtures.h"
 
+#include <hdm/haptics/rigid_tool.h>
 #include <hdm/haptics/sphere_proxy.h>
 
 #include <hdm/core/error.h>
@@ -20,6 +21,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <new>
 #include <thread>
 
@@ -120,6 +122,31 @@ TEST(Realtime, SphereProxyTickDoesNotAllocate) {
     const Vec3 hip = S.ws.to_device(Vec3(std::sin(a), 0.2 * std::sin(3 * a), std::cos(a)).normalized() * 1.06);
     sphere_proxy_step(model, locator, S.ws, hip, Vec3::Zero(), p, st);
     contact += st.contact;
+  }
+  EXPECT_EQ(g_news.load() - before, 0);
+  EXPECT_GT(contact, n / 2) << "the run must exercise contact";
+}
+
+// The rigid tool's tick: a 1,000-point burr (r = 0.05) on the sphere, its shaft along the radius, the
+// tip 0.01 inside its rest height and the tool turning about the radius and tilting: zero global
+// allocations.
+TEST(Realtime, RigidToolTickDoesNotAllocate) {
+  const auto& S = sphere();
+  const ToolShell shell = burr_shell(0.05);
+  auto st = std::make_unique<RigidToolState>();
+  const RigidToolParams p;
+  const int n = 2000;
+  int contact = 0;
+  const long before = g_news.load();
+  for (int k = 0; k < n; ++k) {
+    const double a = 1.5 * k / n;
+    const Vec3 radial = Vec3(std::sin(a), 0.2 * std::sin(3 * a), std::cos(a)).normalized();
+    ToolPose d;
+    d.position = S.ws.to_device(radial * (1 + 0.05 - 0.01));
+    d.orientation = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), radial) *
+                    Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * std::sin(5 * a), Vec3::UnitX()));
+    const ToolWrench out = rigid_tool_step(S.model, *S.locator, S.ws, shell, d, ToolTwist{}, p, *st);
+    contact += out.status == ForceStatus::Contact || out.status == ForceStatus::Clamped;
   }
   EXPECT_EQ(g_news.load() - before, 0);
   EXPECT_GT(contact, n / 2) << "the run must exercise contact";
