@@ -3,6 +3,7 @@
 
 #include <hdm/analysis/cgal_closest_point.h>
 #include <hdm/edit/brush_registry.h>
+#include <hdm/haptics/rigid_tool.h>
 #include <hdm/haptics/sphere_proxy.h>
 #include <hdm/slab/model_memory.h>
 
@@ -139,11 +140,27 @@ std::vector<Vec3> path_velocity(const std::vector<Vec3>& path, const Workspace& 
   return velocity;
 }
 
+std::vector<Eigen::Quaterniond> tool_orientations(const SlabModel& model, const SlabLocator& locator,
+                                                  const std::vector<Vec3>& path) {
+  std::vector<Eigen::Quaterniond> out;
+  out.reserve(path.size());
+  QueryCache cache;
+  Vec3 axis = Vec3::Zero();
+  for (const Vec3& p : path) {
+    const Contact c = query(model, locator, p, cache);
+    const Vec3 n = c.in_shell() ? c.normal : Vec3(axis.norm() > 0 ? axis : Vec3::UnitZ());
+    axis = axis.norm() > 0 ? Vec3((axis + 0.02 * (n - axis)).normalized()) : n;  // a hand's lag: ~50 ticks
+    out.push_back(Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), axis));
+  }
+  return out;
+}
+
 LatencyRuns time_queries(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& exact,
                          const CgalClosestPoint* cgal, const Workspace& ws, const std::vector<Vec3>& path,
                          const std::vector<Vec3>& velocity, const std::vector<Vec3>& points, int repeat) {
   LatencyRuns out;
   const ForceParams fp;
+  const std::vector<Eigen::Quaterniond> orientation = tool_orientations(model, locator, path);
   for (int r = 0; r < repeat; ++r) {
     QueryCache cache;
     double sink = 0;
@@ -197,6 +214,23 @@ LatencyRuns time_queries(const SlabModel& model, const SlabLocator& locator, con
       const ProxyOutput o = sphere_proxy_step(model, locator, ws, ws.to_device(path[k]), velocity[k], sp, *ss);
       sink += o.force.x();
     }));
+    // The rigid tool: a 1,000-point burr, its tip (the head's centre) on the path, its shaft along
+    // the path's orientations (tool_orientations()).
+    const ToolShell burr = burr_shell(0.01 * model.source_diagonal);
+    auto rs = std::make_unique<RigidToolState>();  // ~200 KB of per-point state: off the stack
+    const RigidToolParams rp;
+    int64_t pushed = 0;
+    out.rigid_tick.push_back(time_batches(
+        path.size(),
+        [&](size_t k) {
+          const ToolPose pose{ws.to_device(path[k]), orientation[k]};
+          const ToolWrench w =
+              rigid_tool_step(model, locator, ws, burr, pose, ToolTwist{velocity[k], Vec3::Zero()}, rp, *rs);
+          sink += w.force.x() + w.torque.y();
+          pushed += w.status != ForceStatus::Free;
+        },
+        1));
+    out.rigid_contacts = pushed;
     g_sink = sink;
   }
   return out;

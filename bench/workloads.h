@@ -53,17 +53,19 @@ struct Summary {
 /// Summary of @p runs (one Stats per repeat). @pre @p runs not empty.
 Summary summarise(const std::vector<Stats>& runs);
 
-/// Times `body(k)` for k in [0, n) in batches of kBatch consecutive calls (a tail shorter than a
-/// batch is not run); returns the distribution of ns per call over the batches.
+/// Times `body(k)` for k in [0, n) in batches of @p batch consecutive calls (a tail shorter than a
+/// batch is not run); returns the distribution of ns per call over the batches. A call of tens of
+/// microseconds (the rigid tool's tick) is timed alone (@p batch = 1): the timer's cost is then
+/// negligible, and p99 is over calls, not over batches that one preempted call inflates.
 template <class Body>
-Stats time_batches(size_t n, Body&& body) {
+Stats time_batches(size_t n, Body&& body, size_t batch = kBatch) {
   std::vector<double> per_query;
-  per_query.reserve(n / kBatch + 1);
-  for (size_t k0 = 0; k0 + kBatch <= n; k0 += kBatch) {
+  per_query.reserve(n / batch + 1);
+  for (size_t k0 = 0; k0 + batch <= n; k0 += batch) {
     const auto t0 = Clock::now();
-    for (size_t k = k0; k < k0 + kBatch; ++k) body(k);
+    for (size_t k = k0; k < k0 + batch; ++k) body(k);
     const auto t1 = Clock::now();
-    per_query.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / kBatch);
+    per_query.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / batch);
   }
   return stats_of(std::move(per_query));
 }
@@ -85,21 +87,31 @@ std::vector<Vec3> global_points(const SlabModel& m, int count, double dist, std:
 /// Device velocity [m/s] of each point of a 1 kHz @p path [model units] under @p ws (zero at the first).
 std::vector<Vec3> path_velocity(const std::vector<Vec3>& path, const Workspace& ws);
 
+/// Orientations (tool frame → model frame) of a tool held along a @p path [model units]: its +z axis
+/// follows the surface normal under the path with a lag of about 50 ticks (a hand's, not the
+/// normal field's facets), so it leans off the normal where the surface turns.
+std::vector<Eigen::Quaterniond> tool_orientations(const SlabModel& model, const SlabLocator& locator,
+                                                  const std::vector<Vec3>& path);
+
 /// Latency of every query kind over all repeats (one Stats per repeat, ns per query).
 struct LatencyRuns {
   std::vector<Stats> coherent, global, tick, proxy_tick;  ///< hdm
   std::vector<Stats> sphere_tick;                     ///< hdm's sphere proxy (r = 1 % of the diagonal) on the same path
+  std::vector<Stats> rigid_tick;                      ///< hdm's rigid tool (1,000-point burr, r = 1 %), per tick
   std::vector<Stats> embree_coherent, embree_global;  ///< Embree closest point + inside test
   std::vector<Stats> cgal_coherent, cgal_global;      ///< CGAL closest point (when given)
   int64_t in_shell_coherent = 0, in_shell_global = 0;  ///< points in a slab (last repeat)
   int64_t contacts = 0;                                ///< path ticks with a penalty force (last repeat)
+  int64_t rigid_contacts = 0;                          ///< path ticks with a rigid-tool wrench (last repeat)
 };
 
 /// Times, @p repeat times and interleaved so that machine noise hits all of them: hdm's query on
 /// @p path (coherent, cache kept) and on @p points (a fresh search each), Embree's closest point plus
 /// inside test on both, CGAL's closest point on both (when @p cgal is not null), the servo tick with
-/// the penalty force, with the proxy (proxy_step) and with the sphere proxy (sphere_proxy_step, its
-/// default radius of 1 % of the diagonal) on @p path at @p velocity [m/s].
+/// the penalty force, with the proxy (proxy_step), with the sphere proxy (sphere_proxy_step, its
+/// default radius of 1 % of the diagonal) and with the rigid tool (rigid_tool_step: a 1,000-point
+/// burr_shell of head radius 1 % of the diagonal, its tip on the path, held as tool_orientations()) on @p path at
+/// @p velocity [m/s].
 LatencyRuns time_queries(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& exact,
                          const CgalClosestPoint* cgal, const Workspace& ws, const std::vector<Vec3>& path,
                          const std::vector<Vec3>& velocity, const std::vector<Vec3>& points, int repeat);

@@ -69,7 +69,8 @@ BenchInput read_bench_input(const BenchArgs& a) {
   in.path = a.model.empty() ? default_model() : a.model;
   in.mesh = read_mesh(in.path);
   in.file_triangles = static_cast<int64_t>(in.mesh.faces.size());
-  for (; in.subdivisions < a.subdivide; ++in.subdivisions) in.mesh = subdivide_midpoints(in.mesh);  // a larger baseline input
+  for (; in.subdivisions < a.subdivide; ++in.subdivisions)
+    in.mesh = subdivide_midpoints(in.mesh);  // a larger baseline input
   while (a.slabs > 0 && static_cast<int64_t>(in.mesh.faces.size()) <= a.slabs)
     in.mesh = subdivide_midpoints(in.mesh), ++in.subdivisions;
   return in;
@@ -90,7 +91,8 @@ nlohmann::json edit_figures(const std::vector<EditRow>& warm, const std::vector<
     return ns_per(warm, [&](const EditRow& e) { return std::string(e.tool) == tool; });
   };
   auto cold = [&](char tool, bool changed) {
-    return ns_per(edits, [&](const EditRow& e) { return e.tool[0] == tool; }, changed);
+    return ns_per(
+        edits, [&](const EditRow& e) { return e.tool[0] == tool; }, changed);
   };
   nlohmann::json edit_rows = nlohmann::json::array(), warm_rows = nlohmann::json::array();
   for (const EditRow& e : warm)
@@ -138,7 +140,8 @@ nlohmann::json latency_figures(const LatencyRuns& lat, bool with_cgal, double cg
             {"global_ns", to_json(s_glo)},
             {"tick_ns", to_json(s_tick)},
             {"proxy_tick_ns", have_proxy ? to_json(summarise(lat.proxy_tick)) : none},
-            {"sphere_tick_ns", lat.sphere_tick.empty() ? none : to_json(summarise(lat.sphere_tick))}}},
+            {"sphere_tick_ns", lat.sphere_tick.empty() ? none : to_json(summarise(lat.sphere_tick))},
+            {"rigid_tick_ns", lat.rigid_tick.empty() ? none : to_json(summarise(lat.rigid_tick))}}},
           {"baseline",
            {{"embree_ns", to_json(s_ecoh)},
             {"embree_global_ns", to_json(s_eglo)},
@@ -171,6 +174,7 @@ void print_report(const nlohmann::json& j) {
   row("hdm servo tick (query + force)", h["tick_ns"]);
   row("hdm servo tick (proxy_step)", h["proxy_tick_ns"]);
   row("hdm sphere proxy tick, r = 1 %", h["sphere_tick_ns"]);
+  row("hdm rigid tool tick, 1,000 points", h["rigid_tick_ns"]);
   row("Embree closest+inside, path pts", b["embree_ns"]);
   row("Embree closest+inside, global pts", b["embree_global_ns"]);
   row("CGAL AABB closest, path pts", b["cgal_closest_ns"]);
@@ -183,6 +187,8 @@ void print_report(const nlohmann::json& j) {
   std::printf("  points in shell                   coherent %.1f%%, global %.1f%%; max path step %.3f mm\n",
               100 * d(j["in_shell_fraction"]["coherent"]), 100 * d(j["in_shell_fraction"]["global"]),
               d(j["trajectory_max_step_mm"]));
+  std::printf("  ticks in contact                  penalty %.1f%%, rigid tool %.1f%%\n", 100 * d(j["contact_fraction"]),
+              100 * d(j["rigid_contact_fraction"]));
   const nlohmann::json &w = j["edit_warm_ns_per_visited"], &v = j["edit_ns_per_visited"], &c = j["edit_ns_per_changed"];
   std::printf(
       "  edits, warm strokes at 1 kHz      carve %.1f, add %.1f, smooth %.1f, flatten %.1f ns per visited sample, "
@@ -260,6 +266,7 @@ void run_bench(const BenchArgs& a) {
              {{"coherent", double(lat.in_shell_coherent) / path_pts.size()},
               {"global", double(lat.in_shell_global) / global_pts.size()}}},
             {"contact_fraction", double(lat.contacts) / path_pts.size()},
+            {"rigid_contact_fraction", double(lat.rigid_contacts) / path_pts.size()},
             {"bake_s", bake_s},
             {"bake_separate_slabs", !a.no_separate},
             {"bake_report_s", br.seconds},

@@ -45,7 +45,7 @@ struct RigidToolParams {
   /// in one round, so a point that is not yet constrained cannot pass the surface; 0: 0.002 × the
   /// model's source diagonal (0.32 mm on a 16 cm workspace). Keep it below the shell's outer thickness.
   double band = 0.0;
-  int rounds = 2;   ///< query + solve rounds per tick while the step bound stops the god-object (>= 1)
+  int rounds = 1;   ///< query + solve rounds per tick while the step bound stops the god-object (>= 1)
   int sweeps = 16;  ///< projected Gauss–Seidel sweeps per solve (>= 1)
   AlphaSolver solver = AlphaSolver::Newton;  ///< alpha-plane root finder of every shell-point query
 };
