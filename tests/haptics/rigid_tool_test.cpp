@@ -139,6 +139,37 @@ TEST(RigidTool, TorqueIsTheContactForcesMomentAboutTheDevicePoint) {
       << "torque " << out.torque.transpose() << " vs r x F " << expected.transpose();
 }
 
+// The upright burr slid 1.0 across the face, 0.01 below its rest height, while it tilts up to 25°
+// about x and turns about its axis: the head is a sphere about the tip, so the god-object's tip
+// stays r above the face (within 2 % of r) on every tick, no shell point goes below it by more
+// than 1 % of r, and the frictionless force stays within 2° of the face normal.
+TEST(RigidTool, SlidesAndTurnsOnAFaceWithTheHeadOnIt) {
+  const Block& b = block();
+  const ToolShell shell = burr_shell(kR);
+  auto st = std::make_unique<RigidToolState>();
+  const RigidToolParams p = params();
+  const int n = 1500;
+  double worst_height = 0, lowest = INFINITY, worst_angle = 0;
+  for (int k = 0; k <= n; ++k) {
+    const double u = std::max(0.0, (k - 200.0) / (n - 200.0));  // 200 ticks down, then across
+    const double z = k < 200 ? kR + 0.05 - 0.06 * k / 200.0 : kR - 0.01;
+    ToolPose d;
+    d.position = b.ws.to_device(Vec3(-0.5 + u, 0.1, z));
+    d.orientation =
+        Eigen::Quaterniond(Eigen::AngleAxisd(25 * std::numbers::pi / 180 * std::sin(3 * u), Vec3::UnitX())) *
+        Eigen::Quaterniond(Eigen::AngleAxisd(4 * u, Vec3::UnitZ()));
+    const ToolWrench out = rigid_tool_step(b.baked.model, b.baked.locator, b.ws, shell, d, ToolTwist{}, p, *st);
+    if (k < 200) continue;
+    ASSERT_EQ(out.status, ForceStatus::Contact) << "tick " << k;
+    worst_height = std::max(worst_height, std::abs(st->position.z() - kR));
+    lowest = std::min(lowest, lowest_point(shell, *st));
+    worst_angle = std::max(worst_angle, angle_deg(out.force, Vec3::UnitZ()));
+  }
+  EXPECT_LT(worst_height, 0.02 * kR) << "the tip's height above the face, minus r";
+  EXPECT_GT(lowest, -0.01 * kR) << "a shell point went below the face";
+  EXPECT_LT(worst_angle, 2.0) << "force direction vs the face normal [deg]";
+}
+
 // Far above the block, moving and turning: no contact, zero wrench on every tick.
 TEST(RigidTool, FreeSpaceGivesZeroWrench) {
   const Block& b = block();
