@@ -170,6 +170,37 @@ TEST(RigidTool, SlidesAndTurnsOnAFaceWithTheHeadOnIt) {
   EXPECT_LT(worst_angle, 2.0) << "force direction vs the face normal [deg]";
 }
 
+// The shaft lying across the block's edge (x = 1, z = 0, along y), the head hanging beyond it: the
+// tool rests on the edge at the point c = (1, y_tip, 0) of the edge in the tool's plane, so the
+// torque about the device's tip is (c − tip) × F within 5 %, whatever the direction the rounded
+// edge gives the force, and the shaft stays on the edge (its axis 0.4 r from it, within 5 % of r).
+TEST(RigidTool, ShaftOnAnEdgeGivesTheMomentAboutTheEdgePoint) {
+  const Block& b = block();
+  const ToolShell shell = burr_shell(kR);
+  const double phi = 30 * std::numbers::pi / 180;  // the shaft's elevation, rising towards -x
+  const Vec3 axis(-std::cos(phi), 0, std::sin(phi)), up(std::sin(phi), 0, std::cos(phi));  // up: ⟂ axis
+  const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), axis);
+  // The tip 0.3 beyond the edge, at the height that puts the edge (kShaft − press) below the axis.
+  auto tip_for = [&](double press) {
+    return Vec3(1.3, 0.05, ((kShaft - press) - 0.3 * std::sin(phi)) / std::cos(phi));
+  };
+  auto st = std::make_unique<RigidToolState>();
+  const Vec3 to = tip_for(0.01);
+  press(b, shell, q, tip_for(-0.05), to, 300, 300, *st);
+  const RigidToolParams p = params();
+  const ToolWrench out = rigid_tool_step(b.baked.model, b.baked.locator, b.ws, shell, ToolPose{b.ws.to_device(to), q},
+                                         ToolTwist{}, p, *st);
+  ASSERT_EQ(out.status, ForceStatus::Contact);
+  const Vec3 c(1, to.y(), 0);
+  const Vec3 god_axis = st->orientation * Vec3::UnitZ();
+  const double edge_to_axis = (c - st->position).cross(god_axis).norm();
+  EXPECT_NEAR(edge_to_axis, kShaft, 0.05 * kR) << "the shaft rests on the edge";
+  const Vec3 expected = ((c - to) / b.ws.scale).cross(out.force);
+  EXPECT_GT(expected.norm(), 0.01 * out.force.norm() * 0.3 / b.ws.scale) << "the contact must have a lever arm";
+  EXPECT_LT((out.torque - expected).norm(), 0.05 * expected.norm())
+      << "torque " << out.torque.transpose() << " vs r x F " << expected.transpose();
+}
+
 // Far above the block, moving and turning: no contact, zero wrench on every tick.
 TEST(RigidTool, FreeSpaceGivesZeroWrench) {
   const Block& b = block();
