@@ -119,7 +119,9 @@ struct ToolWrench {
 ///         with #P outside [1, kMaxToolPoints] or normals not matching points, or non-positive
 ///         stiffnesses, sweeps or rounds.
 /// @pre @p shell does not change between ticks of one @p state (its per-point caches and
-///      multipliers are indexed by point).
+///      multipliers are indexed by point). The first tick of a state puts the tool in free space:
+///      only shell points in the shell of slabs are seen, so a god-object started deeper inside
+///      the model than the shell is not pushed out.
 /// @throws none; noexcept.
 /// @note No allocation, no locks, no I/O. Cost per round: #P queries (one slab test each when
 ///       coherent, less for points in no slab's cell) plus `sweeps` × rows constraint updates
