@@ -201,6 +201,25 @@ TEST(RigidTool, ShaftOnAnEdgeGivesTheMomentAboutTheEdgePoint) {
       << "torque " << out.torque.transpose() << " vs r x F " << expected.transpose();
 }
 
+// A hand that jumps from 0.2 above the face to 0.3 inside the block in one tick (past the shell's
+// inner layer) and stays there: the god-object moves at most `band` per tick, so its head is caught
+// on the face, where it rests (tip r above it, within 2 % of r), pushing up.
+TEST(RigidTool, CatchesAFastEntry) {
+  const Block& b = block();
+  const ToolShell shell = burr_shell(kR);
+  auto st = std::make_unique<RigidToolState>();
+  ToolWrench out =
+      press(b, shell, Eigen::Quaterniond::Identity(), Vec3(0.1, 0.2, kR + 0.2), Vec3(0.1, 0.2, kR + 0.2), 1, 0, *st);
+  ASSERT_EQ(out.status, ForceStatus::Free);
+  double lowest = INFINITY;
+  out =
+      press(b, shell, Eigen::Quaterniond::Identity(), Vec3(0.1, 0.2, -0.3), Vec3(0.1, 0.2, -0.3), 1, 200, *st, &lowest);
+  EXPECT_NE(out.status, ForceStatus::Free);
+  EXPECT_NEAR(st->position.z(), kR, 0.02 * kR);
+  EXPECT_GT(lowest, -0.01 * kR) << "a shell point went below the face";
+  EXPECT_LT(angle_deg(out.force, Vec3::UnitZ()), 1.0);
+}
+
 // Far above the block, moving and turning: no contact, zero wrench on every tick.
 TEST(RigidTool, FreeSpaceGivesZeroWrench) {
   const Block& b = block();
