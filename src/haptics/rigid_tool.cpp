@@ -46,7 +46,8 @@ bool bad_input(const Workspace& ws, const ToolShell& shell, const ToolPose& d, c
   if (!std::isfinite(ws.scale) || !(ws.scale > 0) || !ws.origin.allFinite()) return true;
   const size_t n = shell.points.size();
   if (n < 1 || n > size_t(kMaxToolPoints) || shell.normals.size() != n) return true;
-  return !(p.stiffness > 0) || !(p.rot_stiffness > 0) || p.sweeps < 1 || p.rounds < 1 || !(p.band >= 0);
+  if (!(p.stiffness > 0) || !(p.rot_stiffness > 0) || !(p.max_force >= 0) || !(p.max_torque >= 0)) return true;
+  return p.sweeps < 1 || p.rounds < 1 || !(p.band >= 0) || !std::isfinite(p.band);
 }
 
 double band_of(const SlabModel& model, const RigidToolParams& p) noexcept {

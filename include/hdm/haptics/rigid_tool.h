@@ -116,8 +116,8 @@ struct ToolWrench {
 /// @param state    carried state, updated; a new state starts the god-object at the device's pose.
 /// @return wrench and status; BadInput (zero wrench, state unchanged) for a non-finite or
 ///         out-of-limit position, a non-finite or zero quaternion, non-finite velocities, a shell
-///         with #P outside [1, kMaxToolPoints] or normals not matching points, or non-positive
-///         stiffnesses, sweeps or rounds.
+///         with #P outside [1, kMaxToolPoints] or normals not matching points, non-positive
+///         stiffnesses, sweeps or rounds, negative or NaN limits, or a negative or non-finite band.
 /// @pre @p shell does not change between ticks of one @p state (its per-point caches and
 ///      multipliers are indexed by point). The first tick of a state puts the tool in free space:
 ///      only shell points in the shell of slabs are seen, so a god-object started deeper inside
