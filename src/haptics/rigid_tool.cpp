@@ -39,6 +39,7 @@ Quat from_rotation_vector(const Vec3& w) noexcept {
   return Quat(Eigen::AngleAxisd(a, axis));
 }
 
+// Input the tick refuses (BadInput): the state is then left as it is.
 bool bad_input(const Workspace& ws, const ToolShell& shell, const ToolPose& d, const ToolTwist& v,
                const RigidToolParams& p) noexcept {
   if (!d.position.allFinite() || !d.orientation.coeffs().allFinite() || !(d.orientation.norm() > 1e-6)) return true;
