@@ -64,6 +64,16 @@ double spacing(const ToolShell& shell) {
   return std::sqrt(area / double(shell.points.size()));
 }
 
+// The torque of @p out is the moment about the device's tip @p tip of its force acting at @p c
+// [model units], (c − tip) × F, within 5 %; the contact has a lever arm across the force of at
+// least 0.15 (1.5 cm at the device), so the moment is not a vanishing one.
+void expect_moment_about(const ToolWrench& out, const Vec3& c, const Vec3& tip, const Workspace& ws) {
+  const Vec3 expected = ((c - tip) / ws.scale).cross(out.force);  // [m] × [N]
+  ASSERT_GT(expected.norm(), 0.15 / ws.scale * out.force.norm()) << "the contact must have a lever arm";
+  EXPECT_LT((out.torque - expected).norm(), 0.05 * expected.norm())
+      << "torque " << out.torque.transpose() << " vs r x F " << expected.transpose();
+}
+
 // Runs ticks with the device's tip moving from @p from to @p to [model units] over @p ramp ticks,
 // then held for @p hold ticks, at orientation @p q; returns the last wrench.
 ToolWrench press(const Block& b, const ToolShell& shell, const Eigen::Quaterniond& q, const Vec3& from, const Vec3& to,
@@ -133,10 +143,7 @@ TEST(RigidTool, TorqueIsTheContactForcesMomentAboutTheDevicePoint) {
   EXPECT_GT(lowest, -0.01 * kR) << "a shell point went below the face";
   EXPECT_NEAR(c.z(), 0.0, 0.05 * kR) << "the rim rests on the face";
   EXPECT_LT(angle_deg(out.force, Vec3::UnitZ()), 2.0);
-  const Vec3 expected = ((c - to) / b.ws.scale).cross(out.force);  // [m] × [N]
-  ASSERT_GT(expected.norm(), 0.3 * out.force.norm() * 0.5 / b.ws.scale) << "the contact must have a lever arm";
-  EXPECT_LT((out.torque - expected).norm(), 0.05 * expected.norm())
-      << "torque " << out.torque.transpose() << " vs r x F " << expected.transpose();
+  expect_moment_about(out, c, to, b.ws);
 }
 
 // The upright burr slid 1.0 across the face, 0.01 below its rest height, while it tilts up to 25°
@@ -195,10 +202,7 @@ TEST(RigidTool, ShaftOnAnEdgeGivesTheMomentAboutTheEdgePoint) {
   const Vec3 god_axis = st->orientation * Vec3::UnitZ();
   const double edge_to_axis = (c - st->position).cross(god_axis).norm();
   EXPECT_NEAR(edge_to_axis, kShaft, 0.05 * kR) << "the shaft rests on the edge";
-  const Vec3 expected = ((c - to) / b.ws.scale).cross(out.force);
-  EXPECT_GT(expected.norm(), 0.01 * out.force.norm() * 0.3 / b.ws.scale) << "the contact must have a lever arm";
-  EXPECT_LT((out.torque - expected).norm(), 0.05 * expected.norm())
-      << "torque " << out.torque.transpose() << " vs r x F " << expected.transpose();
+  expect_moment_about(out, c, to, b.ws);
 }
 
 // A hand that jumps from 0.2 above the face to 0.3 inside the block in one tick (past the shell's
