@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// How well one direction sees a vertex star: the decimation's fold test.
+#include "simplifier.h"
+
+#include "max_min_direction.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdm::mesh::detail {
+
+double smallest_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double l0 = (b - c).squaredNorm(), l1 = (c - a).squaredNorm(), l2 = (a - b).squaredNorm();
+  const double twice_area = (b - a).cross(c - a).norm();
+  const double shortest = std::min({l0, l1, l2});
+  const double longer = l0 * l1 * l2 / std::max(shortest, 1e-300);  // product of the two longer
+  return longer > 0 ? twice_area / std::sqrt(longer) : 0;
+}
+
+double visibility(const std::vector<Vec3>& normals) {
+  Vec3 d = Vec3::Zero();
+  for (const Vec3& n : normals) d += n;
+  if (!(d.norm() > 0)) return -1;
+  d.normalize();
+  double best = -2;
+  for (int it = 0; it < 8; ++it) {
+    double worst = 2;
+    Vec3 wn = Vec3::Zero();
+    for (const Vec3& n : normals)
+      if (const double v = d.dot(n); v < worst) worst = v, wn = n;
+    best = std::max(best, worst);
+    if (worst > 0.5) break;
+    d = (d + 0.5 * wn).normalized();
+  }
+  return best;
+}
+
+double exact_visibility_of(const std::vector<Vec3>& normals) {
+  double best = visibility(normals);
+  if (best <= 0.5) hdm::detail::improve_max_min(normals, best, nullptr);
+  return best;
+}
+
+}  // namespace hdm::mesh::detail
