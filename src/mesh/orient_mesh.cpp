@@ -44,36 +44,40 @@ bool inside_part(const TriangleMesh& m, const Part& part, const Vec3& p) {
   return in;
 }
 
-}  // namespace
+// Half-edges (a→b) of a mesh keyed a·nv + b, sorted; a face's edge has a twin when some face has (b→a).
+struct HalfEdges {
+  uint64_t nv = 0;
+  std::vector<std::pair<uint64_t, int32_t>> half;  // (key, face)
 
-OrientReport orient_outward(TriangleMesh& mesh) {
-  OrientReport rep;
-  const size_t nf = mesh.faces.size();
-  if (nf == 0) return rep;
-  const uint64_t nv = mesh.vertices.size();
-  // Half-edges (a→b) keyed a·nv + b; a face's edge has a twin when some face has (b→a).
-  std::vector<std::pair<uint64_t, int32_t>> half(3 * nf);
-  for (size_t f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k)
-      half[3 * f + k] = {uint64_t(mesh.faces[f][k]) * nv + uint64_t(mesh.faces[f][(k + 1) % 3]), int32_t(f)};
-  std::sort(half.begin(), half.end());
-  auto twin = [&](int32_t a, int32_t b) {
-    const uint64_t key = uint64_t(b) * nv + uint64_t(a);
+  explicit HalfEdges(const TriangleMesh& mesh) : nv(mesh.vertices.size()), half(3 * mesh.faces.size()) {
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+      for (int k = 0; k < 3; ++k)
+        half[3 * f + k] = {uint64_t(mesh.faces[f][k]) * nv + uint64_t(mesh.faces[f][(k + 1) % 3]), int32_t(f)};
+    std::sort(half.begin(), half.end());
+  }
+  // The face with half-edge (a→b), or -1.
+  int32_t face(int32_t a, int32_t b) const {
+    const uint64_t key = uint64_t(a) * nv + uint64_t(b);
     const auto it = std::lower_bound(half.begin(), half.end(), std::make_pair(key, int32_t(-1)));
     return it != half.end() && it->first == key ? it->second : -1;
-  };
-  // Components through shared edges.
+  }
+};
+
+// The parts of @p mesh (components through shared edges) with their faces, boxes, areas and
+// signed volumes; @p part_of_face per face; @p boundary the half-edges without a twin.
+std::vector<Part> mesh_parts(const TriangleMesh& mesh, const HalfEdges& he, std::vector<int32_t>& part_of_face,
+                             std::vector<std::pair<int32_t, int32_t>>& boundary) {
+  const size_t nf = mesh.faces.size();
   std::vector<int32_t> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](int32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  std::vector<std::pair<int32_t, int32_t>> boundary;  // (a, b) half-edges without a twin
   for (size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
-      const int32_t g = twin(a, b);
+      const int32_t g = he.face(b, a);
       if (g >= 0)
         parent[find(int32_t(f))] = find(g);
       else
@@ -81,7 +85,7 @@ OrientReport orient_outward(TriangleMesh& mesh) {
     }
   std::unordered_map<int32_t, int32_t> part_of_root;
   std::vector<Part> parts;
-  std::vector<int32_t> part_of_face(nf);
+  part_of_face.resize(nf);
   for (size_t f = 0; f < nf; ++f) {
     const int32_t r = find(int32_t(f));
     auto [it, added] = part_of_root.emplace(r, int32_t(parts.size()));
@@ -95,44 +99,50 @@ OrientReport orient_outward(TriangleMesh& mesh) {
     p.area += 0.5 * (b - a).cross(c - a).norm();
     p.volume += a.dot(b.cross(c)) / 6;
   }
-  // Boundary loops: follow (a→b) to the boundary half-edge leaving b; cap each with a fan.
-  if (!boundary.empty()) {
-    std::unordered_multimap<int32_t, size_t> leaving;
-    for (size_t k = 0; k < boundary.size(); ++k) leaving.emplace(boundary[k].first, k);
-    std::vector<uint8_t> used(boundary.size(), 0);
-    std::vector<size_t> loop;
-    for (size_t start = 0; start < boundary.size(); ++start) {
-      if (used[start]) continue;
-      loop.clear();
-      for (size_t k = start; !used[k];) {
-        used[k] = 1;
-        loop.push_back(k);
-        auto range = leaving.equal_range(boundary[k].second);
-        size_t next = k;
-        for (auto it = range.first; it != range.second; ++it)
-          if (!used[it->second]) next = it->second;
-        if (next == k) break;
-        k = next;
-      }
-      Vec3 c = Vec3::Zero();
-      for (size_t k : loop) c += mesh.vertices[boundary[k].first];
-      c /= double(loop.size());
-      // The part of the loop's first edge (a→b): its face is the one with (a→b).
-      const uint64_t key = uint64_t(boundary[loop[0]].first) * nv + uint64_t(boundary[loop[0]].second);
-      const auto it = std::lower_bound(half.begin(), half.end(), std::make_pair(key, int32_t(-1)));
-      Part& part = parts[part_of_face[it->second]];
-      part.closed = false;
-      for (size_t k : loop) {
-        const Vec3 &a = mesh.vertices[boundary[k].first], &b = mesh.vertices[boundary[k].second];
-        part.caps.push_back({b, a, c});  // (b→a) closes the face's (a→b)
-        part.cap_area += detail::cap_triangle_area(a, b, c);
-        part.volume += b.dot(a.cross(c)) / 6;
-      }
+  return parts;
+}
+
+// Boundary loops: follow (a→b) to the boundary half-edge leaving b; cap each with a fan around
+// the loop's centroid, counted in its part's cap area and volume, and mark the part open.
+void cap_boundary_loops(const TriangleMesh& mesh, const HalfEdges& he,
+                        const std::vector<std::pair<int32_t, int32_t>>& boundary,
+                        const std::vector<int32_t>& part_of_face, std::vector<Part>& parts) {
+  std::unordered_multimap<int32_t, size_t> leaving;
+  for (size_t k = 0; k < boundary.size(); ++k) leaving.emplace(boundary[k].first, k);
+  std::vector<uint8_t> used(boundary.size(), 0);
+  std::vector<size_t> loop;
+  for (size_t start = 0; start < boundary.size(); ++start) {
+    if (used[start]) continue;
+    loop.clear();
+    for (size_t k = start; !used[k];) {
+      used[k] = 1;
+      loop.push_back(k);
+      auto range = leaving.equal_range(boundary[k].second);
+      size_t next = k;
+      for (auto it = range.first; it != range.second; ++it)
+        if (!used[it->second]) next = it->second;
+      if (next == k) break;
+      k = next;
+    }
+    Vec3 c = Vec3::Zero();
+    for (size_t k : loop) c += mesh.vertices[boundary[k].first];
+    c /= double(loop.size());
+    // The part of the loop's first edge (a→b): its face is the one with (a→b).
+    Part& part = parts[part_of_face[he.face(boundary[loop[0]].first, boundary[loop[0]].second)]];
+    part.closed = false;
+    for (size_t k : loop) {
+      const Vec3 &a = mesh.vertices[boundary[k].first], &b = mesh.vertices[boundary[k].second];
+      part.caps.push_back({b, a, c});  // (b→a) closes the face's (a→b)
+      part.cap_area += detail::cap_triangle_area(a, b, c);
+      part.volume += b.dot(a.cross(c)) / 6;
     }
   }
-  // Solid parts (closed or nearly closed) face out at even nesting depth, in at odd depth. A part
-  // is nested in another only when that one's box holds its whole box (parts that merely
-  // interpenetrate, such as the bones of a foot, are not cavities of each other).
+}
+
+// Solid parts (closed or nearly closed) face out at even nesting depth, in at odd depth. A part
+// is nested in another only when that one's box holds its whole box (parts that merely
+// interpenetrate, such as the bones of a foot, are not cavities of each other).
+void flip_inward_solids(TriangleMesh& mesh, std::vector<Part>& parts, OrientReport& rep) {
   std::vector<int32_t> solid;
   for (size_t i = 0; i < parts.size(); ++i) {
     Part& p = parts[i];
@@ -157,6 +167,19 @@ OrientReport orient_outward(TriangleMesh& mesh) {
     rep.flipped_faces += static_cast<int64_t>(p.faces.size());
     for (int32_t f : p.faces) std::swap(mesh.faces[f][1], mesh.faces[f][2]);
   }
+}
+
+}  // namespace
+
+OrientReport orient_outward(TriangleMesh& mesh) {
+  OrientReport rep;
+  if (mesh.faces.empty()) return rep;
+  const HalfEdges he(mesh);
+  std::vector<int32_t> part_of_face;
+  std::vector<std::pair<int32_t, int32_t>> boundary;  // (a, b) half-edges without a twin
+  std::vector<Part> parts = mesh_parts(mesh, he, part_of_face, boundary);
+  if (!boundary.empty()) cap_boundary_loops(mesh, he, boundary, part_of_face, parts);
+  flip_inward_solids(mesh, parts, rep);
   return rep;
 }
 

@@ -137,76 +137,80 @@ TriangleMesh snap_near_vertices(const TriangleMesh& m, const std::map<EdgeKey, i
   return out;
 }
 
-}  // namespace
+// A boundary edge with its face and the corner it starts at (face order a -> b).
+struct BoundaryEdge {
+  int32_t face, corner, a, b;
+};
 
-TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
-  validate_mesh_data(input, "stitch_seams input");
-  SeamReport rep;
-  const TriangleMesh welded = weld(input);
-  const std::map<EdgeKey, int> welded_uses = edge_uses(welded);
-  rep.boundary_edges_before = rep.boundary_edges_after = count_boundary(welded_uses);
-  // Seams whose vertices nearly coincide first; kept only if every edge still has at most two faces.
-  TriangleMesh m = snap_near_vertices(welded, welded_uses, rep.snapped);
-  std::map<EdgeKey, int> uses = edge_uses(m);
-  if (rep.snapped > 0 && (!edge_manifold(uses) || m.faces.size() != welded.faces.size()))
-    m = welded, uses = welded_uses, rep.snapped = 0;
-  if (rep.snapped > 0) m = weld(m), uses = edge_uses(m);
-  rep.boundary_edges_after = count_boundary(uses);
-  auto done = [&](TriangleMesh r) {
-    if (report) *report = rep;
-    return r;
-  };
-  // Boundary edges, each with its face and the corner it starts at (face order a -> b).
-  struct BoundaryEdge {
-    int32_t face, corner, a, b;
-  };
+std::vector<BoundaryEdge> boundary_edges(const TriangleMesh& m, const std::map<EdgeKey, int>& uses) {
   std::vector<BoundaryEdge> edges;
   for (size_t f = 0; f < m.faces.size(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = m.faces[f][k], b = m.faces[f][(k + 1) % 3];
       if (uses.at({std::min(a, b), std::max(a, b)}) == 1) edges.push_back({int32_t(f), k, a, b});
     }
-  if (edges.empty()) return done(m);
-  // Uniform grid over the boundary edges, cells of the median boundary edge length; each edge is
-  // listed in every cell its box grown by a quarter of its length meets (the farthest a vertex
-  // stitched into it can be), so a vertex looks in its own cell only. An edge that would cover
-  // more than 4,096 cells (far longer than its neighbours) is not stitched into.
-  std::vector<double> lengths;
-  for (const BoundaryEdge& e : edges) lengths.push_back((m.vertices[e.b] - m.vertices[e.a]).norm());
-  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-  const double cell = lengths[lengths.size() / 2];
-  if (!(cell > 0)) return done(m);
-  auto key = [&](const Vec3& p) {
-    const Vec3 q = (p / cell).array().floor();
-    return std::array<int64_t, 3>{int64_t(q.x()), int64_t(q.y()), int64_t(q.z())};
-  };
+  return edges;
+}
+
+// Uniform grid over the boundary edges, cells of the median boundary edge length; each edge is
+// listed in every cell its box grown by a quarter of its length meets (the farthest a vertex
+// stitched into it can be), so a vertex looks in its own cell only. An edge that would cover
+// more than 4,096 cells (far longer than its neighbours) is not stitched into.
+struct EdgeGrid {
   struct Hash {
     size_t operator()(const std::array<int64_t, 3>& k) const {
       return size_t(k[0] * 73856093) ^ size_t(k[1] * 19349663) ^ size_t(k[2] * 83492791);
     }
   };
-  std::unordered_map<std::array<int64_t, 3>, std::vector<int32_t>, Hash> grid;
+  double cell = 0;
+  std::unordered_map<std::array<int64_t, 3>, std::vector<int32_t>, Hash> cells;
+
+  std::array<int64_t, 3> key(const Vec3& p) const {
+    const Vec3 q = (p / cell).array().floor();
+    return std::array<int64_t, 3>{int64_t(q.x()), int64_t(q.y()), int64_t(q.z())};
+  }
+  // The edges listed in p's cell, or null.
+  const std::vector<int32_t>* near(const Vec3& p) const {
+    const auto it = cells.find(key(p));
+    return it == cells.end() ? nullptr : &it->second;
+  }
+};
+
+// The grid, with cell 0 when the median edge has no length.
+EdgeGrid edge_grid(const TriangleMesh& m, const std::vector<BoundaryEdge>& edges) {
+  EdgeGrid g;
+  std::vector<double> lengths;
+  for (const BoundaryEdge& e : edges) lengths.push_back((m.vertices[e.b] - m.vertices[e.a]).norm());
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  g.cell = lengths[lengths.size() / 2];
+  if (!(g.cell > 0)) return g;
   for (size_t i = 0; i < edges.size(); ++i) {
     const Vec3 &a = m.vertices[edges[i].a], &b = m.vertices[edges[i].b];
     const Vec3 grow = Vec3::Constant(0.25 * (b - a).norm());
-    const auto lo = key(a.cwiseMin(b) - grow), hi = key(a.cwiseMax(b) + grow);
+    const auto lo = g.key(a.cwiseMin(b) - grow), hi = g.key(a.cwiseMax(b) + grow);
     if ((hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1) > 4096) continue;
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (int64_t z = lo[2]; z <= hi[2]; ++z) grid[{x, y, z}].push_back(int32_t(i));
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) g.cells[{x, y, z}].push_back(int32_t(i));
   }
+  return g;
+}
+
+// Each boundary vertex goes into the nearest boundary edge it lies on: per edge, the inserted
+// vertices with their parameters along it. @p inserted counts them.
+std::vector<std::vector<std::pair<double, int32_t>>> seam_inserts(const TriangleMesh& m,
+                                                                  const std::vector<BoundaryEdge>& edges,
+                                                                  const EdgeGrid& grid, int64_t& inserted) {
   std::vector<uint8_t> on_boundary(m.vertices.size(), 0);
   for (const BoundaryEdge& e : edges) on_boundary[e.a] = on_boundary[e.b] = 1;
-  // Each boundary vertex goes into the nearest boundary edge it lies on.
   std::vector<std::vector<std::pair<double, int32_t>>> inserts(edges.size());
   for (size_t v = 0; v < m.vertices.size(); ++v) {
     if (!on_boundary[v]) continue;
     const Vec3& p = m.vertices[v];
     double best = INFINITY, best_t = 0;
     int32_t best_e = -1;
-    const auto it = grid.find(key(p));
-    if (it != grid.end())
-      for (int32_t i : it->second) {
+    if (const std::vector<int32_t>* near = grid.near(p))
+      for (int32_t i : *near) {
         const BoundaryEdge& e = edges[i];
         if (e.a == int32_t(v) || e.b == int32_t(v)) continue;
         const Vec3 &a = m.vertices[e.a], &b = m.vertices[e.b];
@@ -217,11 +221,15 @@ TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
         if (dist > 0.25 * std::sqrt(len2) || dist >= 0.5 * std::min((p - a).norm(), (p - b).norm())) continue;
         if (dist < best) best = dist, best_t = t, best_e = i;
       }
-    if (best_e >= 0) inserts[best_e].push_back({best_t, int32_t(v)}), ++rep.inserted;
+    if (best_e >= 0) inserts[best_e].push_back({best_t, int32_t(v)}), ++inserted;
   }
-  if (rep.inserted == 0) return done(m);
-  // Faces with inserted vertices become fans; a face with inserts on two or three edges gets a
-  // vertex at its centroid (rare: a corner of a seam).
+  return inserts;
+}
+
+// Faces with inserted vertices become fans; a face with inserts on two or three edges gets a
+// vertex at its centroid (rare: a corner of a seam).
+TriangleMesh split_at_inserts(const TriangleMesh& m, const std::vector<BoundaryEdge>& edges,
+                              std::vector<std::vector<std::pair<double, int32_t>>>& inserts) {
   std::vector<std::array<std::vector<int32_t>, 3>> along(m.faces.size());
   for (size_t i = 0; i < edges.size(); ++i) {
     if (inserts[i].empty()) continue;
@@ -254,6 +262,35 @@ TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
       if (a != apex && b != apex) out.faces.push_back({a, b, apex});
     }
   }
+  return out;
+}
+
+}  // namespace
+
+TriangleMesh stitch_seams(const TriangleMesh& input, SeamReport* report) {
+  validate_mesh_data(input, "stitch_seams input");
+  SeamReport rep;
+  const TriangleMesh welded = weld(input);
+  const std::map<EdgeKey, int> welded_uses = edge_uses(welded);
+  rep.boundary_edges_before = rep.boundary_edges_after = count_boundary(welded_uses);
+  // Seams whose vertices nearly coincide first; kept only if every edge still has at most two faces.
+  TriangleMesh m = snap_near_vertices(welded, welded_uses, rep.snapped);
+  std::map<EdgeKey, int> uses = edge_uses(m);
+  if (rep.snapped > 0 && (!edge_manifold(uses) || m.faces.size() != welded.faces.size()))
+    m = welded, uses = welded_uses, rep.snapped = 0;
+  if (rep.snapped > 0) m = weld(m), uses = edge_uses(m);
+  rep.boundary_edges_after = count_boundary(uses);
+  auto done = [&](TriangleMesh r) {
+    if (report) *report = rep;
+    return r;
+  };
+  const std::vector<BoundaryEdge> edges = boundary_edges(m, uses);
+  if (edges.empty()) return done(m);
+  const EdgeGrid grid = edge_grid(m, edges);
+  if (!(grid.cell > 0)) return done(m);
+  auto inserts = seam_inserts(m, edges, grid, rep.inserted);
+  if (rep.inserted == 0) return done(m);
+  TriangleMesh out = split_at_inserts(m, edges, inserts);
   const std::map<EdgeKey, int> after = edge_uses(out);
   for (const auto& [e, n] : after)
     if (n > 2) return done(m);
