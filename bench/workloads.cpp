@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <string_view>
 
@@ -102,7 +103,7 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
     for (; carry < len && static_cast<int>(path.size()) < ticks; carry += fine) {
       const double u = carry / len;
       const Vec3 nrm = ((1 - u) * na + u * nb).normalized();
-      const double phase = 2 * M_PI * static_cast<double>(path.size()) / 1000.0;
+      const double phase = 2 * std::numbers::pi * static_cast<double>(path.size()) / 1000.0;
       const Vec3 q = (1 - u) * a + u * b + depth * std::sin(phase) * nrm;
       if (path.empty()) path.push_back(q);
       if ((q - path.back()).norm() > step && prev.allFinite() && (prev - path.back()).norm() > 0) path.push_back(prev);

@@ -149,7 +149,7 @@ void print_input_changes(const PrepareReport& in, double diagonal) {
   if (in.self_intersections > 0)
     std::printf(
         "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces, %lld "
-        "seam vertices stitched); buried faces left out of the fidelity\n",
+        "seam vertices stitched); interior faces left out of the fidelity\n",
         (long long)in.self_intersections, (long long)in.resolved.pairs_after, (long long)in.resolved.faces_before,
         (long long)in.resolved.faces_after, (long long)in.resolved.seam_vertices);
   if (in.orient.flipped)

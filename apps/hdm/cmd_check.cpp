@@ -41,10 +41,10 @@ void run_check(const CheckArgs& a) {
   PreparedInput prepared = prepare_input(read_input(a.input, a.limit.bytes()), a.input, prepare);
   scale_model(model, prepared.report.scale_exponent);
   const ExactMeshQuery exact(std::move(prepared.mesh));
-  std::vector<uint8_t> buried;
-  if (prepared.report.self_intersections > 0) buried = buried_faces(exact);
-  const Fidelity f = measure_fidelity(model, exact, buried.empty() ? nullptr : &buried);
-  const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0, buried.empty() ? nullptr : &buried);
+  std::vector<uint8_t> interior;
+  if (prepared.report.self_intersections > 0) interior = interior_faces(exact);
+  const Fidelity f = measure_fidelity(model, exact, interior.empty() ? nullptr : &interior);
+  const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0, interior.empty() ? nullptr : &interior);
   const int invalid = count_invalid_slabs(model);
   const int64_t overlapping = count_overlapping_pairs(model);
   const int64_t undercut = count_undercut_columns(model, exact);
@@ -69,7 +69,7 @@ void run_check(const CheckArgs& a) {
                             {"overlapping_pairs", overlapping},
                             {"undercut_columns", undercut},
                             {"self_intersections", prepared.report.self_intersections},
-                            {"buried_faces", std::count(buried.begin(), buried.end(), uint8_t(1))},
+                            {"interior_faces", std::count(interior.begin(), interior.end(), uint8_t(1))},
                             {"samples", model.samples.count}};
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 
 namespace hdm::studio {
 namespace {
@@ -26,7 +27,7 @@ void circle(ImDrawList* list, const RenderCamera& cam, const Vec3& c, const Vec3
             ImU32 colour, float thickness) {
   std::array<ImVec2, kSegments> pts;
   for (int k = 0; k < kSegments; ++k) {
-    const double a = 2 * M_PI * k / kSegments;
+    const double a = 2 * std::numbers::pi * k / kSegments;
     const Vec3 p = c + r * (std::cos(a) * u + std::sin(a) * v);
     if (!in_front(cam, p)) return;
     pts[k] = to_screen(cam, p);

@@ -28,7 +28,7 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     ToleranceRound t;
     t.slabs = r.slabs;
     t.grid_n = r.grid_n;
-    t.fidelity = measure_fidelity(model, input, tolerance.buried);
+    t.fidelity = measure_fidelity(model, input, tolerance.interior);
     const Fidelity& f = t.fidelity;
     const double worst_rms = std::max(f.rms_pct / tolerance.rms_pct, f.rms_back_pct / tolerance.rms_pct);
     double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct, worst_rms});
@@ -56,11 +56,11 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     previous_faults = faults;
     if (t.met || stuck || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
       const bool by_slab_cap = tolerance.max_slabs <= static_cast<int64_t>(input.mesh().faces.size());
-      tried.back().stop = t.met                           ? ToleranceStop::Met
-                          : stuck                         ? ToleranceStop::Faults
+      tried.back().stop = t.met                               ? ToleranceStop::Met
+                          : stuck                             ? ToleranceStop::Faults
                           : round + 1 >= tolerance.max_rounds ? ToleranceStop::Rounds
-                          : by_slab_cap                   ? ToleranceStop::SlabCap
-                                                          : ToleranceStop::InputFaces;
+                          : by_slab_cap                       ? ToleranceStop::SlabCap
+                                                              : ToleranceStop::InputFaces;
       if (rounds) *rounds = std::move(tried);
       if (report) *report = r;
       return model;

@@ -42,11 +42,11 @@ Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt 
 
 }  // namespace
 
-std::vector<uint8_t> buried_faces(const ExactMeshQuery& input) {
+std::vector<uint8_t> interior_faces(const ExactMeshQuery& input) {
   const TriangleMesh& m = input.mesh();
-  std::vector<uint8_t> buried(m.faces.size(), 0);
+  std::vector<uint8_t> interior(m.faces.size(), 0);
   // The generalized winding number counts the parts that cover a point: a face inside two
-  // overlapping parts is buried too, where ray parity calls it outside; and rays of an open input
+  // overlapping parts is interior too, where ray parity calls it outside; and rays of an open input
   // leave through its openings. Inside is a winding of at least 1/2, the rule
   // resolve_self_intersections() and resolve_crossing_sheets() drop faces by. A closed input is
   // probed 10⁻⁹ of the diagonal off the face, as resolve_self_intersections() does: its layers
@@ -61,12 +61,12 @@ std::vector<uint8_t> buried_faces(const ExactMeshQuery& input) {
     const Vec3 n = input.face_normal(static_cast<int32_t>(f));
     // Closed: a face with no material behind it either (a fin, a part turned inside out where it
     // crosses) is not on the material's boundary; resolve_self_intersections() drops it too.
-    buried[f] = winding.inside(c + eps * n) || (!open && !winding.inside(c - eps * n));
+    interior[f] = winding.inside(c + eps * n) || (!open && !winding.inside(c - eps * n));
   });
-  return buried;
+  return interior;
 }
 
-Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<uint8_t>* buried) {
+Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<uint8_t>* interior) {
   TriangleMesh surface;
   displaced_surface(model, surface.vertices, surface.faces);
   const TriangleMesh& in = input.mesh();
@@ -83,13 +83,13 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
   // About one query per triangle (medium quality); the surface is handed over, not copied (0.6 GB
   // at 10^5 slabs), as only the reconstruction's queries read it from here on.
   const ExactMeshQuery recon(std::move(surface), BvhQuality::medium);
-  // Input points on the surface of the material: every vertex and centroid, or without buried faces.
+  // Input points on the surface of the material: every vertex and centroid, or without interior faces.
   std::vector<Vec3> back_points;
-  if (buried) {
+  if (interior) {
     std::vector<uint8_t> exposed(in.vertices.size(), 0);
     std::vector<Vec3> normal(in.vertices.size(), Vec3::Zero());
     for (size_t t = 0; t < in.faces.size(); ++t)
-      if (!(*buried)[t]) {
+      if (!(*interior)[t]) {
         const Tri& f = in.faces[t];
         const Vec3 n = (in.vertices[f[1]] - in.vertices[f[0]]).cross(in.vertices[f[2]] - in.vertices[f[0]]);
         for (int32_t v : f) exposed[v] = 1, normal[v] += n;
@@ -97,7 +97,7 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
       }
     // A vertex of an exposed face may itself lie inside another part (the face crosses it): it is
     // on the material's surface only if the point just in front of it is outside, as for faces.
-    const double eps = (input.closed() ? 1e-9 : 1e-5) * diag;  // as buried_faces()
+    const double eps = (input.closed() ? 1e-9 : 1e-5) * diag;  // as interior_faces()
     const WindingNumber winding(in);
     tbb::parallel_for(size_t(0), in.vertices.size(), [&](size_t v) {
       if (!exposed[v] || !(normal[v].norm() > 0)) return;
@@ -122,19 +122,19 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
 }
 
 ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
-                                double offset_pct, const std::vector<uint8_t>* buried) {
+                                double offset_pct, const std::vector<uint8_t>* interior) {
   const TriangleMesh& m = input.mesh();
   const double diag = bounds(m).diagonal();
-  // An open input that crosses itself: the buried faces are not on the surface a user touches,
+  // An open input that crosses itself: the interior faces are not on the surface a user touches,
   // and an open surface's inside is the back of its nearest face, so the reference is the
   // exposed faces alone (a closed input's inside, the union's winding, needs no such care).
-  const bool exposed_only = buried && buried->size() == m.faces.size() && !input.closed();
+  const bool exposed_only = interior && interior->size() == m.faces.size() && !input.closed();
   std::unique_ptr<ExactMeshQuery> exposed;
   if (exposed_only) {
     TriangleMesh e;
     std::vector<int32_t> id(m.vertices.size(), -1);
     for (size_t f = 0; f < m.faces.size(); ++f) {
-      if ((*buried)[f]) continue;
+      if ((*interior)[f]) continue;
       Tri t = m.faces[f];
       for (int32_t& v : t) {
         if (id[v] < 0) id[v] = static_cast<int32_t>(e.vertices.size()), e.vertices.push_back(m.vertices[v]);
@@ -150,7 +150,7 @@ ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& in
   double total = 0;
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const Tri& t = m.faces[f];
-    if (!exposed || !(*buried)[f])
+    if (!exposed || !(*interior)[f])
       total += (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
     cdf[f] = total;
   }

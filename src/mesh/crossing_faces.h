@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::mesh::detail {
 
 // Faces of @p mesh in crossing pairs, by CGAL's `Polygon_mesh_processing::self_intersections`
 // (exact predicates, parallel; sharing a vertex or an edge is not a crossing) on
@@ -17,4 +17,4 @@ namespace hdm::detail {
 // O(#F log #F).
 std::vector<char> crossing_faces(const TriangleMesh& mesh, int64_t* pairs = nullptr);
 
-}  // namespace hdm::detail
+}  // namespace hdm::mesh::detail

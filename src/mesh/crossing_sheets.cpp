@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Open sheets that cross each other: corefine them pairwise, drop the buried patches, weld the
+// Open sheets that cross each other: corefine them pairwise, drop the interior patches, weld the
 // rest. One of the few translation units that include CGAL (heavy templates).
 #include <hdm/core/error.h>
 #include <hdm/mesh/crossing_sheets.h>
@@ -106,12 +106,12 @@ bool corefine_sheets(std::vector<Mesh>& sheets, std::vector<Mesh::Property_map<E
   return true;
 }
 
-// The faces of the corefined @p sheets that are not buried in the solid of @p work (its winding
-// number), welded by position; counts the buried ones in the report.
+// The faces of the corefined @p sheets that are not inside the solid of @p work (its winding
+// number), welded by position; counts the interior ones in the report.
 TriangleMesh exposed_patches(std::vector<Mesh>& sheets, const std::vector<Mesh::Property_map<Edge, bool>>& curve,
                              const TriangleMesh& work, SelfIntersectionReport& rep) {
   // Patches: faces joined across edges that are neither a curve nor a border; each is voted
-  // buried or exposed as a whole, so a sliver at a curve cannot flip on its own.
+  // interior or exposed as a whole, so a sliver at a curve cannot flip on its own.
   const WindingNumber winding(work);
   const double eps = 1e-5 * bounds(work).diagonal();
   std::map<std::array<double, 3>, int32_t> welded;
@@ -124,11 +124,11 @@ TriangleMesh exposed_patches(std::vector<Mesh>& sheets, const std::vector<Mesh::
   for (size_t s = 0; s < sheets.size(); ++s) {
     Mesh& m = sheets[s];
     auto patch = m.add_property_map<Face, int32_t>("f:hdm_patch", -1).first;
-    std::vector<double> buried_area, area;
+    std::vector<double> interior_area, area;
     for (Face seed : m.faces()) {
       if (patch[seed] >= 0) continue;
       const int32_t id = int32_t(area.size());
-      area.push_back(0), buried_area.push_back(0);
+      area.push_back(0), interior_area.push_back(0);
       std::vector<Face> stack{seed};
       patch[seed] = id;
       while (!stack.empty()) {
@@ -141,7 +141,7 @@ TriangleMesh exposed_patches(std::vector<Mesh>& sheets, const std::vector<Mesh::
         const double a = n.norm();
         if (a > 0) {
           area[id] += a;
-          if (winding.inside((c[0] + c[1] + c[2]) / 3.0 + eps * n / a)) buried_area[id] += a;
+          if (winding.inside((c[0] + c[1] + c[2]) / 3.0 + eps * n / a)) interior_area[id] += a;
         }
         for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
           if (curve[s][m.edge(h)] || m.is_border(m.opposite(h))) continue;
@@ -151,8 +151,8 @@ TriangleMesh exposed_patches(std::vector<Mesh>& sheets, const std::vector<Mesh::
       }
     }
     for (Face f : m.faces()) {
-      if (2 * buried_area[patch[f]] >= area[patch[f]] && area[patch[f]] > 0) {
-        ++rep.buried_faces;
+      if (2 * interior_area[patch[f]] >= area[patch[f]] && area[patch[f]] > 0) {
+        ++rep.interior_faces;
         continue;
       }
       Tri t{};
@@ -182,7 +182,7 @@ Mesh with_pinches_split(const TriangleMesh& out, SelfIntersectionReport& rep) {
   // resolve_self_intersections() does for closed unions.
   std::vector<Point> soup_points;
   std::vector<std::vector<std::size_t>> polygons;
-  detail::to_polygon_soup(out, soup_points, polygons);
+  mesh::detail::to_polygon_soup(out, soup_points, polygons);
   const size_t welded_count = soup_points.size();
   PMP::orient_polygon_soup(soup_points, polygons);
   if (soup_points.size() > welded_count) {
@@ -220,7 +220,7 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
     return mesh;
   };
   if (analyze_topology(mesh).boundary_edges == 0) return keep();
-  rep.pairs_before = rep.pairs_after = crossing_pairs(detail::to_surface_mesh<Mesh>(mesh));
+  rep.pairs_before = rep.pairs_after = crossing_pairs(mesh::detail::to_surface_mesh<Mesh>(mesh));
   if (rep.pairs_before == 0) return keep();
   // Patches that meet with T-junctions are one surface: stitch them first, and orient the result
   // again (orient_outward() oriented the patches one by one).
@@ -234,7 +234,7 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
     // One closed surface now. What still crosses (folds inside a patch: pig.stl has three) is
     // left as the input has it; the closed union's refinement is not tried on it (CGAL 5.5's
     // autorefine crashes on some such surfaces).
-    rep.pairs_after = crossing_pairs(detail::to_surface_mesh<Mesh>(stitched));
+    rep.pairs_after = crossing_pairs(mesh::detail::to_surface_mesh<Mesh>(stitched));
     if (rep.pairs_after >= rep.pairs_before) {
       rep.pairs_after = rep.pairs_before;
       return keep();
@@ -277,7 +277,7 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
     rep.pairs_after = rep.pairs_before;
     return keep();
   }
-  TriangleMesh resolved = detail::to_triangle_mesh(result, "resolve_crossing_sheets");
+  TriangleMesh resolved = mesh::detail::to_triangle_mesh(result, "resolve_crossing_sheets");
   rep.faces_after = static_cast<int64_t>(resolved.faces.size());
   rep.resolved = true;
   if (report) *report = rep;

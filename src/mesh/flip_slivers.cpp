@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -31,8 +32,8 @@ std::pair<double, double> angles(const Vec3& a, const Vec3& b, const Vec3& c) {
 int64_t flip_slivers(TriangleMesh& mesh, double min_angle_deg) {
   if (!(min_angle_deg > 0 && min_angle_deg < 60))
     throw InvalidInput("flip_slivers: min_angle_deg " + std::to_string(min_angle_deg) + " must be in (0, 60)");
-  const double min_angle = min_angle_deg * M_PI / 180, cap_angle = 150 * M_PI / 180;
-  const double cos_turn = std::cos(30 * M_PI / 180);
+  const double min_angle = min_angle_deg * std::numbers::pi / 180, cap_angle = 150 * std::numbers::pi / 180;
+  const double cos_turn = std::cos(30 * std::numbers::pi / 180);
   const auto& p = mesh.vertices;
   int64_t flips = 0;
   for (int pass = 0; pass < 4; ++pass) {

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-namespace hdm::detail {
+namespace hdm::mesh::detail {
 
 void improve_max_min(const std::vector<Vec3>& normals, double& best_value, Vec3* best_direction) {
   auto consider = [&](Vec3 d) {
@@ -31,4 +31,4 @@ void improve_max_min(const std::vector<Vec3>& normals, double& best_value, Vec3*
   }
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::mesh::detail

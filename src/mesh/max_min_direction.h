@@ -7,7 +7,7 @@
 
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::mesh::detail {
 
 // Improves @p best_value, the smallest dot product of a unit direction with @p normals, towards
 // the max-min optimum (the centre of the smallest spherical cap holding them). The optimum is fixed
@@ -16,4 +16,4 @@ namespace hdm::detail {
 // improvement. O(k^3) dot products for k <= 24 normals, O(k^2) above.
 void improve_max_min(const std::vector<Vec3>& normals, double& best_value, Vec3* best_direction);
 
-}  // namespace hdm::detail
+}  // namespace hdm::mesh::detail

@@ -8,7 +8,7 @@
 
 #include <hdm/core/types.h>
 
-namespace hdm::detail {
+namespace hdm::mesh::detail {
 
 // Largest area of the caps of an open surface's boundary loops, as a fraction of its area, for
 // which it counts as nearly closed: a quarter, so a head with an open base or a body with a cut
@@ -26,4 +26,4 @@ inline double cap_triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
 // well enough for it to count as nearly closed; false when either is NaN. O(1).
 inline bool nearly_closed(double cap_area, double area) { return cap_area < kNearlyClosedCapFraction * area; }
 
-}  // namespace hdm::detail
+}  // namespace hdm::mesh::detail

@@ -133,7 +133,7 @@ void cap_boundary_loops(const TriangleMesh& mesh, const HalfEdges& he,
     for (size_t k : loop) {
       const Vec3 &a = mesh.vertices[boundary[k].first], &b = mesh.vertices[boundary[k].second];
       part.caps.push_back({b, a, c});  // (b→a) closes the face's (a→b)
-      part.cap_area += detail::cap_triangle_area(a, b, c);
+      part.cap_area += mesh::detail::cap_triangle_area(a, b, c);
       part.volume += b.dot(a.cross(c)) / 6;
     }
   }
@@ -149,7 +149,7 @@ void flip_inward_solids(TriangleMesh& mesh, std::vector<Part>& parts, OrientRepo
     ++rep.components;
     if (p.closed)
       ++rep.closed, solid.push_back(int32_t(i));
-    else if (detail::nearly_closed(p.cap_area, p.area))
+    else if (mesh::detail::nearly_closed(p.cap_area, p.area))
       ++rep.nearly_closed, solid.push_back(int32_t(i));
     else
       ++rep.sheets;

@@ -210,7 +210,7 @@ int64_t trim_folded_rim(TriangleMesh& mesh) {
       double best = 2;
       for (const Vec3& n : normals) best = std::min(best, direction.dot(n));
       if (best > kRimSeen) return best;  // seen well enough from the mean normal: no search needed
-      detail::improve_max_min(normals, best, &direction);
+      mesh::detail::improve_max_min(normals, best, &direction);
       return best;
     };
     int64_t now = 0;

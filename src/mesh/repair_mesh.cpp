@@ -98,7 +98,7 @@ TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, cons
   RepairReport rep;
   std::vector<Point> points;
   std::vector<std::vector<std::size_t>> polygons;
-  detail::to_polygon_soup(mesh, points, polygons);
+  mesh::detail::to_polygon_soup(mesh, points, polygons);
   std::set<std::array<Point, 3>> original_orientation;
   for (const Tri& f : mesh.faces) original_orientation.insert(rotated({points[f[0]], points[f[1]], points[f[2]]}));
 
@@ -116,7 +116,7 @@ TriangleMesh repair_mesh(const TriangleMesh& mesh, const std::string& name, cons
   if (CGAL::is_closed(sm)) PMP::orient_to_bound_a_volume(sm);
   sm.collect_garbage();
 
-  TriangleMesh out = detail::to_triangle_mesh(sm, "repair_mesh");
+  TriangleMesh out = mesh::detail::to_triangle_mesh(sm, "repair_mesh");
   for (const Tri& t : out.faces)
     if (original_orientation.count(rotated({sm.point(Mesh::Vertex_index(t[0])), sm.point(Mesh::Vertex_index(t[1])),
                                             sm.point(Mesh::Vertex_index(t[2]))})) == 0 &&

@@ -47,7 +47,7 @@ constexpr double kSmallCrack = 0.01;
 constexpr size_t kMaxFillEdges = 256;
 
 // Whether @p sm's holes are small enough to fill for good: at most kMaxFillEdges edges each, and
-// nearly closed by orient_outward()'s rule (detail::nearly_closed(): fans about their centroids
+// nearly closed by orient_outward()'s rule (mesh::detail::nearly_closed(): fans about their centroids
 // of less than a quarter of its area; cheap, before the O(h³) fill).
 bool holes_fillable(const Mesh& sm) {
   std::vector<Mesh::Halfedge_index> cycles;
@@ -62,9 +62,9 @@ bool holes_fillable(const Mesh& sm) {
     if (loop.size() > kMaxFillEdges) return false;
     Vec3 c = Vec3::Zero();
     for (const Vec3& q : loop) c += q / double(loop.size());
-    for (size_t i = 0; i < loop.size(); ++i) fans += detail::cap_triangle_area(loop[i], loop[(i + 1) % loop.size()], c);
+    for (size_t i = 0; i < loop.size(); ++i) fans += mesh::detail::cap_triangle_area(loop[i], loop[(i + 1) % loop.size()], c);
   }
-  return detail::nearly_closed(fans, PMP::area(sm));
+  return mesh::detail::nearly_closed(fans, PMP::area(sm));
 }
 
 // Fills every boundary cycle of @p sm (Liepa 2003: minimal-area triangulation refined to the
@@ -89,14 +89,14 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
     return false;  // CGAL's refinement is experimental and asserts on some configurations
   }
   // The generalized winding number counts how many parts cover a point, so a piece inside two
-  // (or any even number of) overlapping parts is buried too, where ray parity calls it outside.
+  // (or any even number of) overlapping parts is interior too, where ray parity calls it outside.
   const WindingNumber winding(solid);
   const double diagonal = bounds(solid).diagonal();
   // Just off the face: where the surface runs in nearly coincident layers (mannequin-devil.off:
   // folds closer than 10⁻⁶ of the diagonal), a point farther out would pass the layer above and
   // keep both layers. Near faces are summed exactly, so the jump of 1 across the face is sharp.
   const double eps = 1e-9 * diagonal;
-  std::vector<Mesh::Face_index> buried;
+  std::vector<Mesh::Face_index> interior;
   for (Mesh::Face_index f : sm.faces()) {
     std::array<Point, 3> c;
     int k = 0;
@@ -105,14 +105,14 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
     const Vec3 n = (b - a).cross(d - a);
     const Vec3 g = (a + b + d) / 3;
     if (!(n.norm() > 0) || winding.inside(g + eps * n.normalized()) || !winding.inside(g - eps * n.normalized()))
-      buried.push_back(f);
+      interior.push_back(f);
   }
-  rep.buried_faces = static_cast<int64_t>(buried.size());
+  rep.interior_faces = static_cast<int64_t>(interior.size());
   // The exposed pieces are joined as a soup: the refinement can leave copies of one intersection
   // point on each face it cut, and stitching joins only halfedges whose vertices are shared.
   {
     std::vector<uint8_t> gone(sm.number_of_faces(), 0);
-    for (Mesh::Face_index f : buried) gone[f.idx()] = 1;
+    for (Mesh::Face_index f : interior) gone[f.idx()] = 1;
     std::vector<Point> points(sm.points().begin(), sm.points().end());
     std::vector<std::array<std::size_t, 3>> polygons;
     for (Mesh::Face_index f : sm.faces()) {
@@ -156,8 +156,8 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
 
 }  // namespace
 
-std::vector<char> detail::crossing_faces(const TriangleMesh& mesh, int64_t* pairs_out) {
-  const Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
+std::vector<char> mesh::detail::crossing_faces(const TriangleMesh& mesh, int64_t* pairs_out) {
+  const Mesh sm = mesh::detail::to_surface_mesh<Mesh>(mesh);
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
   std::vector<char> crossing(mesh.faces.size(), 0);
@@ -172,25 +172,25 @@ std::vector<char> detail::crossing_faces(const TriangleMesh& mesh, int64_t* pair
 int64_t count_self_intersections(const TriangleMesh& mesh) {
   validate_mesh_data(mesh, "count_self_intersections input");
   int64_t pairs = 0;
-  detail::crossing_faces(mesh, &pairs);
+  mesh::detail::crossing_faces(mesh, &pairs);
   return pairs;
 }
 
 TriangleMesh fill_nearly_closed(const TriangleMesh& mesh) {
   validate_mesh_data(mesh, "fill_nearly_closed input");
-  Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
+  Mesh sm = mesh::detail::to_surface_mesh<Mesh>(mesh);
   if (CGAL::is_closed(sm) || !holes_fillable(sm)) return {};
   const double area = PMP::area(sm);
   const double caps = fill_holes(sm);
-  if (!CGAL::is_closed(sm) || !detail::nearly_closed(caps, area)) return {};
-  return detail::to_triangle_mesh(sm, "fill_nearly_closed");
+  if (!CGAL::is_closed(sm) || !mesh::detail::nearly_closed(caps, area)) return {};
+  return mesh::detail::to_triangle_mesh(sm, "fill_nearly_closed");
 }
 
 TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report) {
   validate_mesh_data(mesh, "resolve_self_intersections input");
   SelfIntersectionReport rep;
   rep.faces_before = rep.faces_after = static_cast<int64_t>(mesh.faces.size());
-  Mesh sm = detail::to_surface_mesh<Mesh>(mesh);
+  Mesh sm = mesh::detail::to_surface_mesh<Mesh>(mesh);
   auto count = [](const Mesh& m) {
     std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
     PMP::self_intersections<CGAL::Parallel_if_available_tag>(m, std::back_inserter(pairs));
@@ -212,8 +212,8 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
     Mesh filled = sm;
     const double area = PMP::area(sm);
     const double caps = fill_holes(filled);
-    if (!CGAL::is_closed(filled) || !detail::nearly_closed(caps, area)) return give_up();
-    const TriangleMesh solid = detail::to_triangle_mesh(filled, "resolve_self_intersections");
+    if (!CGAL::is_closed(filled) || !mesh::detail::nearly_closed(caps, area)) return give_up();
+    const TriangleMesh solid = mesh::detail::to_triangle_mesh(filled, "resolve_self_intersections");
     if (!resolve_closed(filled, solid, rep)) return give_up();
     rep.filled_faces = static_cast<int64_t>(solid.faces.size() - mesh.faces.size());
     sm = std::move(filled);
@@ -261,7 +261,7 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
       if (left < rep.pairs_after) sm = std::move(cleaned), rep.pairs_after = left;
     }
   }
-  TriangleMesh out = detail::to_triangle_mesh(sm, "resolve_self_intersections");
+  TriangleMesh out = mesh::detail::to_triangle_mesh(sm, "resolve_self_intersections");
   rep.faces_after = static_cast<int64_t>(out.faces.size());
   rep.resolved = true;
   if (report) *report = rep;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <tuple>
 
 namespace hdm::mesh::detail {
@@ -26,11 +27,11 @@ Simplifier::Simplifier(const TriangleMesh& mesh, const DecimateOptions& o) : o_(
   alive_.assign(nv, 1);
   version_.assign(nv, 0);
   retry_.assign(nv, 0);
-  vis_.assign(nv, M_PI);  // unknown: recounted when first needed
+  vis_.assign(nv, std::numbers::pi);  // unknown: recounted when first needed
   max_angle_ = std::acos(std::clamp(o.min_visibility, -1.0, 1.0));
   faces_left_ = static_cast<int64_t>(nf);
-  cos_turn_ = std::cos(o.max_normal_turn_deg * M_PI / 180);
-  sin_min_angle_ = std::sin(o.min_angle_deg * M_PI / 180);
+  cos_turn_ = std::cos(o.max_normal_turn_deg * std::numbers::pi / 180);
+  sin_min_angle_ = std::sin(o.min_angle_deg * std::numbers::pi / 180);
   init_quadrics();
   folded_.assign(nv, 0);
   for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) folded_[v] = exact_visibility(v) <= kFold;
@@ -86,7 +87,7 @@ void Simplifier::init_quadrics() {
   // Feature edges (boundary, creases) add the planes through the edge perpendicular to each of
   // their faces, weighted like a face of the edge's squared length (Garland & Heckbert §6).
   // Each edge is seen from the face that has it as (a→b); its twin face has (b→a).
-  const double cos_feature = std::cos(o_.feature_angle_deg * M_PI / 180);
+  const double cos_feature = std::cos(o_.feature_angle_deg * std::numbers::pi / 180);
   for (size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = faces_[f][k], b = faces_[f][(k + 1) % 3];

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <tuple>
 
 namespace hdm::mesh::detail {
@@ -45,7 +46,7 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool unfold) {
   }
 
   const Quadric q = quadric_[a] + quadric_[b];
-  if (forced_) return merge(a, b, pos_[a], q, -2, M_PI), true;
+  if (forced_) return merge(a, b, pos_[a], q, -2, std::numbers::pi), true;
   // Geometry: no face of the star turns by more than max_normal_turn or becomes a new sliver;
   // every vertex whose star changes (the new vertex and the link) stays visible. An unfolding
   // collapse may turn faces as it likes, and tries several places for the new vertex.

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <tuple>
 
 namespace hdm::mesh::detail {
@@ -217,7 +218,7 @@ bool Simplifier::remove_vertex(int32_t v) {
   }
   alive_[v] = 0;
   head_[v] = -1;
-  for (int32_t r : cycle) vis_[r] = M_PI, ++version_[r];
+  for (int32_t r : cycle) vis_[r] = std::numbers::pi, ++version_[r];
   return true;
 }
 

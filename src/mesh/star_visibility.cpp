@@ -37,7 +37,7 @@ double visibility(const std::vector<Vec3>& normals) {
 
 double exact_visibility_of(const std::vector<Vec3>& normals) {
   double best = visibility(normals);
-  if (best <= 0.5) hdm::detail::improve_max_min(normals, best, nullptr);
+  if (best <= 0.5) mesh::detail::improve_max_min(normals, best, nullptr);
   return best;
 }
 

@@ -62,7 +62,7 @@ TriangleMesh subdivide_mesh(const TriangleMesh& mesh, int64_t min_triangles, int
   if (steps) *steps = made;
   if (sm.has_garbage()) sm.collect_garbage();
 
-  return detail::to_triangle_mesh(sm, "subdivide_mesh");
+  return mesh::detail::to_triangle_mesh(sm, "subdivide_mesh");
 }
 
 }  // namespace hdm

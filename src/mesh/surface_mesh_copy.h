@@ -13,7 +13,7 @@
 
 #include <string>
 
-namespace hdm::detail {
+namespace hdm::mesh::detail {
 
 // The triangles of @p mesh as a CGAL polygon soup, as the soup functions of CGAL's polygon mesh
 // processing take it: @p points in vertex order, one polygon (three indices into @p points) per
@@ -67,4 +67,4 @@ TriangleMesh to_triangle_mesh(const SurfaceMesh& sm, const char* who) {
   return out;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::mesh::detail

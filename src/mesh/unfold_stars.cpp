@@ -81,7 +81,7 @@ class Unfolder {
       for (const Vec3& n : normals_) best = std::min(best, d.dot(n));
       if (best > min_visibility_) return best;  // seen well enough: no search needed
     }
-    detail::improve_max_min(normals_, best, nullptr);
+    mesh::detail::improve_max_min(normals_, best, nullptr);
     return best;
   }
   bool folded(int32_t v) { return visibility(v) <= min_visibility_; }

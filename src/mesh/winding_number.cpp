@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 namespace hdm {
@@ -105,7 +106,7 @@ double WindingNumber::operator()(const Vec3& p) const {
     stack[top++] = n.left;
     stack[top++] = n.right;
   }
-  return sum / (4 * M_PI);
+  return sum / (4 * std::numbers::pi);
 }
 
 }  // namespace hdm

@@ -29,22 +29,22 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
   progress("input BVH", 0);
   const auto bvh_start = std::chrono::steady_clock::now();
   const ExactMeshQuery reference(std::move(in.mesh));  // the prepared mesh lives on in the BVH alone
-  // A mesh that crossed itself bounds the union of its parts; faces buried inside it are not on
+  // A mesh that crossed itself bounds the union of its parts; faces inside it are not on
   // the surface the model follows, and the fidelity leaves them out.
-  std::vector<uint8_t> buried;
-  if (r.input.self_intersections > 0) buried = buried_faces(reference);
-  r.buried_faces = std::count(buried.begin(), buried.end(), uint8_t(1));
+  std::vector<uint8_t> interior;
+  if (r.input.self_intersections > 0) interior = interior_faces(reference);
+  r.interior_faces = std::count(interior.begin(), interior.end(), uint8_t(1));
   const double bvh_seconds = since(bvh_start);
   SlabModel model;
   if (options.bounded) {
     Tolerance t = options.tolerance;
-    t.buried = buried.empty() ? nullptr : &buried;
+    t.interior = interior.empty() ? nullptr : &interior;
     model = bake_to_tolerance(reference, name, options.bake, t, &r.rounds, &r.bake);
     r.fidelity = r.rounds.back().fidelity;
   } else {
     model = bake_slabs(reference, name, options.bake, &r.bake);
     progress("fidelity", 0);
-    r.fidelity = measure_fidelity(model, reference, buried.empty() ? nullptr : &buried);
+    r.fidelity = measure_fidelity(model, reference, interior.empty() ? nullptr : &interior);
     progress("fidelity", 1);
   }
   r.bake.seconds += bvh_seconds;

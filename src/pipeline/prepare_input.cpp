@@ -21,7 +21,7 @@ bool close_crossing_parts(PreparedInput& in, bool& open) {
   }
   // A nearly closed input that crosses itself is the solid it nearly bounds: its holes are filled
   // for the bake and the check alike, so the check measures the caps the model has, and the
-  // buried faces are those inside that solid.
+  // interior faces are those inside that solid.
   if (open) {
     TriangleMesh filled = fill_nearly_closed(in.mesh);
     if (!filled.faces.empty()) {  // only returned closed

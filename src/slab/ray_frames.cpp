@@ -22,7 +22,7 @@ Vec3 max_min_direction(const Vec3& start, const std::vector<Vec3>& normals) {
   Vec3 best = start;
   double best_val = min_dot(start, normals);
   if (best_val > 0.5) return best;  // the area-weighted normal is good enough: keep it (smooth field)
-  hdm::detail::improve_max_min(normals, best_val, &best);
+  mesh::detail::improve_max_min(normals, best_val, &best);
   return best;
 }
 

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <random>
 
 using namespace hdm;
@@ -179,7 +180,7 @@ TEST(SweptEdit, every_stroke_places_its_tool_along_the_surface_normal) {
     for (const EditLogEntry& e : log) {
       if (e.kind != EditLogEntry::Sweep) continue;
       ++sweeps;
-      const double angle = std::acos(std::clamp(e.sweep.plane_normal.dot(input_normal(p)), -1.0, 1.0)) * 180 / M_PI;
+      const double angle = std::acos(std::clamp(e.sweep.plane_normal.dot(input_normal(p)), -1.0, 1.0)) * 180 / std::numbers::pi;
       std::printf("stroke at (%.2f, %.2f): axis %.2f deg from the input's normal\n", u.x(), u.y(), angle);
       EXPECT_LT(angle, 5.0);
     }

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 namespace hdm {
 namespace {
@@ -235,7 +236,7 @@ TEST(Session, TheBallFeltIsTheBrushsSize) {
     std::printf("r = %.2f: centre %.5f from the surface, %.5f from the sphere's centre\n", r, gap, c.norm());
     EXPECT_NEAR(gap, r, 0.02 * r);
     EXPECT_NEAR(c.norm(), 1 + r, 0.02 * r + 0.004);
-    EXPECT_LT(std::acos(std::clamp(last.force.normalized().dot(c.normalized()), -1.0, 1.0)), 2 * M_PI / 180);
+    EXPECT_LT(std::acos(std::clamp(last.force.normalized().dot(c.normalized()), -1.0, 1.0)), 2 * std::numbers::pi / 180);
     // The hand spring against the rendered stiffness: the centre is held out by the force balance.
     EXPECT_NEAR(last.out.contact.depth / sphere().ws.scale, expected_depth(1.0), 0.08 * expected_depth(1.0));
   }

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <set>
 
@@ -62,7 +63,7 @@ int caps(const TriangleMesh& m) {
     double lo = 180, hi = 0;
     for (int k = 0; k < 3; ++k) {
       const Vec3 u = m.vertices[t[(k + 1) % 3]] - m.vertices[t[k]], w = m.vertices[t[(k + 2) % 3]] - m.vertices[t[k]];
-      const double a = std::atan2(u.cross(w).norm(), u.dot(w)) * 180 / M_PI;
+      const double a = std::atan2(u.cross(w).norm(), u.dot(w)) * 180 / std::numbers::pi;
       lo = std::min(lo, a), hi = std::max(hi, a);
     }
     n += hi > 150 && lo < 0.5;
@@ -84,20 +85,20 @@ void expect_default_bake_passes(const std::string& file) {
   const bool crosses = count_self_intersections(input) > 0;
   const TriangleMesh resolved = crosses ? resolve_self_intersections(input) : input;
   const ExactMeshQuery reference(resolved);
-  std::vector<uint8_t> buried_resolved;
-  if (crosses) buried_resolved = buried_faces(reference);
+  std::vector<uint8_t> interior_resolved;
+  if (crosses) interior_resolved = interior_faces(reference);
   Tolerance t;  // hdm bake's default bound
   t.max_pct = 0.2;
   t.rms_pct = 0.02;
-  if (crosses) t.buried = &buried_resolved;
+  if (crosses) t.interior = &interior_resolved;
   std::vector<ToleranceRound> rounds;
   const SlabModel m = bake_to_tolerance(reference, file, BakeOptions{}, t, &rounds);
   EXPECT_EQ(count_invalid_slabs(m), 0) << file;
   EXPECT_EQ(count_overlapping_pairs(m), 0) << file;
   const ExactMeshQuery exact(input);
-  std::vector<uint8_t> buried;
-  if (crosses) buried = buried_faces(exact);
-  const Fidelity f = measure_fidelity(m, exact, crosses ? &buried : nullptr);
+  std::vector<uint8_t> interior;
+  if (crosses) interior = interior_faces(exact);
+  const Fidelity f = measure_fidelity(m, exact, crosses ? &interior : nullptr);
   EXPECT_LE(std::max(f.max_pct, f.max_back_pct), 0.2) << file;
   EXPECT_LE(std::max(f.rms_pct, f.rms_back_pct), 0.02) << file;
   EXPECT_GE(measure_contact(m, exact, 20000, 1, 1.0).agreement, 0.995) << file;

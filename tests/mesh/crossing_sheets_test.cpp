@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Open inputs made of sheets that cross or meet each other, resolved into the surface a user
-// touches, and the buried faces hdm check leaves out: checked by counting (no crossing left, CGAL's count; boundary,
+// touches, and the interior faces hdm check leaves out: checked by counting (no crossing left, CGAL's count; boundary,
 // non-manifold and inconsistent edges), against analytic areas and volumes, and with Embree on the input (every face of
 // the result lies on an input face).
 #include <hdm/analysis/fidelity.h>
@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <set>
 
 using namespace hdm;
@@ -54,7 +55,7 @@ void add_tube(TriangleMesh& m, const Vec3& a, const Vec3& b, double r, int n) {
   const auto base = static_cast<int32_t>(m.vertices.size());
   for (int j = 0; j <= rings; ++j)
     for (int i = 0; i < n; ++i) {
-      const double phi = 2 * M_PI * i / n;
+      const double phi = 2 * std::numbers::pi * i / n;
       m.vertices.push_back(a + (b - a) * (double(j) / rings) + r * (std::cos(phi) * e1 + std::sin(phi) * e2));
     }
   auto id = [&](int i, int j) { return base + j * n + (i % n); };
@@ -158,9 +159,9 @@ TEST(CrossingSheets, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
   const double r = 0.3;
   add_tube(in, Vec3(0.2, 0.1, 0.05), Vec3(2.2, 0.1, 0.05), r, n);  // along +x, out through x = 1
   add_tube(in, Vec3(-0.5, 0.1, 0.4), Vec3(-0.5, 0.1, 2.4), r, n);  // along +z, out through z = 1
-  // hdm check's rule for the input's own faces (buried_faces(), the winding number in front of a
-  // face): a tube face wholly inside the box is buried, a face wholly outside every part is not.
-  const std::vector<uint8_t> buried = buried_faces(ExactMeshQuery(in));
+  // hdm check's rule for the input's own faces (interior_faces(), the winding number in front of a
+  // face): a tube face wholly inside the box is interior, a face wholly outside every part is not.
+  const std::vector<uint8_t> interior = interior_faces(ExactMeshQuery(in));
   const size_t box_faces = 6 * 2 * 16;
   auto in_box = [](const Vec3& p) { return p.cwiseAbs().maxCoeff() < 1 - 1e-9; };
   // Near a tube: within its radius plus a box triangle's circumradius (0.36) of its axis.
@@ -174,16 +175,16 @@ TEST(CrossingSheets, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
     const bool all_in = in_box(in.vertices[t[0]]) && in_box(in.vertices[t[1]]) && in_box(in.vertices[t[2]]);
     const bool none_in = !in_box(in.vertices[t[0]]) && !in_box(in.vertices[t[1]]) && !in_box(in.vertices[t[2]]);
     if (f >= box_faces && all_in) {
-      EXPECT_TRUE(buried[f]) << f;
+      EXPECT_TRUE(interior[f]) << f;
       ++inside;
     }
     if (f >= box_faces && none_in) {
-      EXPECT_FALSE(buried[f]) << f;
+      EXPECT_FALSE(interior[f]) << f;
       ++outside;
     }
     if (f < box_faces && !near_tube(in.vertices[t[0]]) && !near_tube(in.vertices[t[1]]) &&
         !near_tube(in.vertices[t[2]])) {
-      EXPECT_FALSE(buried[f]) << f;
+      EXPECT_FALSE(interior[f]) << f;
       ++outside;
     }
   }
@@ -196,10 +197,10 @@ TEST(CrossingSheets, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
   const MeshTopology topo = analyze_topology(out);
   EXPECT_EQ(topo.non_manifold_edges, 0);
   EXPECT_EQ(topo.inconsistent_edges, 0);
-  // The tubes' outer rims stay open; the inner ends are buried in the box.
+  // The tubes' outer rims stay open; the inner ends are inside the box.
   EXPECT_EQ(topo.boundary_edges, 2 * n);
   // Analytic area: the box less the two n-gon holes, plus the tubes' 1.2 and 1.4 units outside it.
-  const double ngon = n / 2.0 * r * r * std::sin(2 * M_PI / n), perimeter = n * 2 * r * std::sin(M_PI / n);
+  const double ngon = n / 2.0 * r * r * std::sin(2 * std::numbers::pi / n), perimeter = n * 2 * r * std::sin(std::numbers::pi / n);
   EXPECT_NEAR(area(out), 24 - 2 * ngon + (1.2 + 1.4) * perimeter, 1e-9);
   expect_on_input(out, in);
 }

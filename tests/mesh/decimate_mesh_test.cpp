@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <set>
 
@@ -100,7 +101,7 @@ TriangleMesh torus(double R, double r, int u, int v, const Vec3& centre = Vec3::
   TriangleMesh m;
   for (int i = 0; i < u; ++i)
     for (int j = 0; j < v; ++j) {
-      const double a = 2 * M_PI * i / u, b = 2 * M_PI * j / v;
+      const double a = 2 * std::numbers::pi * i / u, b = 2 * std::numbers::pi * j / v;
       m.vertices.push_back(
           centre + Vec3((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
     }

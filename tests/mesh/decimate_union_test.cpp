@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 using namespace hdm;
 
@@ -31,7 +32,7 @@ std::vector<double> star_visibility(const TriangleMesh& m) {
   std::vector<Vec3> dirs;
   const int k = 2000;
   for (int i = 0; i < k; ++i) {
-    const double z = 1 - (2 * i + 1.0) / k, r = std::sqrt(1 - z * z), a = i * M_PI * (3 - std::sqrt(5.0));
+    const double z = 1 - (2 * i + 1.0) / k, r = std::sqrt(1 - z * z), a = i * std::numbers::pi * (3 - std::sqrt(5.0));
     dirs.emplace_back(r * std::cos(a), r * std::sin(a), z);
   }
   std::vector<double> out(m.vertices.size(), 1.0);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace hdm {
 namespace {
@@ -91,7 +92,7 @@ TEST(OrientOutward, MultiPartInputFacesOutAtEvenDepthAndInAtOddDepth) {
 
   // Solids: material outside the faces' backs. The outer wall and the solid beside face out
   // (positive volume); the cavity's wall faces into the cavity (negative volume).
-  const double ball = 4.0 / 3.0 * M_PI;  // unit ball volume; icospheres are within 2 % of it
+  const double ball = 4.0 / 3.0 * std::numbers::pi;  // unit ball volume; icospheres are within 2 % of it
   EXPECT_NEAR(signed_volume(mesh, r_outer), 8 * ball, 0.05 * 8 * ball);
   EXPECT_NEAR(signed_volume(mesh, r_cavity), -ball, 0.05 * ball);
   EXPECT_NEAR(signed_volume(mesh, r_beside), ball, 0.05 * ball);

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <random>
 #include <set>
 
@@ -148,7 +149,7 @@ TEST(RepairMesh, a_patch_with_no_interior_vertex_stays_open_and_holes_are_still_
   const double r = 0.3, h = 0.2;
   const int32_t apex = add({15, 0, h});
   int32_t ring[6];
-  for (int k = 0; k < 6; ++k) ring[k] = add({15 + r * std::cos(k * M_PI / 3), r * std::sin(k * M_PI / 3), 0});
+  for (int k = 0; k < 6; ++k) ring[k] = add({15 + r * std::cos(k * std::numbers::pi / 3), r * std::sin(k * std::numbers::pi / 3), 0});
   for (int k = 0; k < 6; ++k) m.faces.push_back({apex, ring[k], ring[(k + 1) % 6]});
   ASSERT_EQ(analyze_topology(m).boundary_edges, 3 + 3 + 5 + 6);
 

@@ -47,7 +47,7 @@ void expect_union(const TriangleMesh& input, double union_volume) {
   EXPECT_EQ(t.inconsistent_edges, 0);
   EXPECT_EQ(count_self_intersections(out), 0);
   EXPECT_EQ(rep.pairs_after, 0);
-  EXPECT_GT(rep.buried_faces, 0);
+  EXPECT_GT(rep.interior_faces, 0);
   EXPECT_NEAR(signed_volume(out), union_volume, 1e-9 * union_volume);
   const ExactMeshQuery on_input(input);
   const double diag = bounds(input).diagonal();
@@ -83,7 +83,7 @@ TEST(SelfIntersections, a_mesh_that_does_not_cross_itself_is_kept) {
 // buries them. Union by inclusion-exclusion: 8 + 4.8 + 8.4 - 1.6 - 1.4 - 1.68 + 0.56. (Where
 // three faces meet at a point of an edge, y = z here on the first box's face x = 2, CGAL 5.5's
 // autorefine crashes: the coordinates avoid it.)
-TEST(SelfIntersections, pieces_inside_two_other_parts_are_buried) {
+TEST(SelfIntersections, pieces_inside_two_other_parts_are_interior) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
   add_box(m, Vec3(1, -0.5, 0.6), Vec3(3, 2.5, 1.4));
@@ -121,30 +121,30 @@ TEST(SelfIntersections, a_nearly_closed_box_pushed_through_another_becomes_their
 
 // Two disjoint boxes 10⁻⁷ apart (a slit between two outer layers, as mannequin-devil.off has once
 // resolved): no face is inside the material. A point 10⁻⁵ of the diagonal in front of the facing
-// sides lies in the other box, so a coarser probe would call both sides buried.
-TEST(SelfIntersections, faces_across_a_thin_slit_are_not_buried) {
+// sides lies in the other box, so a coarser probe would call both sides interior.
+TEST(SelfIntersections, faces_across_a_thin_slit_are_not_interior) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(1, 1, 1));
   add_box(m, Vec3(1 + 1e-7, 0, 0), Vec3(2, 1, 1));
   ASSERT_EQ(count_self_intersections(m), 0);
   const ExactMeshQuery q(m);
   ASSERT_TRUE(q.closed());
-  const std::vector<uint8_t> buried = buried_faces(q);
-  ASSERT_EQ(buried.size(), m.faces.size());
-  EXPECT_EQ(std::count(buried.begin(), buried.end(), uint8_t(1)), 0);
+  const std::vector<uint8_t> interior = interior_faces(q);
+  ASSERT_EQ(interior.size(), m.faces.size());
+  EXPECT_EQ(std::count(interior.begin(), interior.end(), uint8_t(1)), 0);
 }
 
 // A box inside two overlapping boxes is inside the material (winding 2); faces of the outer boxes
-// are buried exactly where the point just in front of their centroid lies in the other box.
-TEST(SelfIntersections, buried_faces_follow_the_union_of_the_parts) {
+// are interior exactly where the point just in front of their centroid lies in the other box.
+TEST(SelfIntersections, interior_faces_follow_the_union_of_the_parts) {
   TriangleMesh m;
   const Vec3 lo[3] = {Vec3(0, 0, 0), Vec3(1, -1, -1), Vec3(1.2, 0.8, 0.8)};
   const Vec3 hi[3] = {Vec3(2, 2, 2), Vec3(3, 3, 3), Vec3(1.6, 1.2, 1.2)};
   for (int b = 0; b < 3; ++b) add_box(m, lo[b], hi[b]);
   const ExactMeshQuery q(m);
   ASSERT_TRUE(q.closed());
-  const std::vector<uint8_t> buried = buried_faces(q);
-  ASSERT_EQ(buried.size(), m.faces.size());
+  const std::vector<uint8_t> interior = interior_faces(q);
+  ASSERT_EQ(interior.size(), m.faces.size());
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const int own = static_cast<int>(f / 12);
     const Tri& t = m.faces[f];
@@ -153,9 +153,9 @@ TEST(SelfIntersections, buried_faces_follow_the_union_of_the_parts) {
     bool inside = false;
     for (int b = 0; b < 3; ++b)
       if (b != own && (p.array() > lo[b].array()).all() && (p.array() < hi[b].array()).all()) inside = true;
-    EXPECT_EQ(buried[f] != 0, inside) << "face " << f << " at " << c.transpose();
+    EXPECT_EQ(interior[f] != 0, inside) << "face " << f << " at " << c.transpose();
   }
-  EXPECT_EQ(std::count(buried.begin() + 24, buried.end(), uint8_t(1)), 12);  // the inner box
+  EXPECT_EQ(std::count(interior.begin() + 24, interior.end(), uint8_t(1)), 12);  // the inner box
 }
 
 // A box open at the top pushed through by another: filled to the solid it nearly bounds (the
@@ -180,7 +180,7 @@ TEST(SelfIntersections, a_nearly_closed_input_is_filled_and_a_sheet_is_not) {
 // A box turned inside out half pushed into another (winding 1 in the outer box, 0 in the overlap,
 // -1 in the inverted box's part outside): a face is on the material's boundary only where the
 // material (analytic winding >= 1/2) is behind it and not in front of it.
-TEST(SelfIntersections, faces_with_no_material_behind_them_are_buried) {
+TEST(SelfIntersections, faces_with_no_material_behind_them_are_interior) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
   add_box(m, Vec3(1, 0.5, 0.5), Vec3(3, 1.5, 1.5));
@@ -193,15 +193,15 @@ TEST(SelfIntersections, faces_with_no_material_behind_them_are_buried) {
   };
   const ExactMeshQuery q(m);
   ASSERT_TRUE(q.closed());
-  const std::vector<uint8_t> buried = buried_faces(q);
-  ASSERT_EQ(buried.size(), m.faces.size());
+  const std::vector<uint8_t> interior = interior_faces(q);
+  ASSERT_EQ(interior.size(), m.faces.size());
   int outside_faces = 0;
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const Tri& t = m.faces[f];
     const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3;
     const Vec3 n = q.face_normal(static_cast<int32_t>(f));
     const bool boundary = material(c - 1e-6 * n) && !material(c + 1e-6 * n);
-    EXPECT_EQ(buried[f] != 0, !boundary) << "face " << f << " at " << c.transpose();
+    EXPECT_EQ(interior[f] != 0, !boundary) << "face " << f << " at " << c.transpose();
     outside_faces += f >= 12 && c.x() > 2;
   }
   EXPECT_GT(outside_faces, 0);  // faces of the inverted box outside the other: no material on either side

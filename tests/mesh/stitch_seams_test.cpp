@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 using namespace hdm;
 
@@ -93,7 +94,7 @@ TEST(StitchSeams, NeverMergesTwoVerticesOfOneSheet) {
   const auto base = static_cast<int32_t>(in.vertices.size());
   for (int j = 0; j <= 2; ++j)
     for (int i = 0; i <= n; ++i) {
-      const double phi = (2 * M_PI - 1e-4) * i / n;
+      const double phi = (2 * std::numbers::pi - 1e-4) * i / n;
       in.vertices.push_back(Vec3(std::cos(phi), std::sin(phi), 0.5 * j));
     }
   auto id = [&](int i, int j) { return base + j * (n + 1) + i; };

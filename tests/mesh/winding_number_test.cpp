@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 using namespace hdm;
@@ -41,7 +42,7 @@ TEST(WindingNumber, FlatDiscIsItsSolidAngleOverFourPi) {
   const double R = 1;
   disc.vertices.push_back(Vec3::Zero());
   for (int i = 0; i < n; ++i)
-    disc.vertices.emplace_back(R * std::cos(2 * M_PI * i / n), R * std::sin(2 * M_PI * i / n), 0);
+    disc.vertices.emplace_back(R * std::cos(2 * std::numbers::pi * i / n), R * std::sin(2 * std::numbers::pi * i / n), 0);
   for (int i = 0; i < n; ++i) disc.faces.push_back({0, 1 + i, 1 + (i + 1) % n});
   const WindingNumber w(disc);
   for (double h : {0.01, 0.3, 1.0, 3.0}) {

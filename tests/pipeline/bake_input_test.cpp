@@ -85,7 +85,7 @@ TEST(BakeInput, TwoBoxesPushedIntoEachOtherBakeToTheirUnionInTheInputsUnits) {
   BakeInputReport report;
   const SlabModel model = bake_input(boxes.mesh(), "two boxes", {}, &report);
   EXPECT_GT(report.input.self_intersections, 0);
-  EXPECT_GT(report.input.resolved.buried_faces, 0);  // B's faces inside A and A's inside B, dropped
+  EXPECT_GT(report.input.resolved.interior_faces, 0);  // B's faces inside A and A's inside B, dropped
   TriangleMesh surface;
   displaced_surface(model, surface.vertices, surface.faces);
   const double diagonal = boxes.scale * Vec3(1.5, 1, 1).norm();

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <random>
 
 using namespace hdm;
@@ -47,7 +48,7 @@ SweepResult sweep(const SlabModel& m, const SlabLocator& loc, const Vec3& a, con
       r.depth_ratio = std::max(r.depth_ratio, std::abs(c.depth - prev.depth) / dp);
       r.force_step = std::max(r.force_step, (f - prev_f).norm());
       const double cosang = std::clamp(c.normal.dot(prev.normal), -1.0, 1.0);
-      r.normal_step_deg = std::max(r.normal_step_deg, std::acos(cosang) * 180 / M_PI);
+      r.normal_step_deg = std::max(r.normal_step_deg, std::acos(cosang) * 180 / std::numbers::pi);
       r.slab_changes += c.slab != prev.slab;
     }
     prev = c;

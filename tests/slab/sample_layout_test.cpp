@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <numbers>
 #include <set>
 
 using namespace hdm;
@@ -64,7 +65,7 @@ TEST(SampleLayoutTest, grid_triangles_face_outward) {
   });
   // Normals point away from the centre, within the facet angle of the 80-face polyhedron (< 12°).
   for (int id = 0; id < s.samples.count; ++id)
-    EXPECT_GT(s.normals[id].cast<double>().dot(sample_position(s, id).normalized()), std::cos(12 * M_PI / 180));
+    EXPECT_GT(s.normals[id].cast<double>().dot(sample_position(s, id).normalized()), std::cos(12 * std::numbers::pi / 180));
 }
 
 TEST(SampleLayoutTest, rejects_non_manifold_and_bad_ids) {

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <functional>
+#include <numbers>
 
 using namespace hdm;
 
@@ -35,7 +36,7 @@ TriangleMesh grid_surface(int nu, int nv, bool wrap_u, bool wrap_v, const std::f
 
 TriangleMesh torus() {
   return grid_surface(96, 32, true, true, [](double u, double v) {
-    const double a = 2 * M_PI * u, b = 2 * M_PI * v;
+    const double a = 2 * std::numbers::pi * u, b = 2 * std::numbers::pi * v;
     return Vec3((1 + 0.3 * std::cos(b)) * std::cos(a), (1 + 0.3 * std::cos(b)) * std::sin(a), 0.3 * std::sin(b));
   });
 }
@@ -57,7 +58,7 @@ TriangleMesh thin_cylinder() {
 // Flat annulus (an open disk with a hole), outward normal +z.
 TriangleMesh annulus() {
   return grid_surface(96, 8, true, false, [](double u, double v) {
-    const double a = -2 * M_PI * u, r = 0.3 + 0.7 * v;
+    const double a = -2 * std::numbers::pi * u, r = 0.3 + 0.7 * v;
     return Vec3(r * std::cos(a), r * std::sin(a), 0.02 * std::sin(6 * a) * v);
   });
 }

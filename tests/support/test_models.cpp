@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <random>
 #include <set>
 
@@ -46,7 +47,7 @@ TriangleMesh crumpled_icosphere(int subdivisions, double size, double twist_deg)
     if (t[0] == 0 || t[1] == 0 || t[2] == 0)
       for (int32_t v : t)
         if (v != 0) ring.insert(v);
-  const double a = twist_deg * M_PI / 180;
+  const double a = twist_deg * std::numbers::pi / 180;
   for (int32_t r : ring) {
     Vec3 d = m.vertices[r] - c;
     d -= d.dot(n) * n;  // in the tangent plane, then turned about n (Rodrigues) and shrunk
@@ -59,7 +60,7 @@ TriangleMesh crumpled_icosphere(int subdivisions, double size, double twist_deg)
 int count_folded_stars(const TriangleMesh& mesh, double margin) {
   constexpr int kDirections = 40000;
   std::vector<Vec3> dirs(kDirections);
-  const double golden = M_PI * (3 - std::sqrt(5.0));
+  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
   for (int i = 0; i < kDirections; ++i) {
     const double z = 1 - 2 * (i + 0.5) / kDirections, r = std::sqrt(1 - z * z);
     dirs[i] = Vec3(r * std::cos(golden * i), r * std::sin(golden * i), z);

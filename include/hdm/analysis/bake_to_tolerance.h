@@ -24,9 +24,9 @@ struct Tolerance {
   /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
   bool adapt_grid = true;
   int min_grid = 4;  ///< smallest grid n adapt_grid chooses (never above options.grid_n)
-  /// Optional #F flags of buried input faces (buried_faces()), left out of the fidelity's
+  /// Optional #F flags of interior input faces (interior_faces()), left out of the fidelity's
   /// input-to-model direction. Not owned.
-  const std::vector<uint8_t>* buried = nullptr;
+  const std::vector<uint8_t>* interior = nullptr;
 };
 
 /// Why bake_to_tolerance() stopped after a round.

@@ -27,30 +27,30 @@ struct Fidelity {
 /// reconstructed surface (an Embree BVH over the displaced grid triangles).
 /// @param model   slab model with derived data (rebuild_derived()).
 /// @param input   exact queries on the mesh @p model was baked from (same frame and units).
-/// @param buried  optional #F flags of input faces that are not on the surface of the material
-///                (buried_faces()): their centroids, vertices all of whose faces are buried, and
+/// @param interior  optional #F flags of input faces that are not on the surface of the material
+///                (interior_faces()): their centroids, vertices all of whose faces are interior, and
 ///                vertices inside the material (the point 10⁻⁵, closed input 10⁻⁹, of the
 ///                diagonal in front of the vertex, along its exposed faces' normal, is inside: a
 ///                vertex of a face that crosses another part) are left out of the input-to-model
 ///                direction.
 /// @note Parallel (TBB); O((#samples + #V + #F) log #F).
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
-                          const std::vector<uint8_t>* buried = nullptr);
+                          const std::vector<uint8_t>* interior = nullptr);
 
 /// @brief Faces of an input that are not on the boundary of the material it bounds: faces of a
 /// part pushed into another (a mesh that crosses itself), whose outside is still inside the
 /// union. Inside is where the generalized winding number (WindingNumber, Jacobson et al. 2013)
 /// is at least ½: it counts the parts covering a point, and rays of an open input would leave
-/// through its openings. Open input: buried when the point 10⁻⁵ of the diagonal in front of the
+/// through its openings. Open input: interior when the point 10⁻⁵ of the diagonal in front of the
 /// centroid is inside (the rule resolve_crossing_sheets() drops faces by). Closed input: the
 /// rule resolve_self_intersections() keeps pieces by, 10⁻⁹ of the diagonal off the centroid
-/// (layers may run closer than 10⁻⁵): buried when the point in front is inside or the point
+/// (layers may run closer than 10⁻⁵): interior when the point in front is inside or the point
 /// behind is not (no material on either side: a fin, a part turned inside out). No face of a
-/// closed, consistently oriented mesh that does not cross itself is buried.
-/// @return #F flags (1: buried).
+/// closed, consistently oriented mesh that does not cross itself is interior.
+/// @return #F flags (1: interior).
 /// @note Parallel (TBB); O(#F log #F) for the winding-number tree, O(log #F) terms per point away
 ///       from the surface, more near it.
-std::vector<uint8_t> buried_faces(const ExactMeshQuery& input);
+std::vector<uint8_t> interior_faces(const ExactMeshQuery& input);
 
 /// Contact accuracy near the surface.
 struct ContactAccuracy {
@@ -75,15 +75,15 @@ struct ContactAccuracy {
 /// @param count       number of points.
 /// @param seed        random seed of the sampling.
 /// @param offset_pct  half-range of the offset along the normal, % of the diagonal.
-/// @param buried  optional #F flags of buried input faces (buried_faces()). For an open input that
+/// @param interior  optional #F flags of interior input faces (interior_faces()). For an open input that
 ///                crosses itself, the points are drawn from the exposed faces only and judged
-///                against them alone (the side of the nearest exposed face): buried faces are not
+///                against them alone (the side of the nearest exposed face): interior faces are not
 ///                on the surface a user touches (resolve_crossing_sheets() drops them). Ignored for
 ///                a closed input, whose inside (the union's winding) already accounts for them.
 /// @pre @p input is oriented as orient_outward() orients it (an open input's inside is the back
 ///      of its surface).
 /// @note Parallel (TBB).
 ContactAccuracy measure_contact(const SlabModel& model, const ExactMeshQuery& input, int64_t count, uint64_t seed,
-                                double offset_pct = 1.0, const std::vector<uint8_t>* buried = nullptr);
+                                double offset_pct = 1.0, const std::vector<uint8_t>* interior = nullptr);
 
 }  // namespace hdm

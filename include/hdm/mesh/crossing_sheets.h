@@ -23,17 +23,17 @@ namespace hdm {
 /// of the input; else the input is kept. (CGAL 5.5's `autorefine`, which would split the sheet
 /// along its own curves, crashes on some real sheets.) Otherwise sheets whose boxes meet are split along their
 /// intersection curves with CGAL's `Polygon_mesh_processing::corefine` (exact intersection points, the same rounded
-/// point in both sheets). The curves and the sheets' own boundaries cut every sheet into patches; a patch is buried,
+/// point in both sheets). The curves and the sheets' own boundaries cut every sheet into patches; a patch is interior,
 /// and dropped, when the generalized winding number (WindingNumber, of the whole input) just in front of its faces is
-/// at least ½ (area-weighted vote of its faces): the front of a buried face is inside material. The kept patches are
-/// welded at equal points along the curves. This is the rule `buried_faces()` uses to leave input faces out of the
+/// at least ½ (area-weighted vote of its faces): the front of an interior face is inside material. The kept patches are
+/// welded at equal points along the curves. This is the rule `interior_faces()` uses to leave input faces out of the
 /// fidelity, so the bake and `hdm check` agree on what the surface is.
 ///
 /// Sheets where "inside" is not defined (an open mask with a cone through its nose: the cone's
 /// part behind the mask is in front of nothing) keep both sides of a curve; the result would have
 /// an edge with more than two faces, and the input is kept (report->resolved false).
 /// @param mesh  edge-manifold triangles, oriented by orient_outward() [model units].
-/// @param[out] report  counts (optional); buried_faces counts faces after the split,
+/// @param[out] report  counts (optional); interior_faces counts faces after the split,
 ///                     retriangulated_faces the input faces cut out of crumpled spots.
 /// @return the welded exposed surface (open where the sheets' exposed boundaries are), or
 ///         @p mesh itself when it is closed, does not cross itself, has a sheet that crosses

@@ -19,16 +19,16 @@ int64_t count_self_intersections(const TriangleMesh& mesh);
 
 /// What resolve_self_intersections() did.
 struct SelfIntersectionReport {
-  int64_t pairs_before = 0;   ///< crossing face pairs of the input
-  int64_t pairs_after = 0;    ///< crossing face pairs left (the input's count when it was kept)
-  int64_t faces_before = 0;   ///< faces of the input
-  int64_t faces_after = 0;    ///< faces of the result
-  int64_t buried_faces = 0;   ///< faces (after refinement) dropped as inside the union
-  int64_t closed_cracks = 0;  ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
-  int64_t filled_faces = 0;   ///< faces added to fill the holes of a nearly closed input (they stay)
-  int64_t split_pinches = 0;  ///< vertices where parts of the union touch at a point, split in one copy per fan
-  int64_t seam_vertices = 0;  ///< open input: boundary vertices stitched into a facing boundary edge or merged into a
-                              ///< nearly coincident one (stitch_seams())
+  int64_t pairs_before = 0;    ///< crossing face pairs of the input
+  int64_t pairs_after = 0;     ///< crossing face pairs left (the input's count when it was kept)
+  int64_t faces_before = 0;    ///< faces of the input
+  int64_t faces_after = 0;     ///< faces of the result
+  int64_t interior_faces = 0;  ///< faces (after refinement) dropped as inside the union
+  int64_t closed_cracks = 0;   ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
+  int64_t filled_faces = 0;    ///< faces added to fill the holes of a nearly closed input (they stay)
+  int64_t split_pinches = 0;   ///< vertices where parts of the union touch at a point, split in one copy per fan
+  int64_t seam_vertices = 0;   ///< open input: boundary vertices stitched into a facing boundary edge or merged into a
+                               ///< nearly coincident one (stitch_seams())
   int64_t retriangulated_faces = 0;  ///< open input: faces of crumpled spots cut out and triangulated again
                                      ///< (resolve_crossing_sheets())
   bool resolved = false;             ///< the result is the union's boundary; false: the input was kept

@@ -21,7 +21,7 @@ struct BakeInputOptions {
   BakeOptions bake;        ///< slab count or density, grid, texels, progress callback
   PrepareOptions prepare;  ///< repair and hole filling (PrepareOptions::resolve is always on for a bake)
   /// The error bound [% of the diagonal, both ways], by default hdm's fidelity bound: 0.2 % max and
-  /// 0.02 % RMS. Tolerance::buried is set by bake_input() and ignored here.
+  /// 0.02 % RMS. Tolerance::interior is set by bake_input() and ignored here.
   Tolerance tolerance{0.2, 0.02};
   /// true: bake_to_tolerance() starting from bake's slab count; false: one bake_slabs() at that
   /// count, measured with measure_fidelity().
@@ -34,13 +34,13 @@ struct BakeInputReport {
   double diagonal = 0;                 ///< bounding-box diagonal of the prepared mesh [scaled units, in [1, 2)]
   BakeReport bake;                     ///< the bake of the model returned; seconds include the input BVH
   std::vector<ToleranceRound> rounds;  ///< every bake tried (empty when not bounded)
-  Fidelity fidelity;                   ///< the model returned against the prepared input, buried faces left out
-  int64_t buried_faces = 0;            ///< faces of the prepared input inside the solid it bounds (buried_faces())
+  Fidelity fidelity;                   ///< the model returned against the prepared input, interior faces left out
+  int64_t interior_faces = 0;          ///< faces of the prepared input inside the solid it bounds (interior_faces())
   double seconds = 0;                  ///< wall time of the whole call [s]
 };
 
 /// @brief Bakes a mesh as read into a slab model: prepare_input() (scale, repair, orientation,
-/// seams, folds, crossings resolved), one Embree BVH over the prepared mesh, the faces buried inside
+/// seams, folds, crossings resolved), one Embree BVH over the prepared mesh, the faces inside
 /// the solid it bounds when it crossed itself (left out of the fidelity), then bake_to_tolerance()
 /// (or one bake_slabs() and measure_fidelity() when not bounded), and the model scaled back to the
 /// input's units (exact: a power of two).
