@@ -80,9 +80,7 @@ struct SampleLayout {
       return;
     }
     for_each_slot(s, [&](int32_t slot) {
-      const int32_t slab = slot / per_slab, p = slot - slab * per_slab;
-      const int32_t* g = &ids[static_cast<size_t>(slab) * per_slab];
-      const int i = point_i[p], j = point_j[p];
+      const auto [k, g, i, j] = grid_point(slot);
       constexpr int di[6] = {1, -1, 0, 0, 1, -1}, dj[6] = {0, 0, 1, -1, -1, 1};
       for (int k = 0; k < 6; ++k) {
         const int a = i + di[k], b = j + dj[k];
@@ -124,9 +122,7 @@ struct SampleLayout {
   template <class F>
   void for_each_incident_triangle(int32_t s, F&& f) const {
     for_each_slot(s, [&](int32_t slot) {
-      const int32_t k = slot / per_slab, p = slot - k * per_slab;
-      const int32_t* g = &ids[static_cast<size_t>(k) * per_slab];
-      const int i = point_i[p], j = point_j[p];
+      const auto [k, g, i, j] = grid_point(slot);
       const int32_t here = k * n * n + row_start(j), below = here - row_start(j) + row_start(j - 1);
       // Row j-1 then row j, each in increasing index: down(i-1, j-1), up(i, j-1), down(i, j-1),
       // up(i-1, j), down(i-1, j), up(i, j); a cell outside the grid is skipped.
@@ -144,6 +140,16 @@ struct SampleLayout {
   }
 
  private:
+  // A slot's slab, that slab's ids and the slot's grid coordinates (i, j).
+  struct GridPoint {
+    int32_t slab;
+    const int32_t* ids;
+    int i, j;
+  };
+  GridPoint grid_point(int32_t slot) const noexcept {
+    const int32_t slab = slot / per_slab, p = slot - slab * per_slab;
+    return {slab, &ids[static_cast<size_t>(slab) * per_slab], point_i[p], point_j[p]};
+  }
   // Index within its slab of the first triangle of row j: rows j' < j hold 2(n - j') - 1 each.
   int32_t row_start(int j) const noexcept { return j * (2 * n - j); }
   // The "up" triangle of cell (i, j), (i,j) (i,j+1) (i+1,j), and its "down" triangle,
