@@ -269,6 +269,7 @@ std::vector<EditRow> warm_strokes(SlabModel& model, const SlabLocator& locator, 
         t.hip = on - 0.2 * radius * a.normal;
         t.contact = query(model, locator, t.hip, qc);
         t.normal_force_n = 0.55;  // half pressure
+        t.units_per_metre = ws.scale;
         t.time_s = 1e-3 * double(samples.size());
         if (t.contact.in_shell()) samples.push_back(t);
       }

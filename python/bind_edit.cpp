@@ -95,7 +95,8 @@ constexpr const char* kStrokeReturns =
     "changed (samples, or texels for colour and roughness).";
 
 Brush make_brush(const std::string& tool, double radius, double strength, const std::string& falloff, double resilience,
-                 double height, const std::string& field, py::object colour, double value, double pressure_force_n) {
+                 double height, const std::string& field, py::object colour, double value, double pressure_force_n,
+                 double wear_coefficient, double rpm) {
   Brush b;
   b.tool = parse_brush_tool(tool);
   b.radius = radius;
@@ -107,6 +108,8 @@ Brush make_brush(const std::string& tool, double radius, double strength, const 
   if (!colour.is_none()) b.colour = vec3_from(colour, "colour").cast<float>();
   b.value = float(value);
   b.pressure_force_n = pressure_force_n;
+  b.wear_coefficient = wear_coefficient;
+  b.rpm = rpm;
   check_brush(b);
   return b;
 }
@@ -127,20 +130,24 @@ void bind_brush(py::module_& m) {
     doc += std::string(" '") + i.name + "' (" + i.summary + "; default falloff " + falloff_name(i.falloff) + ");";
   doc +=
       " falloff: 'constant', 'linear' or 'smooth'. field (paint): 'colour', 'roughness', 'friction_static', "
-      "'friction_dynamic', 'stiffness', 'layer_thickness'.";
+      "'friction_dynamic', 'stiffness', 'layer_thickness', 'hardness'.";
   py::class_<Brush>(m, "Brush", doc.c_str())
       .def(py::init(&make_brush), py::arg("tool"), py::arg("radius"), py::kw_only(), py::arg("strength") = 1.0,
            py::arg("falloff") = "", py::arg("resilience") = 0.0, py::arg("height") = 0.0, py::arg("field") = "colour",
            py::arg("colour") = py::none(), py::arg("value") = 0.0, py::arg("pressure_force_n") = 1.0,
+           py::arg("wear_coefficient") = Brush{}.wear_coefficient, py::arg("rpm") = Brush{}.rpm,
            "radius [model units] > 0; strength in [0, 1]; resilience: carve's resilient band [model units]; "
            "height: add's ridge height [model units]; colour: (3,) linear RGB in [0, 1]; value: the painted value "
            "of a scalar field (model units for layer_thickness); pressure_force_n: normal force [N] of full "
-           "pressure. Raises ValueError for an unknown name or a value out of range.")
+           "pressure; wear_coefficient: drill's Archard K in (0, 1]; rpm: drill's burr speed [rev/min] in (0, 1e6]. "
+           "Raises ValueError for an unknown name or a value out of range.")
       .def_property_readonly("tool", [](const Brush& b) { return std::string(brush_tool_name(b.tool)); })
       .def_readonly("radius", &Brush::radius)
       .def_readonly("strength", &Brush::strength)
       .def_readonly("height", &Brush::height)
-      .def_readonly("resilience", &Brush::resilience);
+      .def_readonly("resilience", &Brush::resilience)
+      .def_readonly("wear_coefficient", &Brush::wear_coefficient)
+      .def_readonly("rpm", &Brush::rpm);
   m.def(
       "brushes",
       [] {
@@ -164,7 +171,7 @@ void bind_brush(py::module_& m) {
       "valid range; lo = hi = 0 for the enumerations falloff and field).");
 }
 
-// Model.stroke and one method per registered brush (carve, add, smooth, flatten, paint).
+// Model.stroke and one method per registered brush (carve, add, smooth, flatten, paint, drill).
 void bind_strokes(py::module_& m) {
   auto model = py::reinterpret_borrow<py::class_<Model, ModelPtr>>(m.attr("Model"));
   model.def("stroke", &stroke, py::arg("path"), py::arg("brush"), py::kw_only(), py::arg("rate_hz") = 1000.0,
@@ -174,8 +181,9 @@ void bind_strokes(py::module_& m) {
                          "path: (N, 3) float64 tool positions [model units, model frame], one per servo tick at "
                          "rate_hz [Hz]: the haptic interaction point (carve cuts down to it; add, smooth, flatten "
                          "and paint act around the surface point on its projection line). force_n: the normal "
-                         "force [N] giving the pressure of paint, smooth and flatten (default: the brush's full "
-                         "pressure). One undo step. ") +
+                         "force [N] giving the pressure of paint, smooth and flatten and drill's F_n (default: the "
+                         "brush's full pressure). Drill reads model units as millimetres (1000 per metre). One undo "
+                         "step. ") +
              kStrokeReturns)
                 .c_str());
   // pybind11 copies the name and the doc; the captured tool name is the registry's (static).
@@ -184,15 +192,16 @@ void bind_strokes(py::module_& m) {
         name,
         [tool_name](Model& self, const Points& path, double radius, double strength, const std::string& falloff,
                     double resilience, double height, const std::string& field, py::object colour, double value,
-                    double rate_hz, std::optional<double> force_n) {
+                    double wear_coefficient, double rpm, double rate_hz, std::optional<double> force_n) {
           return stroke(self, path,
-                        make_brush(tool_name, radius, strength, falloff, resilience, height, field, colour, value, 1.0),
+                        make_brush(tool_name, radius, strength, falloff, resilience, height, field, colour, value, 1.0,
+                                   wear_coefficient, rpm),
                         rate_hz, force_n);
         },
         py::arg("path"), py::arg("radius"), py::kw_only(), py::arg("strength") = 1.0, py::arg("falloff") = "",
         py::arg("resilience") = 0.0, py::arg("height") = 0.0, py::arg("field") = "colour",
-        py::arg("colour") = py::none(), py::arg("value") = 0.0, py::arg("rate_hz") = 1000.0,
-        py::arg("force_n") = std::nullopt, doc);
+        py::arg("colour") = py::none(), py::arg("value") = 0.0, py::arg("wear_coefficient") = Brush{}.wear_coefficient,
+        py::arg("rpm") = Brush{}.rpm, py::arg("rate_hz") = 1000.0, py::arg("force_n") = std::nullopt, doc);
   };
   for (const BrushInfo& i : brush_registry()) {
     const std::string doc =
@@ -216,12 +225,15 @@ void bind_model_edits(py::module_& m) {
       .def(
           "set_under_layer",
           [](Model& self, double thickness, py::object colour, double stiffness_scale, double friction_static,
-             double friction_dynamic) {
+             double friction_dynamic, double hardness_hv) {
             if (!(thickness >= 0) || !std::isfinite(thickness)) throw InvalidInput("thickness: must be >= 0");
             UnderLayer u;
             if (!colour.is_none()) u.colour = vec3_from(colour, "colour").cast<float>();
             u.stiffness_scale = float(stiffness_scale);
             u.friction_static = float(friction_static), u.friction_dynamic = float(friction_dynamic);
+            if (!(hardness_hv > 0) || !std::isfinite(hardness_hv))
+              throw InvalidInput("hardness_hv: must be > 0 and finite");
+            u.hardness_hv = float(hardness_hv);
             py::gil_scoped_release release;
             const std::unique_lock lock(self.mutex);
             ++self.edits;
@@ -229,9 +241,10 @@ void bind_model_edits(py::module_& m) {
           },
           py::arg("thickness"), py::kw_only(), py::arg("colour") = py::none(), py::arg("stiffness_scale") = 0.5,
           py::arg("friction_static") = 0.3, py::arg("friction_dynamic") = 0.2,
+          py::arg("hardness_hv") = double(UnderLayer{}.hardness_hv),
           "Puts a second material `thickness` [model units] below the current surface (paper §2, e.g. enamel "
           "over dentin): where carving exposes it, the renderer shows its colour (3,) linear RGB and the proxy "
-          "renders its stiffness scale in [0, 1] and friction.")
+          "renders its stiffness scale in [0, 1] and friction, and the drill reads its Vickers hardness [HV].")
       .def(
           "field",
           [](Model& self, const std::string& name) -> py::array {
@@ -247,6 +260,7 @@ void bind_model_edits(py::module_& m) {
               return a;
             }
             if (name == "layer_displacement") return copy_of(s.layer_displacement);
+            if (name == "hardness") return copy_of(s.hardness);
             if (name == "colour" || name == "positions" || name == "normals") {
               const bool colour = name == "colour";
               const auto& v = name == "positions" ? s.positions : s.normals;
@@ -261,12 +275,13 @@ void bind_model_edits(py::module_& m) {
             }
             throw InvalidInput("field: '" + name +
                                "' is not one of displacement, positions, normals, friction_static, friction_dynamic, "
-                               "stiffness, layer_displacement (per sample), colour, roughness (per texel)");
+                               "stiffness, layer_displacement, hardness (per sample), colour, roughness (per texel)");
           },
           py::arg("name"),
           "A copy of a stored field as a float32 array: per displacement sample (#samples,): displacement δ in [0, "
           "1], friction_static, friction_dynamic, stiffness (scale in [0, 1]), layer_displacement (empty without "
-          "an under-layer); per sample (#samples, 3): positions [model units], normals (unit); per texel: colour "
+          "an under-layer), hardness [HV]; per sample (#samples, 3): positions [model units], normals (unit); per "
+          "texel: colour "
           "(#texels, 3) linear RGB decoded from the stored 8-bit sRGB, roughness (#texels,) decoded from unorm8 (code "
           "/ "
           "255).");

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// hdm info MODEL.hdm [--json]: sizes, source and displacement statistics of a saved model.
+// hdm info MODEL.hdm [--json]: sizes, source, displacement and hardness statistics of a saved model.
 #include "commands.h"
 
 #include <hdm/io/hdm_file.h>
@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace hdm::app {
 namespace {
@@ -23,16 +24,22 @@ struct InfoOptions {
   InputLimit limit;
 };
 
+// Minimum, mean and maximum of a per-sample field (zeros when it is empty).
+struct FieldRange {
+  double lo = 0, mean = 0, hi = 0;
+};
+FieldRange range_of(const std::vector<float>& v) {
+  FieldRange r;
+  if (v.empty()) return r;
+  const auto [a, b] = std::minmax_element(v.begin(), v.end());
+  double sum = 0;
+  for (float x : v) sum += x;
+  return {*a, sum / static_cast<double>(v.size()), *b};
+}
+
 void run_info(const InfoOptions& o) {
   const SlabModel m = load_model(o.model, {o.limit.bytes()});
-  double lo = 0, hi = 0, sum = 0;
-  if (!m.displacement.empty()) {
-    const auto [a, b] = std::minmax_element(m.displacement.begin(), m.displacement.end());
-    lo = *a;
-    hi = *b;
-    for (float d : m.displacement) sum += d;
-  }
-  const double mean = m.displacement.empty() ? 0.0 : sum / static_cast<double>(m.displacement.size());
+  const FieldRange disp = range_of(m.displacement), hard = range_of(m.hardness);
   int64_t exposed = 0;  // samples where the surface lies below the under-layer's top
   for (size_t s = 0; s < m.displacement.size() && s < m.layer_displacement.size(); ++s)
     exposed += m.displacement[s] < m.layer_displacement[s];
@@ -40,29 +47,32 @@ void run_info(const InfoOptions& o) {
   const ModelMemory mem = model_memory(m);
 
   if (o.json) {
-    const nlohmann::json j = {{"slabs", m.slab_count()},
-                              {"coarse_vertices", m.coarse_vertex_count()},
-                              {"grid", m.grid_n},
-                              {"texel_density", m.texel_density},
-                              {"samples", m.samples.count},
-                              {"texels", m.texels.count},
-                              {"source", m.source},
-                              {"source_triangles", m.source_triangles},
-                              {"displacement", {{"min", lo}, {"mean", mean}, {"max", hi}}},
-                              {"under_layer_exposed_samples", exposed},
-                              {"bytes", mem.sample_fields + mem.texel_fields + mem.coarse},
-                              {"memory",
-                               {{"total_bytes", mem.total()},
-                                {"sample_fields", mem.sample_fields},
-                                {"texel_fields", mem.texel_fields},
-                                {"coarse", mem.coarse},
-                                {"sample_layout", mem.sample_layout},
-                                {"texel_layout", mem.texel_layout},
-                                {"caches", mem.caches},
-                                {"slab_constants", mem.slab_constants},
-                                {"bytes_per_sample", mem.per_sample()},
-                                {"bytes_per_texel", mem.per_texel()}}},
-                              {"file_bytes", file_bytes}};
+    const nlohmann::json j = {
+        {"slabs", m.slab_count()},
+        {"coarse_vertices", m.coarse_vertex_count()},
+        {"grid", m.grid_n},
+        {"texel_density", m.texel_density},
+        {"samples", m.samples.count},
+        {"texels", m.texels.count},
+        {"source", m.source},
+        {"source_triangles", m.source_triangles},
+        {"displacement", {{"min", disp.lo}, {"mean", disp.mean}, {"max", disp.hi}}},
+        {"hardness_hv",
+         {{"min", hard.lo}, {"mean", hard.mean}, {"max", hard.hi}, {"under_layer", m.under_layer.hardness_hv}}},
+        {"under_layer_exposed_samples", exposed},
+        {"bytes", mem.sample_fields + mem.texel_fields + mem.coarse},
+        {"memory",
+         {{"total_bytes", mem.total()},
+          {"sample_fields", mem.sample_fields},
+          {"texel_fields", mem.texel_fields},
+          {"coarse", mem.coarse},
+          {"sample_layout", mem.sample_layout},
+          {"texel_layout", mem.texel_layout},
+          {"caches", mem.caches},
+          {"slab_constants", mem.slab_constants},
+          {"bytes_per_sample", mem.per_sample()},
+          {"bytes_per_texel", mem.per_texel()}}},
+        {"file_bytes", file_bytes}};
     std::printf("%s\n", j.dump().c_str());
     return;
   }
@@ -75,17 +85,20 @@ void run_info(const InfoOptions& o) {
   std::printf("texels            %d\n", m.texels.count);
   std::printf("source            %s\n", m.source.empty() ? "(unknown)" : m.source.c_str());
   std::printf("source triangles  %lld\n", static_cast<long long>(m.source_triangles));
-  std::printf("displacement      min %.6g  mean %.6g  max %.6g\n", lo, mean, hi);
-  std::printf("under-layer       exposed at %lld samples\n", static_cast<long long>(exposed));
+  std::printf("displacement      min %.6g  mean %.6g  max %.6g\n", disp.lo, disp.mean, disp.hi);
+  std::printf("hardness [HV]     min %.6g  mean %.6g  max %.6g\n", hard.lo, hard.mean, hard.hi);
+  std::printf("under-layer       exposed at %lld samples, hardness %.6g HV\n", static_cast<long long>(exposed),
+              double(m.under_layer.hardness_hv));
   std::printf("file size         %ju bytes\n", file_bytes);
   const auto mib = [](int64_t b) { return double(b) / (1 << 20); };
   std::printf("in memory         %.1f MiB: %.1f bytes per displacement sample, %.1f per colour texel\n",
               mib(mem.total()), mem.per_sample(), mem.per_texel());
   std::printf("  stored          %.1f MiB per-sample fields, %.1f MiB per-texel fields, %.1f MiB coarse mesh\n",
               mib(mem.sample_fields), mib(mem.texel_fields), mib(mem.coarse));
-  std::printf("  derived         %.1f MiB sample layout, %.1f MiB texel layout, %.1f MiB query caches, "
-              "%.1f MiB slab constants\n",
-              mib(mem.sample_layout), mib(mem.texel_layout), mib(mem.caches), mib(mem.slab_constants));
+  std::printf(
+      "  derived         %.1f MiB sample layout, %.1f MiB texel layout, %.1f MiB query caches, "
+      "%.1f MiB slab constants\n",
+      mib(mem.sample_layout), mib(mem.texel_layout), mib(mem.caches), mib(mem.slab_constants));
 }
 
 }  // namespace

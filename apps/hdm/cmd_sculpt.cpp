@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // hdm sculpt MODEL.hdm: the servo loop (hdm::SculptSession) drives a simulated hand along a
 // script's strokes in closed loop (the rendered force acts back on the handle); the tool button is
-// held during each stroke, and the strokes carve, add, smooth, flatten and paint at haptic rate.
+// held during each stroke, and the strokes carve, add, smooth, flatten, paint and drill at haptic rate.
 #include "commands.h"
 #include "memory_budget.h"
 #include "output_guard.h"

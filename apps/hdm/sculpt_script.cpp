@@ -90,12 +90,14 @@ std::string text(const nlohmann::json& j, const char* key, const std::string& fa
   return j[key].get<std::string>();
 }
 
-// The brush fields of a stroke (strength, falloff, paint field and value, pressure).
+// The brush fields of a stroke (strength, falloff, paint field and value, pressure, drill's K and rpm).
 void read_brush_fields(const nlohmann::json& js, const std::string& where, Stroke& st) {
   const std::string field = where + ".";
   const BrushParamRange& strength = brush_param_range(BrushParam::Strength);
   st.strength = number(js, "strength", st.strength, strength.lo, strength.hi, field);
   st.pressure_force_n = number(js, "pressure_force_n", st.pressure_force_n, 1e-3, 1e4, field);
+  st.wear_coefficient = number(js, "wear_coefficient", st.wear_coefficient, 1e-9, 1.0, field);
+  st.rpm = number(js, "rpm", st.rpm, 1e-3, 1e6, field);
   // Constant for the boolean brushes (their default: the exact boolean), linear otherwise (a
   // probe's brush is never used). Scripts keep linear where the studio and Python default to
   // smoothstep, so that a script's strokes stay what they were.
@@ -114,10 +116,13 @@ void read_brush_fields(const nlohmann::json& js, const std::string& where, Strok
   st.value = static_cast<float>(number(js, "value", st.value, -1e4, 1e4, field));
 }
 
-// The under-layer: {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness"}.
+// The under-layer: {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness",
+// "hardness_hv"}.
 ScriptLayer read_layer(const nlohmann::json& j, const std::string& where) {
   if (!j.is_object()) throw InvalidInput(where + ": expected an object");
-  check_keys(j, {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness"}, where);
+  check_keys(j,
+             {"thickness_mm", "colour", "stiffness", "friction_static", "friction_dynamic", "roughness", "hardness_hv"},
+             where);
   ScriptLayer l;
   l.present = true;
   const std::string field = where + ".";
@@ -128,6 +133,7 @@ ScriptLayer read_layer(const nlohmann::json& j, const std::string& where) {
   m.friction_static = static_cast<float>(number(j, "friction_static", m.friction_static, 0.0, 10.0, field));
   m.friction_dynamic = static_cast<float>(number(j, "friction_dynamic", m.friction_dynamic, 0.0, 10.0, field));
   m.roughness = static_cast<float>(number(j, "roughness", m.roughness, 0.0, 1.0, field));
+  m.hardness_hv = static_cast<float>(number(j, "hardness_hv", m.hardness_hv, 1.0, 1e5, field));
   return l;
 }
 
@@ -216,7 +222,7 @@ Script parse_script(std::string_view text, const std::string& path) {
       }
       check_keys(js,
                  {"tool", "from", "to", "radius_mm", "depth_mm", "speed_mm_s", "resilience_mm", "height_mm", "colour",
-                  "strength", "pressure_force_n", "falloff", "field", "value"},
+                  "strength", "pressure_force_n", "falloff", "field", "value", "wear_coefficient", "rpm"},
                  where);
       if (js.contains("tool") && !js["tool"].is_string()) throw InvalidInput(where + ".tool: expected a string");
       read_tool(js.value("tool", "probe"), where + ".tool", st);
@@ -260,6 +266,8 @@ Brush stroke_brush(const Stroke& s, double mm) {
   b.colour = s.colour;
   b.value = s.field == BrushField::LayerThickness ? static_cast<float>(s.value * mm) : s.value;
   b.pressure_force_n = s.pressure_force_n;
+  b.wear_coefficient = s.wear_coefficient;
+  b.rpm = s.rpm;
   return b;
 }
 

@@ -29,12 +29,14 @@ struct Stroke {
   double resilience_mm = 0.3;  ///< carve: resilient band
   double height_mm = 0.5;      ///< add: ridge height above the stroke's starting surface
   double strength = 1;         ///< brush strength in [0,1]
-  Falloff falloff = Falloff::Constant;    ///< brush falloff (default: see parse_script())
-  BrushField field = BrushField::Colour;  ///< paint: the field written
-  float value = 0;                        ///< paint of a scalar field (layer_thickness in mm)
-  double pressure_force_n = 1.0;          ///< paint, smooth, flatten: normal force of full pressure [N]
-  Vec3f colour{0.8f, 0.1f, 0.1f};         ///< paint: linear RGB
-  int count = 1;                          ///< undo / redo: how many strokes
+  Falloff falloff = Falloff::Constant;                 ///< brush falloff (default: see parse_script())
+  BrushField field = BrushField::Colour;               ///< paint: the field written
+  float value = 0;                                     ///< paint of a scalar field (layer_thickness in mm)
+  double pressure_force_n = 1.0;                       ///< paint, smooth, flatten: normal force of full pressure [N]
+  double wear_coefficient = Brush{}.wear_coefficient;  ///< drill: Archard's K
+  double rpm = Brush{}.rpm;                            ///< drill: burr speed [rev/min]
+  Vec3f colour{0.8f, 0.1f, 0.1f};                      ///< paint: linear RGB
+  int count = 1;                                       ///< undo / redo: how many strokes
 };
 
 /// The under-layer a script sets before its strokes (SlabModel::layer_displacement, under_layer).
@@ -71,14 +73,15 @@ Brush stroke_brush(const Stroke& s, double model_units_per_mm);
 /// hand_stiffness_n_per_m in [0.001, 1e7]; damping_ns_per_m and hand_damping_ns_per_m in [0, 1e5];
 /// max_force_n in [0.001, 1e4]; surface {colour (three numbers in [0, 1]), roughness in [0, 1]};
 /// under_layer {thickness_mm in [0, 1e4], colour, stiffness and roughness in [0, 1],
-/// friction_static and friction_dynamic in [0, 10]}; strokes, a non-empty array of objects: either
+/// friction_static and friction_dynamic in [0, 10], hardness_hv in [1, 1e5]}; strokes, a non-empty array of objects:
+/// either
 /// {"undo": n} or {"redo": n} with a whole n in [1, 1000], or tool (probe or a registered brush's
-/// name: carve, add, smooth, flatten, paint; hdm::brush_registry()), from and to (three numbers each in [-1, 2],
+/// name: carve, add, smooth, flatten, paint, drill; hdm::brush_registry()), from and to (three numbers each in [-1, 2],
 /// normalised box coordinates), radius_mm in [0.001, 1e4], depth_mm, resilience_mm and height_mm in [0, 1e4],
 /// speed_mm_s in [0.01, 1e5], colour (three numbers in [0, 1]), strength in [0, 1], pressure_force_n in [0.001, 1e4],
-/// falloff and field (strings), value in [-1e4, 1e4]. The default falloff is the brush's when that is constant (carve,
-/// add: the exact boolean), linear otherwise. Any other key is refused, naming the nearest known one (a misspelt key
-/// would otherwise leave its default in force).
+/// falloff and field (strings), value in [-1e4, 1e4], wear_coefficient in [1e-9, 1], rpm in [1e-3, 1e6]. The default
+/// falloff is the brush's when that is constant (carve, add: the exact boolean), linear otherwise. Any other key is
+/// refused, naming the nearest known one (a misspelt key would otherwise leave its default in force).
 /// @throws InvalidInput "<name>: ..." naming the field when the text is not JSON, a field has the
 ///         wrong type or lies outside its range.
 /// @note O(text size); the JSON document takes a small multiple of the text's size in memory.

@@ -16,6 +16,7 @@ void for_each_array(const SlabView& v, Fn&& fn) {
   fn(v.friction_dynamic, P);
   fn(v.stiffness_scale, P);
   fn(v.layer_displacement, P);
+  fn(v.hardness, P);
   fn(v.texels, 4 * T);
 }
 
@@ -29,7 +30,7 @@ SnapshotUploader::SnapshotUploader(const SlabSnapshots& snapshots, SlabRenderer&
   drawn_epoch_.assign(static_cast<size_t>(S), 0);
   SnapshotReader reader(snapshots_);
   if (verify_) {
-    stride_ = 8 * static_cast<size_t>(model.samples.per_slab) + 4 * static_cast<size_t>(model.texels.per_slab);
+    stride_ = 9 * static_cast<size_t>(model.samples.per_slab) + 4 * static_cast<size_t>(model.texels.per_slab);
     mirror_.assign(stride_ * static_cast<size_t>(S), 0.0f);
   }
   for (int s = 0; s < S; ++s) {

@@ -39,8 +39,8 @@ PanelActions draw_tools_panel(ToolSettings& t, PanelFiles& files, const std::str
   if (info && info->uses(BrushParam::Resilience))
     ImGui::SliderFloat("resilience [mm]", &t.resilience_mm, 0.0f, 2.0f, "%.2f");
   if (info && info->uses(BrushParam::Field)) {
-    static const char* const fields[] = {"colour",           "roughness", "friction_static",
-                                         "friction_dynamic", "stiffness", "layer_thickness"};
+    static const char* const fields[] = {"colour",    "roughness",       "friction_static", "friction_dynamic",
+                                         "stiffness", "layer_thickness", "hardness"};
     ImGui::Combo("field", &t.field, fields, IM_ARRAYSIZE(fields));
     if (t.field == static_cast<int>(BrushField::Colour))
       ImGui::ColorEdit3("colour", t.colour, ImGuiColorEditFlags_Float);

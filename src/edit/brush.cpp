@@ -24,8 +24,10 @@ BrushField parse_brush_field(const std::string& name) {
   if (name == "friction_dynamic") return BrushField::FrictionDynamic;
   if (name == "stiffness") return BrushField::Stiffness;
   if (name == "layer_thickness") return BrushField::LayerThickness;
+  if (name == "hardness") return BrushField::Hardness;
   throw InvalidInput("paint field '" + name +
-                     "': expected colour, roughness, friction_static, friction_dynamic, stiffness or layer_thickness");
+                     "': expected colour, roughness, friction_static, friction_dynamic, stiffness, layer_thickness or "
+                     "hardness");
 }
 
 const char* brush_tool_name(BrushTool tool) noexcept {

@@ -12,7 +12,7 @@
 
 namespace hdm::detail {
 // Each brush's kernel, defined in its kernel file.
-extern const BrushHooks carve_brush, add_brush, smooth_brush, flatten_brush, paint_brush;
+extern const BrushHooks carve_brush, add_brush, smooth_brush, flatten_brush, paint_brush, drill_brush;
 }  // namespace hdm::detail
 
 namespace hdm {
@@ -37,6 +37,10 @@ constexpr BrushInfo kBrushes[] = {
     {BrushTool::Paint, "paint", "paint", "blends a field (colour, roughness, friction, ...) towards a value (paper §5)",
      kCommon | bit(BrushParam::Field) | bit(BrushParam::Colour) | bit(BrushParam::Value) | bit(BrushParam::Pressure),
      Falloff::Linear, ToolPlacement::Contact, false, &detail::paint_brush},
+    {BrushTool::Drill, "drill", "drill",
+     "removes the volume K·F·v·dt/H of Archard's wear law under the burr (force, speed, hardness)",
+     kCommon | bit(BrushParam::WearCoefficient) | bit(BrushParam::Rpm), Falloff::Smooth, ToolPlacement::Contact, false,
+     &detail::drill_brush},
 };
 constexpr size_t kCount = sizeof kBrushes / sizeof kBrushes[0];
 
@@ -59,6 +63,8 @@ constexpr BrushParamRange kRanges[] = {
     {BrushParam::Colour, "colour", "linear RGB", 0, 1, false},
     {BrushParam::Value, "value", "", -kInf, kInf, false},
     {BrushParam::Pressure, "pressure_force_n", "N", 0, kInf, true},
+    {BrushParam::WearCoefficient, "wear_coefficient", "", 0, 1, true},
+    {BrushParam::Rpm, "rpm", "rpm", 0, 1e6, true},
 };
 static_assert(sizeof kRanges / sizeof kRanges[0] == brush_param_count);
 
@@ -116,6 +122,8 @@ void check_brush(const Brush& b) {
   for (int c = 0; c < 3; ++c) check(BrushParam::Colour, b.colour[c]);
   check(BrushParam::Value, b.value);
   check(BrushParam::Pressure, b.pressure_force_n);
+  check(BrushParam::WearCoefficient, b.wear_coefficient);
+  check(BrushParam::Rpm, b.rpm);
 }
 
 }  // namespace hdm

@@ -65,6 +65,9 @@ void EditJob::start_sweep(const SlabModel& m, EditScratch& s, const BrushSweep& 
   soft = strength < 1 || b.falloff != Falloff::Constant;
   // Smooth and flatten relax at 20 s⁻¹ × strength × pressure (time constant 50 ms at full strength).
   coef = 20.0 * strength * pressure * std::max(sw.dt, 0.0);
+  kernel_sum = 0;
+  kernel_cursor = 0;
+  kernel_second = false;
   const FloodOn on = info->hooks->start(sw, coef);
   if (on == FloodOn::Nothing) return;
   flood_ = info->hooks->flood;
@@ -134,8 +137,9 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       m.friction_dynamic[id] = r.v[2];
       m.stiffness_scale[id] = r.v[3];
       m.layer_displacement[id] = r.v[4];
+      m.hardness[id] = r.v[5];
       r.v[0] = now.delta, r.v[1] = now.friction_static, r.v[2] = now.friction_dynamic;
-      r.v[3] = now.stiffness_scale, r.v[4] = now.layer_displacement;
+      r.v[3] = now.stiffness_scale, r.v[4] = now.layer_displacement, r.v[5] = now.hardness;
       if (m.displacement[id] != now.delta) {
         update_positions(m, &id, 1);
         list_changed(m, s, id);

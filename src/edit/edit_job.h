@@ -43,8 +43,8 @@ struct StrokeMemory {
 };
 
 inline SampleValues sample_values(const SlabModel& m, int32_t s) noexcept {
-  return {m.displacement[s], m.friction_static[s], m.friction_dynamic[s], m.stiffness_scale[s],
-          m.layer_displacement[s]};
+  return {m.displacement[s],    m.friction_static[s],    m.friction_dynamic[s],
+          m.stiffness_scale[s], m.layer_displacement[s], m.hardness[s]};
 }
 // The texel's stored codes decoded; set_texel_values() of them writes the same codes back
 // (every code survives decode → encode), so undo and the stroke's base restore texels exactly.
@@ -121,6 +121,11 @@ class EditJob {
   double r2 = 0;          // radius²
   double coef = 0;        // relaxation exponent per unit falloff: 20 s⁻¹ × strength × pressure × dt
   bool soft = false;      // strength < 1 or a falloff other than constant
+  // State a two-pass kernel (drill: the contact area, then the removal) carries between calls;
+  // zero at each sweep's start.
+  double kernel_sum = 0;
+  int32_t kernel_cursor = 0;
+  bool kernel_second = false;
 
   // The flood fill from the seeds start_sweep queued: visit(id) returns whether the fill goes on
   // through that element; resumable at the deadline.

@@ -36,6 +36,9 @@ bool flood_paint_samples(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d
       case BrushField::Stiffness:
         m.stiffness_scale[id] = blend(base.stiffness_scale, b.value);
         break;
+      case BrushField::Hardness:
+        m.hardness[id] = std::max(blend(base.hardness, b.value), 1.0f);
+        break;
       default: {  // LayerThickness: the layer's top `value` below the stroke's starting surface
         Vec3 p0, p1;
         line_of(id, p0, p1);

@@ -214,6 +214,8 @@ struct StrokeEditor::Impl {
     sw.seed_bary = end.contact.coords.bary;
     sw.pressure = pressure(end);
     sw.dt = has_last ? std::max(0.0, end.time_s - last_time) : 0.0;
+    sw.normal_force_n = std::max(0.0, end.normal_force_n);
+    sw.units_per_metre = end.units_per_metre;
     has_last = true;
     last_point = to;
     last_time = end.time_s;

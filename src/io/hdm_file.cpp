@@ -228,7 +228,7 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
 
 void save_model(const SlabModel& m, const std::string& path) {
   Writer w;
-  w.bytes.reserve(64 + m.inner.size() * 48 + m.slabs.size() * 12 + m.displacement.size() * 16 + m.colour.size() * 4 +
+  w.bytes.reserve(64 + m.inner.size() * 48 + m.slabs.size() * 12 + m.displacement.size() * 20 + m.colour.size() * 4 +
                   m.source.size());
   w.bytes.insert(w.bytes.end(), kMagic, kMagic + 4);
   w.put(hdm_format_version);
@@ -257,6 +257,10 @@ void save_model(const SlabModel& m, const std::string& path) {
   for (float v : {u.colour.x(), u.colour.y(), u.colour.z(), u.stiffness_scale, u.friction_static, u.friction_dynamic,
                   u.roughness})
     w.put(v);
+  // Version 4: hardness per sample and the under-layer's.
+  put_scalars(w, "HARD", m.hardness);
+  w.tag("LAYH", 1);
+  w.put(u.hardness_hv);
   w.put(fnv1a64(w.bytes.data(), w.bytes.size()));
   write_file_atomic(path, w.bytes.data(), w.bytes.size());
 }
@@ -314,6 +318,11 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
     float v[7];
     for (float& x : v) r.get(x, "LAYM");
     m.under_layer = UnderLayer{Vec3f(v[0], v[1], v[2]), v[3], v[4], v[5], v[6]};
+  }
+  if (version >= 4) {
+    get_scalars(r, "HARD", m.hardness);
+    r.fixed_section("LAYH", 4, 1);
+    r.get(m.under_layer.hardness_hv, "LAYH");
   }
 
   const size_t end = r.position();

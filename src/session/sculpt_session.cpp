@@ -163,6 +163,7 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     ts.contact = r.out.contact;
     ts.hip = s.ws.to_model(r.device.position);
     ts.normal_force_n = r.out.normal_force;
+    ts.units_per_metre = s.ws.scale;
     ts.time_s = t.time_s;
     ts.ball_centre = s.options.mode == RenderMode::Sphere;
     s.editor.add_sample(s.model, ts);

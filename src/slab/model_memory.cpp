@@ -26,7 +26,7 @@ int64_t layout_bytes(const SampleLayout& l) noexcept {
 ModelMemory model_memory(const SlabModel& m) noexcept {
   ModelMemory r;
   r.sample_fields =
-      bytes(m.displacement, m.friction_static, m.friction_dynamic, m.stiffness_scale, m.layer_displacement);
+      bytes(m.displacement, m.friction_static, m.friction_dynamic, m.stiffness_scale, m.layer_displacement, m.hardness);
   r.texel_fields = bytes(m.colour, m.roughness);
   r.coarse = bytes(m.inner, m.outer, m.slabs);
   r.sample_layout = layout_bytes(m.samples);

@@ -273,6 +273,10 @@ void rebuild_derived(SlabModel& m) {
   fill_default(m.stiffness_scale, ns, 1.0f, "stiffness_scale");
   fill_default(m.roughness, nt, uint8_t{255}, "roughness");
   fill_default(m.layer_displacement, ns, 0.0f, "layer_displacement");
+  fill_default(m.hardness, ns, default_hardness_hv, "hardness");
+  for (size_t s = 0; s < ns; ++s)
+    if (!(m.hardness[s] > 0.0f && std::isfinite(m.hardness[s])))
+      check(false, "hardness of sample " + std::to_string(s) + " is not > 0 and finite");
   for (size_t s = 0; s < ns; ++s)
     if (!(std::isfinite(m.friction_static[s]) && std::isfinite(m.friction_dynamic[s]) &&
           std::isfinite(m.stiffness_scale[s])))
@@ -284,8 +288,9 @@ void rebuild_derived(SlabModel& m) {
   {
     const UnderLayer& u = m.under_layer;
     if (!(u.colour.allFinite() && std::isfinite(u.stiffness_scale) && std::isfinite(u.friction_static) &&
-          std::isfinite(u.friction_dynamic) && u.roughness >= 0.0f && u.roughness <= 1.0f))
-      check(false, "under-layer material has a non-finite value or a roughness outside [0, 1]");
+          std::isfinite(u.friction_dynamic) && u.roughness >= 0.0f && u.roughness <= 1.0f && u.hardness_hv > 0.0f &&
+          std::isfinite(u.hardness_hv)))
+      check(false, "under-layer material has a non-finite value, a roughness outside [0, 1] or a hardness not > 0");
   }
 
   m.geometry.resize(m.slabs.size());

@@ -19,13 +19,13 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
   const int S = m.slab_count();
   if (S == 0 || m.slab_samples.size() != m.samples.ids.size() || m.texels.ids.size() != size_t(S) * m.texels.per_slab ||
       m.colour.size() != size_t(m.texels.count) || m.roughness.size() != size_t(m.texels.count) ||
-      m.layer_displacement.size() != size_t(m.samples.count))
+      m.layer_displacement.size() != size_t(m.samples.count) || m.hardness.size() != size_t(m.samples.count))
     throw InvalidInput("snapshots: the model's derived data are missing (call rebuild_derived first)");
   if (o.reader_slots < 1 || o.reader_slots > 1024)
     throw InvalidInput("snapshots: reader_slots = " + std::to_string(o.reader_slots) + " outside [1, 1024]");
   per_slab_ = m.samples.per_slab;
   texels_per_slab_ = m.texels.per_slab;
-  stride_ = (static_cast<size_t>(8) * per_slab_ + 4 * static_cast<size_t>(texels_per_slab_) + 15) / 16 * 16;
+  stride_ = (static_cast<size_t>(9) * per_slab_ + 4 * static_cast<size_t>(texels_per_slab_) + 15) / 16 * 16;
   const size_t spare = o.spare_versions < 0 ? size_t(S) : size_t(o.spare_versions);
   version_total_ = size_t(S) + spare;
   slot_count_ = size_t(o.reader_slots);
@@ -59,6 +59,7 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
   float* fd = fs + P;
   float* st = fd + P;
   float* ly = st + P;
+  float* hv = ly + P;
   const int32_t* ids = m.samples.ids.data() + size_t(slab) * P;
   for (size_t k = 0; k < P; ++k) {
     const int32_t id = ids[k];
@@ -66,8 +67,9 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
     fd[k] = m.friction_dynamic[id];
     st[k] = m.stiffness_scale[id];
     ly[k] = m.layer_displacement[id];
+    hv[k] = m.hardness[id];
   }
-  float* tx = ly + P;
+  float* tx = hv + P;
   const int32_t* tids = m.texels.ids.data() + size_t(slab) * T;
   for (size_t k = 0; k < T; ++k) {
     const int32_t id = tids[k];
@@ -99,7 +101,8 @@ SlabView SlabSnapshots::view(int32_t v) const noexcept {
   s.friction_dynamic = s.friction_static + P;
   s.stiffness_scale = s.friction_dynamic + P;
   s.layer_displacement = s.stiffness_scale + P;
-  s.texels = s.layer_displacement + P;
+  s.hardness = s.layer_displacement + P;
+  s.texels = s.hardness + P;
   return s;
 }
 
@@ -212,6 +215,7 @@ SlabModel SnapshotReader::stored_model() const {
   m.friction_dynamic.resize(size_t(L.count));
   m.stiffness_scale.resize(size_t(L.count));
   m.layer_displacement.resize(size_t(L.count));
+  m.hardness.resize(size_t(L.count));
   for (int32_t id = 0; id < L.count; ++id) {
     const SlabView& v = views[size_t(L.home_slab[id])];
     const int32_t k = L.home_index[id];
@@ -220,6 +224,7 @@ SlabModel SnapshotReader::stored_model() const {
     m.friction_dynamic[id] = v.friction_dynamic[k];
     m.stiffness_scale[id] = v.stiffness_scale[k];
     m.layer_displacement[id] = v.layer_displacement[k];
+    m.hardness[id] = v.hardness[k];
   }
   const SampleLayout& T = live.texels;
   m.colour.resize(size_t(T.count));

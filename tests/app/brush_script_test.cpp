@@ -64,6 +64,8 @@ const std::map<std::string, Check>& expectations() {
   static const std::map<std::string, Check> e = {
       {"carve", [](const test::ModelState& b, const test::ModelState& a) { one_way(b, a, true); }},
       {"add", [](const test::ModelState& b, const test::ModelState& a) { one_way(b, a, false); }},
+      // Drill removes material only: lowers, never raises (docs/haptics.md, "Drilling").
+      {"drill", [](const test::ModelState& b, const test::ModelState& a) { one_way(b, a, true); }},
       {"smooth",
        [](const test::ModelState& b, const test::ModelState& a) {
          EXPECT_EQ(changed_fields(b, a), kShape);
@@ -90,10 +92,10 @@ const std::map<std::string, Check>& expectations() {
 
 // One stroke of @p name as a script spells it, with every key a brush may read.
 nlohmann::json script_of(const std::string& name) {
-  nlohmann::json stroke = {{"tool", name},           {"from", {0.55, 0.5, 1.0}},   {"to", {0.62, 0.5, 1.0}},
-                           {"radius_mm", 3.0},       {"height_mm", 0.5},           {"resilience_mm", 0.1},
-                           {"strength", 1.0},        {"field", "friction_static"}, {"value", kPainted},
-                           {"pressure_force_n", 1.0}};
+  nlohmann::json stroke = {
+      {"tool", name},      {"from", {0.55, 0.5, 1.0}}, {"to", {0.62, 0.5, 1.0}},   {"radius_mm", 3.0},
+      {"height_mm", 0.5},  {"resilience_mm", 0.1},     {"strength", 1.0},          {"field", "friction_static"},
+      {"value", kPainted}, {"pressure_force_n", 1.0},  {"wear_coefficient", 0.05}, {"rpm", 200000.0}};
   return {{"strokes", nlohmann::json::array({stroke})}};
 }
 

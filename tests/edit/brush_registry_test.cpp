@@ -32,6 +32,7 @@ const std::map<std::string, Documented> kDocumented = {
     {"smooth", {Falloff::Smooth, {BrushParam::Pressure}}},
     {"flatten", {Falloff::Smooth, {BrushParam::Pressure}}},
     {"paint", {Falloff::Linear, {BrushParam::Field, BrushParam::Colour, BrushParam::Value, BrushParam::Pressure}}},
+    {"drill", {Falloff::Smooth, {BrushParam::WearCoefficient, BrushParam::Rpm}}},
 };
 
 std::string refusal(const Brush& b) {
@@ -107,6 +108,11 @@ TEST(BrushRegistry, every_range_check_names_its_parameter_and_the_reason) {
       {"colour", [](Brush& b) { b.colour = Vec3f(-0.1f, 0.5f, 0.5f); }},
       {"value", [&](Brush& b) { b.value = static_cast<float>(nan); }},
       {"pressure_force_n", [](Brush& b) { b.pressure_force_n = 0; }},
+      {"wear_coefficient", [](Brush& b) { b.wear_coefficient = 0; }},
+      {"wear_coefficient", [](Brush& b) { b.wear_coefficient = 1.5; }},
+      {"wear_coefficient", [&](Brush& b) { b.wear_coefficient = nan; }},
+      {"rpm", [](Brush& b) { b.rpm = -1; }},
+      {"rpm", [](Brush& b) { b.rpm = 2e6; }},
   };
   for (const Case& c : bad) {
     Brush b = valid_brush();
@@ -118,6 +124,7 @@ TEST(BrushRegistry, every_range_check_names_its_parameter_and_the_reason) {
   // The bounds themselves are valid where the range is closed.
   Brush edge = valid_brush();
   edge.strength = 0, edge.resilience = 0, edge.height = 0, edge.colour = Vec3f(0, 1, 0), edge.value = -1e6f;
+  edge.wear_coefficient = 1, edge.rpm = 1e6;
   EXPECT_EQ(refusal(edge), "");
   edge.strength = 1;
   EXPECT_EQ(refusal(edge), "");

@@ -59,6 +59,7 @@ void BunnyStrokes::stroke(StrokeEditor& editor, const Brush& brush, const std::v
     t.hip = points[k] - depth * normals[k];
     t.contact = query(model, locator, t.hip, cache);
     t.normal_force_n = force_n;
+    t.units_per_metre = 1000 * mm;  // the device millimetres of the fixture
     t.time_s = dt * double(k);
     editor.add_sample(model, t);
     editor.work(model, INT64_MAX);

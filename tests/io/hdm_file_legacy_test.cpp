@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // .hdm files of format versions 1 and 2 (float colour and roughness) still load: written here
 // section by section from the table in hdm_file.h, loaded, and their texels compared with the IEC
-// 61966-2-1 and unorm8 encodings of the written floats.
+// 61966-2-1 and unorm8 encodings of the written floats. Version 3 files (no hardness) load with
+// the default hardness.
 #include "io/io_test_util.h"
 
 #include <hdm/core/error.h>
@@ -127,11 +128,11 @@ TEST_F(HdmLegacyFile, Version2FileLoadsWithColoursRoundedOnce) {
   EXPECT_EQ(loaded.displacement, model.displacement);
   EXPECT_EQ(loaded.layer_displacement, model.layer_displacement);
   EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
-  // Saved again, it is a version 3 file holding the same codes.
+  // Saved again, it is a version 4 file holding the same codes.
   const std::string again = dir.file("again.hdm");
   save_model(loaded, again);
   const std::vector<uint8_t> b = test::read_bytes(again);
-  EXPECT_EQ(b[4], 3);
+  EXPECT_EQ(b[4], 4);
   const SlabModel reloaded = load_model(again);
   EXPECT_EQ(reloaded.colour, loaded.colour);
   EXPECT_EQ(reloaded.roughness, loaded.roughness);
@@ -145,6 +146,29 @@ TEST_F(HdmLegacyFile, Version1FileLoadsWithDefaults) {
   ASSERT_EQ(loaded.layer_displacement.size(), model.layer_displacement.size());
   for (float d : loaded.layer_displacement) ASSERT_EQ(d, 0.0f);
   EXPECT_EQ(loaded.under_layer.colour, UnderLayer{}.colour);
+}
+
+// A version-3 file is a version-4 file without its last two sections (HARD, LAYH): it loads with
+// the default hardness, everything else as stored.
+TEST_F(HdmLegacyFile, Version3FileLoadsWithTheDefaultHardness) {
+  save_model(model, path);
+  std::vector<uint8_t> b = test::read_bytes(path);
+  const size_t hard = b.size() - 8 - (12 + 4 * model.hardness.size()) - (12 + 4);
+  ASSERT_EQ(std::string(reinterpret_cast<const char*>(&b[hard]), 4), "HARD");
+  b.resize(hard);
+  b[4] = 3;
+  LegacyWriter w;
+  w.b = b;
+  w.seal();
+  test::write_bytes(path, w.b);
+  const SlabModel loaded = load_model(path);
+  ASSERT_EQ(loaded.hardness.size(), model.displacement.size());
+  for (float h : loaded.hardness) ASSERT_EQ(h, default_hardness_hv);
+  EXPECT_EQ(loaded.under_layer.hardness_hv, UnderLayer{}.hardness_hv);
+  EXPECT_EQ(loaded.displacement, model.displacement);
+  EXPECT_EQ(loaded.colour, model.colour);
+  EXPECT_EQ(loaded.layer_displacement, model.layer_displacement);
+  EXPECT_EQ(loaded.under_layer.roughness, model.under_layer.roughness);
 }
 
 TEST_F(HdmLegacyFile, NonFiniteColourOrRoughnessOutsideTheUnitIntervalIsRefused) {

@@ -63,12 +63,13 @@ void reseal(std::vector<uint8_t>& b) { set_u64(b, b.size() - 8, reference_fnv1a(
 // Section tag -> offset of its count field, walking the layout the format spec in hdm_file.h gives.
 std::map<std::string, size_t> section_offsets(const std::vector<uint8_t>& b) {
   const std::map<std::string, size_t> element_bytes = {
-      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 3}, {"FRST", 4}, {"FRDY", 4},
-      {"STIF", 4}, {"SRCN", 1},  {"SRCT", 8},  {"SRCD", 8},  {"RUFF", 1}, {"LAYD", 4}, {"LAYM", 28}};
+      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 3},
+      {"FRST", 4}, {"FRDY", 4},  {"STIF", 4},  {"SRCN", 1},  {"SRCT", 8}, {"SRCD", 8},
+      {"RUFF", 1}, {"LAYD", 4},  {"LAYM", 28}, {"HARD", 4},  {"LAYH", 4}};
   std::map<std::string, size_t> at;
   size_t pos = 8;
   for (const char* tag : {"GRID", "INNR", "OUTR", "SLAB", "DISP", "COLR", "FRST", "FRDY", "STIF", "SRCN", "SRCT",
-                          "SRCD", "RUFF", "LAYD", "LAYM"}) {
+                          "SRCD", "RUFF", "LAYD", "LAYM", "HARD", "LAYH"}) {
     EXPECT_EQ(std::string(reinterpret_cast<const char*>(&b[pos]), 4), tag);
     at[tag] = pos + 4;
     pos += 12 + get_u64(b, pos + 4) * element_bytes.at(tag);
@@ -118,6 +119,8 @@ TEST_F(HdmFile, RoundTripIsBitForBit) {
   EXPECT_TRUE(same_bits(loaded.stiffness_scale, model.stiffness_scale));
   EXPECT_TRUE(same_bits(loaded.roughness, model.roughness));
   EXPECT_TRUE(same_bits(loaded.layer_displacement, model.layer_displacement));
+  EXPECT_TRUE(same_bits(loaded.hardness, model.hardness));
+  EXPECT_EQ(loaded.under_layer.hardness_hv, 61.5f);
   EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
   EXPECT_EQ(loaded.under_layer.stiffness_scale, model.under_layer.stiffness_scale);
   EXPECT_EQ(loaded.under_layer.friction_static, model.under_layer.friction_static);
@@ -139,7 +142,7 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   const std::vector<uint8_t> b = test::read_bytes(path);
   ASSERT_GT(b.size(), 16u);
   EXPECT_EQ(std::memcmp(b.data(), "HDM\0", 4), 0);
-  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 3);
+  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 4);
   EXPECT_EQ(get_u64(b, b.size() - 8), reference_fnv1a(b.data(), b.size() - 8));
   const auto at = section_offsets(b);
   EXPECT_EQ(get_u64(b, at.at("DISP")), model.displacement.size());
@@ -149,6 +152,8 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   EXPECT_EQ(get_u64(b, at.at("RUFF")), model.roughness.size());
   EXPECT_EQ(get_u64(b, at.at("LAYD")), model.layer_displacement.size());
   EXPECT_EQ(get_u64(b, at.at("LAYM")), 1u);
+  EXPECT_EQ(get_u64(b, at.at("HARD")), model.hardness.size());
+  EXPECT_EQ(get_u64(b, at.at("LAYH")), 1u);
   // Displacements as little-endian float32, inner positions as float64.
   for (size_t s = 0; s < model.displacement.size(); ++s) {
     uint32_t bits = 0;
@@ -193,7 +198,7 @@ TEST_F(HdmFile, WrongVersionFails) {
   reseal(b);
   test::write_bytes(path, b);
   const std::string msg = expect_load_error<IoError>(path);
-  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 4"), std::string::npos) << msg;
 }
 
 TEST_F(HdmFile, BadMagicFails) {

@@ -70,12 +70,13 @@ inline SlabModel octahedron_model(int n = 4, int m = 2) {
     model.friction_dynamic.push_back(0.3f);
     model.stiffness_scale.push_back(s % 2 ? 1.0f : 0.75f);
     model.layer_displacement.push_back(0.25f * sample_displacement(s));
+    model.hardness.push_back(50.0f + 7.0f * float(s % 40));
   }
   for (int t = 0; t < texels; ++t) {
     model.colour.push_back(encode_srgb8(texel_colour(t)));
     model.roughness.push_back(unit_to_unorm8(float(t % 5) / 4.0f));
   }
-  model.under_layer = UnderLayer{Vec3f(0.9f, 0.7f, 0.2f), 0.4f, 0.6f, 0.45f, 0.3f};
+  model.under_layer = UnderLayer{Vec3f(0.9f, 0.7f, 0.2f), 0.4f, 0.6f, 0.45f, 0.3f, 61.5f};
   model.source = "octahedron (hand-built test model)";
   model.source_triangles = 8;
   model.source_diagonal = 2.0 * std::sqrt(3.0);

@@ -55,7 +55,7 @@ def expect_paint(b, a):
 
 
 EXPECTED = {"carve": expect_carve, "add": expect_add, "smooth": expect_smooth, "flatten": expect_flatten,
-            "paint": expect_paint}
+            "paint": expect_paint, "drill": expect_carve}  # drill removes material, like carve
 
 
 def brush_kwargs(info, model):
@@ -112,3 +112,7 @@ def test_every_brush_refuses_out_of_range_parameters(info):
         hdm.Brush(info["name"], 0.1, strength=1.5)
     with pytest.raises(ValueError, match="pressure_force_n"):
         hdm.Brush(info["name"], 0.1, pressure_force_n=0)
+    with pytest.raises(ValueError, match="wear_coefficient"):
+        hdm.Brush(info["name"], 0.1, wear_coefficient=0)
+    with pytest.raises(ValueError, match="rpm"):
+        hdm.Brush(info["name"], 0.1, rpm=-5)

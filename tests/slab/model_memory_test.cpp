@@ -34,7 +34,11 @@ TEST(ModelMemory, counts_every_array_the_model_allocates) {
   // Per block: up to 16 bytes of header and alignment, or a page for an mmapped one; 37 arrays
   // and the source string, so 48 pages bound the overhead. A per-sample float array the
   // accounting forgot is 4 bytes × ~150k samples, above that bound.
-  EXPECT_LE(m.total(), taken);
+  // mallinfo2 counts the blocks glibc's per-thread cache (tcache) holds as in use: a small array
+  // of the copy may reuse one that was already counted before the copy, so the copy can appear a
+  // few hundred bytes smaller than its arrays (260 B with the hardness array; none with
+  // GLIBC_TUNABLES=glibc.malloc.tcache_count=0). A page of slack covers that.
+  EXPECT_LE(m.total(), taken + 4096);
   EXPECT_GE(m.total(), taken - 48 * 4096) << "the copy holds " << taken - m.total() << " bytes the accounting misses";
 }
 

@@ -16,12 +16,10 @@ namespace hdm::studio {
 namespace {
 
 // As tool_brush() documents it: carve and add are the exact boolean (constant), smooth and flatten blend
-// with smoothstep, paint with the paper's linear cone.
-const std::map<std::string, Falloff> kFalloff = {{"carve", Falloff::Constant},
-                                                 {"add", Falloff::Constant},
-                                                 {"smooth", Falloff::Smooth},
-                                                 {"flatten", Falloff::Smooth},
-                                                 {"paint", Falloff::Linear}};
+// with smoothstep (as does drill), paint with the paper's linear cone.
+const std::map<std::string, Falloff> kFalloff = {{"carve", Falloff::Constant}, {"add", Falloff::Constant},
+                                                 {"smooth", Falloff::Smooth},  {"flatten", Falloff::Smooth},
+                                                 {"paint", Falloff::Linear},   {"drill", Falloff::Smooth}};
 
 TEST(ToolSettings, every_brush_is_a_tool_and_becomes_its_brush) {
   const double mm = 0.25;  // model units per device millimetre

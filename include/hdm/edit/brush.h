@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file
-/// Brushes: the tools a sculptor strokes over a slab model (carve, add, smooth, flatten, paint),
+/// Brushes: the tools a sculptor strokes over a slab model (carve, add, smooth, flatten, paint, drill),
 /// each with a radius, a strength and a falloff, and the field a paint brush writes.
 /// How each tool acts is documented on BrushTool; the stroke semantics (a stroke is the swept
 /// tool, applied once per stroke whatever the servo rate) in hdm/edit/stroke_editor.h and
@@ -38,6 +38,17 @@ enum class BrushTool : uint8_t {
   /// (paper §5), once per stroke: a texel or sample ends at base + k_max·(value − base), k_max the
   /// largest intensity the stroke reached there.
   Paint,
+  /// Removes material by Archard's wear law (Archard 1953, "Contact and rubbing of flat surfaces",
+  /// J. Appl. Phys. 24(8), 981-988): per sweep the volume V = K·F_n·v_s·Δt / H, with K the wear
+  /// coefficient (Brush::wear_coefficient), F_n the contact's normal force [N]
+  /// (BrushSweep::normal_force_n), v_s = ω·r the burr's surface speed [m/s] (Brush::rpm, the
+  /// radius in metres; strength is the pedal: the fraction of Brush::rpm the burr turns at), Δt the sweep's contact
+  /// time [s] (BrushSweep::dt) and H the hardness [Pa]
+  /// (SlabModel::hardness or the under-layer's, 1 HV = 9.80665 MPa). The force is spread over
+  /// the samples within the radius of the contact's path in proportion to falloff × area, and
+  /// each sample's share of V, with its own hardness, lowers it along its projection line.
+  /// Never raises the surface; nothing without force or time. Units: BrushSweep::units_per_metre.
+  Drill,
 };
 
 /// Weight of a brush at normalised distance x = d / r from its centre (or its swept path).
@@ -58,6 +69,8 @@ enum class BrushField : uint8_t {
   /// that far below the stroke's starting surface along each projection line
   /// (SlabModel::layer_displacement).
   LayerThickness,
+  /// Per-sample Vickers hardness [HV] (SlabModel::hardness), painted values at least 1 HV.
+  Hardness,
 };
 
 /// A brush. Lengths in model units (hdm::Workspace::scale converts device metres).
@@ -73,6 +86,11 @@ struct Brush {
   float value = 0;                ///< paint of a scalar field: the value painted (layer thickness in model units)
   double pressure_force_n = 1.0;  ///< normal force [N] that gives full pressure (paint, smooth, flatten);
                                   ///< pressure ramps from 0 at 10 % of it (paint_pressure)
+  /// drill: Archard's dimensionless wear coefficient K, in (0, 1] (default 0.01)
+  double wear_coefficient = 0.01;
+  /// drill: the burr's speed [revolutions per minute], in (0, 10⁶] (default 200,000: a dental
+  /// high-speed handpiece; bone drills turn at 1,000-60,000); surface speed ω·r with r = radius
+  double rpm = 200000;
 };
 
 /// @brief Weight of falloff @p f at normalised distance @p x (clamped to [0,1]); 0 for x >= 1.
@@ -90,13 +108,13 @@ inline double falloff_weight(Falloff f, double x) noexcept {
   }
 }
 
-/// @brief Parses a tool name: a registered brush's name (carve, add, smooth, flatten, paint).
+/// @brief Parses a tool name: a registered brush's name (carve, add, smooth, flatten, paint, drill).
 /// @throws InvalidInput naming @p name and listing the registered names otherwise.
 BrushTool parse_brush_tool(const std::string& name);
 /// @brief Parses a falloff name: constant, linear, smooth. @throws InvalidInput otherwise.
 Falloff parse_falloff(const std::string& name);
 /// @brief Parses a field name: colour, roughness, friction_static, friction_dynamic, stiffness,
-/// layer_thickness. @throws InvalidInput otherwise.
+/// layer_thickness, hardness. @throws InvalidInput otherwise.
 BrushField parse_brush_field(const std::string& name);
 /// Name of @p tool as parse_brush_tool() reads it ("?" for an unregistered value).
 const char* brush_tool_name(BrushTool tool) noexcept;

@@ -23,19 +23,21 @@ struct BrushHooks;
 
 /// A parameter of hdm::Brush (bit `1 << p` of BrushInfo::params).
 enum class BrushParam : uint8_t {
-  Radius,      ///< Brush::radius
-  Strength,    ///< Brush::strength
-  Falloff,     ///< Brush::falloff
-  Resilience,  ///< Brush::resilience
-  Height,      ///< Brush::height
-  Field,       ///< Brush::field
-  Colour,      ///< Brush::colour (the Colour field)
-  Value,       ///< Brush::value (a scalar field)
-  Pressure,    ///< Brush::pressure_force_n
+  Radius,           ///< Brush::radius
+  Strength,         ///< Brush::strength
+  Falloff,          ///< Brush::falloff
+  Resilience,       ///< Brush::resilience
+  Height,           ///< Brush::height
+  Field,            ///< Brush::field
+  Colour,           ///< Brush::colour (the Colour field)
+  Value,            ///< Brush::value (a scalar field)
+  Pressure,         ///< Brush::pressure_force_n
+  WearCoefficient,  ///< Brush::wear_coefficient
+  Rpm,              ///< Brush::rpm
 };
 
 /// Number of BrushParam values.
-inline constexpr int brush_param_count = 9;
+inline constexpr int brush_param_count = 11;
 
 /// The valid values of one parameter of hdm::Brush: finite and in [lo, hi] ((lo, hi] when
 /// `lo_open`); hi may be infinite (no upper bound but finiteness). Colour: each component.
@@ -43,7 +45,7 @@ inline constexpr int brush_param_count = 9;
 struct BrushParamRange {
   BrushParam param;  ///< the parameter
   const char* name;  ///< as Python's keyword and error messages spell it (radius, strength, ...)
-  const char* unit;  ///< "model units", "N", "" (dimensionless) or "linear RGB"
+  const char* unit;  ///< "model units", "N", "" (dimensionless), "linear RGB" or "rpm"
   /// @{ Bounds of the valid values (see the struct).
   double lo, hi;
   /// @}
@@ -96,7 +98,8 @@ std::string brush_names();
 /// @brief Throws unless every numeric parameter of @p brush lies in its range
 /// (brush_param_range()), whether or not its tool reads it, and its tool is registered.
 /// @throws InvalidInput "<name> = <value>: must be ..." naming the first parameter out of range
-///         (radius, strength, resilience, height, colour, value, pressure_force_n) and the reason.
+///         (radius, strength, resilience, height, colour, value, pressure_force_n, wear_coefficient,
+///         rpm) and the reason.
 /// @note O(#parameters).
 void check_brush(const Brush& brush);
 

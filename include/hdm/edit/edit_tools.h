@@ -85,7 +85,11 @@ struct BrushSweep {
   int32_t seed_slab = -1;             ///< slab of the seed cell (nothing happens when < 0)
   Vec3 seed_bary = Vec3::Zero();      ///< barycentrics (wR, wS, wT) of the seed in that slab
   double pressure = 1;                ///< [0,1]: scales Smooth, Flatten and Paint
-  double dt = 0;                      ///< Smooth, Flatten: contact time the sweep stands for [s]
+  double dt = 0;                      ///< Smooth, Flatten, Drill: contact time the sweep stands for [s]
+  double normal_force_n = 0;          ///< Drill: the contact's normal force over that time [N], >= 0
+  /// Drill: model units per metre (hdm::Workspace::scale, the model's size as the hand feels it):
+  /// converts the radius to metres for the burr's speed and the removed volume [m³] to model units.
+  double units_per_metre = 1000;
 };
 
 /// @brief Applies @p sweep to @p model at once (every sample it reaches, then the normals), as

@@ -36,8 +36,11 @@ struct StrokeEditorOptions {
 struct ToolSample {
   Contact contact;            ///< the proxy's contact (slab, coordinates, surface point, unit normal)
   Vec3 hip = Vec3::Zero();    ///< haptic interaction point [model units]
-  double normal_force_n = 0;  ///< rendered normal force [N]: pressure for Smooth, Flatten, Paint
-  double time_s = 0;          ///< servo time [s]
+  double normal_force_n = 0;  ///< rendered normal force [N]: pressure for Smooth, Flatten, Paint; Drill's F_n
+  /// Model units per metre of device motion (hdm::Workspace::scale): Drill's unit conversion
+  /// (BrushSweep::units_per_metre).
+  double units_per_metre = 1000;
+  double time_s = 0;  ///< servo time [s]
   /// The HIP is the centre of the ball the user feels (RenderMode::Sphere, a ball of the brush's
   /// radius held outside the surface), not a point on its rim: Carve centres its sphere at
   /// hip + axis·resilience, so the ball that cuts is the felt ball pushed in by the hand, less the

@@ -11,10 +11,10 @@
 namespace hdm {
 
 /// Every stored per-sample value an edit may change (SlabModel's displacement, friction_static,
-/// friction_dynamic, stiffness_scale, layer_displacement), in that order.
+/// friction_dynamic, stiffness_scale, layer_displacement, hardness), in that order.
 struct SampleValues {
   /// @{ The sample's SlabModel values of the same names (delta: SlabModel::displacement).
-  float delta, friction_static, friction_dynamic, stiffness_scale, layer_displacement;
+  float delta, friction_static, friction_dynamic, stiffness_scale, layer_displacement, hardness;
   /// @}
 };
 
@@ -26,15 +26,15 @@ struct TexelValues {
 };
 
 /// One record: a sample's or a texel's values (before the stroke until it is undone; after the
-/// stroke once it is undone, so that redo swaps them back). 24 bytes.
+/// stroke once it is undone, so that redo swaps them back). 28 bytes.
 struct UndoRecord {
   int32_t index;  ///< >= 0: sample id; < 0: texel id -(index + 1)
-  float v[5];     ///< SampleValues or TexelValues (v[4] unused) bit for bit
+  float v[6];     ///< SampleValues or TexelValues (v[4], v[5] unused) bit for bit
 };
 
 /// The undo history: strokes (button down to button up) as ranges of records in one ring.
 ///
-/// Memory is fixed at construction: @p cap_bytes of records (24 bytes each) and a table of
+/// Memory is fixed at construction: @p cap_bytes of records (28 bytes each) and a table of
 /// @p max_strokes strokes. When a new record does not fit, the oldest strokes are forgotten; when
 /// the stroke being recorded alone exceeds the ring, the whole history is dropped and that stroke
 /// cannot be undone (can_undo() is then false until the next stroke). A new stroke discards the

@@ -4,13 +4,13 @@
 /// The `.hdm` file: a slab model's stored data in a versioned little-endian binary format
 /// (docs/design.md#file-format).
 ///
-/// Format version 3, all integers and floats little-endian, IEEE-754:
+/// Format version 4, all integers and floats little-endian, IEEE-754:
 ///
 /// | bytes | content |
 /// | --- | --- |
 /// | 4 | magic `"HDM\0"` |
-/// | 4 | uint32 format version (= 3) |
-/// | ... | 15 sections, in the order below (version 1: the first 12) |
+/// | 4 | uint32 format version (= 4) |
+/// | ... | 17 sections, in the order below (version 1: the first 12; versions 2 and 3: the first 15) |
 /// | 8 | uint64 FNV-1a (64-bit) hash of every byte before it |
 ///
 /// Each section is a 4-byte tag, a uint64 element count `k`, then `k` elements:
@@ -33,14 +33,18 @@
 /// | `LAYD` | #samples | float32 layer_displacement (version 2) |
 /// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness
 /// (from version 2) |
+/// | `HARD` | #samples | float32 hardness [HV] (SlabModel::hardness; from version 4) |
+/// | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
 ///
 /// Version 1 files (without the last three sections) load with the defaults of those fields.
 /// Version 1 and 2 files' float colours and roughness are encoded to 8 bits on load (rounded once,
-/// so colours move by at most half an sRGB code step); save_model() always writes version 3.
+/// so colours move by at most half an sRGB code step). Files before version 4 load with the default
+/// hardness (default_hardness_hv per sample, UnderLayer's default for the under-layer);
+/// save_model() always writes version 4.
 /// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels
 /// follow from the counts (#C + (k-1)·#E + (k-1)(k-2)/2·#S for k = grid_n and grid_n·texel_density,
 /// #E the distinct slab edges); `DISP` and `COLR` must hold exactly that many, and `FRST`, `FRDY`,
-/// `STIF` that many or none (defaults); `RUFF`, `LAYD` and `LAYM` likewise.
+/// `STIF` that many or none (defaults); `RUFF`, `LAYD`, `LAYM` and `HARD` likewise.
 
 #include <hdm/io/read_file.h>
 #include <hdm/core/write_file_atomic.h>
@@ -59,7 +63,7 @@ namespace hdm {
 inline constexpr double max_model_coordinate = 1e15;
 
 /// Version of the `.hdm` format that save_model() writes and load_model() reads.
-inline constexpr uint32_t hdm_format_version = 3;
+inline constexpr uint32_t hdm_format_version = 4;
 
 /// @brief Writes the stored members of @p model to @p path (format in this file's header).
 /// @param model  slab model; its stored arrays have the sizes rebuild_derived() checks.

@@ -52,7 +52,17 @@ struct UnderLayer {
   float friction_static = 0.3f;      ///< μs where exposed
   float friction_dynamic = 0.2f;     ///< μd where exposed
   float roughness = 1.0f;            ///< rendering roughness where exposed, in [0,1] (1: matte)
+  /// Vickers hardness where the surface lies in the under-layer [HV], > 0 (what the drill brush
+  /// reads there; 55 HV: dentin-like). 1 HV = 9.80665 MPa (hdm::vickers_to_pa).
+  float hardness_hv = 55.0f;
 };
+
+/// Default Vickers hardness of the surface material [HV]: 300 HV, enamel-like (SlabModel::hardness).
+inline constexpr float default_hardness_hv = 300.0f;
+
+/// @brief Pascals of a Vickers hardness @p hv [HV]: hv × 9.80665 MPa (1 kgf/mm²).
+/// @note noexcept, O(1).
+constexpr double vickers_to_pa(double hv) noexcept { return hv * 9.80665e6; }
 
 /// A baked slab model.
 ///
@@ -84,6 +94,10 @@ struct SlabModel {
   /// (default 0: no under-layer above the inner face). The surface is the under-layer where
   /// δ < this value (exposed by carving); see UnderLayer and layer_exposure().
   std::vector<float> layer_displacement;
+  /// #samples Vickers hardness of the surface material [HV], > 0 (float32; default
+  /// default_hardness_hv). Where δ < layer_displacement the under-layer's UnderLayer::hardness_hv
+  /// applies instead (sample_hardness_hv()). Read by the drill brush (BrushTool::Drill).
+  std::vector<float> hardness;
   UnderLayer under_layer;        ///< the under-layer's material
   std::string source;            ///< name of the input mesh the model was baked from
   int64_t source_triangles = 0;  ///< triangles of that input
@@ -131,12 +145,22 @@ inline double layer_exposure(double depth_below_layer, double band) noexcept {
   return e > 0 ? (e < 1 ? e : 1.0) : 0.0;
 }
 
+/// @brief Hardness of the material at sample @p sample's surface [HV]: the under-layer's
+/// (UnderLayer::hardness_hv) where its displacement is below the layer's top, else its own
+/// SlabModel::hardness.
+/// @note noexcept, O(1); @p sample in [0, #samples) and `hardness` sized (rebuild_derived()).
+inline float sample_hardness_hv(const SlabModel& model, int32_t sample) noexcept {
+  return model.displacement[sample] < model.layer_displacement[sample] ? model.under_layer.hardness_hv
+                                                                       : model.hardness[sample];
+}
+
 /// @brief Recomputes every derived member of @p model from its stored data: sample and texel
 /// layouts, slab constants, adjacency and normals.
 /// Optional stored arrays that are empty (colour, friction, stiffness, roughness,
-/// layer_displacement) are filled with their defaults.
+/// layer_displacement, hardness) are filled with their defaults.
 /// @throws InvalidInput when the stored data are inconsistent (sizes, ids, non-finite values,
 ///         displacements or layer displacements outside [0,1], the under-layer's roughness outside [0,1],
+///         a hardness (per sample or the under-layer's) not > 0,
 ///         grid_n < 1 or texel_density < 1), naming the member.
 /// @note O(#S·n²·m²); allocates; positions, normals and the layouts' CSR rows in parallel (std::thread).
 void rebuild_derived(SlabModel& model);

@@ -42,6 +42,7 @@ struct SlabView {
   const float* friction_dynamic = nullptr;    ///< per_slab μd
   const float* stiffness_scale = nullptr;     ///< per_slab stiffness scale
   const float* layer_displacement = nullptr;  ///< per_slab under-layer top δ
+  const float* hardness = nullptr;            ///< per_slab hardness [HV] (SlabModel::hardness)
   const float* texels = nullptr;              ///< texels_per_slab × 4: linear RGB colour and roughness
 };
 
@@ -49,8 +50,8 @@ class SnapshotReader;
 
 /// Per-slab versions of a model published in epochs for concurrent readers.
 ///
-/// Memory: (#S + spare) versions of about (32·per_slab + 16·texels_per_slab) bytes, allocated by
-/// the constructor (about 33 MB for the default bunny bake: 1,178 slabs, n = 16, m = 2).
+/// Memory: (#S + spare) versions of about (36·per_slab + 16·texels_per_slab) bytes, allocated by
+/// the constructor (about 34 MB for the default bunny bake: 1,178 slabs, n = 16, m = 2).
 /// The model's topology, coarse vertices, grid sizes, source fields and under-layer material
 /// must not change while the snapshots exist (edits never change them); readers read those
 /// members of the live model directly.

@@ -1,0 +1,246 @@
+// SPDX-License-Identifier: MIT
+// The drill brush against Archard's wear law (Archard 1953, "Contact and rubbing of flat surfaces",
+// J. Appl. Phys. 24(8)), V = K·F_n·v_s·Δt / H, on a flat sheet whose removed volume is measured
+// independently of the kernel: the displaced surface's grid triangles, each its area times the mean
+// drop of its corners (exact for the piecewise-linear surface). Model units are millimetres.
+#include <hdm/core/error.h>
+#include <hdm/edit/brush_registry.h>
+#include <hdm/edit/stroke_editor.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <vector>
+
+namespace hdm {
+namespace {
+
+constexpr int kQuads = 4;        // quads per side of the sheet
+constexpr double kHalf = 10;     // the sheet spans [-10, 10]² [mm]
+constexpr double kUnits = 1000;  // model units per metre (millimetres)
+
+// A flat sheet: the square split into kQuads² quads (two slabs each, CCW seen from +z), inner face
+// at z = -1, outer at z = +1, grid n = 16 (sample spacing 0.3125 mm), surface at z = 0 (δ = 0.5).
+SlabModel flat_sheet() {
+  SlabModel m;
+  m.grid_n = 16;
+  m.texel_density = 1;
+  for (int j = 0; j <= kQuads; ++j)
+    for (int i = 0; i <= kQuads; ++i) {
+      const double x = -kHalf + 2 * kHalf * i / kQuads, y = -kHalf + 2 * kHalf * j / kQuads;
+      m.inner.emplace_back(x, y, -1.0);
+      m.outer.emplace_back(x, y, 1.0);
+    }
+  auto v = [](int i, int j) { return j * (kQuads + 1) + i; };
+  for (int j = 0; j < kQuads; ++j)
+    for (int i = 0; i < kQuads; ++i) {
+      m.slabs.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+      m.slabs.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  const int64_t C = (kQuads + 1) * (kQuads + 1), E = 2 * kQuads * (kQuads + 1) + kQuads * kQuads,
+                S = 2 * kQuads * kQuads, k = m.grid_n;
+  m.displacement.assign(size_t(C + E * (k - 1) + S * (k - 1) * (k - 2) / 2), 0.5f);
+  rebuild_derived(m);
+  return m;
+}
+
+// The slab and barycentrics (wR, wS, wT) of the sheet's point (x, y).
+void locate(double x, double y, int32_t& slab, Vec3& bary) {
+  const double qx = (x + kHalf) / (2 * kHalf) * kQuads, qy = (y + kHalf) / (2 * kHalf) * kQuads;
+  const int i = std::clamp(int(qx), 0, kQuads - 1), j = std::clamp(int(qy), 0, kQuads - 1);
+  const double u = qx - i, w = qy - j;
+  const bool lower = u >= w;
+  slab = 2 * (j * kQuads + i) + (lower ? 0 : 1);
+  bary = lower ? Vec3(1 - u, u - w, w) : Vec3(1 - w, u, w - u);
+}
+
+// Volume between two states of the sheet's surface [mm³]: each grid triangle's area (the same in
+// both: vertical projection lines) times the mean drop of its three corners.
+double removed_volume(const SlabModel& m, const std::vector<Vec3>& before) {
+  std::vector<Vec3> after;
+  std::vector<Tri> faces;
+  displaced_surface(m, after, faces);
+  double v = 0;
+  for (const Tri& f : faces) {
+    const Vec3 &a = before[f[0]], &b = before[f[1]], &c = before[f[2]];
+    const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    double drop = 0;
+    for (int k = 0; k < 3; ++k) drop += before[f[k]].z() - after[f[k]].z();
+    v += area * drop / 3;
+  }
+  return v;
+}
+
+struct Drill {
+  double radius = 1.5, wear = 0.01, rpm = 200000;
+  // Archard's volume [mm³] for force F [N] over time t [s] on hardness hv [HV].
+  double archard(double force, double t, double hv) const {
+    const double speed = 2 * std::numbers::pi * rpm / 60 * (radius / kUnits);
+    return wear * force * speed * t / vickers_to_pa(hv) * kUnits * kUnits * kUnits;
+  }
+  BrushSweep sweep(double x, double y, double force, double dt) const {
+    BrushSweep sw;
+    sw.brush.tool = BrushTool::Drill;
+    sw.brush.radius = radius;
+    sw.brush.falloff = Falloff::Smooth;
+    sw.brush.wear_coefficient = wear;
+    sw.brush.rpm = rpm;
+    sw.from = sw.to = Vec3(x, y, 0);
+    locate(x, y, sw.seed_slab, sw.seed_bary);
+    sw.normal_force_n = force;
+    sw.dt = dt;
+    sw.units_per_metre = kUnits;
+    return sw;
+  }
+  // Volume [mm³] @p ticks sweeps of 1 ms at (x, y) remove from @p m.
+  double run(SlabModel& m, double x, double y, double force, int ticks) const {
+    EditScratch scratch(m);
+    std::vector<Vec3> before;
+    std::vector<Tri> faces;
+    displaced_surface(m, before, faces);
+    for (int t = 0; t < ticks; ++t) apply_brush(m, scratch, sweep(x, y, force, 1e-3));
+    return removed_volume(m, before);
+  }
+};
+
+TEST(Drill, removed_volume_is_archards) {
+  const Drill d;
+  SlabModel m = flat_sheet();
+  const double v = d.run(m, 0.3, -0.2, 2.0, 200), ref = d.archard(2.0, 0.2, default_hardness_hv);
+  std::printf("drill: 2 N, 200 ticks of 1 ms on 300 HV: removed %.6g mm3, Archard %.6g mm3 (%+.2f %%)\n", v, ref,
+              100 * (v / ref - 1));
+  EXPECT_NEAR(v / ref, 1.0, 0.05);
+  for (float delta : m.displacement) ASSERT_LE(delta, 0.5f);  // never raises
+}
+
+TEST(Drill, removal_rate_scales_with_the_inverse_hardness) {
+  const Drill d;
+  SlabModel m = flat_sheet();
+  // The right half is under-layer at the surface (its top above the surface): dentin-like 55 HV;
+  // the left half is the surface material, enamel-like 300 HV (the defaults).
+  for (int32_t s = 0; s < m.samples.count; ++s)
+    if (m.positions[s].x() > 0) m.layer_displacement[s] = 1.0f;
+  ASSERT_EQ(m.under_layer.hardness_hv, 55.0f);
+  const double enamel = d.run(m, -5, 0.1, 1.5, 100), dentin = d.run(m, 5, 0.1, 1.5, 100);
+  const double expected = default_hardness_hv / m.under_layer.hardness_hv;
+  std::printf("drill: 1.5 N, 100 ms: enamel %.6g mm3, dentin %.6g mm3, ratio %.4g (hardness ratio %.4g)\n", enamel,
+              dentin, dentin / enamel, expected);
+  EXPECT_NEAR(dentin / enamel / expected, 1.0, 0.10);
+}
+
+TEST(Drill, removal_grows_linearly_with_force) {
+  const Drill d;
+  std::vector<double> f, v;
+  for (double force = 0.5; force <= 3.0 + 1e-9; force += 0.5) {
+    SlabModel m = flat_sheet();
+    f.push_back(force);
+    v.push_back(d.run(m, 0.1, 0.1, force, 50));
+    EXPECT_NEAR(v.back() / d.archard(force, 0.05, default_hardness_hv), 1.0, 0.05) << force;
+  }
+  // Least squares v = a + b·f and its R².
+  const double n = double(f.size());
+  double sf = 0, sv = 0, sff = 0, sfv = 0;
+  for (size_t k = 0; k < f.size(); ++k) sf += f[k], sv += v[k], sff += f[k] * f[k], sfv += f[k] * v[k];
+  const double b = (n * sfv - sf * sv) / (n * sff - sf * sf), a = (sv - b * sf) / n;
+  double ss_res = 0, ss_tot = 0;
+  for (size_t k = 0; k < f.size(); ++k) {
+    ss_res += std::pow(v[k] - (a + b * f[k]), 2);
+    ss_tot += std::pow(v[k] - sv / n, 2);
+  }
+  const double r2 = 1 - ss_res / ss_tot;
+  std::printf("drill: volume over 50 ms against force 0.5-3 N: slope %.6g mm3/N, R^2 %.6f\n", b, r2);
+  EXPECT_GE(r2, 0.95);
+}
+
+TEST(Drill, zero_force_or_time_removes_nothing) {
+  const Drill d;
+  SlabModel m = flat_sheet();
+  const std::vector<float> before = m.displacement;
+  EditScratch scratch(m);
+  EXPECT_EQ(apply_brush(m, scratch, d.sweep(0, 0, 0.0, 1e-3)).changed, 0);
+  EXPECT_EQ(apply_brush(m, scratch, d.sweep(0, 0, 2.0, 0.0)).changed, 0);
+  BrushSweep still = d.sweep(0, 0, 2.0, 1e-3);
+  still.brush.strength = 0;  // the pedal released
+  EXPECT_EQ(apply_brush(m, scratch, still).changed, 0);
+  EXPECT_EQ(m.displacement, before);
+}
+
+TEST(Drill, bad_parameters_are_refused_naming_them) {
+  auto refusal = [](auto set) {
+    Brush b;
+    b.tool = BrushTool::Drill;
+    b.radius = 1;
+    set(b);
+    try {
+      check_brush(b);
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refusal([](Brush&) {}), "");
+  EXPECT_EQ(refusal([](Brush& b) { b.wear_coefficient = 0; }).rfind("wear_coefficient = 0: must be in (0, 1]", 0), 0u);
+  EXPECT_EQ(refusal([](Brush& b) { b.wear_coefficient = 2; }).rfind("wear_coefficient = 2", 0), 0u);
+  EXPECT_EQ(refusal([](Brush& b) { b.rpm = 0; }).rfind("rpm = 0: must be in (0, 1e+06]", 0), 0u);
+  EXPECT_EQ(refusal([](Brush& b) { b.rpm = NAN; }).rfind("rpm = nan", 0), 0u);
+  EXPECT_EQ(refusal([](Brush& b) { b.radius = -1; }).rfind("radius = -1", 0), 0u);
+}
+
+// Through the stroke editor as the servo tick drives it: the tool sample's rendered normal force
+// and the workspace's scale reach the kernel; the first tick of a stroke has no elapsed time.
+TEST(Drill, a_stroke_removes_archards_volume_and_undoes) {
+  const Drill d;
+  SlabModel m = flat_sheet();
+  const std::vector<float> start = m.displacement;
+  std::vector<Vec3> before;
+  std::vector<Tri> faces;
+  displaced_surface(m, before, faces);
+  StrokeEditor editor(m);
+  const BrushSweep proto = d.sweep(0.2, 0.3, 1.0, 0);
+  editor.begin_stroke(proto.brush);
+  constexpr int kTicks = 101;
+  for (int t = 0; t < kTicks; ++t) {
+    ToolSample ts;
+    ts.contact.slab = proto.seed_slab;
+    ts.contact.coords.bary = proto.seed_bary;
+    ts.contact.surface_point = proto.to;
+    ts.contact.normal = Vec3::UnitZ();
+    ts.hip = proto.to - 0.1 * Vec3::UnitZ();
+    ts.normal_force_n = 1.0;
+    ts.units_per_metre = kUnits;
+    ts.time_s = 1e-3 * t;
+    editor.add_sample(m, ts);
+    editor.work(m, INT64_MAX);
+  }
+  editor.end_stroke();
+  editor.work(m, INT64_MAX);
+  const double v = removed_volume(m, before), ref = d.archard(1.0, 1e-3 * (kTicks - 1), default_hardness_hv);
+  std::printf("drill stroke: 1 N, 100 ms: removed %.6g mm3, Archard %.6g mm3\n", v, ref);
+  EXPECT_NEAR(v / ref, 1.0, 0.05);
+  ASSERT_TRUE(editor.undo());
+  editor.work(m, INT64_MAX);
+  EXPECT_EQ(m.displacement, start);
+}
+
+// The paint brush writes the hardness field (and undo restores it); the drill then reads it.
+TEST(Drill, painted_hardness_is_read_by_the_drill) {
+  SlabModel m = flat_sheet();
+  EditScratch scratch(m);
+  BrushSweep paint;
+  paint.brush.tool = BrushTool::Paint;
+  paint.brush.field = BrushField::Hardness;
+  paint.brush.value = 100;
+  paint.brush.radius = 4;
+  paint.brush.falloff = Falloff::Constant;
+  paint.from = paint.to = Vec3(0, 0, 0);
+  locate(0, 0, paint.seed_slab, paint.seed_bary);
+  EXPECT_GT(apply_brush(m, scratch, paint).changed, 0);
+  const Drill d;
+  const double v = d.run(m, 0, 0, 1.0, 50), ref = d.archard(1.0, 0.05, 100);
+  EXPECT_NEAR(v / ref, 1.0, 0.05);
+}
+
+}  // namespace
+}  // namespace hdm
