@@ -41,13 +41,13 @@ enum class BrushTool : uint8_t {
   /// Removes material by Archard's wear law (Archard 1953, "Contact and rubbing of flat surfaces",
   /// J. Appl. Phys. 24(8), 981-988): per sweep the volume V = K·F_n·v_s·Δt / H, with K the wear
   /// coefficient (Brush::wear_coefficient), F_n the contact's normal force [N]
-  /// (BrushSweep::normal_force_n), v_s = ω·r the burr's surface speed [m/s] (Brush::rpm, the
-  /// radius in metres; strength is the pedal: the fraction of Brush::rpm the burr turns at), Δt the sweep's contact
-  /// time [s] (BrushSweep::dt) and H the hardness [Pa]
-  /// (SlabModel::hardness or the under-layer's, 1 HV = 9.80665 MPa). The force is spread over
-  /// the samples within the radius of the contact's path in proportion to falloff × area, and
-  /// each sample's share of V, with its own hardness, lowers it along its projection line.
-  /// Never raises the surface; nothing without force or time. Units: BrushSweep::units_per_metre.
+  /// (BrushSweep::normal_force_n), v_s = ω·r the burr's surface speed [m/s] (ω from Brush::rpm
+  /// times strength, the pedal; r the radius in metres), Δt the sweep's contact time [s]
+  /// (BrushSweep::dt) and H the hardness [Pa] (SlabModel::hardness or the under-layer's,
+  /// 1 HV = 9.80665 MPa). The force is spread over the samples within the radius of the contact's
+  /// path in proportion to falloff × area, and each sample's share of V, at its own hardness,
+  /// lowers it along its projection line. Never raises the surface; nothing without force or
+  /// time. Units: BrushSweep::units_per_metre (docs/haptics.md, "Drilling").
   Drill,
 };
 

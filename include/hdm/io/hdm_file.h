@@ -36,7 +36,7 @@
 /// | `HARD` | #samples | float32 hardness [HV] (SlabModel::hardness; from version 4) |
 /// | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
 ///
-/// Version 1 files (without the last three sections) load with the defaults of those fields.
+/// Version 1 files (without `RUFF`, `LAYD` and `LAYM`) load with the defaults of those fields.
 /// Version 1 and 2 files' float colours and roughness are encoded to 8 bits on load (rounded once,
 /// so colours move by at most half an sRGB code step). Files before version 4 load with the default
 /// hardness (default_hardness_hv per sample, UnderLayer's default for the under-layer);
