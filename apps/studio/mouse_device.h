@@ -46,6 +46,7 @@ class MouseDevice final : public HapticDevice {
   /// class), velocity by backward difference over one period; a non-finite position is ignored
   /// (the handle stays). Always true. noexcept, O(1), no allocation.
   bool begin_frame(DeviceState& state) noexcept override;
+  using HapticDevice::end_frame;  // the torque overload: dropped (no torque to render)
   /// Servo thread: keeps @p force_n for last_force() (nothing to command). noexcept.
   void end_frame(const Vec3& force_n) noexcept override { force_ = force_n; }
   /// A desktop device's spec (the workspace the model is fitted to).

@@ -16,6 +16,9 @@ SimulatedDevice::SimulatedDevice(const SimulatedDeviceOptions& o, std::span<cons
     : options_(o), targets_(targets), buttons_(buttons), x_(start), v_(Vec3::Zero()), x_prev_(start) {
   if (!(o.mass_kg > 0) || !(o.rate_hz > 0) || o.substeps < 1)
     throw InvalidInput("SimulatedDevice: mass_kg and rate_hz must be > 0 and substeps >= 1");
+  if (!o.orientation.coeffs().allFinite() || !(o.orientation.norm() > 0))
+    throw InvalidInput("SimulatedDevice: the orientation must be a finite, non-zero quaternion");
+  options_.orientation.normalize();
 }
 
 bool SimulatedDevice::begin_frame(DeviceState& s) noexcept {
@@ -24,7 +27,17 @@ bool SimulatedDevice::begin_frame(DeviceState& s) noexcept {
   s.velocity = tick_ > 0 ? Vec3((x_ - x_prev_) / dt) : Vec3::Zero();
   s.buttons = buttons_.empty() ? 0u : buttons_[std::min<size_t>(static_cast<size_t>(tick_), buttons_.size() - 1)];
   s.time_s = tick_ * dt;
+  s.orientation = options_.orientation;
+  s.angular_velocity = Vec3::Zero();
   return true;
+}
+
+void SimulatedDevice::end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept {
+  end_frame(force_n);
+  Vec3 t = torque_nm.allFinite() ? torque_nm : Vec3::Zero();
+  const double mag = t.norm(), cap = std::max(0.0, options_.spec.max_torque_nm);
+  if (mag > cap) t *= cap / mag;
+  torque_ = t;
 }
 
 void SimulatedDevice::end_frame(const Vec3& force_n) noexcept {
@@ -36,6 +49,7 @@ void SimulatedDevice::end_frame(const Vec3& force_n) noexcept {
   const double T = 1.0 / options_.rate_hz, h = T / options_.substeps;
   const Vec3 target_v = (target_next - target) / T;
   x_prev_ = x_;
+  torque_.setZero();
   hand_force_.setZero();
   for (int k = 0; k < options_.substeps; ++k) {
     const Vec3 tk = target + target_v * (k * h);  // the hand moves smoothly between ticks
@@ -147,11 +161,16 @@ bool ReplayDevice::begin_frame(DeviceState& s) noexcept {
   const double dt = next_ > 0 ? time_[next_] - time_[next_ - 1] : 0;
   s.velocity = dt > 0 ? Vec3((position_[next_] - position_[next_ - 1]) / dt) : Vec3::Zero();
   s.buttons = buttons_.empty() ? 0u : buttons_[next_];
+  s.orientation = Eigen::Quaterniond::Identity();
+  s.angular_velocity = Vec3::Zero();
   return true;
 }
 
-void ReplayDevice::end_frame(const Vec3& force_n) noexcept {
+void ReplayDevice::end_frame(const Vec3& force_n) noexcept { end_frame(force_n, Vec3::Zero()); }
+
+void ReplayDevice::end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept {
   last_force_ = force_n;
+  last_torque_ = torque_nm;
   ++next_;
 }
 

@@ -4,6 +4,7 @@
 #include "support/test_models.h"
 
 #include <hdm/core/error.h>
+#include <hdm/haptics/device.h>
 #include <hdm/harness/scenario_sites.h>
 #include <hdm/harness/scenarios.h>
 
@@ -140,6 +141,47 @@ TEST(Replay, SizeLimitIsCheckedBeforeReading) {
   EXPECT_THROW(ReplayDevice(path, {}, 16), IoError);
   EXPECT_EQ(ReplayDevice(path).size(), 1u);
   std::filesystem::remove(path);
+}
+
+// Orientation and torque on the devices: the simulated handle reads its fixed orientation (unit)
+// and zero angular velocity and records the torque clamped to the spec; a force-only end_frame
+// drops it; a 3-DOF spec (max_torque_nm 0) renders none; the replay reads identity.
+TEST(Device, OrientationAndTorque) {
+  SimulatedDeviceOptions o;
+  o.orientation = Eigen::Quaterniond(2, 0, 0, 2);  // 90° about z, not unit
+  o.spec.max_torque_nm = 0.1;
+  const std::vector<Vec3> targets(1, Vec3::Zero());
+  SimulatedDevice d(o, targets, Vec3::Zero());
+  DeviceState s;
+  ASSERT_TRUE(d.begin_frame(s));
+  EXPECT_NEAR(s.orientation.norm(), 1.0, 1e-15);
+  EXPECT_LT((s.orientation * Vec3::UnitX() - Vec3::UnitY()).norm(), 1e-12);
+  EXPECT_EQ(s.angular_velocity, Vec3::Zero());
+  HapticDevice& base = d;
+  base.end_frame(Vec3::Zero(), Vec3(0.03, 0, 0.04));
+  EXPECT_EQ(d.last_torque(), Vec3(0.03, 0, 0.04));
+  base.end_frame(Vec3::Zero(), Vec3(0, 0.3, 0));
+  EXPECT_NEAR(d.last_torque().y(), 0.1, 1e-15) << "clamped to max_torque_nm";
+  base.end_frame(Vec3::Zero(), Vec3(NAN, 0, 0));
+  EXPECT_EQ(d.last_torque(), Vec3::Zero());
+  base.end_frame(Vec3::Zero(), Vec3(0.01, 0, 0));
+  base.end_frame(Vec3::Zero());
+  EXPECT_EQ(d.last_torque(), Vec3::Zero()) << "a force-only frame commands no torque";
+  o.spec.max_torque_nm = 0;
+  SimulatedDevice three_dof(o, targets, Vec3::Zero());
+  three_dof.end_frame(Vec3::Zero(), Vec3(0.01, 0, 0));
+  EXPECT_EQ(three_dof.last_torque(), Vec3::Zero());
+  o.orientation = Eigen::Quaterniond(0, 0, 0, 0);
+  EXPECT_THROW(SimulatedDevice(o, targets, Vec3::Zero()), InvalidInput);
+
+  ReplayDevice r = ReplayDevice::from_csv("time_s,device_x_m,device_y_m,device_z_m\n0,0,0,0\n", "mem");
+  s.orientation = Eigen::Quaterniond(0, 1, 0, 0);
+  s.angular_velocity = Vec3::Ones();
+  ASSERT_TRUE(r.begin_frame(s));
+  EXPECT_TRUE(s.orientation.coeffs().isApprox(Eigen::Quaterniond::Identity().coeffs()));
+  EXPECT_EQ(s.angular_velocity, Vec3::Zero());
+  r.end_frame(Vec3(1, 0, 0), Vec3(0, 0, 0.02));
+  EXPECT_EQ(r.last_torque(), Vec3(0, 0, 0.02));
 }
 
 }  // namespace

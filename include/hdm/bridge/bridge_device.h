@@ -32,14 +32,15 @@ struct BridgeOptions {
 
 /// Packets seen by a BridgeDevice since it opened (bad ones are dropped, never applied).
 struct BridgeCounters {
-  int64_t accepted = 0;        ///< device packets applied
-  int64_t bad_size = 0;        ///< short, long, or a size field that disagrees
-  int64_t bad_magic = 0;       ///< not "HDMB"
-  int64_t bad_version = 0;     ///< another wire format version
-  int64_t bad_kind = 0;        ///< not a device packet
-  int64_t non_finite = 0;      ///< NaN or infinite time, position or velocity
-  int64_t out_of_order = 0;    ///< sequence number not 1 to kSequenceWindow above the session's last (duplicates included)
-  int64_t bad_secret = 0;      ///< hello packets with a wrong secret (or a malformed hello)
+  int64_t accepted = 0;     ///< device packets applied
+  int64_t bad_size = 0;     ///< short, long, or a size field that disagrees
+  int64_t bad_magic = 0;    ///< not "HDMB"
+  int64_t bad_version = 0;  ///< another wire format version
+  int64_t bad_kind = 0;     ///< not a device packet
+  int64_t non_finite = 0;   ///< NaN or infinite time, position or velocity
+  int64_t out_of_order =
+      0;                   ///< sequence number not 1 to kSequenceWindow above the session's last (duplicates included)
+  int64_t bad_secret = 0;  ///< hello packets with a wrong secret (or a malformed hello)
   int64_t wrong_session = 0;   ///< device packets of another session, or from another address than its hello's (UDP)
   int64_t sessions = 0;        ///< hello packets accepted: driver sessions opened
   int64_t watchdog_trips = 0;  ///< times packets stopped for longer than the watchdog
@@ -85,6 +86,7 @@ class BridgeDevice final : public HapticDevice {
   /// @note noexcept, O(1). Shared memory: a seqlocked write. UDP: the same, then a futex wake of
   /// the sender thread (a system call that never waits; the send itself is the sender's).
   void end_frame(const Vec3& force_n) noexcept override;
+  using HapticDevice::end_frame;  // force and torque: the torque is dropped
   /// The options' spec.
   DeviceSpec spec() const noexcept override { return options_.spec; }
 

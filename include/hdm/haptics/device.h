@@ -17,6 +17,10 @@
 ///   `dhdGetLinearVelocity(&vx, &vy, &vz)` and `dhdGetButtonMask()`; `end_frame(f)` calls
 ///   `dhdSetForce(fx, fy, fz)` (or `dhdSetForceAndTorqueAndGripperForce`). Enable forces with
 ///   `dhdEnableForce(DHD_ON)` before the loop; the loop rate is hdm's (run_servo_loop).
+///   A 6-DOF model also fills DeviceState::orientation from `dhdGetOrientationFrame(R)` (the
+///   rotation matrix as a quaternion) and DeviceState::angular_velocity from
+///   `dhdGetAngularVelocityRad`, and overrides `end_frame(f, t)` with
+///   `dhdSetForceAndTorque(fx, fy, fz, tx, ty, tz)`; spec().max_torque_nm > 0 then.
 /// Device axes: map the vendor's frame to hdm's device frame (right-handed, metres, the workspace
 /// centre at the origin) inside the adapter; hdm::Workspace then maps device to model.
 
@@ -36,6 +40,9 @@ struct DeviceSpec {
   double max_force_n = 3.3;             ///< continuous force limit [N]
   double max_stiffness_n_per_m = 2000;  ///< stiffness the vendor rates as stable [N/m]
   double nominal_rate_hz = 1000;        ///< servo rate the device is designed for [Hz]
+  /// Continuous torque limit [N·m]; 0: the device renders no torque (3-DOF), and
+  /// HapticDevice::end_frame(force, torque) drops the torque.
+  double max_torque_nm = 0;
 };
 
 /// One reading of the device, device frame.
@@ -44,9 +51,14 @@ struct DeviceState {
   Vec3 velocity = Vec3::Zero();  ///< handle velocity [m/s] (backward difference, as encoders give)
   uint32_t buttons = 0;          ///< button bit mask
   double time_s = 0;             ///< device time of the reading [s]
+  /// Handle orientation: unit quaternion rotating the tool frame to the device frame; identity for
+  /// a device that does not sense orientation (3-DOF).
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Vec3 angular_velocity = Vec3::Zero();  ///< handle angular velocity [rad/s], device frame; zero for 3-DOF
 };
 
-/// Abstract haptic device. One servo tick is begin_frame() → compute → end_frame(force).
+/// Abstract haptic device. One servo tick is begin_frame() → compute → end_frame(force), or
+/// end_frame(force, torque) for a tool that renders torque as well.
 ///
 /// Threading: used by the servo thread only. Real-time rule: begin_frame and end_frame must not
 /// allocate, lock or do I/O in implementations used in the servo loop.
@@ -60,6 +72,16 @@ class HapticDevice {
   /// @brief Commands @p force_n [N, device frame] until the next tick and ends the tick.
   /// @note noexcept, real-time safe. Implementations clamp to spec().max_force_n.
   virtual void end_frame(const Vec3& force_n) noexcept = 0;
+  /// @brief Commands @p force_n [N] and @p torque_nm [N·m, about the handle's tip point], both
+  /// device frame, until the next tick, and ends the tick.
+  /// @note noexcept, real-time safe. The default drops the torque and calls end_frame(force_n):
+  ///       what a 3-DOF device (spec().max_torque_nm == 0) does. A device that renders torque
+  ///       overrides it and clamps the torque to spec().max_torque_nm. A derived class that
+  ///       overrides only one overload brings the other in with `using HapticDevice::end_frame;`.
+  virtual void end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept {
+    (void)torque_nm;
+    end_frame(force_n);
+  }
   /// Capabilities.
   virtual DeviceSpec spec() const noexcept = 0;
 };
@@ -71,7 +93,11 @@ struct SimulatedDeviceOptions {
   double hand_damping = 2.0;      ///< hand damper on the handle's velocity relative to the target [N·s/m]
   double rate_hz = 1000.0;        ///< servo rate: the rendered force is held for 1/rate_hz [Hz]
   int substeps = 10;              ///< semi-implicit Euler steps per servo period (force held: zero-order hold)
-  DeviceSpec spec;                ///< reported capabilities (max force clamp)
+  DeviceSpec spec;                ///< reported capabilities (max force and max torque clamps)
+  /// Handle orientation (tool → device frame), held fixed by the hand: the model has no rotational
+  /// dynamics, so a commanded torque is recorded (last_torque()) but does not turn the handle.
+  /// Normalised at construction.
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
 /// A simulated device: a handle of mass m pulled by a hand spring-damper toward a scripted target
@@ -81,6 +107,9 @@ struct SimulatedDeviceOptions {
 /// The closed loop (render → hold → handle motion → next reading) is what limits stable stiffness
 /// (Colgate & Schenkel 1997: passivity needs b > K·T/2); the substeps keep the integrator itself
 /// out of that limit.
+///
+/// Orientation: fixed at SimulatedDeviceOptions::orientation, angular velocity zero (a hand that
+/// holds the handle's attitude rigidly); torque is clamped to spec().max_torque_nm and recorded.
 class SimulatedDevice final : public HapticDevice {
  public:
   /// @brief Creates the device; @p targets holds one hand target [m] per tick (the last one is held
@@ -90,15 +119,21 @@ class SimulatedDevice final : public HapticDevice {
   /// @param start    initial handle position [m] (at rest).
   /// @param buttons  optional button mask per tick (the hand pressing the tool button; the last
   ///                 one is held after the end); empty: no button pressed.
-  /// @throws InvalidInput when mass_kg or rate_hz is not positive or substeps < 1.
+  /// @throws InvalidInput when mass_kg or rate_hz is not positive, substeps < 1 or the orientation
+  ///         is not a finite non-zero quaternion.
   SimulatedDevice(const SimulatedDeviceOptions& options, std::span<const Vec3> targets, const Vec3& start,
                   std::span<const uint32_t> buttons = {});
-  /// Handle position [m], backward-difference velocity [m/s] and the tick's buttons; always
-  /// true. noexcept, O(1).
+  /// Handle position [m], backward-difference velocity [m/s], the tick's buttons and the fixed
+  /// orientation (angular velocity zero); always true. noexcept, O(1).
   bool begin_frame(DeviceState& state) noexcept override;
   /// Holds @p force_n [N] (clamped to spec().max_force_n, NaN → 0) over one period and integrates
-  /// the handle. noexcept, O(substeps), no allocation.
+  /// the handle; the recorded torque becomes zero. noexcept, O(substeps), no allocation.
   void end_frame(const Vec3& force_n) noexcept override;
+  /// As end_frame(force_n), and records @p torque_nm [N·m] clamped to spec().max_torque_nm (NaN → 0;
+  /// 0 when the spec renders no torque). The orientation stays fixed. noexcept, no allocation.
+  void end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
+  /// Torque commanded in the last period after the clamp [N·m, device frame].
+  const Vec3& last_torque() const noexcept { return torque_; }
   /// The options' spec.
   DeviceSpec spec() const noexcept override { return options_.spec; }
   /// Hand force on the handle during the last period [N] (what the user pushes with).
@@ -110,14 +145,16 @@ class SimulatedDevice final : public HapticDevice {
   SimulatedDeviceOptions options_;
   std::span<const Vec3> targets_;
   std::span<const uint32_t> buttons_;
-  Vec3 x_, v_, x_prev_, hand_force_ = Vec3::Zero();
+  Vec3 x_, v_, x_prev_, hand_force_ = Vec3::Zero(), torque_ = Vec3::Zero();
   int64_t tick_ = 0;
 };
 
 /// Plays back a CSV trajectory written by `hdm sculpt --forces` (header
 /// `time_s,device_x_m,device_y_m,device_z_m,...`): one row per tick; forces are ignored. An
 /// optional `tool_on` column (0 or 1) is the tool button (bit 0 of DeviceState::buttons), so a
-/// replayed sculpting session strokes where the recorded one did.
+/// replayed sculpting session strokes where the recorded one did. The orientation reads identity
+/// and the angular velocity zero (recordings hold positions only); a commanded torque is kept
+/// (last_torque()) and not played anywhere.
 class ReplayDevice final : public HapticDevice {
  public:
   /// @brief Loads @p csv_path (all rows read here, so frames never do I/O).
@@ -139,6 +176,8 @@ class ReplayDevice final : public HapticDevice {
   bool begin_frame(DeviceState& state) noexcept override;
   /// Records @p force_n [N] (see last_force()) and advances to the next row. noexcept, O(1).
   void end_frame(const Vec3& force_n) noexcept override;
+  /// Records @p force_n [N] and @p torque_nm [N·m] (see last_torque()) and advances. noexcept, O(1).
+  void end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
   /// The spec given at construction.
   DeviceSpec spec() const noexcept override { return spec_; }
   /// Number of recorded ticks.
@@ -147,6 +186,8 @@ class ReplayDevice final : public HapticDevice {
   double rate_hz() const noexcept;
   /// Last commanded force [N].
   const Vec3& last_force() const noexcept { return last_force_; }
+  /// Last commanded torque [N·m] (zero after a force-only end_frame).
+  const Vec3& last_torque() const noexcept { return last_torque_; }
 
  private:
   ReplayDevice() = default;
@@ -158,6 +199,7 @@ class ReplayDevice final : public HapticDevice {
   std::vector<uint32_t> buttons_;  // empty without a tool_on column
   size_t next_ = 0;
   Vec3 last_force_ = Vec3::Zero();
+  Vec3 last_torque_ = Vec3::Zero();
 };
 
 }  // namespace hdm
