@@ -29,19 +29,22 @@ import struct
 import sys
 import time
 
-MAGIC, VERSION, DEVICE, FORCE, HELLO, SIZE = 0x424D4448, 2, 1, 2, 3, 96  # docs/bridge.md
-DEVICE_FMT = "<IHHIIQQd3d3dII"  # magic version kind size flags sequence session time position velocity buttons 0
-FORCE_FMT = "<IHHIIQQQ3d3dd"  # magic version kind size flags sequence session tick force contact gain
-HELLO_FMT = "<IHHIIQQI56sI"  # magic version kind size flags sequence(0) session secret_bytes secret reserved
+MAGIC, VERSION, DEVICE, FORCE, HELLO, SIZE = 0x424D4448, 3, 1, 2, 3, 152  # docs/bridge.md
+# magic version kind size flags sequence session time position velocity buttons 0 orientation(w x y z) angular
+DEVICE_FMT = "<IHHIIQQd3d3dII4d3d"
+FORCE_FMT = "<IHHIIQQQ3d3dd3d32x"  # magic version kind size flags sequence session tick force contact gain torque
+HELLO_FMT = "<IHHIIQQI56sI56x"  # magic version kind size flags sequence(0) session secret_bytes secret reserved
 DEVICE_END, FORCE_CONTACT, FORCE_WATCHDOG = 1, 1, 2
-REGION_MAGIC, DEVICE_BLOCK, FORCE_BLOCK = 0x524D4448, 64, 192
+REGION_MAGIC, DEVICE_BLOCK, FORCE_BLOCK = 0x524D4448, 64, 256
 MIN_SECRET, MAX_SECRET = 16, 56
 assert struct.calcsize(DEVICE_FMT) == SIZE and struct.calcsize(FORCE_FMT) == SIZE and struct.calcsize(HELLO_FMT) == SIZE
 SESSION = 0  # this run's session id, drawn in main()
 
 
-def device_packet(seq, t, pos, vel, buttons, flags=0):
-    return struct.pack(DEVICE_FMT, MAGIC, VERSION, DEVICE, SIZE, flags, seq, SESSION, t, *pos, *vel, buttons, 0)
+def device_packet(seq, t, pos, vel, buttons, flags=0, orientation=(1.0, 0.0, 0.0, 0.0), angular=(0.0, 0.0, 0.0)):
+    return struct.pack(
+        DEVICE_FMT, MAGIC, VERSION, DEVICE, SIZE, flags, seq, SESSION, t, *pos, *vel, buttons, 0, *orientation, *angular
+    )
 
 
 def hello_packet(secret):
@@ -55,9 +58,17 @@ def decode_force(data):
     f = struct.unpack(FORCE_FMT, data)
     if f[0] != MAGIC or f[1] != VERSION or f[2] != FORCE or f[3] != SIZE or f[6] != SESSION:
         return None
-    if not all(math.isfinite(x) for x in f[8:15]):
+    if not all(math.isfinite(x) for x in f[8:18]):
         return None
-    return {"flags": f[4], "sequence": f[5], "tick": f[7], "force": f[8:11], "contact": f[11:14], "gain": f[14]}
+    return {
+        "flags": f[4],
+        "sequence": f[5],
+        "tick": f[7],
+        "force": f[8:11],
+        "contact": f[11:14],
+        "gain": f[14],
+        "torque": f[15:18],
+    }
 
 
 def read_secret(path, wait_s=5.0):

@@ -19,6 +19,7 @@ Verdict Admission::admit(const std::byte* raw, size_t size, uint64_t sender, Dev
     if (!secret_matches(hello, secret_)) return Verdict::BadSecret;
     if (session_ != 0 && hello.session == session_ && sender == sender_) return Verdict::HelloAgain;
     session_ = hello.session;
+    version_ = hello.version;
     sender_ = sender;
     last_sequence_ = 0;
     return Verdict::Hello;

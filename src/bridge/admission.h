@@ -34,10 +34,13 @@ class Admission {
                 DecodeStatus& status) noexcept;
   /// The current session's id (0: none yet).
   uint64_t session() const noexcept { return session_; }
+  /// The wire format version of the current session's hello (what its answers are encoded in).
+  uint16_t version() const noexcept { return version_; }
 
  private:
   std::string secret_;
   uint64_t session_ = 0, last_sequence_ = 0, sender_ = 0;
+  uint16_t version_ = kVersion;
 };
 
 }  // namespace hdm::bridge

@@ -165,11 +165,14 @@ bool BridgeDevice::poll(int64_t now) noexcept {
   DevicePacket p;
   DecodeStatus s = DecodeStatus::Ok;
   // UDP's receiver wrote only admitted packets; shared memory is judged here.
-  const Verdict v = link_->admitted ? (s = decode(raw, kPacketBytes, p)) == DecodeStatus::Ok ? Verdict::Device
-                                                                                              : Verdict::Refused
-                                    : link_->admission.admit(raw, kPacketBytes, 0, p, s);
+  // A block holds kPacketBytes; the packet's header says how many are its own (version 2: fewer).
+  const size_t size = declared_bytes(raw, kPacketBytes);
+  const Verdict v = link_->admitted
+                        ? (s = decode(raw, size, p)) == DecodeStatus::Ok ? Verdict::Device : Verdict::Refused
+                        : link_->admission.admit(raw, size, 0, p, s);
   if (v == Verdict::Hello || v == Verdict::HelloAgain) {  // answer at once: the driver waits for its first force
     session_ = link_->admission.session();
+    version_ = link_->admission.version();
     have_ = false;
     ForcePacket welcome;
     welcome.flags = kForceWatchdog;
@@ -182,6 +185,7 @@ bool BridgeDevice::poll(int64_t now) noexcept {
   }
   link_->counters.accepted.fetch_add(1, std::memory_order_relaxed);
   session_ = p.session;
+  version_ = p.version;
   last_ = p;
   have_ = true;
   last_new_ns_ = now;
@@ -208,18 +212,27 @@ bool BridgeDevice::begin_frame(DeviceState& state) noexcept {
   state.time_s = last_.time_s;
   state.velocity = stale ? Vec3::Zero() : last_.velocity;
   state.buttons = stale ? 0u : last_.buttons;  // released: no stroke continues on a stale position
+  const double qn = last_.orientation.norm();
+  state.orientation = qn > 0 ? Eigen::Quaterniond(last_.orientation.coeffs() / qn) : Eigen::Quaterniond::Identity();
+  state.angular_velocity = stale ? Vec3::Zero() : last_.angular_velocity;
   return true;
 }
 
-void BridgeDevice::end_frame(const Vec3& force_n) noexcept {
+void BridgeDevice::end_frame(const Vec3& force_n) noexcept { end_frame(force_n, Vec3::Zero()); }
+
+void BridgeDevice::end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept {
   Vec3 f = force_n.allFinite() ? Vec3(force_n * gain_) : Vec3::Zero();
   const double n = f.norm(), cap = options_.spec.max_force_n;
   if (n > cap) f *= cap / n;
+  Vec3 t = torque_nm.allFinite() ? Vec3(torque_nm * gain_) : Vec3::Zero();
+  const double tn = t.norm(), tcap = std::max(0.0, options_.spec.max_torque_nm);
+  if (tn > tcap) t *= tcap / tn;
   ForcePacket p;
   p.flags = (contact_ ? kForceContact : 0u) | (stale_ ? kForceWatchdog : 0u) |
             (!stale_ && (last_.buttons & 1u) ? kForceToolOn : 0u);
   p.sequence = have_ ? last_.sequence : 0;
   p.force = f;
+  p.torque = t;
   p.contact_m = contact_ ? contact_m_ : (last_.position.allFinite() ? last_.position : Vec3::Zero());
   p.gain = gain_;
   post(p);
@@ -227,7 +240,8 @@ void BridgeDevice::end_frame(const Vec3& force_n) noexcept {
 
 void BridgeDevice::post(ForcePacket& p) noexcept {
   p.session = session_;
-  alignas(8) std::byte raw[kPacketBytes];
+  p.version = version_;
+  alignas(8) std::byte raw[kPacketBytes] = {};
   p.tick = tick_++;
   encode(p, raw);
   seqlock_write(link_->force_block, raw);

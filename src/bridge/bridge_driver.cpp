@@ -38,8 +38,8 @@ struct UdpDriver final : BridgeDriver {
     }
   }
   ~UdpDriver() override { ::close(fd); }
-  bool send_bytes(const std::byte* raw) noexcept override {
-    return ::send(fd, raw, kPacketBytes, MSG_DONTWAIT) == ssize_t(kPacketBytes);
+  bool send_bytes(const std::byte* raw, size_t size) noexcept override {
+    return ::send(fd, raw, size, MSG_DONTWAIT) == ssize_t(size);
   }
   bool read_force(ForcePacket& out, uint64_t session) noexcept override {
     alignas(8) std::byte raw[256];
@@ -91,7 +91,7 @@ struct ShmDriver final : BridgeDriver {
     force_block = reinterpret_cast<uint64_t*>(base + kRegionForceBlock);
   }
   ~ShmDriver() override { ::munmap(base, 4096); }
-  bool send_bytes(const std::byte* raw) noexcept override {
+  bool send_bytes(const std::byte* raw, size_t) noexcept override {
     seqlock_write(device_block, raw);
     return true;
   }
@@ -103,7 +103,7 @@ struct ShmDriver final : BridgeDriver {
     if (!seqlock_read(force_block, raw, version)) return false;
     seen = version;
     ForcePacket f;
-    if (decode(raw, kPacketBytes, f) != DecodeStatus::Ok || f.session != session) return false;
+    if (decode(raw, declared_bytes(raw, kPacketBytes), f) != DecodeStatus::Ok || f.session != session) return false;
     out = f;
     return true;
   }
@@ -116,7 +116,7 @@ struct ShmDriver final : BridgeDriver {
 }  // namespace
 
 std::unique_ptr<BridgeDriver> BridgeDriver::connect(const std::string& endpoint, const std::string& secret,
-                                                   double wait_s) {
+                                                    double wait_s) {
   if (secret.size() < kMinSecretBytes || secret.size() > kMaxSecretBytes)
     throw InvalidInput("bridge driver " + endpoint + ": the shared secret has " + std::to_string(secret.size()) +
                        " bytes; it needs " + std::to_string(kMinSecretBytes) + " to " +
@@ -146,11 +146,11 @@ void BridgeDriver::hello(const std::string& endpoint, const std::string& secret,
   h.secret_bytes = static_cast<uint32_t>(secret.size());
   std::memcpy(h.secret.data(), secret.data(), secret.size());
   alignas(8) std::byte raw[kPacketBytes];
-  encode(h, raw);
+  const size_t bytes = encode(h, raw);
   const auto deadline = Clock::now() + std::chrono::duration<double>(wait_s);
   ForcePacket f;
   do {
-    send_bytes(raw);
+    send_bytes(raw, bytes);
     if (wait_force(f, 0, 0.005)) return;  // a force of this session: admitted
   } while (Clock::now() < deadline);
   throw IoError("bridge driver " + endpoint + ": hdm did not answer the hello within " + std::to_string(wait_s) +
@@ -160,14 +160,12 @@ void BridgeDriver::hello(const std::string& endpoint, const std::string& secret,
 bool BridgeDriver::send(const DevicePacket& packet) noexcept {
   DevicePacket p = packet;
   p.session = session_;
-  alignas(8) std::byte raw[kPacketBytes];
-  encode(p, raw);
-  return send_bytes(raw);
+  alignas(8) std::byte raw[kPacketBytes] = {};
+  const size_t bytes = encode(p, raw);
+  return send_bytes(raw, bytes);
 }
 
-bool BridgeDriver::poll_force(ForcePacket& out) noexcept {
-  return session_ != 0 && read_force(out, session_);
-}
+bool BridgeDriver::poll_force(ForcePacket& out) noexcept { return session_ != 0 && read_force(out, session_); }
 
 bool BridgeDriver::wait_force(ForcePacket& out, uint64_t sequence, double timeout_s) noexcept {
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);

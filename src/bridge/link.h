@@ -25,9 +25,10 @@ static_assert(kPacketBytes % 8 == 0);
 /// Shared-memory region layout (docs/bridge.md): header, then the device block and the force block
 /// on cache lines of their own.
 inline constexpr uint32_t kRegionMagic = 0x524D4448u;  // "HDMR"
-inline constexpr uint16_t kRegionVersion = 2;
-inline constexpr size_t kRegionDeviceBlock = 64, kRegionForceBlock = 192, kRegionBytes = 320;
-static_assert(kRegionDeviceBlock + 8 + kPacketBytes <= kRegionForceBlock && kRegionForceBlock + 8 + kPacketBytes <= kRegionBytes);
+inline constexpr uint16_t kRegionVersion = 3;
+inline constexpr size_t kRegionDeviceBlock = 64, kRegionForceBlock = 256, kRegionBytes = 448;
+static_assert(kRegionDeviceBlock + 8 + kPacketBytes <= kRegionForceBlock &&
+              kRegionForceBlock + 8 + kPacketBytes <= kRegionBytes);
 
 /// Writer side of a block (one writer thread or process). noexcept, O(kWords).
 void seqlock_write(uint64_t* block, const std::byte* packet) noexcept;

@@ -31,7 +31,7 @@ long futex(std::atomic<uint32_t>* word, int op, uint32_t value, const timespec* 
 struct UdpLink final : BridgeDevice::Link {
   UdpLink(int requested_port, const std::string& secret) : Link(secret) {
     device_block = blocks;
-    force_block = blocks + 16;
+    force_block = blocks + kForceWord;
     admitted = true;
     fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd < 0) throw IoError(std::string("bridge udp: cannot create a socket: ") + std::strerror(errno));
@@ -94,9 +94,10 @@ struct UdpLink final : BridgeDevice::Link {
     f.session = session;
     f.flags = kForceWatchdog;
     f.gain = 0;
+    f.version = admission.version();  // answered in the version the driver speaks
     alignas(8) std::byte raw[kPacketBytes];
-    encode(f, raw);
-    if (::sendto(fd, raw, kPacketBytes, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&to), sizeof to) < 0)
+    const size_t bytes = encode(f, raw);
+    if (::sendto(fd, raw, bytes, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&to), sizeof to) < 0)
       counters.send_errors.fetch_add(1, std::memory_order_relaxed);
   }
 
@@ -124,12 +125,15 @@ struct UdpLink final : BridgeDevice::Link {
       a.sin_family = AF_INET;
       a.sin_addr.s_addr = static_cast<uint32_t>(to >> 16);
       a.sin_port = static_cast<uint16_t>(to & 0xffff);
-      if (::sendto(fd, raw, kPacketBytes, MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&a), sizeof a) < 0)
+      const size_t bytes = declared_bytes(raw, kPacketBytes);
+      if (::sendto(fd, raw, bytes, MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&a), sizeof a) < 0)
         counters.send_errors.fetch_add(1, std::memory_order_relaxed);
     }
   }
 
-  alignas(64) uint64_t blocks[32] = {};  // device block at 0, force block at 16 (words)
+  // Device block at word 0, force block on the next cache line after it (words: 8 per line).
+  static constexpr size_t kForceWord = (1 + kWords + 7) / 8 * 8;
+  alignas(64) uint64_t blocks[2 * kForceWord] = {};
   int fd = -1;
   std::atomic<bool> stop{false};
   std::atomic<uint32_t> posted{0};

@@ -82,23 +82,25 @@ TEST(BridgeWireFormat, EncodeMatchesTheDocumentedLayout) {
   p.velocity = Vec3(0.01, 0.02, 0.03);
   p.buttons = 1;
   p.session = kSession;
+  p.version = 2;  // the table's version 2 prefix; version 3 appends to it (bridge_pose_test.cpp)
   std::byte out[kPacketBytes];
-  encode(p, out);
+  EXPECT_EQ(encode(p, out), kPacketBytesV2);
   const std::vector<std::byte> expected = raw_device(42, p.position, 1);
-  EXPECT_EQ(0, std::memcmp(out, expected.data(), kPacketBytes));
+  EXPECT_EQ(0, std::memcmp(out, expected.data(), kPacketBytesV2));
   DevicePacket back;
   ASSERT_EQ(DecodeStatus::Ok, decode(expected.data(), expected.size(), back));
   EXPECT_EQ(back.position, p.position);
   EXPECT_EQ(back.sequence, 42u);
   EXPECT_EQ(back.session, kSession);
   HelloPacket h;
+  h.version = 2;
   h.session = kSession;
   h.secret_bytes = static_cast<uint32_t>(kSecret.size());
   std::memcpy(h.secret.data(), kSecret.data(), kSecret.size());
   encode(h, out);
-  EXPECT_EQ(0, std::memcmp(out, raw_hello(kSession).data(), kPacketBytes));
+  EXPECT_EQ(0, std::memcmp(out, raw_hello(kSession).data(), kPacketBytesV2));
   HelloPacket hb;
-  ASSERT_EQ(DecodeStatus::Ok, decode(out, kPacketBytes, hb));
+  ASSERT_EQ(DecodeStatus::Ok, decode(out, kPacketBytesV2, hb));
   EXPECT_TRUE(secret_matches(hb, kSecret));
   EXPECT_FALSE(secret_matches(hb, kSecret.substr(1)));
 
@@ -109,6 +111,7 @@ TEST(BridgeWireFormat, EncodeMatchesTheDocumentedLayout) {
   f.force = Vec3(1, 2, 3);
   f.contact_m = Vec3(4, 5, 6);
   f.gain = 0.5;
+  f.version = 2;
   encode(f, out);
   EXPECT_EQ(0, std::memcmp(out, "HDMB", 4));
   uint16_t kind;
@@ -120,9 +123,9 @@ TEST(BridgeWireFormat, EncodeMatchesTheDocumentedLayout) {
   EXPECT_EQ(fz, 3.0);
   EXPECT_EQ(gain, 0.5);
   ForcePacket fb;
-  ASSERT_EQ(DecodeStatus::Ok, decode(out, kPacketBytes, fb));
+  ASSERT_EQ(DecodeStatus::Ok, decode(out, kPacketBytesV2, fb));
   EXPECT_EQ(fb.contact_m, f.contact_m);
-  EXPECT_EQ(DecodeStatus::BadKind, decode(out, kPacketBytes, back));  // a force packet is not a device packet
+  EXPECT_EQ(DecodeStatus::BadKind, decode(out, kPacketBytesV2, back));  // a force packet is not a device packet
 }
 
 // Bad packets, each one kind of fault, after a good packet (sequence 5).
@@ -201,7 +204,7 @@ TEST(BridgeDevice, UdpDropsAndCountsBadPackets) {
 }
 
 // A driver's view of the shared-memory region, from the documented layout (device block at byte 64:
-// its sequence word, then the packet; force block at 192).
+// its sequence word, then the packet; force block at 256).
 struct ShmDriver {
   explicit ShmDriver(const std::string& name) {
     const int fd = ::shm_open(("/" + name).c_str(), O_RDWR, 0);
@@ -214,12 +217,12 @@ struct ShmDriver {
     uint64_t c;
     std::memcpy(&c, base + 64, 8);
     c += 2;
-    std::memcpy(base + 72, p.data(), std::min<size_t>(p.size(), 96));
+    std::memcpy(base + 72, p.data(), std::min<size_t>(p.size(), kPacketBytes));
     std::memcpy(base + 64, &c, 8);
   }
   ForcePacket force() const {
     ForcePacket f;
-    EXPECT_EQ(DecodeStatus::Ok, decode(base + 200, 96, f));
+    EXPECT_EQ(DecodeStatus::Ok, decode(base + 264, declared_bytes(base + 264, kPacketBytes), f));
     return f;
   }
   std::byte* base;

@@ -77,7 +77,9 @@ class BridgeDevice final : public HapticDevice {
   /// @brief The newest device packet of the driver's session (checked: bad, foreign and
   /// out-of-window ones are counted and skipped; shared memory: a hello is answered here).
   /// Before the first packet the position is NaN (zero force, the proxy waits); after watchdog_s
-  /// without a new one the last position is held, the velocity and buttons read 0.
+  /// without a new one the last position and orientation are held, the velocity, angular velocity
+  /// and buttons read 0. The orientation is the packet's normalised (identity for a version 2
+  /// driver or a zero quaternion).
   /// @return false once the driver sent a packet with kDeviceEnd.
   /// @note noexcept; reads the seqlocked block and the steady clock (vDSO): no system call, no wait.
   bool begin_frame(DeviceState& state) noexcept override;
@@ -86,7 +88,11 @@ class BridgeDevice final : public HapticDevice {
   /// @note noexcept, O(1). Shared memory: a seqlocked write. UDP: the same, then a futex wake of
   /// the sender thread (a system call that never waits; the send itself is the sender's).
   void end_frame(const Vec3& force_n) noexcept override;
-  using HapticDevice::end_frame;  // force and torque: the torque is dropped
+  /// @brief As end_frame(force_n), with @p torque_nm [N·m, device frame, about the tip] times the
+  /// watchdog gain, clamped to spec().max_torque_nm (0, the default: none sent; NaN → 0). A
+  /// version 2 driver's force packets carry no torque.
+  /// @note noexcept, O(1).
+  void end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
   /// The options' spec.
   DeviceSpec spec() const noexcept override { return options_.spec; }
 
@@ -130,6 +136,7 @@ class BridgeDevice final : public HapticDevice {
   uint64_t seen_version_ = 0;
   int64_t last_new_ns_ = 0, last_frame_ns_ = 0;
   uint64_t tick_ = 0, session_ = 0;
+  uint16_t version_ = kVersion;  // of the session's last hello or device packet: answers are encoded in it
   double gain_ = 0;
   bool have_ = false, stale_ = true, ended_ = false, contact_ = false;
   Vec3 contact_m_ = Vec3::Zero();

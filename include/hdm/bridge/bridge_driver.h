@@ -25,7 +25,8 @@ class BridgeDriver {
   static std::unique_ptr<BridgeDriver> connect(const std::string& endpoint, const std::string& secret,
                                                double wait_s = 5.0);
   virtual ~BridgeDriver() = default;
-  /// @brief Sends @p packet in this driver's session (its session field is set here; UDP: a
+  /// @brief Sends @p packet in this driver's session (its session field is set here; encoded in
+  /// packet.version, kVersion by default: pose with orientation and angular velocity; UDP: a
   /// non-blocking send; shm: a seqlocked write). noexcept, O(1); false when the UDP send failed.
   bool send(const DevicePacket& packet) noexcept;
   /// @brief The newest valid force packet of this driver's session that came since the last call,
@@ -41,8 +42,9 @@ class BridgeDriver {
  protected:
   /// Waits until a force may have come or @p timeout_s passed (UDP: ppoll; shm: returns at once).
   virtual void idle(double timeout_s) noexcept = 0;
-  /// Sends kPacketBytes encoded bytes (UDP: a datagram; shm: the device block). noexcept.
-  virtual bool send_bytes(const std::byte* raw) noexcept = 0;
+  /// Sends an encoded packet of @p size bytes (UDP: a datagram of them; shm: the device block,
+  /// kPacketBytes bytes from @p raw). noexcept.
+  virtual bool send_bytes(const std::byte* raw, size_t size) noexcept = 0;
   /// The newest force packet of @p session since the last call. noexcept.
   virtual bool read_force(ForcePacket& out, uint64_t session) noexcept = 0;
 
