@@ -44,6 +44,10 @@ struct SculptSession::Impl {
       : options(o), model(std::move(m)), locator(model), ws(w), editor(model, o.editor), commands(o.command_capacity) {
     if (o.publish) snapshots = std::make_unique<SlabSnapshots>(model, o.snapshots);
     brush.radius = 0.01 * std::max(model.source_diagonal, 1e-12);
+    if (o.mode == RenderMode::RigidTool) {
+      if (options.tool.points.empty()) options.tool = burr_shell(brush.radius, o.tool_points);
+      tool_state = std::make_unique<RigidToolState>();
+    }
   }
   SessionOptions options;
   SlabModel model;
@@ -53,7 +57,9 @@ struct SculptSession::Impl {
   std::unique_ptr<SlabSnapshots> snapshots;
   CommandQueue commands;
   ProxyState proxy;
-  SphereProxyState ball;  // RenderMode::Sphere
+  SphereProxyState ball;                       // RenderMode::Sphere
+  std::unique_ptr<RigidToolState> tool_state;  // RenderMode::RigidTool
+  ToolWrench wrench;                           // RenderMode::RigidTool: the last tick's
   Brush brush;
   bool tool_on = false;
   bool publishing = false;
@@ -65,6 +71,7 @@ struct SculptSession::Impl {
 
   // The renderer's tick: the point proxy (or penalty), or the ball of the brush's radius.
   ProxyOutput render(const DeviceState& d) noexcept {
+    if (options.mode == RenderMode::RigidTool) return render_tool(d);
     if (options.mode != RenderMode::Sphere)
       return render_step(options.mode, model, locator, ws, d.position, d.velocity, options.proxy, proxy);
     SphereProxyParams p;
@@ -72,6 +79,20 @@ struct SculptSession::Impl {
     p.radius = options.ball_radius > 0 ? options.ball_radius : brush.radius;
     p.samples = options.ball_samples;
     return sphere_proxy_step(model, locator, ws, d.position, d.velocity, p, ball);
+  }
+
+  // The rigid tool's tick, its force as the proxy's output (no single contact point: slab -1).
+  ProxyOutput render_tool(const DeviceState& d) noexcept {
+    wrench = rigid_tool_step(model, locator, ws, options.tool, ToolPose{d.position, d.orientation},
+                             ToolTwist{d.velocity, d.angular_velocity}, options.rigid, *tool_state);
+    ProxyOutput out;
+    out.force = wrench.force;
+    out.normal_force = wrench.force.norm();
+    out.status = wrench.status == ForceStatus::Free       ? ProxyStatus::Free
+                 : wrench.status == ForceStatus::Clamped  ? ProxyStatus::Clamped
+                 : wrench.status == ForceStatus::BadInput ? ProxyStatus::BadInput
+                                                          : ProxyStatus::Sliding;
+    return out;
   }
 
   // Copies the dirty slabs (all of them, over as many ticks as needed, the editor paused so the
@@ -119,6 +140,13 @@ SculptSession::SculptSession(SlabModel model, const Workspace& ws, const Session
       options.ball_samples > kMaxBallSamples)
     throw InvalidInput("sculpt session: ball_radius must be finite and >= 0 and ball_samples in [6, " +
                        std::to_string(kMaxBallSamples) + "]");
+  const ToolShell& t = options.tool;
+  if (options.mode == RenderMode::RigidTool &&
+      (t.points.size() > size_t(kMaxToolPoints) || t.normals.size() != t.points.size() ||
+       (t.points.empty() && (options.tool_points < 16 || options.tool_points > kMaxToolPoints))))
+    throw InvalidInput("sculpt session: the rigid tool needs a shell of 1 to " + std::to_string(kMaxToolPoints) +
+                       " points with one normal each, or tool_points in [16, " + std::to_string(kMaxToolPoints) +
+                       "] for the default burr");
   impl_ = std::make_unique<Impl>(std::move(model), ws, options);
 }
 
@@ -145,12 +173,22 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     return r;
   }
   r.out = s.render(r.device);
-  r.ball_centre = s.ball.center;
   r.force = r.out.force * t.force_gain;
-  device.end_frame(r.force);  // the force first: edits never delay it
+  const bool tool = s.options.mode == RenderMode::RigidTool;
+  if (tool) {
+    r.ball_centre = s.tool_state->position;
+    r.tool_orientation = s.tool_state->orientation;
+    r.tool_contacts = s.wrench.contacts;
+    r.torque = s.wrench.torque * t.force_gain;
+    device.end_frame(r.force, r.torque);  // the wrench first: edits never delay it
+  } else {
+    r.ball_centre = s.ball.center;
+    device.end_frame(r.force);  // the force first: edits never delay it
+  }
   ++s.stats.ticks;
   const bool contact =
-      r.out.contact.in_shell() && r.out.status != ProxyStatus::Free && r.out.status != ProxyStatus::BadInput;
+      tool ? s.wrench.contacts > 0
+           : r.out.contact.in_shell() && r.out.status != ProxyStatus::Free && r.out.status != ProxyStatus::BadInput;
   s.stats.contact_ticks += contact;
 
   // The tool button makes strokes.
@@ -158,7 +196,7 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
   if (r.tool_on && !s.tool_on) s.editor.begin_stroke(s.brush);
   if (!r.tool_on && s.tool_on) s.editor.end_stroke();
   s.tool_on = r.tool_on;
-  if (r.tool_on && contact && t.tick % s.options.edit_every == 0) {
+  if (r.tool_on && contact && !tool && t.tick % s.options.edit_every == 0) {
     ToolSample ts;
     ts.contact = r.out.contact;
     ts.hip = s.ws.to_model(r.device.position);

@@ -254,6 +254,20 @@ void count_after(void* user, const ServoTick&, const SessionTick&) noexcept {
   auto& c = *static_cast<Count*>(user);
   c.inside += t_news - c.before;
 }
+
+// Runs the rig's path through run_session at 10 kHz back to back with a simulated hand of
+// options @p d; the allocations inside ticks are counted into @p c.
+ServoStats run_rig(SculptSession& session, const SessionRig& rig, SimulatedDeviceOptions d, Count& c) {
+  d.rate_hz = 10000;
+  SimulatedDevice device(d, rig.targets, rig.targets.front(), rig.buttons);
+  ServoOptions so;
+  so.rate_hz = 10000;
+  so.realtime = false;
+  so.ticks = static_cast<int64_t>(rig.targets.size());
+  const ServoStats st = run_session(session, device, so, SessionHooks{count_before, count_after, &c});
+  EXPECT_EQ(st.ticks, so.ticks);
+  return st;
+}
 }  // namespace
 
 TEST(Realtime, RunSessionTicksDoNotAllocate) {
@@ -264,18 +278,29 @@ TEST(Realtime, RunSessionTicksDoNotAllocate) {
   Brush carve;
   carve.radius = 8 * sphere().ws.scale / 1000;
   session.set_brush(carve);
-  SimulatedDeviceOptions d;
-  d.rate_hz = 10000;
-  SimulatedDevice device(d, rig.targets, rig.targets.front(), rig.buttons);
-  ServoOptions so;
-  so.rate_hz = 10000;
-  so.realtime = false;
-  so.ticks = static_cast<int64_t>(rig.targets.size());
   Count c;
-  const ServoStats st = run_session(session, device, so, SessionHooks{count_before, count_after, &c});
-  EXPECT_EQ(st.ticks, so.ticks);
+  run_rig(session, rig, {}, c);
   EXPECT_EQ(c.inside, 0);
   EXPECT_GT(session.stats().sweeps, 1000);
+}
+
+// RenderMode::RigidTool through run_session: the default burr on the same path, force and torque
+// sent to the device, no allocation inside a tick.
+TEST(Realtime, RigidToolSessionTicksDoNotAllocate) {
+  const SessionRig rig;
+  SessionOptions o;
+  o.mode = RenderMode::RigidTool;
+  SculptSession session(sphere().model, sphere().ws, o);
+  SimulatedDeviceOptions d;
+  d.spec.max_torque_nm = 0.2;
+  d.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vec3::UnitY()));
+  Count c;
+  const ServoStats st = run_rig(session, rig, d, c);
+  EXPECT_EQ(c.inside, 0);
+  EXPECT_GT(session.stats().contact_ticks, 5000) << "the run must exercise contact";
+  std::printf("rigid tool session tick (burr, %d points): median %.1f us, p99 %.1f us, %lld of %lld ticks in contact\n",
+              o.tool_points, st.compute_ns.median * 1e-3, st.compute_ns.p99 * 1e-3,
+              static_cast<long long>(session.stats().contact_ticks), static_cast<long long>(st.ticks));
 }
 
 TEST(Servo, EnvelopeRampsInAndOutAndTheWatchdogCutsForce) {

@@ -10,6 +10,7 @@
 #include "support/test_models.h"
 
 #include <hdm/analysis/edit_fidelity.h>
+#include <hdm/core/error.h>
 #include <hdm/edit/edit_tools.h>
 #include <hdm/session/sculpt_session.h>
 #include <hdm/slab/bake.h>
@@ -292,15 +293,69 @@ TEST(Session, TheBallThatCarvesIsTheBallFelt) {
     const EditFidelity f = measure_edit_fidelity(session.model(), exact, tools, 0.05, 0.004);
     // The other rule's boolean is 3 mm off: the bound tells the two apart.
     const EditFidelity other = measure_edit_fidelity(session.model(), exact, swept(!ball), 0.05, 0.004);
-    std::printf("%s: %lld samples changed; edited surface vs exact boolean: max %.3f%% / %.3f%% of the diagonal "
-                "(the other rule's: %.3f%% / %.3f%%)\n",
-                ball ? "ball" : "point", (long long)session.stats().changed, f.max_pct, f.max_back_pct,
-                other.max_pct, other.max_back_pct);
+    std::printf(
+        "%s: %lld samples changed; edited surface vs exact boolean: max %.3f%% / %.3f%% of the diagonal "
+        "(the other rule's: %.3f%% / %.3f%%)\n",
+        ball ? "ball" : "point", (long long)session.stats().changed, f.max_pct, f.max_back_pct, other.max_pct,
+        other.max_back_pct);
     EXPECT_GT(session.stats().changed, 10);
     EXPECT_LT(f.max_pct, 0.15);
     EXPECT_LT(f.max_back_pct, 0.15);
     EXPECT_GT(std::max(other.max_pct, other.max_back_pct), 0.15);
   }
+}
+
+// RenderMode::RigidTool: the default burr (head radius 1 % of the model's diagonal) pressed onto the
+// north pole by the simulated hand, 5 mm beyond the surface, then held. The force is upward on every
+// tick and balances the hand at the end; the god-object's head never passes the surface (no
+// pop-through); the torque the session sends is what the device receives.
+TEST(Session, RigidToolPressesOnTheSurfaceWithoutPoppingThrough) {
+  SessionOptions o;
+  o.mode = RenderMode::RigidTool;
+  o.publish = false;
+  SculptSession session(sphere().model, sphere().ws, o);
+  const double r = 0.01 * sphere().model.source_diagonal;  // head radius [model units]
+  const double r_m = r / sphere().ws.scale;
+  Script s;
+  s.move(Vec3(0, 0, 0.1 + r_m + 0.005), 0.01, false);
+  s.move(Vec3(0, 0, 0.1 + r_m - 0.005), 0.3, false);
+  s.move(Vec3(0, 0, 0.1 + r_m - 0.005), 0.5, false);
+  SimulatedDeviceOptions d;
+  d.spec.max_torque_nm = 0.2;
+  d.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Vec3::UnitX()));  // the shaft leans
+  SimulatedDevice device(d, s.target, s.target.front(), s.button);
+  ServoTick t;
+  int contact = 0;
+  double min_head = 1e9;
+  SessionTick last;
+  for (size_t k = 0; k < s.target.size(); ++k) {
+    t.tick = static_cast<int64_t>(k);
+    t.time_s = 1e-3 * double(k);
+    last = session.tick(device, t);
+    ASSERT_NE(last.out.status, ProxyStatus::BadInput) << k;
+    EXPECT_GE(last.force.z(), -1e-9) << "never pulled into the surface, tick " << k;
+    EXPECT_EQ(device.last_torque(), last.torque) << k;
+    contact += last.tool_contacts > 0;
+    min_head = std::min(min_head, last.ball_centre.norm() - r);  // the head's lowest point's radius
+  }
+  EXPECT_GT(contact, 400) << "the press must reach the surface";
+  EXPECT_GT(min_head, 1.0 - 0.2 * r) << "the head stayed on the surface (no pop-through)";
+  EXPECT_LT(min_head, 1.0 + 0.2 * r) << "and touched it";
+  // Held: the rendered force balances the hand's push (SimulatedDevice::hand_force).
+  EXPECT_GT(last.force.z(), 0.5);
+  EXPECT_NEAR(last.force.z(), -device.hand_force().z(), 0.05);
+  EXPECT_EQ(session.render_mode(), RenderMode::RigidTool);
+  EXPECT_EQ(session.stats().sweeps, 0) << "the rigid tool does not edit";
+}
+
+TEST(Session, RigidToolRefusesABadShell) {
+  SessionOptions o;
+  o.mode = RenderMode::RigidTool;
+  o.tool.points.assign(3, Vec3::Zero());  // no normals
+  EXPECT_THROW(SculptSession(sphere().model, sphere().ws, o), InvalidInput);
+  o.tool = {};
+  o.tool_points = 4;
+  EXPECT_THROW(SculptSession(sphere().model, sphere().ws, o), InvalidInput);
 }
 
 }  // namespace hdm

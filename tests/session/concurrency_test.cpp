@@ -348,17 +348,17 @@ static void studio_servo_and_render_threads(RenderMode mode) {
     EXPECT_GT(f.sweeps, 0) << "the strokes the mouse device made edited nothing";
   }
   EXPECT_EQ(backwards, 0) << "the tool state went back in time";
-  if (mode == RenderMode::Sphere)
-    EXPECT_GT(ball_ticks, 0) << "the tool was never felt as a ball";
-  else
-    EXPECT_EQ(ball_ticks, 0) << "a point proxy's tool was drawn as a ball";
+  if (mode == RenderMode::Sphere) EXPECT_GT(ball_ticks, 0) << "the tool was never felt as a ball";
+  else EXPECT_EQ(ball_ticks, 0) << "a point proxy's tool was drawn as a ball";
   EXPECT_EQ(torn, 0);
   EXPECT_GT(read_epochs, 0) << "nothing was published";
   EXPECT_GT(session.stats().sweeps, 0);
 }
 
 TEST(Concurrency, StudioServoThreadAndRenderThread) { studio_servo_and_render_threads(RenderMode::Proxy); }
-TEST(Concurrency, StudioServoThreadWithTheBallAndRenderThread) { studio_servo_and_render_threads(RenderMode::Sphere); }
+TEST(Concurrency, StudioServoThreadWithTheBallAndRenderThread) {
+  studio_servo_and_render_threads(RenderMode::Sphere);
+}
 
 namespace {
 

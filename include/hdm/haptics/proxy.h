@@ -18,6 +18,9 @@ enum class RenderMode : uint8_t {
   Proxy,    ///< god-object on the displaced surface (default)
   Penalty,  ///< the paper's memoryless SCP = HIP + n·depth (paper §3.4), for comparison
   Sphere,   ///< a ball of the tool's radius held outside the surface (sphere_proxy_step(), sphere_proxy.h)
+  /// A rigid 6-DOF tool (a point shell) held outside the surface, force and torque
+  /// (rigid_tool_step(), rigid_tool.h); hdm::SculptSession runs it. Not a name parse_render_mode() reads.
+  RigidTool,
 };
 
 /// Parameters of the proxy, SI at the device unless stated. Defaults suit a desktop device
@@ -132,8 +135,9 @@ ProxyOutput penalty_step(const SlabModel& model, const SlabLocator& locator, con
                          ProxyState& state) noexcept;
 
 /// @brief Dispatches the point renderers: proxy_step() or penalty_step().
-/// @return their output; BadInput (zero force, state unchanged) for RenderMode::Sphere, whose ball
-///         carries its own state (sphere_proxy_step(); hdm::SculptSession runs either).
+/// @return their output; BadInput (zero force, state unchanged) for RenderMode::Sphere and
+///         RenderMode::RigidTool, which carry their own state (sphere_proxy_step(),
+///         rigid_tool_step(); hdm::SculptSession runs any).
 /// @note noexcept, real-time safe.
 inline ProxyOutput render_step(RenderMode mode, const SlabModel& model, const SlabLocator& locator, const Workspace& ws,
                                const Vec3& hip_device, const Vec3& velocity, const ProxyParams& params,

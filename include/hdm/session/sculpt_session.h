@@ -10,6 +10,7 @@
 #include <hdm/edit/stroke_editor.h>
 #include <hdm/haptics/device.h>
 #include <hdm/haptics/proxy.h>
+#include <hdm/haptics/rigid_tool.h>
 #include <hdm/haptics/servo_loop.h>
 #include <hdm/haptics/sphere_proxy.h>
 #include <hdm/slab/slab_snapshots.h>
@@ -22,12 +23,23 @@ namespace hdm {
 
 /// Settings of a SculptSession.
 struct SessionOptions {
-  RenderMode mode = RenderMode::Proxy;  ///< force model: a point (Proxy, Penalty) or the tool's ball (Sphere)
-  ProxyParams proxy;                    ///< proxy and force parameters (SI at the device)
+  /// Force model: a point (Proxy, Penalty), the tool's ball (Sphere) or a rigid tool with torque
+  /// (RigidTool: renders force and torque; its contacts feed no strokes, so it does not edit).
+  RenderMode mode = RenderMode::Proxy;
+  ProxyParams proxy;  ///< proxy and force parameters (SI at the device)
   /// RenderMode::Sphere: the felt ball's radius [model units]; 0 (default): the brush's radius, so
   /// the ball the user feels is the ball that carves, adds, smooths or paints.
   double ball_radius = 0;
   int ball_samples = 32;  ///< RenderMode::Sphere: points on the ball queried per tick (SphereProxyParams::samples)
+  /// RenderMode::RigidTool: the tool's point shell [model units, tool frame, tip point at the
+  /// origin], #P in [1, kMaxToolPoints]; empty (default): burr_shell() of head radius 1 % of the
+  /// model's source diagonal with `tool_points` points.
+  ToolShell tool;
+  int tool_points =
+      1000;  ///< RenderMode::RigidTool without a `tool`: points of the default burr, in [16, kMaxToolPoints]
+  /// RenderMode::RigidTool: couplings, damping, force and torque clamps, contact band (SI at the
+  /// device, rigid_tool.h); `proxy` is not used by the rigid tool.
+  RigidToolParams rigid;
   /// Time a tick may take with its edit and publication work [s], counted from the tick's start:
   /// after the force is sent, edits run until then (the rest carries over to the next ticks), and for
   /// at least a fifth of it, so a tick lasts about this, or the proxy step plus a fifth of it.
@@ -59,7 +71,14 @@ struct SessionTick {
   DeviceState device;         ///< the device reading of the tick (device frame)
   Vec3 force = Vec3::Zero();  ///< force sent [N], after the envelope's gain
   ProxyOutput out;            ///< the renderer's output (contact, forces, friction)
-  Vec3 ball_centre = Vec3::Zero();  ///< RenderMode::Sphere: the ball's centre (god-object) [model units]
+  /// RenderMode::Sphere: the ball's centre (god-object); RenderMode::RigidTool: the god-object's tip
+  /// point [model units, model frame].
+  Vec3 ball_centre = Vec3::Zero();
+  Vec3 torque =
+      Vec3::Zero();  ///< RenderMode::RigidTool: torque sent [N·m, device frame, about the tip], after the gain
+  /// RenderMode::RigidTool: the god-object's orientation (tool frame → model frame, unit).
+  Eigen::Quaterniond tool_orientation = Eigen::Quaterniond::Identity();
+  int32_t tool_contacts = 0;  ///< RenderMode::RigidTool: shell points pushing the god-object
   bool ended = false;         ///< the device had nothing more (begin_frame returned false)
   bool tool_on = false;       ///< the tool button is held
   int32_t sweeps = 0;         ///< sweeps finished in this tick
@@ -93,9 +112,12 @@ class SculptSession {
   /// @param model    slab model with derived data (moved in).
   /// @param ws       device ↔ model mapping.
   /// @param options  edit budget, undo memory, snapshots, command queue.
-  /// @throws InvalidInput on a model without derived data or bad options.
+  /// @throws InvalidInput on a model without derived data or bad options (RenderMode::RigidTool: a
+  ///         tool shell with #P outside [1, kMaxToolPoints] or normals not matching its points, or
+  ///         tool_points outside [16, kMaxToolPoints] when no shell is given).
   /// @note Allocates everything the ticks need: editor buffers (~60 B per sample, ~30 per texel,
-  ///       plus the undo cap), snapshot versions (see SlabSnapshots) and the locator.
+  ///       plus the undo cap), snapshot versions (see SlabSnapshots), the locator and, for
+  ///       RenderMode::RigidTool, the tool's shell and state (RigidToolState, about 200 KB).
   SculptSession(SlabModel model, const Workspace& ws, const SessionOptions& options = {});
   ~SculptSession();
   SculptSession(const SculptSession&) = delete;
@@ -103,7 +125,9 @@ class SculptSession {
 
   /// @brief One servo tick: commands, device reading, force, device command (first, so edits
   /// never delay the force), stroke bookkeeping from the tool button, then edits and publication
-  /// within SessionOptions::edit_budget_s.
+  /// within SessionOptions::edit_budget_s. RenderMode::RigidTool reads the handle's pose
+  /// (position, orientation, velocities) and commands force and torque
+  /// (HapticDevice::end_frame(force, torque)); the other modes command the force alone.
   /// @param device  the haptic device, read and commanded once.
   /// @param tick    from the servo loop (its force_gain scales the force).
   /// @note noexcept; no allocation, no lock, no I/O; servo thread only.
