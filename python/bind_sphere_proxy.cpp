@@ -15,14 +15,6 @@
 namespace hdm::python {
 namespace {
 
-py::array_t<double> rows(const std::vector<Vec3>& v) {
-  auto a = rows_of_3(py::ssize_t(v.size()));
-  double* d = a.mutable_data();
-  for (size_t i = 0; i < v.size(); ++i)
-    for (int k = 0; k < 3; ++k) d[3 * i + k] = v[i][k];
-  return a;
-}
-
 py::dict sphere_trajectory(Model& m, const Points& trajectory, SphereProxyState& state,
                            const std::optional<Workspace>& ws_in, const SphereProxyParams& params, double rate_hz) {
   require_rows_of_3(trajectory, "trajectory");

@@ -330,6 +330,7 @@ PYBIND11_MODULE(hdm, mod) {
           "cannot read, with hdm's message.");
   bind_haptics(mod);
   bind_sphere_proxy(mod);
+  bind_rigid_tool(mod);
   bind_edit(mod);
   bind_feel(mod);
 }

@@ -16,6 +16,7 @@
 #include <mutex>
 #include <shared_mutex>
 #include <string>
+#include <vector>
 
 namespace hdm::python {
 
@@ -63,8 +64,18 @@ Vec3 vec3_from(const py::handle& h, const char* what);
 /// An (N, 3) float64 array.
 inline py::array_t<double> rows_of_3(py::ssize_t n) { return py::array_t<double>({n, py::ssize_t(3)}); }
 
+/// @brief @p v as an (N, 3) float64 array (a copy).
+inline py::array_t<double> rows(const std::vector<Vec3>& v) {
+  auto a = rows_of_3(py::ssize_t(v.size()));
+  double* d = a.mutable_data();
+  for (size_t i = 0; i < v.size(); ++i)
+    for (int k = 0; k < 3; ++k) d[3 * i + k] = v[i][k];
+  return a;
+}
+
 void bind_haptics(py::module_& m);
 void bind_sphere_proxy(py::module_& m);
+void bind_rigid_tool(py::module_& m);
 void bind_edit(py::module_& m);
 void bind_feel(py::module_& m);
 
