@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // libFuzzer target for the device bridge's packet parser and admission: the input is decoded as
-// every packet kind, then cut into kPacketBytes packets fed to one Admission (hello, session,
+// every packet kind (versions 2 and 3), then cut into kPacketBytes packets fed to one Admission (hello, session,
 // sequence window) as a receiver would. Traps when a packet is applied that the wire format or the
 // admission rules (docs/bridge.md) should have refused.
 #include <hdm/bridge/wire_format.h>
@@ -24,23 +24,26 @@ void decode_each(const std::byte* in, size_t size) {
   alignas(8) std::byte out[kPacketBytes];
   DevicePacket d, d2;
   if (decode(in, size, d) == DecodeStatus::Ok) {
-    if (size != kPacketBytes || !d.position.allFinite() || !d.velocity.allFinite() || !std::isfinite(d.time_s))
+    if (size != packet_bytes(d.version) || !d.position.allFinite() || !d.velocity.allFinite() ||
+        !d.orientation.coeffs().allFinite() || !d.angular_velocity.allFinite() || !std::isfinite(d.time_s))
       __builtin_trap();
     encode(d, out);
-    if (decode(out, kPacketBytes, d2) != DecodeStatus::Ok || d2.sequence != d.sequence || d2.session != d.session ||
-        d2.position != d.position || d2.buttons != d.buttons || d2.flags != d.flags)
+    if (decode(out, packet_bytes(d.version), d2) != DecodeStatus::Ok || d2.sequence != d.sequence ||
+        d2.session != d.session || d2.position != d.position || d2.buttons != d.buttons || d2.flags != d.flags ||
+        d2.orientation.coeffs() != d.orientation.coeffs() || d2.angular_velocity != d.angular_velocity)
       __builtin_trap();
   }
   ForcePacket f, f2;
   if (decode(in, size, f) == DecodeStatus::Ok) {
-    if (!f.force.allFinite() || !f.contact_m.allFinite() || !std::isfinite(f.gain)) __builtin_trap();
+    if (!f.force.allFinite() || !f.torque.allFinite() || !f.contact_m.allFinite() || !std::isfinite(f.gain))
+      __builtin_trap();
     encode(f, out);
-    if (decode(out, kPacketBytes, f2) != DecodeStatus::Ok || f2.force != f.force || f2.session != f.session)
+    if (decode(out, packet_bytes(f.version), f2) != DecodeStatus::Ok || f2.force != f.force || f2.torque != f.torque ||
+        f2.session != f.session)
       __builtin_trap();
   }
   HelloPacket h;
-  if (decode(in, size, h) == DecodeStatus::Ok && (h.session == 0 || h.secret_bytes > kMaxSecretBytes))
-    __builtin_trap();
+  if (decode(in, size, h) == DecodeStatus::Ok && (h.session == 0 || h.secret_bytes > kMaxSecretBytes)) __builtin_trap();
 }
 
 }  // namespace
