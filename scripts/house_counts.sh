@@ -3,7 +3,8 @@
 # (DEVELOPERS.md): functions over 100 lines (universal-ctags' function ends: Debian's
 # `universal-ctags`), files over 500 lines, references to the project's own history in docs and
 # code ("issue N", "session N"), PNG encoders compiled, quantile helpers defined, and the hdm
-# includes a program needs to press a model (examples/consumer/press_model.cpp).
+# includes a program needs to press a model (examples/consumer/press_model.cpp), and GoogleTest
+# names that are not CamelCase (GoogleTest's own rule: no underscores in suite or test names).
 # usage: bash scripts/house_counts.sh [--list]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -26,6 +27,8 @@ printf '%-40s %s\n' "PNG encoders compiled" "$(grep -rl STB_IMAGE_WRITE_IMPLEMEN
 printf '%-40s %s\n' "quantile helpers defined" \
   "$(grep -rE '^(template <class T>\s*)?[A-Za-z_:<> ]+ (percentile|p95|p99)\(' src apps bench include | wc -l)"
 printf '%-40s %s\n' "hdm includes in press_model.cpp" "$(grep -c '#include <hdm' examples/consumer/press_model.cpp)"
+printf '%-40s %s\n' "test names with underscores" \
+  "$(grep -rhoE '^TEST(_F|_P)?\([A-Za-z0-9_]+, [A-Za-z0-9_]+\)' tests | grep -cE '\([A-Za-z0-9]*_|, [A-Za-z0-9]*_' || true)"
 if [ "$list" = --list ]; then
   printf '\nfunctions over 100 lines:\n%s\n\nfiles over 500 lines:\n%s\n\nhistory references:\n%s\n' "$long" "$files" "$history"
 fi

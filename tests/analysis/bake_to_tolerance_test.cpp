@@ -62,7 +62,7 @@ SlabModel bake_bumpy(const ExactMeshQuery& exact, int grid_n, std::vector<Tolera
 
 }  // namespace
 
-TEST(BakeToToleranceTest, refines_until_the_bound_holds_by_brute_force) {
+TEST(BakeToToleranceTest, RefinesUntilTheBoundHoldsByBruteForce) {
   const TriangleMesh input = bumpy_ellipsoid();
   const ExactMeshQuery exact(input);
   BakeOptions o;
@@ -79,7 +79,7 @@ TEST(BakeToToleranceTest, refines_until_the_bound_holds_by_brute_force) {
   EXPECT_GT(brute_max_pct(bake_slabs(input, "bumpy", o), input), 0.3);
 }
 
-TEST(BakeToToleranceTest, an_unreachable_bound_stops_at_the_cap) {
+TEST(BakeToToleranceTest, AnUnreachableBoundStopsAtTheCap) {
   const TriangleMesh input = bumpy_ellipsoid();
   BakeOptions o;
   o.slabs = 20;
@@ -96,7 +96,7 @@ TEST(BakeToToleranceTest, an_unreachable_bound_stops_at_the_cap) {
 
 // A missed maximum error adds slabs at the first round's sample budget (slabs·n², grid lowered);
 // a missed RMS adds samples; an explicit grid (adapt_grid off) is kept.
-TEST(BakeToToleranceTest, lowers_the_grid_when_only_the_maximum_error_is_missed) {
+TEST(BakeToToleranceTest, LowersTheGridWhenOnlyTheMaximumErrorIsMissed) {
   const ExactMeshQuery exact(bumpy_ellipsoid());
   std::vector<ToleranceRound> rounds;
   constexpr double kTight = 0.1;  // 20 slabs at grid 16 hold 0.3% already; this bound they miss
@@ -129,7 +129,7 @@ TEST(BakeToToleranceTest, lowers_the_grid_when_only_the_maximum_error_is_missed)
 // Two open sheets crossing each other (a T of plates modelled apart, as in CAD exports): slabs on
 // both sides of the crossing line overlap at every resolution, so refining cannot remove the
 // fault. The loop stops at the first round that does not reduce it instead of running to the cap.
-TEST(BakeToToleranceTest, stops_when_more_slabs_do_not_reduce_the_faults) {
+TEST(BakeToToleranceTest, StopsWhenMoreSlabsDoNotReduceTheFaults) {
   TriangleMesh sheets;
   constexpr int k = 16;
   for (int plane = 0; plane < 2; ++plane) {
@@ -167,7 +167,7 @@ TEST(BakeToToleranceTest, stops_when_more_slabs_do_not_reduce_the_faults) {
   EXPECT_EQ(last.overlapping_pairs + last.invalid_slabs, faults);
 }
 
-TEST(BakeToToleranceTest, refuses_bounds_that_are_not_positive) {
+TEST(BakeToToleranceTest, RefusesBoundsThatAreNotPositive) {
   const TriangleMesh input = test::icosphere(2, 1.0);
   Tolerance t;
   t.max_pct = 0;
@@ -179,7 +179,7 @@ TEST(BakeToToleranceTest, refuses_bounds_that_are_not_positive) {
 // A thin-tubed knot (knot1.off of the libcgal-demo archive, tube radius about 3% of its
 // diagonal) bakes at default settings within the default bound, with valid, disjoint slabs and the
 // contact test agreeing with the input; measured by Embree on the input, apart from the bake.
-TEST(BakeToToleranceTest, thin_tubed_knot_bakes_at_default_settings) {
+TEST(BakeToToleranceTest, ThinTubedKnotBakesAtDefaultSettings) {
   TriangleMesh input = read_mesh(test::data_path("knot1.off"));
   orient_outward(input);
   const ExactMeshQuery exact(input);

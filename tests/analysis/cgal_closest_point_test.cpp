@@ -12,7 +12,7 @@
 
 using namespace hdm;
 
-TEST(CgalClosestPointTest, matches_brute_force) {
+TEST(CgalClosestPointTest, MatchesBruteForce) {
   TriangleMesh m = test::icosphere(3, 1.0);
   for (Vec3& v : m.vertices) v.x() *= 1.7;  // an ellipsoid, so closest points are not radial
   const CgalClosestPoint cgal(m);
@@ -28,4 +28,4 @@ TEST(CgalClosestPointTest, matches_brute_force) {
   }
 }
 
-TEST(CgalClosestPointTest, refuses_an_empty_mesh) { EXPECT_THROW(CgalClosestPoint(TriangleMesh{}), InvalidInput); }
+TEST(CgalClosestPointTest, RefusesAnEmptyMesh) { EXPECT_THROW(CgalClosestPoint(TriangleMesh{}), InvalidInput); }

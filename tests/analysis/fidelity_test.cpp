@@ -47,7 +47,7 @@ double brute_distance(const Vec3& p, const TriangleMesh& m) {
 
 }  // namespace
 
-TEST(FidelityTest, matches_brute_force_on_a_small_mesh) {
+TEST(FidelityTest, MatchesBruteForceOnASmallMesh) {
   TriangleMesh input = test::icosphere(2, 1.0);
   for (Vec3& v : input.vertices) v.x() *= 1.6;  // an ellipsoid: the coarse shell must bend
   BakeOptions o;
@@ -105,7 +105,7 @@ void add_sheet(TriangleMesh& m, double base, double tilt) {
 // horizons.off of libcgal-demo): a point between them is inside exactly when it is behind the
 // sheet nearest to it (the reference: ExactMeshQuery::inside on the input, and here also the
 // analytic heights). hdm must agree there too, also where the point lies in no slab.
-TEST(FidelityTest, contact_agrees_between_two_stacked_open_sheets) {
+TEST(FidelityTest, ContactAgreesBetweenTwoStackedOpenSheets) {
   TriangleMesh input;
   add_sheet(input, 0.0, 0.0);
   add_sheet(input, 0.03, 0.015);  // 0.015 to 0.045 above the first

@@ -99,7 +99,7 @@ nlohmann::json script_of(const std::string& name) {
   return {{"strokes", nlohmann::json::array({stroke})}};
 }
 
-TEST(BrushRegistryScript, every_brush_parses_and_strokes_as_it_should) {
+TEST(BrushRegistryScript, EveryBrushParsesAndStrokesAsItShould) {
   ASSERT_FALSE(brush_registry().empty());
   test::BunnyStrokes f;
   const test::ModelState start(f.model);
@@ -130,7 +130,7 @@ TEST(BrushRegistryScript, every_brush_parses_and_strokes_as_it_should) {
   }
 }
 
-TEST(BrushRegistryScript, an_unknown_tool_is_refused_listing_every_brush) {
+TEST(BrushRegistryScript, AnUnknownToolIsRefusedListingEveryBrush) {
   const nlohmann::json j = script_of("chisel");
   try {
     parse_script(j.dump(), "brushes.json");

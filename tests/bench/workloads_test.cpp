@@ -23,7 +23,7 @@ size_t below(const std::vector<double>& v, double x) {
   return static_cast<size_t>(std::count_if(v.begin(), v.end(), [&](double y) { return y < x; }));
 }
 
-TEST(Workloads, stats_of_matches_order_statistics) {
+TEST(Workloads, StatsOfMatchesOrderStatistics) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 1000);
   for (size_t n : {1, 2, 7, 100, 1001}) {
@@ -39,7 +39,7 @@ TEST(Workloads, stats_of_matches_order_statistics) {
   EXPECT_EQ(empty.median + empty.p99 + empty.max + empty.mean, 0.0);
 }
 
-TEST(Workloads, summarise_takes_the_median_of_each_statistic_and_the_spread_of_medians) {
+TEST(Workloads, SummariseTakesTheMedianOfEachStatisticAndTheSpreadOfMedians) {
   const std::vector<Stats> runs = {{5, 9, 12, 6}, {3, 8, 20, 4}, {4, 7, 10, 5}};
   const Summary r = summarise(runs);
   EXPECT_EQ(r.s.median, 4);
@@ -50,7 +50,7 @@ TEST(Workloads, summarise_takes_the_median_of_each_statistic_and_the_spread_of_m
   EXPECT_EQ(r.spread_hi, 5);
 }
 
-TEST(Workloads, time_batches_runs_every_whole_batch_once_in_order) {
+TEST(Workloads, TimeBatchesRunsEveryWholeBatchOnceInOrder) {
   std::vector<size_t> calls;
   const size_t n = 5 * kBatch + 3;
   const Stats s = time_batches(n, [&](size_t k) { calls.push_back(k); });
@@ -60,7 +60,7 @@ TEST(Workloads, time_batches_runs_every_whole_batch_once_in_order) {
   EXPECT_LE(s.median, s.max);
 }
 
-TEST(Workloads, subdivide_midpoints_keeps_the_surface) {
+TEST(Workloads, SubdivideMidpointsKeepsTheSurface) {
   const TriangleMesh in = test::icosphere(1, 1.0);
   const TriangleMesh out = subdivide_midpoints(in);
   ASSERT_EQ(out.faces.size(), 4 * in.faces.size());
@@ -94,7 +94,7 @@ struct Surface {
   }
 };
 
-TEST(Workloads, coherent_path_moves_at_most_a_step_per_tick_and_stays_near_the_surface) {
+TEST(Workloads, CoherentPathMovesAtMostAStepPerTickAndStaysNearTheSurface) {
   const Surface s;
   std::mt19937_64 rng(1);
   const double step = s.diag / 1600, depth = 0.005 * s.diag;
@@ -109,7 +109,7 @@ TEST(Workloads, coherent_path_moves_at_most_a_step_per_tick_and_stays_near_the_s
   EXPECT_LE(max_dist, depth + 0.002 * s.diag);
 }
 
-TEST(Workloads, global_points_lie_within_their_distance_of_the_surface) {
+TEST(Workloads, GlobalPointsLieWithinTheirDistanceOfTheSurface) {
   const Surface s;
   std::mt19937_64 rng(2);
   const double dist = 0.01 * s.diag;
@@ -124,7 +124,7 @@ TEST(Workloads, global_points_lie_within_their_distance_of_the_surface) {
   EXPECT_GT(far_half, 100);  // spread over [-dist, dist], not all on the surface
 }
 
-TEST(Workloads, warm_strokes_edit_and_leave_the_model_as_it_was) {
+TEST(Workloads, WarmStrokesEditAndLeaveTheModelAsItWas) {
   SlabModel model = test::baked_bunny(150, 16);
   const SlabLocator locator(model);
   const std::vector<float> before = model.displacement;

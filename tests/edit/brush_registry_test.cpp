@@ -52,7 +52,7 @@ Brush valid_brush() {
 
 }  // namespace
 
-TEST(BrushRegistry, every_brush_is_found_by_its_tool_and_its_name) {
+TEST(BrushRegistry, EveryBrushIsFoundByItsToolAndItsName) {
   ASSERT_FALSE(brush_registry().empty());
   for (const BrushInfo& info : brush_registry()) {
     SCOPED_TRACE(info.name);
@@ -71,7 +71,7 @@ TEST(BrushRegistry, every_brush_is_found_by_its_tool_and_its_name) {
   EXPECT_THROW(parse_brush_tool("chisel"), InvalidInput);
 }
 
-TEST(BrushRegistry, defaults_and_parameters_are_the_documented_ones) {
+TEST(BrushRegistry, DefaultsAndParametersAreTheDocumentedOnes) {
   for (const BrushInfo& info : brush_registry()) {
     SCOPED_TRACE(info.name);
     const auto doc = kDocumented.find(info.name);
@@ -87,7 +87,7 @@ TEST(BrushRegistry, defaults_and_parameters_are_the_documented_ones) {
   }
 }
 
-TEST(BrushRegistry, every_range_check_names_its_parameter_and_the_reason) {
+TEST(BrushRegistry, EveryRangeCheckNamesItsParameterAndTheReason) {
   EXPECT_EQ(refusal(valid_brush()), "");
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   struct Case {
@@ -133,7 +133,7 @@ TEST(BrushRegistry, every_range_check_names_its_parameter_and_the_reason) {
   EXPECT_NE(refusal(unknown).find("tool"), std::string::npos);
 }
 
-TEST(BrushRegistry, an_unregistered_tool_edits_nothing) {
+TEST(BrushRegistry, AnUnregisteredToolEditsNothing) {
   SlabModel m = test::baked_bunny(150, 16);
   EditScratch scratch(m);
   const std::vector<float> before = m.displacement;

@@ -84,7 +84,7 @@ void expect_in_shell_and_untouched_outside(const SlabModel& after, const SlabMod
 
 }  // namespace
 
-TEST(Brushes, smooth_reduces_roughness_and_stays_in_the_shell) {
+TEST(Brushes, SmoothReducesRoughnessAndStaysInTheShell) {
   test::BunnyStrokes f;
   Vec3 n;
   const Vec3 c = site(f, Vec3(0.35, 0.3, 1.0), n);  // the rough fur of the hind leg
@@ -97,7 +97,7 @@ TEST(Brushes, smooth_reduces_roughness_and_stays_in_the_shell) {
   expect_in_shell_and_untouched_outside(f.model, test::baked_bunny(0, 16), c, r);
 }
 
-TEST(Brushes, flatten_moves_the_surface_towards_the_tools_plane) {
+TEST(Brushes, FlattenMovesTheSurfaceTowardsTheToolsPlane) {
   test::BunnyStrokes f;
   Vec3 n;
   const Vec3 c = site(f, Vec3(0.6, 0.5, 1.0), n);
@@ -144,7 +144,7 @@ double k_max(const std::vector<EditLogEntry>& log, const Vec3& p, double radius)
   return k;
 }
 
-TEST(Brushes, paint_blends_once_per_stroke_whatever_the_dwell) {
+TEST(Brushes, PaintBlendsOncePerStrokeWhateverTheDwell) {
   // The paper's blend k·value + (1 − k)·base with k = pressure·strength·falloff(d/r), d the distance
   // from the sample to the brush's path, once per stroke (the largest k the stroke reached): a brush
   // held still for 10 ms or 300 ms gives the same field, bit for bit.
@@ -174,7 +174,7 @@ TEST(Brushes, paint_blends_once_per_stroke_whatever_the_dwell) {
   EXPECT_TRUE(results[0] == results[1]) << "a longer dwell must not paint more";
 }
 
-TEST(Brushes, paint_of_8_bit_texels_does_not_drift_over_many_ticks) {
+TEST(Brushes, PaintOf8BitTexelsDoesNotDriftOverManyTicks) {
   // A stroke creeping 300 ticks towards its end raises k at the texels ahead of it on nearly every
   // tick; each texel must still end at base + k_max·(value − base) rounded once to 8 bits, within
   // one code step (blending from the already rounded value would compound the rounding).
@@ -215,7 +215,7 @@ TEST(Brushes, paint_of_8_bit_texels_does_not_drift_over_many_ticks) {
   }
 }
 
-TEST(Brushes, strength_scales_the_cut) {
+TEST(Brushes, StrengthScalesTheCut) {
   double depth[2];
   for (int run = 0; run < 2; ++run) {
     test::BunnyStrokes f;
@@ -240,7 +240,7 @@ TEST(Brushes, strength_scales_the_cut) {
   EXPECT_NEAR(depth[1] / depth[0], 0.5, 0.08);
 }
 
-TEST(Layers, carving_exposes_the_under_layer_at_its_depth) {
+TEST(Layers, CarvingExposesTheUnderLayerAtItsDepth) {
   test::BunnyStrokes f;
   const double t = 0.5 * f.mm;
   set_under_layer(f.model, t, UnderLayer{});

@@ -105,7 +105,7 @@ struct Drill {
   }
 };
 
-TEST(Drill, removed_volume_is_archards) {
+TEST(Drill, RemovedVolumeIsArchards) {
   const Drill d;
   SlabModel m = flat_sheet();
   const double v = d.run(m, 0.3, -0.2, 2.0, 200), ref = d.archard(2.0, 0.2, default_hardness_hv);
@@ -115,7 +115,7 @@ TEST(Drill, removed_volume_is_archards) {
   for (float delta : m.displacement) ASSERT_LE(delta, 0.5f);  // never raises
 }
 
-TEST(Drill, removal_rate_scales_with_the_inverse_hardness) {
+TEST(Drill, RemovalRateScalesWithTheInverseHardness) {
   const Drill d;
   SlabModel m = flat_sheet();
   // The right half is under-layer at the surface (its top above the surface): dentin-like 55 HV;
@@ -130,7 +130,7 @@ TEST(Drill, removal_rate_scales_with_the_inverse_hardness) {
   EXPECT_NEAR(dentin / enamel / expected, 1.0, 0.10);
 }
 
-TEST(Drill, removal_grows_linearly_with_force) {
+TEST(Drill, RemovalGrowsLinearlyWithForce) {
   const Drill d;
   std::vector<double> f, v;
   for (double force = 0.5; force <= 3.0 + 1e-9; force += 0.5) {
@@ -154,7 +154,7 @@ TEST(Drill, removal_grows_linearly_with_force) {
   EXPECT_GE(r2, 0.95);
 }
 
-TEST(Drill, zero_force_or_time_removes_nothing) {
+TEST(Drill, ZeroForceOrTimeRemovesNothing) {
   const Drill d;
   SlabModel m = flat_sheet();
   const std::vector<float> before = m.displacement;
@@ -167,7 +167,7 @@ TEST(Drill, zero_force_or_time_removes_nothing) {
   EXPECT_EQ(m.displacement, before);
 }
 
-TEST(Drill, bad_parameters_are_refused_naming_them) {
+TEST(Drill, BadParametersAreRefusedNamingThem) {
   auto refusal = [](auto set) {
     Brush b;
     b.tool = BrushTool::Drill;
@@ -190,7 +190,7 @@ TEST(Drill, bad_parameters_are_refused_naming_them) {
 
 // Through the stroke editor as the servo tick drives it: the tool sample's rendered normal force
 // and the workspace's scale reach the kernel; the first tick of a stroke has no elapsed time.
-TEST(Drill, a_stroke_removes_archards_volume_and_undoes) {
+TEST(Drill, AStrokeRemovesArchardsVolumeAndUndoes) {
   const Drill d;
   SlabModel m = flat_sheet();
   const std::vector<float> start = m.displacement;
@@ -225,7 +225,7 @@ TEST(Drill, a_stroke_removes_archards_volume_and_undoes) {
 }
 
 // The paint brush writes the hardness field (and undo restores it); the drill then reads it.
-TEST(Drill, painted_hardness_is_read_by_the_drill) {
+TEST(Drill, PaintedHardnessIsReadByTheDrill) {
   SlabModel m = flat_sheet();
   EditScratch scratch(m);
   BrushSweep paint;

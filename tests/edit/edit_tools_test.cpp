@@ -75,7 +75,7 @@ void expect_seams_closed(const SlabModel& m) {
 
 }  // namespace
 
-TEST(EditToolsTest, carve_never_raises_and_add_never_lowers) {
+TEST(EditToolsTest, CarveNeverRaisesAndAddNeverLowers) {
   Fixture f;
   std::mt19937 rng(9);
   int carved = 0, added = 0;
@@ -98,7 +98,7 @@ TEST(EditToolsTest, carve_never_raises_and_add_never_lowers) {
   expect_seams_closed(f.model);
 }
 
-TEST(EditToolsTest, carve_cuts_to_the_sphere) {
+TEST(EditToolsTest, CarveCutsToTheSphere) {
   Fixture f;
   Contact c;
   Vec3 hip;
@@ -116,7 +116,7 @@ TEST(EditToolsTest, carve_cuts_to_the_sphere) {
   }
 }
 
-TEST(EditToolsTest, incremental_normals_match_a_full_recompute) {
+TEST(EditToolsTest, IncrementalNormalsMatchAFullRecompute) {
   Fixture f;
   std::mt19937 rng(4);
   for (int k = 0; k < 20; ++k) {
@@ -157,7 +157,7 @@ static std::vector<Vec3> brute_force_normals(const SlabModel& m) {
   return sum;
 }
 
-TEST(EditToolsTest, edited_normals_match_a_brute_force_recompute) {
+TEST(EditToolsTest, EditedNormalsMatchABruteForceRecompute) {
   Fixture f;
   const std::vector<Vec3f> before = f.model.normals;
   std::mt19937 rng(9);
@@ -180,7 +180,7 @@ TEST(EditToolsTest, edited_normals_match_a_brute_force_recompute) {
   EXPECT_GT(moved, 200);  // the edits did turn normals
 }
 
-TEST(EditToolsTest, force_shading_normals_follow_the_edits) {
+TEST(EditToolsTest, ForceShadingNormalsFollowTheEdits) {
   // The proxy's force-shading field: each sample's normal plus its grid neighbours', normalised.
   // Reference: the neighbours found from the grid triangles of every slab (not the layout's
   // adjacency), after edits, against the brute-force normals.
@@ -217,7 +217,7 @@ TEST(EditToolsTest, force_shading_normals_follow_the_edits) {
   }
 }
 
-TEST(EditToolsTest, slab_major_copy_follows_the_edits) {
+TEST(EditToolsTest, SlabMajorCopyFollowsTheEdits) {
   // The query reads slab_samples; after edits every grid point must hold its sample's current
   // displacement and normal exactly.
   Fixture f;
@@ -234,7 +234,7 @@ TEST(EditToolsTest, slab_major_copy_follows_the_edits) {
 
 // The slabs an edit flags dirty (what a renderer re-uploads) are, by a scan of every slab's grid,
 // every slab holding a sample or texel the edit changed, and no other.
-TEST(EditToolsTest, dirty_slabs_are_the_slabs_holding_what_changed) {
+TEST(EditToolsTest, DirtySlabsAreTheSlabsHoldingWhatChanged) {
   Fixture f;
   const test::ModelState before(f.model);
   clear_dirty(f.scratch);
@@ -265,7 +265,7 @@ TEST(EditToolsTest, dirty_slabs_are_the_slabs_holding_what_changed) {
   EXPECT_GT(changed_slabs, 20);
 }
 
-TEST(EditToolsTest, paint_blends_with_the_papers_intensity) {
+TEST(EditToolsTest, PaintBlendsWithThePapersIntensity) {
   Fixture f;
   Contact c;
   Vec3 hip;
@@ -295,7 +295,7 @@ TEST(EditToolsTest, paint_blends_with_the_papers_intensity) {
   EXPECT_DOUBLE_EQ(paint_pressure(9.0, 1.0, 2.0), 1.0);
 }
 
-TEST(EditToolsTest, edited_model_round_trips_bit_for_bit) {
+TEST(EditToolsTest, EditedModelRoundTripsBitForBit) {
   Fixture f;
   Contact c;
   Vec3 hip;

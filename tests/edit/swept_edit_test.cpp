@@ -35,7 +35,7 @@ std::vector<ToolCapsule> capsules(const std::vector<EditLogEntry>& log) {
 
 }  // namespace
 
-TEST(SweptEdit, line_capsule_interval_matches_dense_sampling) {
+TEST(SweptEdit, LineCapsuleIntervalMatchesDenseSampling) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
   int met = 0, missed = 0;
@@ -105,7 +105,7 @@ void expect_stroke_matches_the_exact_boolean(const Brush& brush_mm, const Vec3& 
   EXPECT_GT(moved, 100);
 }
 
-TEST(SweptEdit, carved_groove_matches_the_exact_boolean) {
+TEST(SweptEdit, CarvedGrooveMatchesTheExactBoolean) {
   Brush carve;  // a 3 mm ball, its bottom 0.3 mm above the HIP: a groove 0.8 mm deep
   carve.tool = BrushTool::Carve;
   carve.radius = 3;
@@ -113,7 +113,7 @@ TEST(SweptEdit, carved_groove_matches_the_exact_boolean) {
   expect_stroke_matches_the_exact_boolean(carve, Vec3(0.45, 0.44, 1.0), Vec3(0.80, 0.40, 1.0), 1.1);
 }
 
-TEST(SweptEdit, added_ridge_matches_the_exact_boolean) {
+TEST(SweptEdit, AddedRidgeMatchesTheExactBoolean) {
   Brush add;  // a ridge 0.8 mm high
   add.tool = BrushTool::Add;
   add.radius = 3;
@@ -123,7 +123,7 @@ TEST(SweptEdit, added_ridge_matches_the_exact_boolean) {
 
 // The swept boolean gives the same groove whatever the tool-sample rate: 1 kHz and 10 kHz sampling
 // of one hand path differ only by the path's chords (the capsules join the samples).
-TEST(SweptEdit, carve_does_not_depend_on_the_servo_rate) {
+TEST(SweptEdit, CarveDoesNotDependOnTheServoRate) {
   test::BunnyStrokes f1, f10;
   const double mm = f1.mm;
   std::vector<Vec3> p1, n1, p10, n10;
@@ -151,7 +151,7 @@ TEST(SweptEdit, carve_does_not_depend_on_the_servo_rate) {
 // editor's first stroke, before the stroke memory holds anything. Reference: the area-weighted
 // normal of the exact input's faces within 1 mm of the contact point (at most 1.7° from the axis
 // at these five spots; the inner shell's normal, read by mistake, is up to 8° off).
-TEST(SweptEdit, every_stroke_places_its_tool_along_the_surface_normal) {
+TEST(SweptEdit, EveryStrokePlacesItsToolAlongTheSurfaceNormal) {
   test::BunnyStrokes f;
   const double mm = f.mm;
   const TriangleMesh& input = test::bunny();
@@ -168,8 +168,8 @@ TEST(SweptEdit, every_stroke_places_its_tool_along_the_surface_normal) {
   flatten.radius = 3 * mm;
   std::vector<EditLogEntry> log;
   log.reserve(64);
-  for (const Vec3& u : {Vec3(0.45, 0.44, 1.0), Vec3(0.3, 0.6, 1.0), Vec3(0.7, 0.7, 0.0), Vec3(0.5, 0.9, 0.5),
-                        Vec3(0.62, 0.40, 1.0)}) {
+  for (const Vec3& u :
+       {Vec3(0.45, 0.44, 1.0), Vec3(0.3, 0.6, 1.0), Vec3(0.7, 0.7, 0.0), Vec3(0.5, 0.9, 0.5), Vec3(0.62, 0.40, 1.0)}) {
     StrokeEditor editor(f.model);  // the first stroke of a new editor each time
     editor.record_log(&log);
     Vec3 n;
@@ -180,7 +180,8 @@ TEST(SweptEdit, every_stroke_places_its_tool_along_the_surface_normal) {
     for (const EditLogEntry& e : log) {
       if (e.kind != EditLogEntry::Sweep) continue;
       ++sweeps;
-      const double angle = std::acos(std::clamp(e.sweep.plane_normal.dot(input_normal(p)), -1.0, 1.0)) * 180 / std::numbers::pi;
+      const double angle =
+          std::acos(std::clamp(e.sweep.plane_normal.dot(input_normal(p)), -1.0, 1.0)) * 180 / std::numbers::pi;
       std::printf("stroke at (%.2f, %.2f): axis %.2f deg from the input's normal\n", u.x(), u.y(), angle);
       EXPECT_LT(angle, 5.0);
     }

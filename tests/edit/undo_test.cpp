@@ -60,7 +60,7 @@ void random_stroke(test::BunnyStrokes& f, StrokeEditor& editor, std::mt19937& rn
 
 }  // namespace
 
-TEST(Undo, random_strokes_undo_and_redo_bit_for_bit) {
+TEST(Undo, RandomStrokesUndoAndRedoBitForBit) {
   test::BunnyStrokes f;
   StrokeEditor editor(f.model);
   std::mt19937 rng(11);
@@ -93,7 +93,7 @@ TEST(Undo, random_strokes_undo_and_redo_bit_for_bit) {
   EXPECT_EQ(editor.history().undo_count(), kStrokes - 3 + 1);
 }
 
-TEST(Undo, the_memory_cap_forgets_the_oldest_strokes) {
+TEST(Undo, TheMemoryCapForgetsTheOldestStrokes) {
   test::BunnyStrokes f;
   StrokeEditorOptions o;
   o.undo_cap_bytes = 48 * 1024;  // about 2,000 records
@@ -118,7 +118,7 @@ TEST(Undo, the_memory_cap_forgets_the_oldest_strokes) {
   }
 }
 
-TEST(Undo, a_stroke_larger_than_the_cap_cannot_be_undone) {
+TEST(Undo, AStrokeLargerThanTheCapCannotBeUndone) {
   test::BunnyStrokes f;
   StrokeEditorOptions o;
   o.undo_cap_bytes = 2400;  // 100 records
@@ -137,7 +137,7 @@ TEST(Undo, a_stroke_larger_than_the_cap_cannot_be_undone) {
   EXPECT_EQ(test::first_difference(test::ModelState(f.model), after), "");
 }
 
-TEST(Undo, replaying_the_edit_log_reproduces_the_model) {
+TEST(Undo, ReplayingTheEditLogReproducesTheModel) {
   test::BunnyStrokes f, copy;
   StrokeEditor editor(f.model);
   std::vector<EditLogEntry> log;

@@ -106,7 +106,7 @@ void expect_default_bake_passes(const std::string& file) {
 
 }  // namespace
 
-TEST(ClosedCrossing, a_union_touching_itself_at_a_point_is_split_into_a_manifold) {
+TEST(ClosedCrossing, AUnionTouchingItselfAtAPointIsSplitIntoAManifold) {
   TriangleMesh input = read_mesh(test::data_path("cow.off"));
   orient_outward(input);
   ASSERT_GT(count_self_intersections(input), 0) << "cow.off's halves cross";
@@ -124,7 +124,7 @@ TEST(ClosedCrossing, a_union_touching_itself_at_a_point_is_split_into_a_manifold
   EXPECT_EQ(points.size(), u.vertices.size());
 }
 
-TEST(ClosedCrossing, flipping_caps_keeps_the_surface_and_its_topology) {
+TEST(ClosedCrossing, FlippingCapsKeepsTheSurfaceAndItsTopology) {
   // A cap on a plane: apex (1, 1e-5) on edge (0,0)-(2,0), its neighbour below; both face +z.
   TriangleMesh flat;
   flat.vertices = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(1, 1e-5, 0), Vec3(1, -1, 0)};
@@ -152,6 +152,6 @@ TEST(ClosedCrossing, flipping_caps_keeps_the_surface_and_its_topology) {
   EXPECT_THROW(flip_slivers(tri, 0), InvalidInput);
 }
 
-TEST(ClosedCrossing, cow_bakes_at_default_settings) { expect_default_bake_passes("cow.off"); }
+TEST(ClosedCrossing, CowBakesAtDefaultSettings) { expect_default_bake_passes("cow.off"); }
 
-TEST(ClosedCrossing, triceratops_bakes_at_default_settings) { expect_default_bake_passes("triceratops.off"); }
+TEST(ClosedCrossing, TriceratopsBakesAtDefaultSettings) { expect_default_bake_passes("triceratops.off"); }

@@ -200,14 +200,14 @@ TriangleMesh check_decimation(const TriangleMesh& in, int64_t target, const std:
   return out;
 }
 
-TEST(DecimateMeshTest, torus_keeps_genus_orientation_and_reaches_the_target) {
+TEST(DecimateMeshTest, TorusKeepsGenusOrientationAndReachesTheTarget) {
   const TriangleMesh in = torus(1.0, 0.35, 64, 32);
   const TriangleMesh out = check_decimation(in, 300, "torus");
   EXPECT_LE(out.faces.size(), 330u);
   EXPECT_GT(signed_volume(out), 0.8 * signed_volume(in));  // outward, and the tube was not flattened
 }
 
-TEST(DecimateMeshTest, two_components_and_a_tube_too_thin_to_decimate_far) {
+TEST(DecimateMeshTest, TwoComponentsAndATubeTooThinToDecimateFar) {
   // A fat torus and a thin one: components are kept, and the thin tube (radius 1/100 of its ring)
   // stops early rather than losing its cross-section (every vertex must keep a visible star).
   TriangleMesh in = torus(1.0, 0.35, 48, 24);
@@ -219,7 +219,7 @@ TEST(DecimateMeshTest, two_components_and_a_tube_too_thin_to_decimate_far) {
   EXPECT_GT(out.faces.size(), 40u) << "the guarantees stop the thin tube above the target";
 }
 
-TEST(DecimateMeshTest, open_sheet_keeps_its_boundary_loops) {
+TEST(DecimateMeshTest, OpenSheetKeepsItsBoundaryLoops) {
   // The torus with one ring of faces removed: an open tube, two boundary loops, χ = 0.
   TriangleMesh in = torus(1.0, 0.35, 64, 32);
   in.faces.erase(in.faces.begin(), in.faces.begin() + 2 * 32);
@@ -227,7 +227,7 @@ TEST(DecimateMeshTest, open_sheet_keeps_its_boundary_loops) {
   check_decimation(in, 200, "open tube");
 }
 
-TEST(DecimateMeshTest, cube_creases_keep_the_corners) {
+TEST(DecimateMeshTest, CubeCreasesKeepTheCorners) {
   const TriangleMesh in = gridded_cube(12);
   const TriangleMesh out = check_decimation(in, 12, "cube");
   int corners = 0;
@@ -237,7 +237,7 @@ TEST(DecimateMeshTest, cube_creases_keep_the_corners) {
   EXPECT_NEAR(signed_volume(out), 8.0, 1e-9);
 }
 
-TEST(DecimateMeshTest, double_torus_keeps_genus_2_and_its_volume) {
+TEST(DecimateMeshTest, DoubleTorusKeepsGenus2AndItsVolume) {
   const TriangleMesh in = gridded_plate_with_two_holes(6);
   ASSERT_EQ(topology(in).euler, -2) << "a closed surface of genus 2";
   ASSERT_NEAR(signed_volume(in), 19.0, 1e-9);
@@ -247,21 +247,21 @@ TEST(DecimateMeshTest, double_torus_keeps_genus_2_and_its_volume) {
   EXPECT_NEAR(signed_volume(out), 19.0, 1e-9);
 }
 
-TEST(DecimateMeshTest, genus_133_block_keeps_its_genus) {
+TEST(DecimateMeshTest, Genus133BlockKeepsItsGenus) {
   const TriangleMesh in = read_mesh(test::data_path("cheese.off"));
   const Topology t = topology(in);
   ASSERT_EQ(t.euler, 2 - 2 * 133) << "cheese.off is the genus-133 block of the archive";
   check_decimation(in, int64_t(in.faces.size()) / 10, "cheese.off");
 }
 
-TEST(DecimateMeshTest, thin_tubed_knot_keeps_a_closed_tube) {
+TEST(DecimateMeshTest, ThinTubedKnotKeepsAClosedTube) {
   const TriangleMesh in = read_mesh(test::data_path("knot1.off"));
   ASSERT_EQ(topology(in).euler, 0);
   const TriangleMesh out = check_decimation(in, 200, "knot1.off");
   EXPECT_GT(signed_volume(out), 0);
 }
 
-TEST(DecimateMeshTest, a_crumple_is_merged_away) {
+TEST(DecimateMeshTest, ACrumpleIsMergedAway) {
   // The ring of one vertex shrunk to a tenth of an edge and turned by 150 degrees: the faces from
   // it to the next ring twist over each other, so the ring's stars are folded, and no single
   // collapse or vertex removal unfolds them (the merged star keeps the twist).
@@ -271,7 +271,7 @@ TEST(DecimateMeshTest, a_crumple_is_merged_away) {
   EXPECT_EQ(test::count_folded_stars(out), 0);
 }
 
-TEST(DecimateMeshTest, refuses_what_it_cannot_decimate) {
+TEST(DecimateMeshTest, RefusesWhatItCannotDecimate) {
   const TriangleMesh sphere = test::icosphere(2, 1.0);
   DecimateOptions o;
   o.target_faces = 0;

@@ -69,7 +69,7 @@ int folded(const std::vector<double>& visibility) {
 
 }  // namespace
 
-TEST(DecimateUnion, barely_seen_stars_of_a_resolved_union_are_not_folded) {
+TEST(DecimateUnion, BarelySeenStarsOfAResolvedUnionAreNotFolded) {
   TriangleMesh in = read_mesh(test::data_path("bones.off"));
   orient_outward(in);
   SelfIntersectionReport rep;

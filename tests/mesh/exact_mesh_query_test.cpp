@@ -10,7 +10,7 @@
 
 using namespace hdm;
 
-TEST(ExactMeshQueryTest, closest_point_matches_brute_force) {
+TEST(ExactMeshQueryTest, ClosestPointMatchesBruteForce) {
   const TriangleMesh m = test::icosphere(3, 2.0, Vec3(1, -1, 0.5));
   const ExactMeshQuery q(m);
   std::mt19937 rng(2);
@@ -27,7 +27,7 @@ TEST(ExactMeshQueryTest, closest_point_matches_brute_force) {
   }
 }
 
-TEST(ExactMeshQueryTest, inside_matches_the_sphere) {
+TEST(ExactMeshQueryTest, InsideMatchesTheSphere) {
   const Vec3 c(1, -1, 0.5);
   const ExactMeshQuery q(test::icosphere(3, 2.0, c));
   std::mt19937 rng(8);
@@ -40,7 +40,7 @@ TEST(ExactMeshQueryTest, inside_matches_the_sphere) {
   }
 }
 
-TEST(ExactMeshQueryTest, closest_point_within_a_radius_matches_brute_force) {
+TEST(ExactMeshQueryTest, ClosestPointWithinARadiusMatchesBruteForce) {
   const TriangleMesh m = test::icosphere(3, 2.0, Vec3(1, -1, 0.5));
   const ExactMeshQuery q(m);
   std::mt19937 rng(5);
@@ -96,7 +96,7 @@ TriangleMesh height_field(double slope) {
 // nearest point on an edge; the reference is the height field itself. The heap is dirtied first,
 // so a pseudonormal summed into uninitialised memory shows (it did: the answers changed from run
 // to run, and with them the bake).
-TEST(ExactMeshQueryTest, side_of_an_open_sheet_matches_the_height_field_at_edges_and_vertices) {
+TEST(ExactMeshQueryTest, SideOfAnOpenSheetMatchesTheHeightFieldAtEdgesAndVertices) {
   for (const double slope : {-0.5, 0.5}) {
     const TriangleMesh m = height_field(slope);
     for (int build = 0; build < 4; ++build) {

@@ -41,7 +41,7 @@ double area(const TriangleMesh& m) {
   return a;
 }
 
-TEST(RemoveFoldsTest, a_flap_folded_back_over_the_rim_is_removed) {
+TEST(RemoveFoldsTest, AFlapFoldedBackOverTheRimIsRemoved) {
   const int n = 20;  // cells of 1/20: the flap spans 4 % of the sheet's diagonal
   TriangleMesh m = flat_sheet(n);
   // Over the sheet, just above it: the flap turns back by about 172 degrees.
@@ -58,7 +58,7 @@ TEST(RemoveFoldsTest, a_flap_folded_back_over_the_rim_is_removed) {
   EXPECT_EQ(test::count_folded_stars(m, 0.0), 0);
 }
 
-TEST(RemoveFoldsTest, a_wall_at_the_rim_is_kept) {
+TEST(RemoveFoldsTest, AWallAtTheRimIsKept) {
   const int n = 8;
   TriangleMesh m = flat_sheet(n);
   // A wall standing up from the rim (turns by 90 degrees) and one leaning back over the sheet by
@@ -73,7 +73,7 @@ TEST(RemoveFoldsTest, a_wall_at_the_rim_is_kept) {
   EXPECT_EQ(m.vertices, before.vertices);
 }
 
-TEST(RemoveFoldsTest, a_crumple_inside_the_sheet_is_unfolded_into_the_plane) {
+TEST(RemoveFoldsTest, ACrumpleInsideTheSheetIsUnfoldedIntoThePlane) {
   const int n = 8;
   TriangleMesh m = flat_sheet(n);
   // Vertex (4, 4) dragged 1.6 cells sideways, past its ring: faces of its star flip over.
@@ -94,7 +94,7 @@ TEST(RemoveFoldsTest, a_crumple_inside_the_sheet_is_unfolded_into_the_plane) {
   EXPECT_NEAR(area(m), 1.0, 1e-9);
 }
 
-TEST(RemoveFoldsTest, refuses_invalid_mesh_data) {
+TEST(RemoveFoldsTest, RefusesInvalidMeshData) {
   TriangleMesh empty;
   EXPECT_THROW(remove_folds(empty), InvalidInput);
 }

@@ -38,7 +38,7 @@ void expect_clean_and_closed(const TriangleMesh& m) {
 
 }  // namespace
 
-TEST(RepairMesh, triangle_soup_is_welded_back_to_the_scan) {
+TEST(RepairMesh, TriangleSoupIsWeldedBackToTheScan) {
   const TriangleMesh& bunny = test::bunny();
   TriangleMesh soup;  // every face with its own three vertices, plus a duplicated face
   for (const Tri& t : bunny.faces) {
@@ -58,7 +58,7 @@ TEST(RepairMesh, triangle_soup_is_welded_back_to_the_scan) {
   EXPECT_NEAR(signed_volume(out), signed_volume(bunny), 1e-9 * std::abs(signed_volume(bunny)));
 }
 
-TEST(RepairMesh, flipped_faces_are_oriented_outward) {
+TEST(RepairMesh, FlippedFacesAreOrientedOutward) {
   TriangleMesh m = test::bunny();
   std::mt19937 rng(3);
   int flipped = 0;
@@ -73,7 +73,7 @@ TEST(RepairMesh, flipped_faces_are_oriented_outward) {
   EXPECT_NEAR(signed_volume(out), signed_volume(test::bunny()), 1e-9 * std::abs(signed_volume(test::bunny())));
 }
 
-TEST(RepairMesh, inside_out_closed_mesh_is_turned_outward) {
+TEST(RepairMesh, InsideOutClosedMeshIsTurnedOutward) {
   TriangleMesh m = test::icosphere(3, 1.0);
   for (Tri& t : m.faces) std::swap(t[1], t[2]);
   ASSERT_LT(signed_volume(m), 0);
@@ -82,7 +82,7 @@ TEST(RepairMesh, inside_out_closed_mesh_is_turned_outward) {
   expect_clean_and_closed(out);
 }
 
-TEST(RepairMesh, zero_area_and_repeated_vertex_faces_are_removed) {
+TEST(RepairMesh, ZeroAreaAndRepeatedVertexFacesAreRemoved) {
   TriangleMesh m = test::icosphere(3, 1.0);
   // Split edge (a, b) of face (a, b, c) at its midpoint x: (a, x, c), (x, b, c), and the sliver
   // (a, b, x) of zero area closes the gap against the neighbour (b, a, d). Plus a face (a, a, b).
@@ -101,7 +101,7 @@ TEST(RepairMesh, zero_area_and_repeated_vertex_faces_are_removed) {
   EXPECT_NEAR(signed_volume(out), signed_volume(test::icosphere(3, 1.0)), 1e-9);
 }
 
-TEST(RepairMesh, small_holes_are_filled_on_the_surface_and_open_boundaries_kept) {
+TEST(RepairMesh, SmallHolesAreFilledOnTheSurfaceAndOpenBoundariesKept) {
   // Remove the one-rings of a few bunny vertices: holes of about six edges.
   const TriangleMesh& bunny = test::bunny();
   std::set<int32_t> centres = {100, 20000, 31000};
@@ -127,7 +127,7 @@ TEST(RepairMesh, small_holes_are_filled_on_the_surface_and_open_boundaries_kept)
   EXPECT_GT(analyze_topology(lion).boundary_edges, 0);
 }
 
-TEST(RepairMesh, a_patch_with_no_interior_vertex_stays_open_and_holes_are_still_filled) {
+TEST(RepairMesh, APatchWithNoInteriorVertexStaysOpenAndHolesAreStillFilled) {
   // Four parts far apart (CAD debris as in b9_mesh.off): a sphere with a face missing (a hole), a
   // lone triangle and a strip of three triangles (no interior vertex: their boundary is their
   // outline, its fill would be a back-to-back copy enclosing nothing), and a hexagonal pyramid
@@ -149,7 +149,8 @@ TEST(RepairMesh, a_patch_with_no_interior_vertex_stays_open_and_holes_are_still_
   const double r = 0.3, h = 0.2;
   const int32_t apex = add({15, 0, h});
   int32_t ring[6];
-  for (int k = 0; k < 6; ++k) ring[k] = add({15 + r * std::cos(k * std::numbers::pi / 3), r * std::sin(k * std::numbers::pi / 3), 0});
+  for (int k = 0; k < 6; ++k)
+    ring[k] = add({15 + r * std::cos(k * std::numbers::pi / 3), r * std::sin(k * std::numbers::pi / 3), 0});
   for (int k = 0; k < 6; ++k) m.faces.push_back({apex, ring[k], ring[(k + 1) % 6]});
   ASSERT_EQ(analyze_topology(m).boundary_edges, 3 + 3 + 5 + 6);
 
@@ -187,7 +188,7 @@ TEST(RepairMesh, a_patch_with_no_interior_vertex_stays_open_and_holes_are_still_
   EXPECT_NEAR(std::abs(pyramid_volume), (3 * std::sqrt(3.0) / 2 * r * r) * h / 3, 1e-9);
 }
 
-TEST(RepairMesh, bad_input_is_refused_with_the_name_and_reason) {
+TEST(RepairMesh, BadInputIsRefusedWithTheNameAndReason) {
   TriangleMesh m = test::icosphere(1, 1.0);
   m.vertices[3].x() = NAN;
   try {
@@ -233,7 +234,7 @@ std::set<int32_t> ring(const TriangleMesh& m, int32_t v) {
 
 }  // namespace
 
-TEST(RepairMesh, holes_that_touch_at_a_vertex_are_filled_into_one_manifold_vertex) {
+TEST(RepairMesh, HolesThatTouchAtAVertexAreFilledIntoOneManifoldVertex) {
   // Two faces of one star removed, on either side of its centre: two triangular holes that share
   // that vertex (a pinch, as where elephant-with-holes.off's holes meet). Filled, the sphere is
   // whole again: the same vertices, closed, nothing crossing.
@@ -267,7 +268,7 @@ TEST(RepairMesh, holes_that_touch_at_a_vertex_are_filled_into_one_manifold_verte
   EXPECT_NEAR(signed_volume(out), signed_volume(sphere), 1e-12);
 }
 
-TEST(RepairMesh, a_fill_never_crosses_the_mesh) {
+TEST(RepairMesh, AFillNeverCrossesTheMesh) {
   const TriangleMesh sphere = test::icosphere(4, 1.0);
   const int32_t pole = 0;
   std::set<int32_t> disk = ring(sphere, pole);  // the hole: the faces at the pole and its ring
@@ -326,7 +327,7 @@ TEST(RepairMesh, a_fill_never_crosses_the_mesh) {
   }
 }
 
-TEST(RepairMesh, a_closed_model_with_holes_gets_all_of_them_filled_smoothly) {
+TEST(RepairMesh, AClosedModelWithHolesGetsAllOfThemFilledSmoothly) {
   // Holes longer than max_hole_edges on a closed model (the two-rings of two vertices, well under
   // a quarter of the diagonal): a model with holes cut into it, not an open shell, so all are
   // filled, faired to follow the sphere.

@@ -60,14 +60,14 @@ void expect_union(const TriangleMesh& input, double union_volume) {
 
 }  // namespace
 
-TEST(SelfIntersections, a_box_pushed_through_another_becomes_their_union) {
+TEST(SelfIntersections, ABoxPushedThroughAnotherBecomesTheirUnion) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
   add_box(m, Vec3(1, 0.5, 0.5), Vec3(3, 1.5, 1.5));  // pokes 1 out of the face x = 2
   expect_union(m, 8 + 1);
 }
 
-TEST(SelfIntersections, a_mesh_that_does_not_cross_itself_is_kept) {
+TEST(SelfIntersections, AMeshThatDoesNotCrossItselfIsKept) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(1, 1, 1));
   add_box(m, Vec3(2, 0, 0), Vec3(3, 1, 1));
@@ -83,7 +83,7 @@ TEST(SelfIntersections, a_mesh_that_does_not_cross_itself_is_kept) {
 // buries them. Union by inclusion-exclusion: 8 + 4.8 + 8.4 - 1.6 - 1.4 - 1.68 + 0.56. (Where
 // three faces meet at a point of an edge, y = z here on the first box's face x = 2, CGAL 5.5's
 // autorefine crashes: the coordinates avoid it.)
-TEST(SelfIntersections, pieces_inside_two_other_parts_are_interior) {
+TEST(SelfIntersections, PiecesInsideTwoOtherPartsAreInterior) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
   add_box(m, Vec3(1, -0.5, 0.6), Vec3(3, 2.5, 1.4));
@@ -93,7 +93,7 @@ TEST(SelfIntersections, pieces_inside_two_other_parts_are_interior) {
 
 // A box open at the top (its opening is a sixth of its area: nearly closed) pushed through by
 // another box: resolved as the solid it nearly bounds, the opening filled flat and kept filled.
-TEST(SelfIntersections, a_nearly_closed_box_pushed_through_another_becomes_their_closed_union) {
+TEST(SelfIntersections, ANearlyClosedBoxPushedThroughAnotherBecomesTheirClosedUnion) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
   m.faces.erase(m.faces.begin() + 2, m.faces.begin() + 4);  // the face z = 2
@@ -122,7 +122,7 @@ TEST(SelfIntersections, a_nearly_closed_box_pushed_through_another_becomes_their
 // Two disjoint boxes 10⁻⁷ apart (a slit between two outer layers, as mannequin-devil.off has once
 // resolved): no face is inside the material. A point 10⁻⁵ of the diagonal in front of the facing
 // sides lies in the other box, so a coarser probe would call both sides interior.
-TEST(SelfIntersections, faces_across_a_thin_slit_are_not_interior) {
+TEST(SelfIntersections, FacesAcrossAThinSlitAreNotInterior) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(1, 1, 1));
   add_box(m, Vec3(1 + 1e-7, 0, 0), Vec3(2, 1, 1));
@@ -136,7 +136,7 @@ TEST(SelfIntersections, faces_across_a_thin_slit_are_not_interior) {
 
 // A box inside two overlapping boxes is inside the material (winding 2); faces of the outer boxes
 // are interior exactly where the point just in front of their centroid lies in the other box.
-TEST(SelfIntersections, interior_faces_follow_the_union_of_the_parts) {
+TEST(SelfIntersections, InteriorFacesFollowTheUnionOfTheParts) {
   TriangleMesh m;
   const Vec3 lo[3] = {Vec3(0, 0, 0), Vec3(1, -1, -1), Vec3(1.2, 0.8, 0.8)};
   const Vec3 hi[3] = {Vec3(2, 2, 2), Vec3(3, 3, 3), Vec3(1.6, 1.2, 1.2)};
@@ -160,7 +160,7 @@ TEST(SelfIntersections, interior_faces_follow_the_union_of_the_parts) {
 
 // A box open at the top pushed through by another: filled to the solid it nearly bounds (the
 // input's faces kept, the opening closed flat); a single sheet is not nearly closed.
-TEST(SelfIntersections, a_nearly_closed_input_is_filled_and_a_sheet_is_not) {
+TEST(SelfIntersections, ANearlyClosedInputIsFilledAndASheetIsNot) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
   m.faces.erase(m.faces.begin() + 2, m.faces.begin() + 4);  // the face z = 2
@@ -180,7 +180,7 @@ TEST(SelfIntersections, a_nearly_closed_input_is_filled_and_a_sheet_is_not) {
 // A box turned inside out half pushed into another (winding 1 in the outer box, 0 in the overlap,
 // -1 in the inverted box's part outside): a face is on the material's boundary only where the
 // material (analytic winding >= 1/2) is behind it and not in front of it.
-TEST(SelfIntersections, faces_with_no_material_behind_them_are_interior) {
+TEST(SelfIntersections, FacesWithNoMaterialBehindThemAreInterior) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(2, 2, 2));
   add_box(m, Vec3(1, 0.5, 0.5), Vec3(3, 1.5, 1.5));

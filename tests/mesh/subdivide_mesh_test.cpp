@@ -76,7 +76,7 @@ std::pair<double, double> vertex_distances(const TriangleMesh& from, const Trian
 
 }  // namespace
 
-TEST(SubdivideMesh, sphere_faces_triple_per_step_and_stay_in_the_convex_hull) {
+TEST(SubdivideMesh, SphereFacesTriplePerStepAndStayInTheConvexHull) {
   const double r = 2.0;
   const TriangleMesh in = test::icosphere(2, r, Vec3(0.5, -1, 3));  // 320 faces on a sphere
   int want_steps = 0;
@@ -96,7 +96,7 @@ TEST(SubdivideMesh, sphere_faces_triple_per_step_and_stay_in_the_convex_hull) {
   EXPECT_GT(v_out, 0.95 * v_in);
 }
 
-TEST(SubdivideMesh, bunny_one_step_keeps_topology_and_stays_on_the_surface) {
+TEST(SubdivideMesh, BunnyOneStepKeepsTopologyAndStaysOnTheSurface) {
   const TriangleMesh& in = test::bunny();
   ASSERT_EQ(analyze_topology(in).boundary_edges, 0);
   const auto wanted = int64_t(2 * in.faces.size());  // one step (×3) is the fewest that reaches it
@@ -119,7 +119,7 @@ TEST(SubdivideMesh, bunny_one_step_keeps_topology_and_stays_on_the_surface) {
   EXPECT_LT(in_rms, 0.1 * mean);
 }
 
-TEST(SubdivideMesh, open_mesh_reaches_the_count_and_keeps_one_boundary) {
+TEST(SubdivideMesh, OpenMeshReachesTheCountAndKeepsOneBoundary) {
   TriangleMesh in = test::icosphere(2, 1.0);
   in.faces.erase(in.faces.begin());  // one triangular hole
   int steps = -1;
@@ -130,7 +130,7 @@ TEST(SubdivideMesh, open_mesh_reaches_the_count_and_keeps_one_boundary) {
   for (const Vec3& p : out.vertices) EXPECT_LE(p.norm(), 1 + 1e-12);
 }
 
-TEST(SubdivideMesh, enough_triangles_returns_the_input) {
+TEST(SubdivideMesh, EnoughTrianglesReturnsTheInput) {
   const TriangleMesh in = test::icosphere(1, 1.0);
   int steps = -1;
   const TriangleMesh out = subdivide_mesh(in, int64_t(in.faces.size()), &steps);
@@ -139,7 +139,7 @@ TEST(SubdivideMesh, enough_triangles_returns_the_input) {
   EXPECT_EQ(out.vertices, in.vertices);
 }
 
-TEST(SubdivideMesh, bad_input_is_refused) {
+TEST(SubdivideMesh, BadInputIsRefused) {
   const TriangleMesh sphere = test::icosphere(1, 1.0);
   EXPECT_THROW(subdivide_mesh(sphere, -1), InvalidInput);
   EXPECT_THROW(subdivide_mesh(TriangleMesh{}, 10), InvalidInput);

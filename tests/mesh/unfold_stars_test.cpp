@@ -12,7 +12,7 @@ using namespace hdm;
 
 namespace {
 
-TEST(UnfoldStarsTest, a_twisted_ring_is_unfolded_and_the_rest_stays) {
+TEST(UnfoldStarsTest, ATwistedRingIsUnfoldedAndTheRestStays) {
   // Ring of vertex 0 shrunk to 1 % of the edge length and turned by 150 degrees.
   const TriangleMesh in = test::crumpled_icosphere(3, 0.1, 150);
   ASSERT_GT(test::count_folded_stars(in), 0);
@@ -34,7 +34,7 @@ TEST(UnfoldStarsTest, a_twisted_ring_is_unfolded_and_the_rest_stays) {
   }
 }
 
-TEST(UnfoldStarsTest, a_mesh_with_every_star_seen_is_left_alone) {
+TEST(UnfoldStarsTest, AMeshWithEveryStarSeenIsLeftAlone) {
   TriangleMesh m = test::icosphere(2, 1.0);
   const TriangleMesh before = m;
   const UnfoldReport r = unfold_stars(m);
@@ -43,7 +43,7 @@ TEST(UnfoldStarsTest, a_mesh_with_every_star_seen_is_left_alone) {
   EXPECT_EQ(m.vertices, before.vertices);
 }
 
-TEST(UnfoldStarsTest, refuses_bad_arguments) {
+TEST(UnfoldStarsTest, RefusesBadArguments) {
   TriangleMesh m = test::icosphere(1, 1.0);
   EXPECT_THROW(unfold_stars(m, 1.0), InvalidInput);
   EXPECT_THROW(unfold_stars(m, 0.02, 0), InvalidInput);

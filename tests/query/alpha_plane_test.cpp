@@ -39,18 +39,18 @@ void check_recovery(const SlabModel& m, AlphaSolver solver, double alpha_tol, do
 
 }  // namespace
 
-TEST(AlphaPlaneTest, newton_recovers_alpha_and_barycentrics) {
+TEST(AlphaPlaneTest, NewtonRecoversAlphaAndBarycentrics) {
   check_recovery(test::baked_bunny(0, 16), AlphaSolver::Newton, 1e-9, 1e-8);
 }
 
-TEST(AlphaPlaneTest, paper_bisection_recovers_within_its_resolution) {
+TEST(AlphaPlaneTest, PaperBisectionRecoversWithinItsResolution) {
   // 15 halvings of [0,1]: |Δα| <= 2^-16 at the bracket midpoint. The barycentric error is |Δα|
   // times how fast the alpha-triangle moves with α, so it is checked on the paper's configuration
   // (150 slabs, about as thick as they are wide); thinner-than-wide slabs magnify it.
   check_recovery(test::baked_bunny(150, 16), AlphaSolver::Bisection, std::ldexp(1.0, -15), 1e-3);
 }
 
-TEST(AlphaPlaneTest, points_outside_the_slab_are_outside) {
+TEST(AlphaPlaneTest, PointsOutsideTheSlabAreOutside) {
   const SlabModel& m = test::baked_bunny(0, 16);
   std::mt19937 rng(3);
   for (int s = 0; s < m.slab_count(); ++s) {
@@ -67,7 +67,7 @@ TEST(AlphaPlaneTest, points_outside_the_slab_are_outside) {
   }
 }
 
-TEST(AlphaPlaneTest, locator_finds_the_slab_that_holds_a_point) {
+TEST(AlphaPlaneTest, LocatorFindsTheSlabThatHoldsAPoint) {
   const SlabModel& m = test::baked_bunny(0, 16);
   const SlabLocator loc(m);
   std::mt19937 rng(5);

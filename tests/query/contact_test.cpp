@@ -10,7 +10,7 @@
 
 using namespace hdm;
 
-TEST(ContactTest, inside_outside_and_depth_agree_with_the_exact_input) {
+TEST(ContactTest, InsideOutsideAndDepthAgreeWithTheExactInput) {
   const SlabModel& m = test::baked_bunny(1200, 8);
   const ExactMeshQuery exact(test::bunny());
   const Fidelity f = measure_fidelity(m, exact);
@@ -20,7 +20,7 @@ TEST(ContactTest, inside_outside_and_depth_agree_with_the_exact_input) {
   EXPECT_LE(c.depth_rms_pct, std::max(f.max_pct, f.max_back_pct));
 }
 
-TEST(ContactTest, non_finite_points_give_no_contact) {
+TEST(ContactTest, NonFinitePointsGiveNoContact) {
   const SlabModel& m = test::baked_bunny(0, 16);
   const SlabLocator loc(m);
   QueryCache cache;
@@ -31,7 +31,7 @@ TEST(ContactTest, non_finite_points_give_no_contact) {
   }
 }
 
-TEST(ContactTest, surface_point_lies_on_the_projection_line_and_is_not_penetrating) {
+TEST(ContactTest, SurfacePointLiesOnTheProjectionLineAndIsNotPenetrating) {
   const SlabModel& m = test::baked_bunny(0, 16);
   const SlabLocator loc(m);
   QueryCache cache;

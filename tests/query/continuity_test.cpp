@@ -68,7 +68,7 @@ void expect_continuous(const SweepResult& r, double step_m_force_bound) {
 
 }  // namespace
 
-TEST(ContinuityTest, across_slab_edges) {
+TEST(ContinuityTest, AcrossSlabEdges) {
   const SlabModel& m = test::baked_bunny(0, 16);
   const SlabLocator loc(m);
   std::mt19937 rng(1);
@@ -102,7 +102,7 @@ TEST(ContinuityTest, across_slab_edges) {
   EXPECT_GT(crossings, 100);
 }
 
-TEST(ContinuityTest, across_slab_corners) {
+TEST(ContinuityTest, AcrossSlabCorners) {
   const SlabModel& m = test::baked_bunny(0, 16);
   const SlabLocator loc(m);
   int swept = 0;

@@ -15,7 +15,7 @@
 
 using namespace hdm;
 
-TEST(InnerShellEnclosureTest, sphere_core_is_enclosed_and_the_outside_is_not) {
+TEST(InnerShellEnclosureTest, SphereCoreIsEnclosedAndTheOutsideIsNot) {
   BakeOptions o;
   o.slabs = 80;
   o.grid_n = 4;
@@ -42,7 +42,7 @@ TEST(InnerShellEnclosureTest, sphere_core_is_enclosed_and_the_outside_is_not) {
   EXPECT_FALSE(core.inside(Vec3(NAN, 0, 0)));
 }
 
-TEST(InnerShellEnclosureTest, points_in_no_slab_are_enclosed_iff_inside_the_input) {
+TEST(InnerShellEnclosureTest, PointsInNoSlabAreEnclosedIffInsideTheInput) {
   const SlabModel& m = test::baked_bunny(0, 16);
   const ExactMeshQuery core(TriangleMesh{m.inner, m.slabs});
   ASSERT_TRUE(core.closed());
@@ -68,7 +68,7 @@ TEST(InnerShellEnclosureTest, points_in_no_slab_are_enclosed_iff_inside_the_inpu
 // An open model's inner shell is open like its input, so enclosure is the same "behind the nearest
 // surface" rule that ExactMeshQuery::inside applies to the open input: below the surface, where
 // the shells cover the input, both say the same.
-TEST(InnerShellEnclosureTest, open_models_agree_with_the_parity_of_the_open_input_below_the_shell) {
+TEST(InnerShellEnclosureTest, OpenModelsAgreeWithTheParityOfTheOpenInputBelowTheShell) {
   const TriangleMesh input = read_mesh(test::data_path("lion-head.off"));
   BakeOptions o;
   o.slabs = 600;  // enough that the shells cover the input (150 leave ray misses: 1.6% error)

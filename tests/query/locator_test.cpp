@@ -49,9 +49,9 @@ void check_against_brute_force(const SlabModel& m, int points) {
 
 }  // namespace
 
-TEST(LocatorTest, agrees_with_a_scan_of_every_slab) { check_against_brute_force(test::baked_bunny(0, 16), 3000); }
+TEST(LocatorTest, AgreesWithAScanOfEverySlab) { check_against_brute_force(test::baked_bunny(0, 16), 3000); }
 
-TEST(LocatorTest, agrees_with_a_scan_of_every_slab_at_3000_slabs) {
+TEST(LocatorTest, AgreesWithAScanOfEverySlabAt3000Slabs) {
   check_against_brute_force(test::baked_bunny(3000, 4), 1500);
 }
 
@@ -89,15 +89,15 @@ void check_inner_shell_against_embree(const SlabModel& m, int points) {
 
 }  // namespace
 
-TEST(LocatorTest, inside_inner_shell_agrees_with_embree_winding) {
+TEST(LocatorTest, InsideInnerShellAgreesWithEmbreeWinding) {
   check_inner_shell_against_embree(test::baked_bunny(0, 16), 20000);
 }
 
-TEST(LocatorTest, inside_inner_shell_agrees_with_embree_winding_at_3000_slabs) {
+TEST(LocatorTest, InsideInnerShellAgreesWithEmbreeWindingAt3000Slabs) {
   check_inner_shell_against_embree(test::baked_bunny(3000, 4), 20000);
 }
 
-TEST(LocatorTest, inside_inner_shell_of_a_sphere_is_the_ball_inside_it) {
+TEST(LocatorTest, InsideInnerShellOfASphereIsTheBallInsideIt) {
   BakeOptions o;
   o.slabs = 200;
   o.grid_n = 4;

@@ -94,10 +94,10 @@ void check_model(const SlabModel& m, int walk_steps, int global_points) {
 
 }  // namespace
 
-TEST(QueryReferenceTest, coherent_walk_and_global_points_match_a_scan_of_every_slab) {
+TEST(QueryReferenceTest, CoherentWalkAndGlobalPointsMatchAScanOfEverySlab) {
   check_model(test::baked_bunny(0, 16), 6000, 2000);
 }
 
-TEST(QueryReferenceTest, coherent_walk_and_global_points_match_a_scan_of_every_slab_at_3000_slabs) {
+TEST(QueryReferenceTest, CoherentWalkAndGlobalPointsMatchAScanOfEverySlabAt3000Slabs) {
   check_model(test::baked_bunny(3000, 4), 3000, 1000);
 }

@@ -40,7 +40,7 @@ void expect_all_slabs_valid(const SlabModel& m) {
 
 }  // namespace
 
-TEST(BakeTest, sphere_reconstruction_matches_the_analytic_surface) {
+TEST(BakeTest, SphereReconstructionMatchesTheAnalyticSurface) {
   // A finely tessellated sphere: every reconstructed point lies on the input polyhedron, whose
   // distance to the true sphere is below the chord error 1 - cos(edge/2).
   const TriangleMesh sphere = test::icosphere(4, 1.0);
@@ -55,7 +55,7 @@ TEST(BakeTest, sphere_reconstruction_matches_the_analytic_surface) {
   for (int s = 0; s < m.samples.count; ++s) EXPECT_NEAR(sample_position(m, s).norm(), 1.0, 3e-3);
 }
 
-TEST(BakeTest, a_crumpled_surface_gives_valid_slabs) {
+TEST(BakeTest, ACrumpledSurfaceGivesValidSlabs) {
   // A crumple (a ring shrunk and twisted over itself) is no reason for an invalid slab: the
   // decimation merges it or the bake unfolds the stars around it, at any slab count.
   const TriangleMesh in = test::crumpled_icosphere(3, 0.1, 150);
@@ -70,7 +70,7 @@ TEST(BakeTest, a_crumpled_surface_gives_valid_slabs) {
   }
 }
 
-TEST(BakeTest, bunny_slabs_are_valid_and_report_is_consistent) {
+TEST(BakeTest, BunnySlabsAreValidAndReportIsConsistent) {
   BakeOptions o;  // defaults: n = 16, slabs = triangles · density / n²
   BakeReport r;
   const SlabModel m = bake_slabs(test::bunny(), "bunny00.off", o, &r);
@@ -81,7 +81,7 @@ TEST(BakeTest, bunny_slabs_are_valid_and_report_is_consistent) {
   for (float d : m.displacement) ASSERT_TRUE(d >= 0 && d <= 1);
 }
 
-TEST(BakeTest, real_models_bake) {
+TEST(BakeTest, RealModelsBake) {
   for (const char* name : {"armadillo.off", "refined_elephant.off", "lion-head.off"}) {
     const TriangleMesh mesh = read_mesh(test::data_path(name));
     BakeReport r;
@@ -95,7 +95,7 @@ TEST(BakeTest, real_models_bake) {
   }
 }
 
-TEST(BakeTest, bad_meshes_give_errors_naming_the_input) {
+TEST(BakeTest, BadMeshesGiveErrorsNamingTheInput) {
   auto expect_error = [](const TriangleMesh& m, const std::string& what) {
     try {
       bake_slabs(m, "bad.obj", BakeOptions{});
@@ -121,7 +121,7 @@ TEST(BakeTest, bad_meshes_give_errors_naming_the_input) {
   EXPECT_THROW(bake_slabs(test::icosphere(1, 1.0), "x", zero_grid), InvalidInput);
 }
 
-TEST(BakeTest, bake_on_the_callers_bvh_gives_the_same_model) {
+TEST(BakeTest, BakeOnTheCallersBvhGivesTheSameModel) {
   BakeOptions o;
   o.slabs = 300;
   o.grid_n = 4;

@@ -23,7 +23,7 @@ int64_t heap_in_use() {
   return static_cast<int64_t>(m.uordblks + m.hblkhd);  // small blocks + mmapped large ones
 }
 
-TEST(ModelMemory, counts_every_array_the_model_allocates) {
+TEST(ModelMemory, CountsEveryArrayTheModelAllocates) {
   if (!kOwnAllocator) GTEST_SKIP() << "needs glibc's allocator";
   const SlabModel& bunny = test::baked_bunny(0, 16);  // the default bake: ~150k samples
   const int64_t before = heap_in_use();
@@ -42,7 +42,7 @@ TEST(ModelMemory, counts_every_array_the_model_allocates) {
   EXPECT_GE(m.total(), taken - 48 * 4096) << "the copy holds " << taken - m.total() << " bytes the accounting misses";
 }
 
-TEST(ModelMemory, splits_samples_from_texels) {
+TEST(ModelMemory, SplitsSamplesFromTexels) {
   const SlabModel& bunny = test::baked_bunny(0, 16);
   const ModelMemory m = model_memory(bunny);
   EXPECT_EQ(m.samples, bunny.samples.count);

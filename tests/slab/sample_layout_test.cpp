@@ -31,7 +31,7 @@ SlabModel sphere_shell(int n, int texel_density) {
 
 }  // namespace
 
-TEST(SampleLayoutTest, counts_follow_euler_formula) {
+TEST(SampleLayoutTest, CountsFollowEulerFormula) {
   const TriangleMesh m = test::icosphere(1, 1.0);
   const int C = int(m.vertices.size()), S = int(m.faces.size()), E = 3 * S / 2;  // closed mesh
   for (int n : {1, 2, 5, 16}) {
@@ -43,7 +43,7 @@ TEST(SampleLayoutTest, counts_follow_euler_formula) {
   }
 }
 
-TEST(SampleLayoutTest, shared_samples_have_identical_projection_lines) {
+TEST(SampleLayoutTest, SharedSamplesHaveIdenticalProjectionLines) {
   const SlabModel s = sphere_shell(6, 1);
   const SampleLayout& L = s.samples;
   // Every (slab, grid point) that maps to the same id must give the same projection line.
@@ -57,7 +57,7 @@ TEST(SampleLayoutTest, shared_samples_have_identical_projection_lines) {
     }
 }
 
-TEST(SampleLayoutTest, grid_triangles_face_outward) {
+TEST(SampleLayoutTest, GridTrianglesFaceOutward) {
   const SlabModel s = sphere_shell(4, 1);
   s.samples.for_each_triangle([&](const Tri& t) {
     const Vec3 a = sample_position(s, t[0]), b = sample_position(s, t[1]), c = sample_position(s, t[2]);
@@ -65,17 +65,18 @@ TEST(SampleLayoutTest, grid_triangles_face_outward) {
   });
   // Normals point away from the centre, within the facet angle of the 80-face polyhedron (< 12°).
   for (int id = 0; id < s.samples.count; ++id)
-    EXPECT_GT(s.normals[id].cast<double>().dot(sample_position(s, id).normalized()), std::cos(12 * std::numbers::pi / 180));
+    EXPECT_GT(s.normals[id].cast<double>().dot(sample_position(s, id).normalized()),
+              std::cos(12 * std::numbers::pi / 180));
 }
 
-TEST(SampleLayoutTest, rejects_non_manifold_and_bad_ids) {
+TEST(SampleLayoutTest, RejectsNonManifoldAndBadIds) {
   std::vector<Tri> fan = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};  // edge (0,1) in three slabs
   EXPECT_THROW(build_sample_layout(fan, 5, 4), InvalidInput);
   EXPECT_THROW(build_sample_layout({{0, 1, 7}}, 3, 4), InvalidInput);
   EXPECT_THROW(build_sample_layout({{0, 1, 2}}, 3, 0), InvalidInput);
 }
 
-TEST(SampleLayoutTest, slots_list_every_grid_point_of_a_sample) {
+TEST(SampleLayoutTest, SlotsListEveryGridPointOfASample) {
   // Reference: invert `ids` by brute force; for_each_slot must give exactly the same slots.
   const TriangleMesh m = test::icosphere(1, 1.0);
   for (int n : {1, 2, 3, 16}) {
@@ -108,7 +109,7 @@ std::vector<std::array<int, 3>> grid_split(int n) {
   return out;
 }
 
-TEST(SampleLayoutTest, derived_triangles_and_neighbours_match_brute_force) {
+TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
   // Nothing but ids, homes and slots is stored for the triangles (and, without neighbours, for
   // the neighbours): for_each_triangle(), grid_triangle(), for_each_incident_triangle() and
   // for_each_neighbour() must give what a brute-force scan of the split gives.

@@ -95,17 +95,17 @@ TriangleMesh two_spheres() {
 }  // namespace
 
 TEST(ShellTest, torus) { expect_valid_disjoint(torus(), "torus", 400); }
-TEST(ShellTest, thin_plate) { expect_valid_disjoint(thin_plate(), "thin plate", 400); }
-TEST(ShellTest, thin_cylinder) { expect_valid_disjoint(thin_cylinder(), "thin cylinder", 400); }
-TEST(ShellTest, open_disk_with_hole) { expect_valid_disjoint(annulus(), "annulus", 300); }
-TEST(ShellTest, deep_crease) { expect_valid_disjoint(crease(), "crease", 600); }
+TEST(ShellTest, ThinPlate) { expect_valid_disjoint(thin_plate(), "thin plate", 400); }
+TEST(ShellTest, ThinCylinder) { expect_valid_disjoint(thin_cylinder(), "thin cylinder", 400); }
+TEST(ShellTest, OpenDiskWithHole) { expect_valid_disjoint(annulus(), "annulus", 300); }
+TEST(ShellTest, DeepCrease) { expect_valid_disjoint(crease(), "crease", 600); }
 
 // Every real model the project extracts, across the target range of slab counts (150 to 20,000;
 // the 20,000-slab bakes take minutes on two cores, so they are in scripts/validity_sweep.sh, not
 // here; the grid does not change the shell, so n = 4 keeps it quick).
 // refined_elephant.off at 150 slabs cannot enclose the trunk and tusks: the bake must refuse it
 // with a message naming the file, never return slabs that are invalid or overlap.
-TEST(ShellTest, real_models_are_valid_and_disjoint_from_150_to_5000_slabs) {
+TEST(ShellTest, RealModelsAreValidAndDisjointFrom150To5000Slabs) {
   for (const char* name : {"bunny00.off", "armadillo.off", "refined_elephant.off", "lion-head.off"}) {
     const TriangleMesh mesh = read_mesh(test::data_path(name));
     for (int slabs : {150, 1000, 5000}) {
@@ -127,7 +127,7 @@ TEST(ShellTest, real_models_are_valid_and_disjoint_from_150_to_5000_slabs) {
   }
 }
 
-TEST(ShellTest, slab_count_and_grid_extremes) {
+TEST(ShellTest, SlabCountAndGridExtremes) {
   for (auto [slabs, grid] : {std::pair{50, 4}, std::pair{50, 64}, std::pair{300, 64}}) {
     BakeOptions o;
     o.slabs = slabs;
@@ -142,7 +142,7 @@ TEST(ShellTest, slab_count_and_grid_extremes) {
   }
 }
 
-TEST(ShellTest, overlap_check_finds_interpenetrating_slabs) {
+TEST(ShellTest, OverlapCheckFindsInterpenetratingSlabs) {
   // Two separate spheres baked into one model, then moved into each other: the check must see it.
   const TriangleMesh two = two_spheres();
   BakeOptions o;
@@ -155,7 +155,7 @@ TEST(ShellTest, overlap_check_finds_interpenetrating_slabs) {
   EXPECT_GT(count_overlapping_pairs(m), 0);
 }
 
-TEST(ShellTest, updated_overlapping_pairs_match_a_full_recomputation) {
+TEST(ShellTest, UpdatedOverlappingPairsMatchAFullRecomputation) {
   // Two spheres baked apart, then some of one sphere's corners pushed into the other, in steps:
   // after each step the updated pairs must equal the pairs found from scratch.
   const TriangleMesh two = two_spheres();

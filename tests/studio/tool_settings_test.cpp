@@ -21,7 +21,7 @@ const std::map<std::string, Falloff> kFalloff = {{"carve", Falloff::Constant}, {
                                                  {"smooth", Falloff::Smooth},  {"flatten", Falloff::Smooth},
                                                  {"paint", Falloff::Linear},   {"drill", Falloff::Smooth}};
 
-TEST(ToolSettings, every_brush_is_a_tool_and_becomes_its_brush) {
+TEST(ToolSettings, EveryBrushIsAToolAndBecomesItsBrush) {
   const double mm = 0.25;  // model units per device millimetre
   for (const BrushInfo& info : brush_registry()) {
     SCOPED_TRACE(info.name);
@@ -47,7 +47,7 @@ TEST(ToolSettings, every_brush_is_a_tool_and_becomes_its_brush) {
   }
 }
 
-TEST(ToolSettings, probe_and_unknown_tools) {
+TEST(ToolSettings, ProbeAndUnknownTools) {
   ToolSettings t;
   EXPECT_FALSE(t.brush.has_value());  // the studio starts with the probe
   EXPECT_STREQ(tool_name(t), "probe");
