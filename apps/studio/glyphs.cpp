@@ -35,11 +35,48 @@ void circle(ImDrawList* list, const RenderCamera& cam, const Vec3& c, const Vec3
   list->AddPolyline(pts.data(), kSegments, colour, ImDrawFlags_Closed, thickness);
 }
 
+// The force as an arrow from @p from, o.newton_length model units per newton.
+void force_arrow(ImDrawList* list, const RenderCamera& cam, const Vec3& from, const Vec3& force,
+                 const GlyphOptions& o) {
+  const double f = force.norm();
+  if (!(f > 1e-6) || !std::isfinite(f)) return;
+  const Vec3 tip = from + o.newton_length * force;
+  if (!in_front(cam, tip) || !in_front(cam, from)) return;
+  const ImVec2 a = to_screen(cam, from), b = to_screen(cam, tip);
+  list->AddLine(a, b, IM_COL32(255, 60, 60, 255), 3.0f);
+  const float dx = b.x - a.x, dy = b.y - a.y, len = std::sqrt(dx * dx + dy * dy);
+  if (len > 1) {
+    const float ux = dx / len, uy = dy / len, h = std::min(10.0f, 0.4f * len);
+    list->AddTriangleFilled(b, ImVec2(b.x - h * ux - 0.5f * h * uy, b.y - h * uy + 0.5f * h * ux),
+                            ImVec2(b.x - h * ux + 0.5f * h * uy, b.y - h * uy - 0.5f * h * ux),
+                            IM_COL32(255, 60, 60, 255));
+  }
+}
+
+// A rigid tool: its point shell at the god-object's pose, a dot per point (the points facing the
+// camera brighter), and the force from the tip.
+void rigid_tool(ImDrawList* list, const RenderCamera& cam, const ToolState& t, const GlyphOptions& o, ImU32 colour) {
+  if (!o.shell || !t.ball_centre.allFinite()) return;
+  const Eigen::Matrix3d r = t.orientation.normalized().toRotationMatrix();
+  const Eigen::Vector3f eye = cam.view.inverse().col(3).head<3>();
+  const ImU32 faint = (colour & 0x00FFFFFFu) | (90u << 24);
+  for (size_t k = 0; k < o.shell->points.size(); ++k) {
+    const Vec3 p = t.ball_centre + r * o.shell->points[k];
+    if (!in_front(cam, p)) continue;
+    // Inward normals: a point faces the camera when its inward normal points away from the eye.
+    const bool facing = (r * o.shell->normals[k]).dot(p - eye.cast<double>()) > 0;
+    const ImVec2 q = to_screen(cam, p);
+    list->AddRectFilled(ImVec2(q.x - 1, q.y - 1), ImVec2(q.x + 1, q.y + 1), facing ? colour : faint);
+  }
+  force_arrow(list, cam, t.ball_centre, t.force, o);
+}
+
 }  // namespace
 
 void draw_tool_glyphs(ImDrawList* list, const RenderCamera& cam, const ToolState& t, const GlyphOptions& o) {
   if (!t.hip.allFinite()) return;
   const ImU32 tool_colour = t.tool_on ? IM_COL32(255, 140, 0, 230) : IM_COL32(40, 120, 255, 210);
+  if (t.rigid) return rigid_tool(list, cam, t, o, tool_colour);
   // The tool sphere: three great circles about the HIP, or about the ball held outside the surface
   // (a sphere proxy) with the HIP's own sphere faint where the hand pushed in.
   const Vec3 axes[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
@@ -54,20 +91,7 @@ void draw_tool_glyphs(ImDrawList* list, const RenderCamera& cam, const ToolState
   const ImVec2 proxy = to_screen(cam, t.proxy);
   list->AddCircleFilled(proxy, 4.0f, IM_COL32(255, 230, 0, 255));
   list->AddLine(proxy, to_screen(cam, t.hip), IM_COL32(255, 230, 0, 160), 1.0f);
-  const double f = t.force.norm();
-  if (f > 1e-6 && std::isfinite(f)) {
-    const Vec3 tip = t.proxy + o.newton_length * t.force;
-    if (!in_front(cam, tip)) return;
-    const ImVec2 a = proxy, b = to_screen(cam, tip);
-    list->AddLine(a, b, IM_COL32(255, 60, 60, 255), 3.0f);
-    const float dx = b.x - a.x, dy = b.y - a.y, len = std::sqrt(dx * dx + dy * dy);
-    if (len > 1) {
-      const float ux = dx / len, uy = dy / len, h = std::min(10.0f, 0.4f * len);
-      list->AddTriangleFilled(b, ImVec2(b.x - h * ux - 0.5f * h * uy, b.y - h * uy + 0.5f * h * ux),
-                              ImVec2(b.x - h * ux + 0.5f * h * uy, b.y - h * uy - 0.5f * h * ux),
-                              IM_COL32(255, 60, 60, 255));
-    }
-  }
+  force_arrow(list, cam, t.proxy, t.force, o);
 }
 
 }  // namespace hdm::studio

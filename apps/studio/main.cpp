@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 10.0));
   app.add_flag("--ball", o.ball,
                "feel the brush as a ball of its radius held outside the surface (a sphere proxy) instead of a point");
+  app.add_flag("--burr", o.burr,
+               "feel the tool as a rigid dental burr (a sphere head on a shaft) with torque, a 6-DOF god-object; "
+               "the mouse turns it with Alt held")
+      ->excludes("--ball");
   app.add_option("--script", o.script, "scripted session (JSON, docs/studio.md): device and UI actions, then exit");
   app.add_option("--replay", o.replay,
                  "play this recorded trajectory (hdm sculpt --forces CSV) as the device instead of the mouse");

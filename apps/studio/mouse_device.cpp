@@ -16,7 +16,10 @@ void MouseDevice::push(const MouseHandle& h) noexcept {
     front.tick = std::max(front.tick, tick_ - max_ticks_);
     play_ = std::max(play_, front.tick);
   }
-  queue_[(head_ + count_) % kQueue] = Point{h.position, h.buttons, tick_};
+  const Eigen::Quaterniond q = h.orientation.coeffs().allFinite() && h.orientation.norm() > 0.5
+                                   ? h.orientation.normalized()
+                                   : Eigen::Quaterniond::Identity();
+  queue_[(head_ + count_) % kQueue] = Point{h.position, q, h.buttons, tick_};
   ++count_;
 }
 
@@ -27,6 +30,7 @@ bool MouseDevice::begin_frame(DeviceState& state) noexcept {
   seen_ = h.serial;
   const bool started = count_ > 0;
   Vec3 p = last_;
+  Eigen::Quaterniond q = last_orientation_;
   if (started) {
     // Advance the playback (twice as fast while more than one segment waits), never past the
     // newest point; pass the points reached, taking their buttons.
@@ -35,9 +39,12 @@ bool MouseDevice::begin_frame(DeviceState& state) noexcept {
     const Point& a = at(0);
     buttons_ = a.buttons;
     p = a.position;
+    q = a.orientation;
     if (count_ > 1) {
       const Point& b = at(1);
-      p = a.position + (b.position - a.position) * (double(play_ - a.tick) / double(b.tick - a.tick));
+      const double w = double(play_ - a.tick) / double(b.tick - a.tick);
+      p = a.position + (b.position - a.position) * w;
+      q = a.orientation.slerp(w, b.orientation);
     }
   }
   const bool moving = started && moved_before_;  // the first position is where the handle starts
@@ -48,10 +55,15 @@ bool MouseDevice::begin_frame(DeviceState& state) noexcept {
   }
   state.velocity = moving ? Vec3((p - last_) / period_s_) : Vec3::Zero();
   state.position = p;
+  state.orientation = q;
+  // The turn from the last tick's orientation, as a rotation vector per period [rad/s].
+  const Eigen::AngleAxisd turn(q * last_orientation_.conjugate());
+  state.angular_velocity = moving ? Vec3(turn.axis() * (turn.angle() / period_s_)) : Vec3::Zero();
   state.buttons = buttons_;
   state.time_s = time_s_;
   time_s_ += period_s_;
   last_ = p;
+  last_orientation_ = q;
   return true;
 }
 

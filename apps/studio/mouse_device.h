@@ -12,11 +12,14 @@
 
 namespace hdm::studio {
 
-/// What the render thread sets: the handle position and the buttons held.
+/// What the render thread sets: the handle pose and the buttons held.
 struct MouseHandle {
   Vec3 position = Vec3::Zero();  ///< device frame [m]
-  uint32_t buttons = 0;          ///< bit 0: the tool button (left mouse button)
-  uint64_t serial = 0;           ///< increases with every set() (the servo thread tells new frames by it)
+  /// The handle's orientation (handle frame → device frame, unit); the mouse turns it with a
+  /// modifier key held (a rigid tool reads it, the point and ball proxies ignore it).
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  uint32_t buttons = 0;  ///< bit 0: the tool button (left mouse button)
+  uint64_t serial = 0;   ///< increases with every set() (the servo thread tells new frames by it)
 };
 
 /// A HapticDevice fed by the render thread. No force comes out (a mouse cannot push back); the
@@ -30,8 +33,10 @@ struct MouseHandle {
 /// time: each position is stamped with the tick it arrived at, and the handle is the path at a
 /// playback time that advances one tick per tick and holds at the newest position when a frame is
 /// late (a segment lasts at most 100 ms). The position is continuous and the velocity is the
-/// cursor's over each frame. A position's buttons take effect when the playback reaches it, so a
-/// stroke starts and ends exactly where the cursor pressed and released. When frames come faster
+/// cursor's over each frame. The orientation follows the same path (spherical interpolation), and
+/// the angular velocity is its backward difference over one period. A position's buttons take
+/// effect when the playback reaches it, so a stroke starts and ends exactly where the cursor
+/// pressed and released. When frames come faster
 /// than they are played (the queue of 8 grows past 2), the playback goes at double speed to catch up.
 class MouseDevice final : public HapticDevice {
  public:
@@ -57,6 +62,7 @@ class MouseDevice final : public HapticDevice {
  private:
   struct Point {
     Vec3 position;
+    Eigen::Quaterniond orientation;
     uint32_t buttons;
     int64_t tick;  // playback time of the point [ticks]
   };
@@ -75,6 +81,7 @@ class MouseDevice final : public HapticDevice {
   uint64_t seen_ = 0;
   double time_s_ = 0;
   Vec3 last_ = Vec3::Zero(), force_ = Vec3::Zero();
+  Eigen::Quaterniond last_orientation_ = Eigen::Quaterniond::Identity();
   uint32_t buttons_ = 0;
   bool moved_before_ = false;
   std::atomic<double> max_step_{0.0};

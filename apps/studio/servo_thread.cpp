@@ -19,7 +19,11 @@ int64_t now_ns() noexcept {
 }  // namespace
 
 ServoThread::ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge)
-    : session_(session), bridge_(bridge), ball_(session.render_mode() == RenderMode::Sphere), rate_hz_(rate_hz) {
+    : session_(session),
+      bridge_(bridge),
+      ball_(session.render_mode() == RenderMode::Sphere),
+      rigid_(session.render_mode() == RenderMode::RigidTool),
+      rate_hz_(rate_hz) {
   thread_ = std::thread([this, &device] {
     ServoOptions o;
     o.rate_hz = rate_hz_;
@@ -69,6 +73,14 @@ void ServoThread::after(void* user, const ServoTick& t, const SessionTick& r) no
   tool.force = r.out.force;
   tool.ball = s.ball_;
   tool.ball_centre = s.ball_ && r.out.status != ProxyStatus::Free ? r.ball_centre : tool.hip;
+  tool.rigid = s.rigid_;
+  if (s.rigid_) {  // the god-object's pose, also out of contact (it follows the handle there)
+    tool.ball_centre = r.ball_centre;
+    tool.orientation = r.tool_orientation;
+    tool.torque = r.torque;
+    tool.tool_contacts = r.tool_contacts;
+    tool.contact = r.tool_contacts > 0;
+  }
   tool.tool_on = r.tool_on;
   tool.edit_pending = r.edit_pending;
   tool.tick = t.tick;

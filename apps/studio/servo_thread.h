@@ -18,16 +18,21 @@ namespace hdm::studio {
 
 /// The tool as the last tick left it, model frame.
 struct ToolState {
-  Vec3 hip = Vec3::Zero();      ///< haptic interaction point [model units]
-  Vec3 proxy = Vec3::Zero();    ///< surface contact point of the proxy [model units] (contact only)
-  Vec3 normal = Vec3::UnitZ();  ///< surface normal at the proxy (contact only)
-  Vec3 force = Vec3::Zero();    ///< force rendered [N] (device axes = model axes)
-  bool contact = false;         ///< the proxy is on the surface
-  bool ball = false;            ///< the tool is felt as a ball (RenderMode::Sphere)
+  Vec3 hip = Vec3::Zero();          ///< haptic interaction point [model units]
+  Vec3 proxy = Vec3::Zero();        ///< surface contact point of the proxy [model units] (contact only)
+  Vec3 normal = Vec3::UnitZ();      ///< surface normal at the proxy (contact only)
+  Vec3 force = Vec3::Zero();        ///< force rendered [N] (device axes = model axes)
+  bool contact = false;             ///< the proxy is on the surface
+  bool ball = false;                ///< the tool is felt as a ball (RenderMode::Sphere)
   Vec3 ball_centre = Vec3::Zero();  ///< ball: its centre, held outside the surface [model units]
-  bool tool_on = false;         ///< the tool button is held
-  bool edit_pending = false;    ///< edit work carried over to the next tick
-  int64_t tick = 0;             ///< tick index
+  bool rigid = false;               ///< the tool is a rigid tool with torque (RenderMode::RigidTool)
+  /// Rigid tool: the god-object's orientation (tool frame → model frame); its tip is ball_centre.
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Vec3 torque = Vec3::Zero();  ///< rigid tool: torque rendered [N·m] about the tip
+  int32_t tool_contacts = 0;   ///< rigid tool: shell points pushing the god-object
+  bool tool_on = false;        ///< the tool button is held
+  bool edit_pending = false;   ///< edit work carried over to the next tick
+  int64_t tick = 0;            ///< tick index
 };
 
 /// Live servo figures over the last second, read by the render thread.
@@ -71,7 +76,8 @@ class ServoThread {
   static constexpr int kRing = 16384;  // ≥ one second at 10 kHz
   SculptSession& session_;
   bridge::BridgeDevice* bridge_;
-  bool ball_;  // the session feels the tool as a ball
+  bool ball_;   // the session feels the tool as a ball
+  bool rigid_;  // the session feels the tool as a rigid tool with torque
   double rate_hz_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

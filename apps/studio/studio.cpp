@@ -39,6 +39,7 @@ Studio::Studio(Window& window, SlabModel model, const StudioOptions& o, const Wi
   so.proxy.force.stiffness = o.stiffness;
   so.proxy.friction_scale = o.friction_scale;
   if (o.ball) so.mode = RenderMode::Sphere;
+  if (o.burr) so.mode = RenderMode::RigidTool;
   posted_proxy_ = so.proxy;
   settings_.stiffness = static_cast<float>(o.stiffness);
   settings_.friction = static_cast<float>(o.friction_scale);
@@ -145,6 +146,7 @@ int Studio::run() {
     GlyphOptions g;
     g.brush_radius = settings_.radius_mm * mm_;
     g.newton_length = 5 * mm_;  // 5 mm per newton
+    g.shell = &session_->tool_shell();
     draw_tool_glyphs(ImGui::GetBackgroundDrawList(), cam, tool, g);
     if (start - figures_at >= 0.5) {
       const ServoFigures f = servo_->figures();

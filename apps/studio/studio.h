@@ -22,6 +22,9 @@ struct StudioOptions {
   /// Feel the brush as a ball of its radius held outside the surface (RenderMode::Sphere) instead
   /// of a point: the ball cannot enter a gap narrower than itself, and carving cuts with it.
   bool ball = false;
+  /// Feel the tool as a rigid dental burr with torque (RenderMode::RigidTool: a 6-DOF god-object,
+  /// rigid_tool.h), drawn as its point shell; the mouse turns it with Alt held. Excludes `ball`.
+  bool burr = false;
   std::string script;  ///< scripted session (JSON); empty: interactive
   /// Replay this recording (`hdm sculpt --forces` CSV: positions and the tool button) as the
   /// device instead of the mouse; the strokes use the panel's brush (carve unless changed).

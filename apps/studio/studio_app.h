@@ -58,6 +58,7 @@ class Studio final : public ScriptHost {
   void save(const std::string& path) override;
   void export_model(const std::string& path) override;
   void view(double azimuth_deg, double elevation_deg, double zoom) override;
+  void turn_tool(double yaw_deg, double pitch_deg) override;
 
  private:
   void command(SessionCommand::Kind kind);
@@ -122,6 +123,9 @@ class Studio final : public ScriptHost {
   Eigen::Vector2d cursor_ = Eigen::Vector2d::Zero();
   bool cursor_valid_ = false, button_ = false, stroke_frozen_ = false;
   double last_distance_ = 1;
+  // The handle's orientation (device frame) and the turn asked for since the last frame [rad]
+  Eigen::Quaterniond handle_orientation_ = Eigen::Quaterniond::Identity();
+  double turn_yaw_ = 0, turn_pitch_ = 0;
   std::vector<float> frozen_;
   RenderCamera frozen_cam_;
   int frozen_w_ = 0, frozen_h_ = 0;

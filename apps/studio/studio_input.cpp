@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <numbers>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -59,6 +60,18 @@ void Studio::probe(const std::string& name) {
                        {"force_n", v(t.force)},
                        {"stiffness_n_per_m", settings_.stiffness},
                        {"friction", settings_.friction}};
+  if (t.rigid) {
+    const Eigen::Quaterniond& q = t.orientation;
+    fig_.probes[name]["tip_m"] = v(workspace_.to_device(t.ball_centre));
+    fig_.probes[name]["orientation_wxyz"] = {q.w(), q.x(), q.y(), q.z()};
+    fig_.probes[name]["torque_nm"] = v(t.torque);
+    fig_.probes[name]["tool_contacts"] = t.tool_contacts;
+  }
+}
+
+void Studio::turn_tool(double yaw_deg, double pitch_deg) {
+  turn_yaw_ += yaw_deg * std::numbers::pi / 180;
+  turn_pitch_ += pitch_deg * std::numbers::pi / 180;
 }
 
 void Studio::save(const std::string& path) {
@@ -105,6 +118,9 @@ void Studio::interactive_input() {
   int h = 0, w = 0;
   glfwGetFramebufferSize(win, &w, &h);
   if (!io.WantCaptureMouse) {
+    // Alt held: the mouse turns the handle (a rigid tool) instead of moving it, 0.5° per pixel.
+    const bool turning = io.KeyAlt && o_.burr;
+    if (turning) turn_tool(0.5 * io.MouseDelta.x, 0.5 * io.MouseDelta.y);
     const bool pan = io.MouseDown[2] || (io.MouseDown[1] && io.KeyShift);
     if (pan)
       camera_.pan(io.MouseDelta.x, io.MouseDelta.y, h);
@@ -116,7 +132,7 @@ void Studio::interactive_input() {
       else
         camera_.dolly(io.MouseWheel);
     }
-    cursor_ = Eigen::Vector2d(io.MousePos.x, io.MousePos.y);
+    if (!turning) cursor_ = Eigen::Vector2d(io.MousePos.x, io.MousePos.y);
     cursor_valid_ = ImGui::IsMousePosValid();
     set_button(io.MouseDown[0]);
   } else if (!io.MouseDown[0]) {
@@ -168,8 +184,18 @@ void Studio::drive_device(const RenderCamera& cam) {
   const Vec3 dir = (far_point - cam.eye).normalized();
   if (depth < 1) last_distance_ = (unproject(cam, x, y, depth) - cam.eye).norm();
   const Vec3 hip = cam.eye + (last_distance_ + settings_.depth_mm * mm_) * dir;
+  // The turn asked for since the last frame, about the view's axes (model and device axes agree).
+  const Eigen::Matrix3d view = cam.view.topLeftCorner<3, 3>().cast<double>();
+  if (!have_last_set_)  // held like a pen: the tool's +z (a burr's shaft) up the screen, toward the eye
+    handle_orientation_ =
+        Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), (view.row(1) + 0.5 * view.row(2)).transpose());
+  handle_orientation_ = (Eigen::AngleAxisd(turn_pitch_, view.row(0).transpose()) *
+                         Eigen::AngleAxisd(turn_yaw_, view.row(1).transpose()) * handle_orientation_)
+                            .normalized();
+  turn_yaw_ = turn_pitch_ = 0;
   MouseHandle m;
   m.position = session_->workspace().to_device(hip);
+  m.orientation = handle_orientation_;
   m.buttons = editing ? 1u : 0u;
   if (have_last_set_) fig_.max_frame_step_m = std::max(fig_.max_frame_step_m, (m.position - last_set_).norm());
   last_set_ = m.position, have_last_set_ = true;

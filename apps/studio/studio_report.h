@@ -19,25 +19,25 @@ namespace hdm::studio {
 
 /// Figures the render thread gathers while the studio runs.
 struct StudioFigures {
-  std::vector<double> frame_ms;  ///< time from one frame's start to the next's [ms]
-  std::vector<int> uploads;      ///< slabs uploaded for each frame
-  std::vector<int> levels;       ///< level of detail drawn in each frame
-  int64_t dirty_total = 0;       ///< --verify-uploads: slabs flagged dirty in all
-  int64_t mismatched_total = 0;  ///< --verify-uploads: uploads that differed from the snapshot
-  long frames = 0;               ///< frames drawn
+  std::vector<double> frame_ms;                      ///< time from one frame's start to the next's [ms]
+  std::vector<int> uploads;                          ///< slabs uploaded for each frame
+  std::vector<int> levels;                           ///< level of detail drawn in each frame
+  int64_t dirty_total = 0;                           ///< --verify-uploads: slabs flagged dirty in all
+  int64_t mismatched_total = 0;                      ///< --verify-uploads: uploads that differed from the snapshot
+  long frames = 0;                                   ///< frames drawn
   std::vector<std::string> screenshot_files;         ///< pictures written, in order
   nlohmann::json probes = nlohmann::json::object();  ///< the script's probes by name
-  double max_frame_step_m = 0;   ///< the mouse handle's largest move from one frame to the next [m]
+  double max_frame_step_m = 0;                       ///< the mouse handle's largest move from one frame to the next [m]
 };
 
 /// What the report reads besides the servo's and the session's figures.
 struct StudioReportContext {
-  const StudioOptions& options;      ///< the session's options (report path, size, rate, level of detail)
-  const StudioFigures& figures;      ///< the render thread's figures
-  int slabs = 0;                     ///< slabs of the model
-  int level_count = 1;               ///< levels of detail the renderer has
-  const Workspace& workspace;        ///< device metres to model units
-  std::string realtime;              ///< how the servo thread was scheduled
+  const StudioOptions& options;        ///< the session's options (report path, size, rate, level of detail)
+  const StudioFigures& figures;        ///< the render thread's figures
+  int slabs = 0;                       ///< slabs of the model
+  int level_count = 1;                 ///< levels of detail the renderer has
+  const Workspace& workspace;          ///< device metres to model units
+  std::string realtime;                ///< how the servo thread was scheduled
   const MouseDevice* mouse = nullptr;  ///< the device when it is the mouse
   const WindowBake* bake = nullptr;    ///< the bake in the window, if the studio baked its model
 };

@@ -138,6 +138,10 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
       s.kind = ScriptStep::Probe;
       if (!j.contains("name") || !j["name"].is_string()) throw InvalidInput(where + ": \"probe\" needs \"name\"");
       s.path = j["name"].get<std::string>();
+    } else if (action == "turn") {
+      s.kind = ScriptStep::Turn;
+      s.yaw_deg = number(j.value("yaw", nlohmann::json(0)), where + ": \"yaw\"", -360, 360);
+      s.pitch_deg = number(j.value("pitch", nlohmann::json(0)), where + ": \"pitch\"", -360, 360);
     } else if (action == "device_end") {
       s.kind = ScriptStep::DeviceEnd;
     } else if (action == "view") {
@@ -146,9 +150,10 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
       s.elevation_deg = number(j.value("elevation", nlohmann::json(15)), where + ": \"elevation\"", -89, 89);
       s.zoom = number(j.value("zoom", nlohmann::json(1)), where + ": \"zoom\"", 0.2, 200);
     } else {
-      throw InvalidInput(where + ": unknown action \"" + action +
-                         "\" (tool, cursor, stroke, wait, settle, screenshot, undo, redo, save, export, view, probe, "
-                         "device_end)");
+      throw InvalidInput(
+          where + ": unknown action \"" + action +
+          "\" (tool, cursor, stroke, wait, settle, screenshot, undo, redo, save, export, view, probe, turn, "
+          "device_end)");
     }
     steps.push_back(std::move(s));
   }
@@ -194,6 +199,9 @@ bool ScriptPlayer::frame(ScriptHost& host) {
         break;
       case ScriptStep::Probe:
         host.probe(s.path);
+        break;
+      case ScriptStep::Turn:
+        host.turn_tool(s.yaw_deg, s.pitch_deg);
         break;
       case ScriptStep::DeviceEnd:
         if (!waited(host.device_ended(), 60, "the device did not end")) return true;

@@ -27,6 +27,7 @@ struct ScriptStep {
     Export,
     View,
     Probe,
+    Turn,
     DeviceEnd
   } kind = Wait;
   nlohmann::json tool;                  ///< Tool: the settings it changes
@@ -36,6 +37,8 @@ struct ScriptStep {
   bool ui = false;                      ///< Screenshot: the whole window, panels and tool glyphs included
   bool footprint = false;               ///< Screenshot: the model view with the brush's footprint on the surface
   double azimuth_deg = 0, elevation_deg = 15, zoom = 1;  ///< View
+  /// Turn: the tool's turn about the view's vertical and horizontal axes [degrees]
+  double yaw_deg = 0, pitch_deg = 0;
 };
 
 /// @brief Reads a script file: {"steps": [ {action: ...}, ... ]}.
@@ -71,6 +74,9 @@ class ScriptHost {
   virtual void save(const std::string& path) = 0;
   virtual void export_model(const std::string& path) = 0;
   virtual void view(double azimuth_deg, double elevation_deg, double zoom) = 0;
+  /// Turns the handle (a rigid tool) by @p yaw_deg about the view's vertical axis, then
+  /// @p pitch_deg about its horizontal axis, as Alt with the mouse does.
+  virtual void turn_tool(double yaw_deg, double pitch_deg) = 0;
 };
 
 /// Plays a script one frame at a time.

@@ -234,6 +234,7 @@ void SculptSession::redo() noexcept { impl_->editor.redo(); }
 void SculptSession::set_proxy_params(const ProxyParams& params) noexcept { impl_->options.proxy = params; }
 const ProxyParams& SculptSession::proxy_params() const noexcept { return impl_->options.proxy; }
 RenderMode SculptSession::render_mode() const noexcept { return impl_->options.mode; }
+const ToolShell& SculptSession::tool_shell() const noexcept { return impl_->options.tool; }
 bool SculptSession::post(const SessionCommand& command) noexcept { return impl_->commands.push(command); }
 const SlabSnapshots* SculptSession::snapshots() const noexcept { return impl_->snapshots.get(); }
 const Workspace& SculptSession::workspace() const noexcept { return impl_->ws; }

@@ -7,17 +7,7 @@
 // The strokes' pixels come from the script (cursor paths in window coordinates) and the camera
 // convention of fit_camera (the model's bounding sphere fills 0.9 of the half-height at zoom 1),
 // not from anything the studio reports.
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#if defined(__GNUC__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#endif
-#include <stb/stb_image.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
+#include "stb_image_once.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

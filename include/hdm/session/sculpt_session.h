@@ -146,6 +146,10 @@ class SculptSession {
   const ProxyParams& proxy_params() const noexcept;
   /// The force model (SessionOptions::mode), fixed for the session. Any thread.
   RenderMode render_mode() const noexcept;
+  /// The rigid tool's point shell [model units, tool frame, tip at the origin]: SessionOptions::tool
+  /// or the default burr built for the model; empty unless RenderMode::RigidTool. Fixed for the
+  /// session, any thread (a renderer draws the tool from it).
+  const ToolShell& tool_shell() const noexcept;
   /// @brief Sends a command to the servo thread from one other thread; false when the queue is
   /// full. noexcept, wait-free.
   bool post(const SessionCommand& command) noexcept;
