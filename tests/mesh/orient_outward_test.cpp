@@ -49,28 +49,27 @@ bool same_orientation(const TriangleMesh& a, const TriangleMesh& b, std::pair<si
   return true;
 }
 
-// The upper half (z > 0 at every corner) of a sphere: an open sheet, its opening as large as itself.
-TriangleMesh cap(double radius, const Vec3& centre) {
+// The faces of a sphere about @p centre that @p keep (given the corners' heights above the centre).
+template <class Keep>
+TriangleMesh sphere_part(double radius, const Vec3& centre, Keep keep) {
   const TriangleMesh s = test::icosphere(3, radius, Vec3::Zero());
   TriangleMesh out;
   out.vertices = s.vertices;
   for (const Tri& t : s.faces)
-    if (s.vertices[t[0]].z() > 0 && s.vertices[t[1]].z() > 0 && s.vertices[t[2]].z() > 0) out.faces.push_back(t);
+    if (keep(s.vertices[t[0]].z(), s.vertices[t[1]].z(), s.vertices[t[2]].z())) out.faces.push_back(t);
   for (Vec3& v : out.vertices) v += centre;
   return out;
 }
 
+// The upper half (z > 0 at every corner) of a sphere: an open sheet, its opening as large as itself.
+TriangleMesh cap(double radius, const Vec3& centre) {
+  return sphere_part(radius, centre, [](double a, double b, double c) { return a > 0 && b > 0 && c > 0; });
+}
+
 // A sphere with the faces around its top pole removed: an opening far smaller than its area.
 TriangleMesh opened_sphere(double radius, const Vec3& centre) {
-  const TriangleMesh s = test::icosphere(3, radius, Vec3::Zero());
-  TriangleMesh out;
-  out.vertices = s.vertices;
-  for (const Tri& t : s.faces)
-    if (s.vertices[t[0]].z() < 0.95 * radius || s.vertices[t[1]].z() < 0.95 * radius ||
-        s.vertices[t[2]].z() < 0.95 * radius)
-      out.faces.push_back(t);
-  for (Vec3& v : out.vertices) v += centre;
-  return out;
+  const double top = 0.95 * radius;
+  return sphere_part(radius, centre, [top](double a, double b, double c) { return a < top || b < top || c < top; });
 }
 
 TEST(OrientOutward, MultiPartInputFacesOutAtEvenDepthAndInAtOddDepth) {
