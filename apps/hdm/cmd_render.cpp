@@ -41,12 +41,12 @@ void restyle(SlabModel& m, const RenderArgs& a) {
   if (a.colour_by == "displacement") {
     const SampleLayout& T = m.texels;
     for (int t = 0; t < T.count; ++t) {
-      const int local = T.home_index[t];
+      const int local = T.home(t).index;
       SlabCoordinates c;
       c.bary = Vec3(1 - double(T.point_i[local] + T.point_j[local]) / T.n, double(T.point_j[local]) / T.n,
                     double(T.point_i[local]) / T.n);
       Contact at;
-      evaluate_surface(m, T.home_slab[t], c, at);
+      evaluate_surface(m, T.home(t).slab, c, at);
       m.colour[t] = encode_srgb8(displacement_colour(at.delta));
     }
   }

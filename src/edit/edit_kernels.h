@@ -25,14 +25,14 @@ struct LineEvaluator {
   int32_t slab = -1;
   Vec3 i0 = Vec3::Zero(), i1 = Vec3::Zero(), i2 = Vec3::Zero(), o0 = Vec3::Zero(), o1 = Vec3::Zero(), o2 = Vec3::Zero();
   void operator()(int32_t id, Vec3& p0, Vec3& p1) noexcept {
-    const int32_t home = m.samples.home_slab[id];
+    const int32_t home = m.samples.home(id).slab;
     if (home != slab) {
       slab = home;
       const Tri& t = m.slabs[home];
       i0 = m.inner[t[0]], i1 = m.inner[t[1]], i2 = m.inner[t[2]];
       o0 = m.outer[t[0]], o1 = m.outer[t[1]], o2 = m.outer[t[2]];
     }
-    const std::array<double, 3>& w = weights[m.samples.home_index[id]];
+    const std::array<double, 3>& w = weights[m.samples.home(id).index];
     p0 = w[0] * i0 + w[1] * i1 + w[2] * i2;
     p1 = w[0] * o0 + w[1] * o1 + w[2] * o2;
   }

@@ -169,7 +169,7 @@ void set_under_layer(SlabModel& m, double thickness, const UnderLayer& material)
   const SampleLayout& L = m.samples;
   for (int32_t id = 0; id < L.count; ++id) {
     Vec3 p0, p1;
-    projection_line(m, L.home_slab[id], L.home_index[id], p0, p1);
+    projection_line(m, L.home(id).slab, L.home(id).index, p0, p1);
     const double len = (p1 - p0).norm();
     // Thickness along the surface normal: the layer's top lies thickness / cos(ray, normal) down the ray.
     const double cosine = len > 0 && m.normals.size() == size_t(L.count)

@@ -13,7 +13,7 @@ namespace {
 // the sample's displacement, over n² (so its norm is two grid triangles' area [model units²], the
 // area a sample stands for on a regular grid, and its direction the alpha-plane's normal).
 Vec3 sample_element(const SlabModel& m, int32_t id) noexcept {
-  const SlabGeometry& g = m.geometry[m.samples.home_slab[id]];
+  const SlabGeometry& g = m.geometry[m.samples.home(id).slab];
   const double a = m.displacement[id], n = m.grid_n;
   return (g.e1 + a * g.d1).cross(g.e2 + a * g.d2) / (n * n);
 }

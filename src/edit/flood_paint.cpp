@@ -68,7 +68,7 @@ bool flood_paint_texels(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d)
   const SlabGeometry* g = nullptr;
   const SlabSample* v = nullptr;
   return job.flood(T, s.texel_stamp, s, d, [&](int32_t id) noexcept {
-    const int32_t local = T.home_index[id], slab = T.home_slab[id];
+    const int32_t local = T.home(id).index, slab = T.home(id).slab;
     if (slab != cached) {  // consecutive texels mostly share their home slab
       cached = slab;
       g = &m.geometry[slab];

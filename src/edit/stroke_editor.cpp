@@ -151,8 +151,8 @@ struct StrokeEditor::Impl {
         if (ids[k] == id) return at[k];
       const double delta = own_memory && memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
                                                                              : double(m.displacement[id]);
-      const std::array<double, 3>& w = scratch.grid_weights[L.home_index[id]];
-      const Tri& t = m.slabs[L.home_slab[id]];
+      const std::array<double, 3>& w = scratch.grid_weights[L.home(id).index];
+      const Tri& t = m.slabs[L.home(id).slab];
       const Vec3 p0 = w[0] * m.inner[t[0]] + w[1] * m.inner[t[1]] + w[2] * m.inner[t[2]];
       const Vec3 p1 = w[0] * m.outer[t[0]] + w[1] * m.outer[t[1]] + w[2] * m.outer[t[2]];
       const Vec3 p = p0 + delta * (p1 - p0);

@@ -77,7 +77,7 @@ std::vector<uint8_t> encode_atlas_png(const TextureAtlas& atlas, const std::stri
 /// Colour the surface shows at displacement sample @p s's grid point (texel (i·m, j·m) of its home
 /// slab; the under-layer's where carving exposed it).
 Vec3f sample_colour(const SlabModel& m, int s) {
-  const int slab = m.samples.home_slab[s], local = m.samples.home_index[s];
+  const int slab = m.samples.home(s).slab, local = m.samples.home(s).index;
   const int i = m.samples.point_i[local] * m.texel_density, j = m.samples.point_j[local] * m.texel_density;
   const int texel = m.texels.ids[static_cast<size_t>(slab) * m.texels.per_slab + grid::index(m.texels.n, i, j)];
   return surface_colour(m, texel);

@@ -145,7 +145,7 @@ struct SlabRenderer::State {
     for (int k = 0; k < per_slab; ++k) {
       const double wT = static_cast<double>(L.point_i[k]) / n, wS = static_cast<double>(L.point_j[k]) / n;
       Vec3 p0, p1;
-      projection_line(m, L.home_slab[ids[k]], L.home_index[ids[k]], p0, p1);
+      projection_line(m, L.home(ids[k]).slab, L.home(ids[k]).index, p0, p1);
       float delta_f, layer_delta;
       Vec3f nrm;
       at(k, ids[k], delta_f, nrm, layer_delta);

@@ -24,15 +24,15 @@ void cast_columns(SlabModel& model, const CoarseMesh& coarse, const ExactMeshQue
     tbb::parallel_for(tbb::blocked_range<int>(lo, hi, 512), [&](const tbb::blocked_range<int>& r) {
       std::vector<SegmentHit> hits;
       for (int s = r.begin(); s < r.end(); ++s) {
-        const Tri& home = model.slabs[model.samples.home_slab[s]];
+        const Tri& home = model.slabs[model.samples.home(s).slab];
         if (!stale[home[0]] && !stale[home[1]] && !stale[home[2]]) continue;
         Vec3 p0, p1;
-        projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+        projection_line(model, model.samples.home(s).slab, model.samples.home(s).index, p0, p1);
         input.segment_hits(p1, p0, hits);
         const Vec3 up = p1 - p0;
         missed[s] = 1;
         undercut[s] = hits.size() > 1;
-        const int index = model.samples.home_index[s];
+        const int index = model.samples.home(s).index;
         const double wT = model.samples.point_i[index] / double(n), wS = model.samples.point_j[index] / double(n);
         const Vec3 coarse_point =
             (1 - wT - wS) * coarse.vertices[home[0]] + wS * coarse.vertices[home[1]] + wT * coarse.vertices[home[2]];
@@ -61,7 +61,7 @@ int64_t flag_missed_columns(const SlabModel& model, const ExactMeshQuery& input,
     for (int s = r.begin(); s < r.end(); ++s) {
       if (!missed[s]) continue;
       Vec3 p0, p1;
-      projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+      projection_line(model, model.samples.home(s).slab, model.samples.home(s).index, p0, p1);
       outer_inside[s] = input.inside(p1);
     }
   });
@@ -69,7 +69,7 @@ int64_t flag_missed_columns(const SlabModel& model, const ExactMeshQuery& input,
   for (int s = 0; s < ns; ++s) {
     if (!missed[s]) continue;
     ++misses;
-    for (int32_t v : model.slabs[model.samples.home_slab[s]]) (outer_inside[s] ? grow_out : grow_in)[v] = 1;
+    for (int32_t v : model.slabs[model.samples.home(s).slab]) (outer_inside[s] ? grow_out : grow_in)[v] = 1;
   }
   return misses;
 }
@@ -78,7 +78,7 @@ void fill_missed_columns(SlabModel& model, const ExactMeshQuery& input, const st
   tbb::parallel_for(0, model.samples.count, [&](int s) {
     if (!missed[s]) return;
     Vec3 p0, p1;
-    projection_line(model, model.samples.home_slab[s], model.samples.home_index[s], p0, p1);
+    projection_line(model, model.samples.home(s).slab, model.samples.home(s).index, p0, p1);
     auto dist = [&](double t) { return input.closest_point(p0 + t * (p1 - p0)).distance; };
     double best_t = 0, best = dist(0);
     for (int k = 1; k <= 16; ++k)

@@ -17,8 +17,8 @@ int64_t bytes(const V&... v) noexcept {
 }
 
 int64_t layout_bytes(const SampleLayout& l) noexcept {
-  return bytes(l.ids, l.home_slab, l.home_index, l.point_i, l.point_j, l.neighbour_offsets, l.neighbours,
-               l.shared_slot_offsets, l.slot_of_shared);
+  return bytes(l.ids, l.homes, l.point_i, l.point_j, l.neighbour_offsets, l.neighbours, l.shared_slot_offsets,
+               l.slot_of_shared);
 }
 
 }  // namespace

@@ -100,8 +100,8 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
   const int n = L.n;
   const auto S = static_cast<int32_t>(slabs.size());
   L.ids.resize(static_cast<size_t>(S) * L.per_slab);
-  L.home_slab.assign(L.count, -1);
-  L.home_index.assign(L.count, -1);
+  constexpr uint32_t kNone = UINT32_MAX;  // no home yet: above every packed home (slab < #S)
+  L.homes.assign(L.count, kNone);
   for (int32_t s = 0; s < S; ++s) {
     const int32_t R = slabs[s][0], Sv = slabs[s][1], T = slabs[s][2];
     int32_t next_interior = interior_base + s * interior_per_slab;
@@ -125,14 +125,11 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
           id = next_interior++;
         const int local = grid::index(n, i, j);
         out[local] = id;
-        if (L.home_slab[id] < 0) {
-          L.home_slab[id] = s;
-          L.home_index[id] = local;
-        }
+        if (L.homes[id] == kNone) L.homes[id] = static_cast<uint32_t>(s) << L.home_bits | static_cast<uint32_t>(local);
       }
   }
   for (int32_t id = 0; id < L.count; ++id)
-    if (L.home_slab[id] < 0) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
+    if (L.homes[id] == kNone) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
 // With @p with_neighbours, the neighbours of every sample, from the grid triangles (listed on the
@@ -163,6 +160,10 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   SampleLayout L;
   L.n = n;
   L.per_slab = grid::point_count(n);
+  if (static_cast<int64_t>(slabs.size()) * L.per_slab > INT32_MAX)
+    throw InvalidInput(std::to_string(slabs.size()) + " slabs at grid n = " + std::to_string(n) +
+                       ": more grid points than an int32 counts");
+  while ((int64_t{1} << L.home_bits) < L.per_slab) ++L.home_bits;
   const auto S = static_cast<int32_t>(slabs.size());
 
   // Number the undirected coarse edges; each owns n-1 edge samples.

@@ -138,7 +138,7 @@ int64_t count_undercut_columns(const SlabModel& m, const ExactMeshQuery& input) 
         std::vector<SegmentHit> hits;
         for (int s = r.begin(); s < r.end(); ++s) {
           Vec3 p0, p1;
-          projection_line(m, m.samples.home_slab[s], m.samples.home_index[s], p0, p1);
+          projection_line(m, m.samples.home(s).slab, m.samples.home(s).index, p0, p1);
           input.segment_hits(p1, p0, hits);
           n += hits.size() > 1;
         }

@@ -59,7 +59,7 @@ void projection_line(const SlabModel& model, int slab, int index, Vec3& p0, Vec3
 
 Vec3 sample_position(const SlabModel& model, int sample) noexcept {
   Vec3 p0, p1;
-  projection_line(model, model.samples.home_slab[sample], model.samples.home_index[sample], p0, p1);
+  projection_line(model, model.samples.home(sample).slab, model.samples.home(sample).index, p0, p1);
   return p0 + static_cast<double>(model.displacement[sample]) * (p1 - p0);
 }
 

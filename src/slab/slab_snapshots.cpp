@@ -217,8 +217,8 @@ SlabModel SnapshotReader::stored_model() const {
   m.layer_displacement.resize(size_t(L.count));
   m.hardness.resize(size_t(L.count));
   for (int32_t id = 0; id < L.count; ++id) {
-    const SlabView& v = views[size_t(L.home_slab[id])];
-    const int32_t k = L.home_index[id];
+    const SlabView& v = views[size_t(L.home(id).slab)];
+    const int32_t k = L.home(id).index;
     m.displacement[id] = v.points[k].delta;
     m.friction_static[id] = v.friction_static[k];
     m.friction_dynamic[id] = v.friction_dynamic[k];
@@ -230,7 +230,7 @@ SlabModel SnapshotReader::stored_model() const {
   m.colour.resize(size_t(T.count));
   m.roughness.resize(size_t(T.count));
   for (int32_t id = 0; id < T.count; ++id) {
-    const float* t = views[size_t(T.home_slab[id])].texels + 4 * size_t(T.home_index[id]);
+    const float* t = views[size_t(T.home(id).slab)].texels + 4 * size_t(T.home(id).index);
     m.colour[id] = encode_srgb8(Vec3f(t[0], t[1], t[2]));  // the decoded codes: the same codes back
     m.roughness[id] = unit_to_unorm8(t[3]);
   }

@@ -27,7 +27,7 @@ double interpolate_layer(const SlabModel& m, int slab, double wS, double wT) noe
 Vec3f surface_colour(const SlabModel& m, int texel) noexcept {
   const SampleLayout& T = m.texels;
   if (m.layer_displacement.size() != static_cast<size_t>(m.samples.count)) return decode_srgb8(m.colour[texel]);
-  const int local = T.home_index[texel], slab = T.home_slab[texel];
+  const int local = T.home(texel).index, slab = T.home(texel).slab;
   const double wS = double(T.point_j[local]) / T.n, wT = double(T.point_i[local]) / T.n;
   SlabCoordinates c;
   c.bary = Vec3(1 - wS - wT, wS, wT);

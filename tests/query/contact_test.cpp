@@ -39,7 +39,7 @@ TEST(ContactTest, SurfacePointLiesOnTheProjectionLineAndIsNotPenetrating) {
   for (int s = 0; s < m.samples.count; s += 37) {
     // Just below the sample's surface point along its projection line.
     Vec3 p0, p1;
-    projection_line(m, m.samples.home_slab[s], m.samples.home_index[s], p0, p1);
+    projection_line(m, m.samples.home(s).slab, m.samples.home(s).index, p0, p1);
     const double d = m.displacement[s];
     if (d < 0.05) continue;
     const Contact c = query(m, loc, p0 + (d - 0.02) * (p1 - p0), cache);

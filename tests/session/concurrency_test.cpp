@@ -195,8 +195,8 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
       for (int32_t id = 0; id < statics.samples.first_interior; id += 3)
         statics.samples.for_each_slot(id, [&](int32_t slot) {
           const int slab = slot / P, k = slot % P;
-          const SlabView home = r.slab(statics.samples.home_slab[id]), here = r.slab(slab);
-          if (here.points[k].delta != home.points[statics.samples.home_index[id]].delta) ++seams;
+          const SlabView home = r.slab(statics.samples.home(id).slab), here = r.slab(slab);
+          if (here.points[k].delta != home.points[statics.samples.home(id).index].delta) ++seams;
         });
       std::this_thread::yield();
     }
@@ -348,17 +348,17 @@ static void studio_servo_and_render_threads(RenderMode mode) {
     EXPECT_GT(f.sweeps, 0) << "the strokes the mouse device made edited nothing";
   }
   EXPECT_EQ(backwards, 0) << "the tool state went back in time";
-  if (mode == RenderMode::Sphere) EXPECT_GT(ball_ticks, 0) << "the tool was never felt as a ball";
-  else EXPECT_EQ(ball_ticks, 0) << "a point proxy's tool was drawn as a ball";
+  if (mode == RenderMode::Sphere)
+    EXPECT_GT(ball_ticks, 0) << "the tool was never felt as a ball";
+  else
+    EXPECT_EQ(ball_ticks, 0) << "a point proxy's tool was drawn as a ball";
   EXPECT_EQ(torn, 0);
   EXPECT_GT(read_epochs, 0) << "nothing was published";
   EXPECT_GT(session.stats().sweeps, 0);
 }
 
 TEST(Concurrency, StudioServoThreadAndRenderThread) { studio_servo_and_render_threads(RenderMode::Proxy); }
-TEST(Concurrency, StudioServoThreadWithTheBallAndRenderThread) {
-  studio_servo_and_render_threads(RenderMode::Sphere);
-}
+TEST(Concurrency, StudioServoThreadWithTheBallAndRenderThread) { studio_servo_and_render_threads(RenderMode::Sphere); }
 
 namespace {
 

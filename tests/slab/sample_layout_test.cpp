@@ -52,7 +52,7 @@ TEST(SampleLayoutTest, SharedSamplesHaveIdenticalProjectionLines) {
       const int id = L.ids[slab * L.per_slab + k];
       Vec3 a0, a1, b0, b1;
       projection_line(s, slab, k, a0, a1);
-      projection_line(s, L.home_slab[id], L.home_index[id], b0, b1);
+      projection_line(s, L.home(id).slab, L.home(id).index, b0, b1);
       EXPECT_LT((a0 - b0).norm() + (a1 - b1).norm(), 1e-12);
     }
 }
@@ -119,8 +119,7 @@ TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
     const SampleLayout b = build_sample_layout(m.faces, int(m.vertices.size()), n, false);
     EXPECT_TRUE(b.neighbour_offsets.empty() && b.neighbours.empty());
     EXPECT_EQ(a.ids, b.ids);
-    EXPECT_EQ(a.home_slab, b.home_slab);
-    EXPECT_EQ(a.home_index, b.home_index);
+    EXPECT_EQ(a.homes, b.homes);
     EXPECT_EQ(a.shared_slot_offsets, b.shared_slot_offsets);
     EXPECT_EQ(a.slot_of_shared, b.slot_of_shared);
     std::vector<Tri> tris;
@@ -156,6 +155,25 @@ TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
       b.for_each_neighbour(s, [&](int32_t t) { seen_b.insert(t); });
       ASSERT_EQ(seen_b, joined[s]) << "n = " << n << ", sample " << s;
       ASSERT_EQ(seen_a, joined[s]) << "n = " << n << ", sample " << s;
+    }
+  }
+}
+
+TEST(SampleLayoutTest, PackedHomesAreEachSamplesFirstSlot) {
+  // Reference: the first slot (slab-major, grid index order) whose id is the sample, by a scan of
+  // `ids`; home() must unpack exactly that slab and grid index, also where the grid index takes
+  // the most bits (texel grids, n·m up to 64 here).
+  const TriangleMesh m = test::icosphere(2, 1.0);
+  for (int n : {1, 2, 7, 16, 32, 64}) {
+    const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n, false);
+    ASSERT_EQ(L.homes.size(), size_t(L.count));
+    std::vector<int64_t> first(L.count, -1);
+    for (size_t slot = 0; slot < L.ids.size(); ++slot)
+      if (first[L.ids[slot]] < 0) first[L.ids[slot]] = int64_t(slot);
+    for (int32_t s = 0; s < L.count; ++s) {
+      const GridSlot h = L.home(s);
+      ASSERT_EQ(int64_t(h.slab) * L.per_slab + h.index, first[s]) << "n = " << n << ", sample " << s;
+      ASSERT_TRUE(h.index >= 0 && h.index < L.per_slab);
     }
   }
 }

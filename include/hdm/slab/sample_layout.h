@@ -13,6 +13,12 @@
 
 namespace hdm {
 
+/// A grid point of a layout: slab and packed grid index (grid::index) within it.
+struct GridSlot {
+  int32_t slab = -1;  ///< slab id in [0, #S)
+  int32_t index = 0;  ///< packed grid index in [0, SampleLayout::per_slab)
+};
+
 /// Global sample ids and their adjacency for a grid of `n` intervals per slab edge.
 ///
 /// Sample ids: the first #coarse-vertices ids are the slab corners (id = coarse vertex id); then
@@ -24,11 +30,15 @@ struct SampleLayout {
   int count = 0;     ///< number of distinct samples
   /// #slabs·per_slab global ids, slab-major, in grid::index order.
   std::vector<int32_t> ids;
-  /// For each sample, one slab and packed grid index that hold it (its "home"), used to evaluate
-  /// the sample's projection line with one fixed formula so shared samples agree bit for bit.
-  /// @{
-  std::vector<int32_t> home_slab, home_index;
-  /// @}
+  /// For each sample, one slab and packed grid index that hold it (its "home", the first slot in
+  /// slab order), used to evaluate the sample's projection line with one fixed formula so shared
+  /// samples agree bit for bit; packed in one word, slab << home_bits | grid index (read with
+  /// home()): 4 bytes per sample instead of 8 for two int32, and a shift and a mask to unpack.
+  std::vector<uint32_t> homes;
+  /// Bits of the grid index in `homes`: the least b with per_slab <= 2^b. Then 2^b < 2·per_slab, so
+  /// slab·2^b < #S·2·per_slab <= 2^32 while the slots (#S·per_slab) fit an int32, as
+  /// build_sample_layout() requires.
+  int home_bits = 0;
   /// per_slab entries: grid coordinates (i, j) of each packed index (inverse of grid::index).
   /// @{
   std::vector<int16_t> point_i, point_j;
@@ -40,7 +50,7 @@ struct SampleLayout {
   std::vector<int32_t> neighbour_offsets, neighbours;
   /// @}
   /// Samples with id >= first_interior are interior to their home slab: their only grid point is
-  /// (home_slab, home_index). Corner and edge samples (ids below it) may be held by several slabs.
+  /// home(). Corner and edge samples (ids below it) may be held by several slabs.
   /// INT32_MAX (no sample known to be interior) when the layout was not built by build_sample_layout.
   int32_t first_interior = INT32_MAX;
   /// CSR over the shared samples (ids < first_interior): every grid point that holds sample s is
@@ -51,12 +61,19 @@ struct SampleLayout {
   std::vector<int32_t> shared_slot_offsets, slot_of_shared;
   /// @}
 
+  /// @brief Home of sample @p s (see `homes`). Precondition: 0 <= s < count. @note O(1), noexcept.
+  GridSlot home(int32_t s) const noexcept {
+    const uint32_t h = homes[s];
+    return {static_cast<int32_t>(h >> home_bits), static_cast<int32_t>(h & ((uint32_t{1} << home_bits) - 1))};
+  }
+
   /// @brief Calls @p f(slot) for every grid point (slab·per_slab + grid index) that holds sample @p s.
   /// @note O(number of slabs holding s): 1 for interior samples; noexcept if @p f is.
   template <class F>
   void for_each_slot(int32_t s, F&& f) const {
     if (s >= first_interior) {
-      f(home_slab[s] * per_slab + home_index[s]);
+      const GridSlot h = home(s);
+      f(h.slab * per_slab + h.index);
       return;
     }
     for (int32_t k = shared_slot_offsets[s]; k < shared_slot_offsets[s + 1]; ++k) f(slot_of_shared[k]);
@@ -74,8 +91,9 @@ struct SampleLayout {
       return;
     }
     if (s >= first_interior) {  // all six grid neighbours in the home slab, rows of n+1-j points
-      const int32_t* g = &ids[static_cast<size_t>(home_slab[s]) * per_slab];
-      const int32_t p = home_index[s], row = n + 1 - point_j[p];
+      const GridSlot h = home(s);
+      const int32_t* g = &ids[static_cast<size_t>(h.slab) * per_slab];
+      const int32_t p = h.index, row = n + 1 - point_j[p];
       f(g[p + 1]), f(g[p - 1]), f(g[p + row]), f(g[p + row - 1]), f(g[p - row]), f(g[p - row - 1]);
       return;
     }
@@ -174,7 +192,8 @@ struct SampleLayout {
 ///                             grid triangles (for_each_triangle()).
 /// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
 ///         the whole one-ring (boundary edges belong to one slab).
-/// @throws InvalidInput if n < 1, an id is out of range, or an edge is used by more than two slabs.
+/// @throws InvalidInput if n < 1, an id is out of range, an edge is used by more than two slabs, or
+///         the grid points (#S·(n+1)(n+2)/2) do not fit an int32.
 /// @note O(#S·n²) time and memory; the CSR rows are sorted in parallel (std::thread), and the (sample,
 ///       neighbour) pairs are listed twice rather than stored (at 20,000 slabs and n = 32, the
 ///       colour texels of `hdm bake --slabs 20000`, they would take 1 GB).
