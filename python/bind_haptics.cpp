@@ -16,11 +16,14 @@
 namespace hdm::python {
 namespace {
 
-// The point renderers' modes: the ball has its own call (sphere_proxy_step) and state.
+// The point renderers' modes: the ball and the rigid tool have their own calls and states.
 RenderMode point_render_mode(const std::string& name) {
   const RenderMode mode = parse_render_mode(name);
   if (mode == RenderMode::Sphere)
     throw InvalidInput("mode 'sphere': the ball carries its own state; call sphere_proxy_step with a SphereProxyState");
+  if (mode == RenderMode::RigidTool)
+    throw InvalidInput(
+        "mode 'rigid': the rigid tool carries its own state; call rigid_tool_step with a RigidToolState");
   return mode;
 }
 
@@ -200,7 +203,6 @@ void bind_workspace(py::module_& m) {
       py::arg("model"), py::arg("workspace_m") = 0.16,
       "The Workspace that fits the model's slab box diagonal into a device workspace of workspace_m metres, centred "
       "on the box (what proxy_step uses by default).");
-
 }
 
 // The proxy (god-object): its status, parameters, state and the open-loop proxy_step.
@@ -281,7 +283,6 @@ void bind_proxy(py::module_& m) {
                      "Returns ") +
          kRunDoc + ". A non-finite or out-of-range HIP gives zero force and status BAD_INPUT.")
             .c_str());
-
 }
 
 // Devices read once per servo tick: the interface and the simulated device.
@@ -345,7 +346,6 @@ void bind_simulated_device(py::module_& m) {
           "the hand's force on the handle over the last period [N]")
       .def_property_readonly(
           "tick", [](const PySimulatedDevice& d) { return d.device->tick(); }, "ticks integrated");
-
 }
 
 // A recorded trajectory played as the device, and the closed servo loop in simulated time.

@@ -44,8 +44,9 @@ void write_trace(const std::string& path, const ScenarioReport& r) {
   std::string out;
   // force_first_n: the force along the direction of the run's first contact force, so that a force
   // that flips (pop-through) shows as negative.
-  out += "time_s,device_x_m,device_y_m,device_z_m,force_x_n,force_y_n,force_z_n,force_n,force_first_n,depth_mm,"
-         "status,slab,proxy_x_m,proxy_y_m,proxy_z_m,normal_x,normal_y,normal_z\n";
+  out +=
+      "time_s,device_x_m,device_y_m,device_z_m,force_x_n,force_y_n,force_z_n,force_n,force_first_n,depth_mm,"
+      "status,slab,proxy_x_m,proxy_y_m,proxy_z_m,normal_x,normal_y,normal_z\n";
   Vec3 first = Vec3::Zero();
   for (const ScenarioTraceRow& t : r.trace)
     if (t.force.norm() > 0.05) {
@@ -65,6 +66,11 @@ void write_trace(const std::string& path, const ScenarioReport& r) {
 }
 
 void run_feel(const FeelArgs& a) {
+  const RenderMode mode = parse_render_mode(a.mode);
+  if (mode == RenderMode::Sphere || mode == RenderMode::RigidTool)
+    throw InvalidInput("--mode " + a.mode +
+                       ": not scored by hdm feel (its scenarios score a point renderer against the exact input); "
+                       "use proxy or penalty");
   check_outputs({a.trace}, {a.model, a.input, a.replay}, "--trace");
   const SlabModel model = load_model(a.model, {a.limit.bytes()});
   const SlabLocator locator(model);
@@ -74,7 +80,7 @@ void run_feel(const FeelArgs& a) {
     throw InvalidInput("hdm feel: give either --scenario NAME or --replay CSV (exactly one)");
   ScenarioOptions o;
   if (!a.scenario.empty()) o.scenario = parse_scenario(a.scenario);
-  o.mode = parse_render_mode(a.mode);
+  o.mode = mode;
   o.proxy.solver = parse_alpha_solver(a.solver);
   o.rate_hz = a.rate;
   o.proxy.force.stiffness = a.stiffness;

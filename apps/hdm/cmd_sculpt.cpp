@@ -189,6 +189,9 @@ SessionOptions session_options(const SculptArgs& a, const Script& script) {
   SessionOptions so;
   so.mode = parse_render_mode(a.mode);
   so.proxy.force = script.force;
+  so.rigid.stiffness = script.force.stiffness;  // the rigid tool's coupling: the script's contact
+  so.rigid.damping = script.force.damping;
+  so.rigid.max_force = script.force.max_force;
   so.proxy.solver = parse_alpha_solver(a.solver);
   so.edit_budget_s = a.budget_us * 1e-6;
   so.edit_every = a.edit_rate > 0 ? std::max<int64_t>(1, std::llround(a.rate / a.edit_rate)) : 1;
@@ -418,11 +421,11 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_option("--save-every", a->save_every,
                   "save the model to -o from another thread every S seconds while sculpting")
       ->check(CLI::Range(0.01, 1e6));
-  cmd->add_option(
-         "--mode", a->mode,
-         "force model: proxy (a point god-object, default), penalty (the paper's) or sphere (the brush felt as "
-         "a ball of its radius held outside the surface, which carves with it)")
-      ->check(CLI::IsMember({"proxy", "penalty", "sphere"}));
+  cmd->add_option("--mode", a->mode,
+                  "force model: proxy (a point god-object, default), penalty (the paper's), sphere (the brush felt as "
+                  "a ball of its radius held outside the surface, which carves with it) or rigid (a 6-DOF dental burr, "
+                  "head radius 1 % of the model's diagonal, force and torque)")
+      ->check(CLI::IsMember({"proxy", "penalty", "sphere", "rigid"}));
   cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)")
       ->check(CLI::IsMember({"newton", "bisection"}));
   cmd->add_option("--forces", a->forces, "write one CSV row per tick here");

@@ -332,7 +332,8 @@ RenderMode parse_render_mode(const std::string& name) {
   if (name == "proxy") return RenderMode::Proxy;
   if (name == "penalty") return RenderMode::Penalty;
   if (name == "sphere") return RenderMode::Sphere;
-  throw InvalidInput("render mode '" + name + "': expected proxy, penalty or sphere");
+  if (name == "rigid") return RenderMode::RigidTool;
+  throw InvalidInput("render mode '" + name + "': expected proxy, penalty, sphere or rigid");
 }
 
 }  // namespace hdm

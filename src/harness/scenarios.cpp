@@ -68,6 +68,13 @@ struct ReferenceForces {
   bool ref_valid = false, fac_valid = false;
 };
 
+// The scenarios score a point renderer (render_step): the ball and the rigid tool are refused by name.
+void require_point_mode(const char* what, RenderMode mode) {
+  if (mode != RenderMode::Sphere && mode != RenderMode::RigidTool) return;
+  throw InvalidInput(std::string(what) + ": mode " + (mode == RenderMode::Sphere ? "sphere" : "rigid") +
+                     " is not scored here (the scenarios score a point against the exact input; proxy or penalty)");
+}
+
 // The report's identification fields, before any tick is run.
 ScenarioReport report_header(const ScenarioOptions& o, const Setup& s) {
   ScenarioReport r;
@@ -392,8 +399,7 @@ const char* scenario_name(Scenario s) noexcept {
 ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
                             const ScenarioOptions& o) {
   if (!(o.rate_hz > 0)) throw InvalidInput("scenario: rate_hz must be > 0");
-  if (o.mode == RenderMode::Sphere)
-    throw InvalidInput("scenario: mode sphere is not scored here (the scenarios score a point against the exact input)");
+  require_point_mode("scenario", o.mode);
   Setup s = base_setup(ref, o);
   RunFlags flags;
   const ScenarioSites sites(ref);
@@ -450,8 +456,7 @@ ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, co
   ScenarioOptions o = options;
   o.rate_hz = device.rate_hz();
   if (!(o.rate_hz > 0)) throw InvalidInput("replay: the trajectory needs at least two rows with increasing time");
-  if (o.mode == RenderMode::Sphere)
-    throw InvalidInput("replay: mode sphere is not scored here (the scenarios score a point against the exact input)");
+  require_point_mode("replay", o.mode);
   Setup s = base_setup(ref, o);
   s.steady_begin = 0;
   s.steady_end = static_cast<int64_t>(device.size());

@@ -109,6 +109,19 @@ TEST(Proxy, ParsesSolverNames) {
   EXPECT_THROW(parse_alpha_solver("secant"), InvalidInput);
 }
 
+TEST(Proxy, ParsesRenderModeNames) {
+  EXPECT_EQ(parse_render_mode("proxy"), RenderMode::Proxy);
+  EXPECT_EQ(parse_render_mode("penalty"), RenderMode::Penalty);
+  EXPECT_EQ(parse_render_mode("sphere"), RenderMode::Sphere);
+  EXPECT_EQ(parse_render_mode("rigid"), RenderMode::RigidTool);
+  try {
+    parse_render_mode("Rigid");
+    ADD_FAILURE() << "a mode's name is case-sensitive";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("'Rigid'"), std::string::npos) << e.what();
+  }
+}
+
 // Pushing far past the shell's inner face keeps the contact (the HIP's own query finds no slab
 // there); the penalty force of the paper drops to zero at the same point.
 TEST(Proxy, HoldsPastTheInnerFaceWherePenaltyPopsThrough) {

@@ -54,6 +54,8 @@ def test_feel_errors(sphere_files, tmp_path):
         hdm.feel(model, "wiggle")
     with pytest.raises(ValueError, match="exactly one"):
         hdm.feel(model)
+    with pytest.raises(ValueError, match="mode rigid"):
+        hdm.feel(model, "press", mode="rigid")
     bad = tmp_path / "bad.csv"
     bad.write_text("time_s,device_x_m,device_y_m,device_z_m\n0,0,0,0\n0.001,nan,0,0\n")
     with pytest.raises(ValueError, match="bad.csv"):

@@ -103,6 +103,8 @@ def test_bad_rows_give_zero_force_and_bad_arguments_raise(sphere_files):
         hdm.proxy_step(model, np.zeros((3, 3)), hdm.ProxyState(), velocity=np.zeros((2, 3)))
     with pytest.raises(ValueError, match="sideways"):
         hdm.proxy_step(model, np.zeros((3, 3)), hdm.ProxyState(), mode="sideways")
+    with pytest.raises(ValueError, match="rigid_tool_step"):
+        hdm.proxy_step(model, np.zeros((3, 3)), hdm.ProxyState(), mode="rigid")
     with pytest.raises(ValueError, match="no parameter 'stifness'"):
         hdm.ProxyParams(stifness=10)
     with pytest.raises(ValueError, match="mass"):

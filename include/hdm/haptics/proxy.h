@@ -19,7 +19,7 @@ enum class RenderMode : uint8_t {
   Penalty,  ///< the paper's memoryless SCP = HIP + n·depth (paper §3.4), for comparison
   Sphere,   ///< a ball of the tool's radius held outside the surface (sphere_proxy_step(), sphere_proxy.h)
   /// A rigid 6-DOF tool (a point shell) held outside the surface, force and torque
-  /// (rigid_tool_step(), rigid_tool.h); hdm::SculptSession runs it. Not a name parse_render_mode() reads.
+  /// (rigid_tool_step(), rigid_tool.h); hdm::SculptSession runs it. parse_render_mode() reads it as "rigid".
   RigidTool,
 };
 
@@ -153,8 +153,8 @@ inline ProxyOutput render_step(RenderMode mode, const SlabModel& model, const Sl
 /// @throws InvalidInput for any other name, naming it.
 AlphaSolver parse_alpha_solver(const std::string& name);
 
-/// @brief Parses "proxy", "penalty" or "sphere".
-/// @throws InvalidInput for any other name.
+/// @brief Parses a render mode's name: "proxy", "penalty", "sphere" or "rigid" (RenderMode::RigidTool).
+/// @throws InvalidInput for any other name, naming it.
 RenderMode parse_render_mode(const std::string& name);
 
 }  // namespace hdm

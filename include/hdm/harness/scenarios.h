@@ -34,7 +34,7 @@ const char* scenario_name(Scenario s) noexcept;
 /// Settings of a scenario run. Paths are found on the exact input (model frame, any orientation).
 struct ScenarioOptions {
   Scenario scenario = Scenario::Slide;  ///< which scripted motion to run
-  RenderMode mode = RenderMode::Proxy;  ///< proxy (god-object) or the paper's penalty force (not Sphere)
+  RenderMode mode = RenderMode::Proxy;  ///< proxy (god-object) or the paper's penalty force (not Sphere or RigidTool)
   double rate_hz = 1000;                ///< servo rate [Hz]
   ProxyParams proxy;                    ///< force parameters (stiffness, damping, max force, friction)
   bool friction = false;                ///< use the model's μs/μd fields (off: frictionless, so force
@@ -111,7 +111,7 @@ struct ScenarioReport {
 /// @brief Runs one scenario on @p model, scored against @p reference (the input mesh the model was
 /// baked from).
 /// @throws InvalidInput when the scenario's geometry cannot be found on the model (e.g. no ray hits),
-///         or for RenderMode::Sphere (the scores are a point's).
+///         or for RenderMode::Sphere and RenderMode::RigidTool (the scores are a point's), naming the mode.
 /// @note Runs in simulated time, ticks back to back on the calling thread; allocates only before the
 ///       tick loop (and in the Stiff search, between runs). Each tick is hdm::render_step, timed.
 ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
@@ -128,7 +128,7 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
 /// @param options  mode, proxy parameters, friction and workspace; the rate is the recording's.
 /// @return the report, scenario "replay"; ticks = rows played.
 /// @throws InvalidInput when the recording has fewer than two rows or no duration, or for
-///         RenderMode::Sphere.
+///         RenderMode::Sphere and RenderMode::RigidTool, naming the mode.
 /// @note Allocates only before the tick loop; each tick is hdm::render_step, timed.
 ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
                           ReplayDevice& device, const ScenarioOptions& options);
