@@ -424,7 +424,7 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_option("--mode", a->mode,
                   "force model: proxy (a point god-object, default), penalty (the paper's), sphere (the brush felt as "
                   "a ball of its radius held outside the surface, which carves with it) or rigid (a 6-DOF dental burr, "
-                  "head radius 1 % of the model's diagonal, force and torque)")
+                  "head radius 1 % of the model's diagonal, force and torque; its head drills with the drill brush)")
       ->check(CLI::IsMember({"proxy", "penalty", "sphere", "rigid"}));
   cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)")
       ->check(CLI::IsMember({"newton", "bisection"}));

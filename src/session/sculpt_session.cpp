@@ -47,6 +47,8 @@ struct SculptSession::Impl {
     if (o.mode == RenderMode::RigidTool) {
       if (options.tool.points.empty()) options.tool = burr_shell(brush.radius, o.tool_points);
       tool_state = std::make_unique<RigidToolState>();
+      const double head = o.head_radius > 0 ? o.head_radius : brush.radius;
+      for (const Vec3& p : options.tool.points) in_head.push_back(p.norm() <= head * (1 + 1e-9));
     }
   }
   SessionOptions options;
@@ -60,6 +62,10 @@ struct SculptSession::Impl {
   SphereProxyState ball;                       // RenderMode::Sphere
   std::unique_ptr<RigidToolState> tool_state;  // RenderMode::RigidTool
   ToolWrench wrench;                           // RenderMode::RigidTool: the last tick's
+  std::vector<uint8_t> in_head;                // RenderMode::RigidTool: per shell point, 1 on the burr's head
+  double head_force_n = 0;                     // the head's contact normal forces [N], the last tick's
+  Contact head_contact;                        // the head's contact on the surface, the last tick's
+  QueryCache head_cache;                       // coherence of the head contact's query
   Brush brush;
   bool tool_on = false;
   bool publishing = false;
@@ -85,6 +91,7 @@ struct SculptSession::Impl {
   ProxyOutput render_tool(const DeviceState& d) noexcept {
     wrench = rigid_tool_step(model, locator, ws, options.tool, ToolPose{d.position, d.orientation},
                              ToolTwist{d.velocity, d.angular_velocity}, options.rigid, *tool_state);
+    head_contact_of_tool();
     ProxyOutput out;
     out.force = wrench.force;
     out.normal_force = wrench.force.norm();
@@ -93,6 +100,40 @@ struct SculptSession::Impl {
                  : wrench.status == ForceStatus::BadInput ? ProxyStatus::BadInput
                                                           : ProxyStatus::Sliding;
     return out;
+  }
+
+  // The head's contacts after the solve: a row's multiplier λ is its contact force over the
+  // workspace's scale (the coupling's force is scale·Σλ·n, rigid_tool.h), so F_n = scale·Σλ over
+  // the head's rows. The contact is their force-weighted mean point, projected on the surface.
+  void head_contact_of_tool() noexcept {
+    const RigidToolState& st = *tool_state;
+    const Eigen::Matrix3d R = st.orientation.toRotationMatrix();
+    double lambda = 0;
+    Vec3 at = Vec3::Zero();
+    for (int k = 0; k < st.row_count; ++k) {
+      const ToolConstraint& row = st.rows[k];
+      if (!(row.lambda > 0) || !in_head[row.point]) continue;
+      lambda += row.lambda;
+      at += row.lambda * (st.position + R * options.tool.points[row.point]);
+    }
+    head_force_n = st.contact ? ws.scale * lambda : 0.0;
+    head_contact = head_force_n > 0 ? query(model, locator, at / lambda, head_cache, options.rigid.solver) : Contact{};
+  }
+
+  // The stroke's sample of this tick: the point renderers' contact, or the rigid tool's head
+  // contact while the drill is the brush (other brushes get none from the rigid tool).
+  void feed_stroke(const SessionTick& r, const ServoTick& t, bool contact) noexcept {
+    const bool tool = options.mode == RenderMode::RigidTool;
+    if (!r.tool_on || t.tick % options.edit_every != 0) return;
+    if (tool ? !(brush.tool == BrushTool::Drill && head_contact.in_shell()) : !contact) return;
+    ToolSample ts;
+    ts.contact = tool ? head_contact : r.out.contact;
+    ts.hip = tool ? head_contact.surface_point : ws.to_model(r.device.position);
+    ts.normal_force_n = tool ? head_force_n : r.out.normal_force;
+    ts.units_per_metre = ws.scale;
+    ts.time_s = t.time_s;
+    ts.ball_centre = options.mode == RenderMode::Sphere;
+    editor.add_sample(model, ts);
   }
 
   // Copies the dirty slabs (all of them, over as many ticks as needed, the editor paused so the
@@ -147,6 +188,8 @@ SculptSession::SculptSession(SlabModel model, const Workspace& ws, const Session
     throw InvalidInput("sculpt session: the rigid tool needs a shell of 1 to " + std::to_string(kMaxToolPoints) +
                        " points with one normal each, or tool_points in [16, " + std::to_string(kMaxToolPoints) +
                        "] for the default burr");
+  if (!(options.head_radius >= 0) || !std::isfinite(options.head_radius))
+    throw InvalidInput("sculpt session: head_radius must be finite and >= 0 (0: the default burr's head)");
   impl_ = std::make_unique<Impl>(std::move(model), ws, options);
 }
 
@@ -179,6 +222,7 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     r.ball_centre = s.tool_state->position;
     r.tool_orientation = s.tool_state->orientation;
     r.tool_contacts = s.wrench.contacts;
+    r.head_force_n = s.head_force_n;
     r.torque = s.wrench.torque * t.force_gain;
     device.end_frame(r.force, r.torque);  // the wrench first: edits never delay it
   } else {
@@ -196,16 +240,7 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
   if (r.tool_on && !s.tool_on) s.editor.begin_stroke(s.brush);
   if (!r.tool_on && s.tool_on) s.editor.end_stroke();
   s.tool_on = r.tool_on;
-  if (r.tool_on && contact && !tool && t.tick % s.options.edit_every == 0) {
-    ToolSample ts;
-    ts.contact = r.out.contact;
-    ts.hip = s.ws.to_model(r.device.position);
-    ts.normal_force_n = r.out.normal_force;
-    ts.units_per_metre = s.ws.scale;
-    ts.time_s = t.time_s;
-    ts.ball_centre = s.options.mode == RenderMode::Sphere;
-    s.editor.add_sample(s.model, ts);
-  }
+  s.feed_stroke(r, t, contact);
 
   // Edits and publication until the budget, counted from the tick's start: a slow proxy step
   // leaves less time for edits, so the whole tick stays within about the budget; but a fifth of the

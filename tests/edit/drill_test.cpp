@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 // The drill brush against Archard's wear law (Archard 1953, "Contact and rubbing of flat surfaces",
 // J. Appl. Phys. 24(8)), V = K·F_n·v_s·Δt / H, on a flat sheet whose removed volume is measured
-// independently of the kernel: the displaced surface's grid triangles, each its area times the mean
-// drop of its corners (exact for the piecewise-linear surface). Model units are millimetres.
+// independently of the kernel (test::removed_volume). Model units are millimetres.
 #include <hdm/core/error.h>
 #include <hdm/edit/brush_registry.h>
 #include <hdm/edit/stroke_editor.h>
+
+#include "../support/flat_sheet.h"
 
 #include <gtest/gtest.h>
 
@@ -17,61 +18,10 @@
 namespace hdm {
 namespace {
 
-constexpr int kQuads = 4;        // quads per side of the sheet
-constexpr double kHalf = 10;     // the sheet spans [-10, 10]² [mm]
-constexpr double kUnits = 1000;  // model units per metre (millimetres)
-
-// A flat sheet: the square split into kQuads² quads (two slabs each, CCW seen from +z), inner face
-// at z = -1, outer at z = +1, grid n = 16 (sample spacing 0.3125 mm), surface at z = 0 (δ = 0.5).
-SlabModel flat_sheet() {
-  SlabModel m;
-  m.grid_n = 16;
-  m.texel_density = 1;
-  for (int j = 0; j <= kQuads; ++j)
-    for (int i = 0; i <= kQuads; ++i) {
-      const double x = -kHalf + 2 * kHalf * i / kQuads, y = -kHalf + 2 * kHalf * j / kQuads;
-      m.inner.emplace_back(x, y, -1.0);
-      m.outer.emplace_back(x, y, 1.0);
-    }
-  auto v = [](int i, int j) { return j * (kQuads + 1) + i; };
-  for (int j = 0; j < kQuads; ++j)
-    for (int i = 0; i < kQuads; ++i) {
-      m.slabs.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
-      m.slabs.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
-    }
-  const int64_t C = (kQuads + 1) * (kQuads + 1), E = 2 * kQuads * (kQuads + 1) + kQuads * kQuads,
-                S = 2 * kQuads * kQuads, k = m.grid_n;
-  m.displacement.assign(size_t(C + E * (k - 1) + S * (k - 1) * (k - 2) / 2), 0.5f);
-  rebuild_derived(m);
-  return m;
-}
-
-// The slab and barycentrics (wR, wS, wT) of the sheet's point (x, y).
-void locate(double x, double y, int32_t& slab, Vec3& bary) {
-  const double qx = (x + kHalf) / (2 * kHalf) * kQuads, qy = (y + kHalf) / (2 * kHalf) * kQuads;
-  const int i = std::clamp(int(qx), 0, kQuads - 1), j = std::clamp(int(qy), 0, kQuads - 1);
-  const double u = qx - i, w = qy - j;
-  const bool lower = u >= w;
-  slab = 2 * (j * kQuads + i) + (lower ? 0 : 1);
-  bary = lower ? Vec3(1 - u, u - w, w) : Vec3(1 - w, u, w - u);
-}
-
-// Volume between two states of the sheet's surface [mm³]: each grid triangle's area (the same in
-// both: vertical projection lines) times the mean drop of its three corners.
-double removed_volume(const SlabModel& m, const std::vector<Vec3>& before) {
-  std::vector<Vec3> after;
-  std::vector<Tri> faces;
-  displaced_surface(m, after, faces);
-  double v = 0;
-  for (const Tri& f : faces) {
-    const Vec3 &a = before[f[0]], &b = before[f[1]], &c = before[f[2]];
-    const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
-    double drop = 0;
-    for (int k = 0; k < 3; ++k) drop += before[f[k]].z() - after[f[k]].z();
-    v += area * drop / 3;
-  }
-  return v;
-}
+using test::flat_sheet;
+using test::removed_volume;
+constexpr double kUnits = test::kSheetUnits;
+void locate(double x, double y, int32_t& slab, Vec3& bary) { test::locate_on_sheet(x, y, slab, bary); }
 
 struct Drill {
   double radius = 1.5, wear = 0.01, rpm = 200000;

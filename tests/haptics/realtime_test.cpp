@@ -285,12 +285,18 @@ TEST(Realtime, RunSessionTicksDoNotAllocate) {
 }
 
 // RenderMode::RigidTool through run_session: the default burr on the same path, force and torque
-// sent to the device, no allocation inside a tick.
+// sent to the device, the drill brush removing under its head on the strokes, no allocation inside
+// a tick.
 TEST(Realtime, RigidToolSessionTicksDoNotAllocate) {
   const SessionRig rig;
   SessionOptions o;
   o.mode = RenderMode::RigidTool;
   SculptSession session(sphere().model, sphere().ws, o);
+  Brush drill;
+  drill.tool = BrushTool::Drill;
+  drill.radius = 0.01 * sphere().model.source_diagonal;  // the default burr's head
+  drill.falloff = Falloff::Smooth;
+  session.set_brush(drill);
   SimulatedDeviceOptions d;
   d.spec.max_torque_nm = 0.2;
   d.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vec3::UnitY()));
@@ -298,6 +304,8 @@ TEST(Realtime, RigidToolSessionTicksDoNotAllocate) {
   const ServoStats st = run_rig(session, rig, d, c);
   EXPECT_EQ(c.inside, 0);
   EXPECT_GT(session.stats().contact_ticks, 5000) << "the run must exercise contact";
+  EXPECT_GT(session.stats().sweeps, 1000) << "and drill on the strokes";
+  EXPECT_GT(session.stats().changed, 0);
   std::printf("rigid tool session tick (burr, %d points): median %.1f us, p99 %.1f us, %lld of %lld ticks in contact\n",
               o.tool_points, st.compute_ns.median * 1e-3, st.compute_ns.p99 * 1e-3,
               static_cast<long long>(session.stats().contact_ticks), static_cast<long long>(st.ticks));

@@ -24,7 +24,8 @@ namespace hdm {
 /// Settings of a SculptSession.
 struct SessionOptions {
   /// Force model: a point (Proxy, Penalty), the tool's ball (Sphere) or a rigid tool with torque
-  /// (RigidTool: renders force and torque; its contacts feed no strokes, so it does not edit).
+  /// (RigidTool: renders force and torque; with the drill brush its head's contacts drill, other
+  /// brushes get no samples from it).
   RenderMode mode = RenderMode::Proxy;
   ProxyParams proxy;  ///< proxy and force parameters (SI at the device)
   /// RenderMode::Sphere: the felt ball's radius [model units]; 0 (default): the brush's radius, so
@@ -37,6 +38,10 @@ struct SessionOptions {
   ToolShell tool;
   int tool_points =
       1000;  ///< RenderMode::RigidTool without a `tool`: points of the default burr, in [16, kMaxToolPoints]
+  /// RenderMode::RigidTool: the shell points within this distance of the tip are the burr's head,
+  /// whose contacts drill [model units]; 0 (default): the default burr's head radius (1 % of the
+  /// model's source diagonal), its whole spherical head.
+  double head_radius = 0;
   /// RenderMode::RigidTool: couplings, damping, force and torque clamps, contact band (SI at the
   /// device, rigid_tool.h); `proxy` is not used by the rigid tool.
   RigidToolParams rigid;
@@ -79,6 +84,10 @@ struct SessionTick {
   /// RenderMode::RigidTool: the god-object's orientation (tool frame → model frame, unit).
   Eigen::Quaterniond tool_orientation = Eigen::Quaterniond::Identity();
   int32_t tool_contacts = 0;  ///< RenderMode::RigidTool: shell points pushing the god-object
+  /// RenderMode::RigidTool: the sum of the normal forces of the head's contacts [N] (shell points
+  /// within SessionOptions::head_radius of the tip), the drill's F_n: the contact forces of the
+  /// solve, before damping and the force clamp; 0 without a head contact.
+  double head_force_n = 0;
   bool ended = false;         ///< the device had nothing more (begin_frame returned false)
   bool tool_on = false;       ///< the tool button is held
   int32_t sweeps = 0;         ///< sweeps finished in this tick
@@ -113,8 +122,9 @@ class SculptSession {
   /// @param ws       device ↔ model mapping.
   /// @param options  edit budget, undo memory, snapshots, command queue.
   /// @throws InvalidInput on a model without derived data or bad options (RenderMode::RigidTool: a
-  ///         tool shell with #P outside [1, kMaxToolPoints] or normals not matching its points, or
-  ///         tool_points outside [16, kMaxToolPoints] when no shell is given).
+  ///         tool shell with #P outside [1, kMaxToolPoints] or normals not matching its points,
+  ///         tool_points outside [16, kMaxToolPoints] when no shell is given, or a head_radius
+  ///         that is negative or not finite).
   /// @note Allocates everything the ticks need: editor buffers (~60 B per sample, ~30 per texel,
   ///       plus the undo cap), snapshot versions (see SlabSnapshots), the locator and, for
   ///       RenderMode::RigidTool, the tool's shell and state (RigidToolState, about 200 KB).
@@ -127,7 +137,11 @@ class SculptSession {
   /// never delay the force), stroke bookkeeping from the tool button, then edits and publication
   /// within SessionOptions::edit_budget_s. RenderMode::RigidTool reads the handle's pose
   /// (position, orientation, velocities) and commands force and torque
-  /// (HapticDevice::end_frame(force, torque)); the other modes command the force alone.
+  /// (HapticDevice::end_frame(force, torque)); the other modes command the force alone. With
+  /// RenderMode::RigidTool and the drill brush, a held tool button feeds the stroke the head's
+  /// contact (the force-weighted mean of its contact points, projected on the surface) with
+  /// SessionTick::head_force_n as the drill's normal force, so removal follows the rigid tool's
+  /// contacts (docs/haptics.md, "The rigid tool drills").
   /// @param device  the haptic device, read and commanded once.
   /// @param tick    from the servo loop (its force_gain scales the force).
   /// @note noexcept; no allocation, no lock, no I/O; servo thread only.
