@@ -8,6 +8,7 @@
 
 #include <hdm/core/error.h>
 #include <hdm/harness/scenarios.h>
+#include <hdm/harness/tool_scenarios.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
 
@@ -65,7 +66,67 @@ void write_trace(const std::string& path, const ScenarioReport& r) {
   write_file_atomic(path, out.data(), out.size());
 }
 
+// The renderer's parameters the options give: solver, stiffness, damping and its ramp, force limit.
+ProxyParams proxy_params(const FeelArgs& a) {
+  ProxyParams p;
+  p.solver = parse_alpha_solver(a.solver);
+  p.force.stiffness = a.stiffness;
+  p.force.damping = a.damping;
+  p.damping_force_n = a.damping_force;
+  p.force.max_force = a.max_force;
+  return p;
+}
+
+// The tool scenarios (slot, roll_edge): their own analytic block, no model file.
+void run_tool_feel(const FeelArgs& a) {
+  if (!a.model.empty() || !a.replay.empty() || !a.trace.empty() || !a.input.empty())
+    throw InvalidInput("--scenario " + a.scenario +
+                       ": a tool scenario builds its own block; give no model, --input, --replay or --trace");
+  ToolScenarioOptions o;
+  o.scenario = parse_tool_scenario(a.scenario);
+  o.rate_hz = a.rate;
+  o.proxy = proxy_params(a);
+  o.press_force_n = a.press;
+  o.speed_m_s = a.speed;
+  const ToolScenarioReport r = run_tool_scenario(o);
+  const nlohmann::json j = {{"scenario", r.scenario},
+                            {"rate_hz", r.rate_hz},
+                            {"mode", "sphere"},
+                            {"radius", r.radius},
+                            {"ticks", r.ticks},
+                            {"contact_ticks", r.contact_ticks},
+                            {"max_penetration_pct_r", r.max_penetration_pct_r},
+                            {"rest_height_error_pct_r", r.rest_height_error_pct_r},
+                            {"entered", r.entered},
+                            {"max_force_step_pct", r.max_force_step_pct},
+                            {"max_direction_step_deg", r.max_direction_step_deg},
+                            {"normal_error_p95_deg", r.normal_error_p95_deg},
+                            {"normal_error_max_deg", r.normal_error_max_deg},
+                            {"max_force_n", r.max_force_n},
+                            {"mean_contact_force_n", r.mean_contact_force_n},
+                            {"note", r.note}};
+  if (a.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("feel %s: sphere proxy, %.0f Hz (%s)\n", r.scenario.c_str(), r.rate_hz, r.note.c_str());
+  std::printf("  ticks               %lld (%lld in contact)\n", (long long)r.ticks, (long long)r.contact_ticks);
+  std::printf("  penetration         max %.3f %% of r (exact input)%s\n", r.max_penetration_pct_r,
+              r.entered ? "; the ball entered the slot" : "");
+  if (r.scenario == "slot") std::printf("  rest height error   %.3f %% of r\n", r.rest_height_error_pct_r);
+  std::printf("  max force step      %.2f %% of max force, direction %.2f deg per tick\n", r.max_force_step_pct,
+              r.max_direction_step_deg);
+  if (r.scenario != "slot")  // in the slot two rims hold the ball: no single contact normal
+    std::printf("  normal error        p95 %.2f deg, max %.2f deg (against the exact input's contact normal)\n",
+                r.normal_error_p95_deg, r.normal_error_max_deg);
+  std::printf("  force               max %.3f N, mean in contact %.3f N\n", r.max_force_n, r.mean_contact_force_n);
+}
+
 void run_feel(const FeelArgs& a) {
+  if (is_tool_scenario(a.scenario)) return run_tool_feel(a);
+  if (a.model.empty())
+    if (a.model.empty())  // a usage error (exit 2), as when CLI11 finds a required argument missing
+      throw CLI::RequiredError("model (.hdm): needed by every scenario but the tool scenarios slot and roll_edge");
   const RenderMode mode = parse_render_mode(a.mode);
   if (mode == RenderMode::Sphere || mode == RenderMode::RigidTool)
     throw InvalidInput("--mode " + a.mode +
@@ -81,12 +142,8 @@ void run_feel(const FeelArgs& a) {
   ScenarioOptions o;
   if (!a.scenario.empty()) o.scenario = parse_scenario(a.scenario);
   o.mode = mode;
-  o.proxy.solver = parse_alpha_solver(a.solver);
+  o.proxy = proxy_params(a);
   o.rate_hz = a.rate;
-  o.proxy.force.stiffness = a.stiffness;
-  o.proxy.force.damping = a.damping;
-  o.proxy.damping_force_n = a.damping_force;
-  o.proxy.force.max_force = a.max_force;
   o.friction = a.friction;
   o.speed_m_s = a.speed;
   o.press_force_n = a.press;
@@ -163,8 +220,10 @@ void run_feel(const FeelArgs& a) {
 void add_feel_command(CLI::App& app) {
   auto a = std::make_shared<FeelArgs>();
   CLI::App* cmd = app.add_subcommand("feel", "Score haptic rendering on a scripted scenario with a simulated hand");
-  cmd->add_option("model", a->model, "slab model (.hdm)")->required();
-  cmd->add_option("--scenario", a->scenario, "slide, press, thin, edges or stiff");
+  cmd->add_option("model", a->model, "slab model (.hdm); none for the tool scenarios slot and roll_edge");
+  cmd->add_option("--scenario", a->scenario,
+                  "slide, press, thin, edges or stiff (on the model); slot or roll_edge (the sphere proxy on a "
+                  "block built in code)");
   cmd->add_option("--replay", a->replay,
                   "play this recorded trajectory (CSV with time_s,device_x_m,device_y_m,device_z_m, e.g. from --trace) "
                   "instead of a scenario");

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file
+/// The tool scenarios of `hdm feel`: a simulated hand drives a tool-shaped renderer (the sphere
+/// proxy) on analytic geometry built in code, a block of grid cubes (voxel_surface()) baked into
+/// slabs, and the run is scored against that exact input (Embree closest point,
+/// hdm::ExactMeshQuery), as the point scenarios are (scenarios.h).
+///
+/// Frames and units: the block is [-1, 1]² × [-1, 0] in model units, its top face z = 0, at 10
+/// model units per metre (0.2 m wide at the device); the ball's radius is r = 0.3 model units
+/// (3 cm). Forces in N, percentages of r or of the maximum force.
+
+#include <hdm/haptics/device.h>
+#include <hdm/haptics/proxy.h>
+
+#include <string>
+#include <vector>
+
+namespace hdm {
+
+/// The tool scenarios of `hdm feel` (no model file: each builds its own geometry).
+enum class ToolScenario : uint8_t {
+  /// The sphere proxy pressed down over a slot 0.4 wide and 0.4 deep (narrower than the ball's
+  /// 2r = 0.6) until the hand pushes with `press_force_n`, then held: the ball must rest on the
+  /// slot's two rims, its centre sqrt(r² − 0.2²) above the top, and not enter the walls.
+  Slot,
+  /// The sphere proxy rolled over the block's convex edge (x = 1, z = 0) by a hand pressing with
+  /// `press_force_n`: along the top, round the edge, down the side face at `speed_m_s`. The force
+  /// turns from the top's normal to the side's continuously, along the direction from the edge (or
+  /// the face) to the ball's centre.
+  RollEdge,
+};
+
+/// @brief Parses slot or roll_edge. @throws InvalidInput otherwise, naming the name.
+ToolScenario parse_tool_scenario(const std::string& name);
+/// @brief Whether @p name names a tool scenario (slot, roll_edge). noexcept.
+bool is_tool_scenario(const std::string& name) noexcept;
+/// Name of @p s (as `hdm feel --scenario` takes it).
+const char* tool_scenario_name(ToolScenario s) noexcept;
+
+/// Settings of a tool scenario run.
+struct ToolScenarioOptions {
+  ToolScenario scenario = ToolScenario::Slot;  ///< which geometry and motion
+  double rate_hz = 1000;                       ///< servo rate [Hz], in [100, 1e6]
+  ProxyParams proxy;                           ///< the ball's stiffness, damping, force limit (frictionless: the
+                                               ///< friction scale is set to 0, so the force is the contact normal)
+  double press_force_n = 1.0;                  ///< the hand's push into the surface [N], > 0
+  double speed_m_s = 0.05;                     ///< RollEdge: the hand target's speed along its path [m/s], > 0
+  SimulatedDeviceOptions device;               ///< handle mass, hand spring and damper (rate, max force set from above)
+  bool keep_trace = false;                     ///< fill ToolScenarioReport::centre and force
+};
+
+/// Scores of one tool scenario run, against the exact input (the block's own mesh).
+struct ToolScenarioReport {
+  std::string scenario;  ///< tool_scenario_name()
+  double rate_hz = 0;    ///< servo rate simulated [Hz]
+  double radius = 0;     ///< the ball's radius r [model units]
+  /// @{ Ticks run and ticks with the ball in contact.
+  int64_t ticks = 0, contact_ticks = 0;
+  /// @}
+  /// Deepest the ball went into the input over the run, r minus the exact distance from its centre
+  /// to the input mesh, as % of r (target <= 2 %).
+  double max_penetration_pct_r = 0;
+  /// Slot: the held ball's centre height above the top against the analytic sqrt(r² − (w/2)²), as
+  /// % of r; RollEdge: 0.
+  double rest_height_error_pct_r = 0;
+  bool entered = false;  ///< Slot: the ball's centre went below the top (into the slot)
+  /// Largest tick-to-tick |ΔF| over ticks in contact, as % of the maximum force.
+  double max_force_step_pct = 0;
+  /// Largest tick-to-tick turn of the force direction over ticks in contact above 0.05 N [deg].
+  double max_direction_step_deg = 0;
+  /// @{ The force direction against the exact input's contact normal, the direction from the
+  /// closest input point to the ball's centre, over ticks in contact above 0.05 N: p95 and max [deg].
+  double normal_error_p95_deg = 0, normal_error_max_deg = 0;
+  /// @}
+  /// @{ Largest force and mean force over the contact ticks [N].
+  double max_force_n = 0, mean_contact_force_n = 0;
+  /// @}
+  std::string note;          ///< what the scenario did
+  std::vector<Vec3> centre;  ///< keep_trace: the ball's centre per tick [model units]
+  std::vector<Vec3> force;   ///< keep_trace: the rendered force per tick [N, device frame]
+};
+
+/// @brief Runs one tool scenario: builds its block, bakes it (500 slabs, n = 8), and drives the
+/// sphere proxy (sphere_proxy_step(), r = 0.3) with a SimulatedDevice, scored against the block.
+/// @throws InvalidInput for a rate outside [100, 1e6] Hz, a press force or speed that is not
+/// positive and finite, or a maximum force that is not positive (naming the option).
+/// @note Simulated time, ticks back to back on the calling thread; allocates before the tick loop
+///       and for the trace. The bake takes about a second.
+ToolScenarioReport run_tool_scenario(const ToolScenarioOptions& options);
+
+}  // namespace hdm

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+// The tool scenarios of `hdm feel` against the analytic geometry they build: the block
+// [-1,1]² × [-1,0] (with a slot |x| < 0.2, 0.4 deep, for Slot). The traced ball centres are judged
+// by their exact distance to that solid, computed here from its boxes, and the forces by the
+// analytic contact normal of a ball on a face or round an edge; not by the harness's own scores.
+#include <hdm/core/error.h>
+#include <hdm/harness/tool_scenarios.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace hdm {
+namespace {
+
+constexpr double kR = 0.3;
+
+// Distance from (x, z) to the box [x0, x1] × [z0, z1] (0 inside).
+double box_distance(double x, double z, double x0, double x1, double z0, double z1) {
+  const double dx = std::max({x0 - x, 0.0, x - x1}), dz = std::max({z0 - z, 0.0, z - z1});
+  return std::hypot(dx, dz);
+}
+
+// Distance from a point over the middle of the block (|y| well inside) to the solid: the block,
+// less the slot when @p slot.
+double block_distance(const Vec3& c, bool slot) {
+  if (!slot) return box_distance(c.x(), c.z(), -1, 1, -1, 0);
+  return std::min({box_distance(c.x(), c.z(), -1, -0.2, -1, 0), box_distance(c.x(), c.z(), 0.2, 1, -1, 0),
+                   box_distance(c.x(), c.z(), -0.2, 0.2, -1, -0.4)});
+}
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+ToolScenarioReport run(ToolScenario s, double speed = 0.1) {
+  ToolScenarioOptions o;
+  o.scenario = s;
+  o.proxy.force.stiffness = 1000;
+  o.proxy.force.max_force = 3.3;
+  o.speed_m_s = speed;
+  o.keep_trace = true;
+  return run_tool_scenario(o);
+}
+
+// Pressed with 1 N over a slot narrower than the ball, the ball rests on the two rims: its centre
+// sqrt(r² − 0.2²) above the top and over the slot's middle, never closer to the solid than r less
+// 2 % of r.
+TEST(ToolScenario, SlotHoldsTheBallOnItsRims) {
+  const ToolScenarioReport r = run(ToolScenario::Slot);
+  ASSERT_EQ(r.centre.size(), size_t(r.ticks));
+  double worst = 0;
+  for (size_t k = 0; k < r.centre.size(); ++k)
+    if (r.force[k].norm() > 0) worst = std::max(worst, kR - block_distance(r.centre[k], true));
+  const Vec3 rest = r.centre.back();
+  std::printf("slot: max penetration %.4f %% of r (analytic), %.4f %% (harness); rest height %.5f (analytic %.5f)\n",
+              100 * worst / kR, r.max_penetration_pct_r, rest.z(), std::sqrt(kR * kR - 0.04));
+  EXPECT_LE(worst, 0.02 * kR);
+  EXPECT_NEAR(rest.z(), std::sqrt(kR * kR - 0.2 * 0.2), 0.02 * kR);
+  EXPECT_NEAR(rest.x(), 0.0, 0.02 * kR);
+  EXPECT_NEAR(r.max_penetration_pct_r, 100 * std::max(0.0, worst) / kR, 0.5);
+  EXPECT_FALSE(r.entered);
+  EXPECT_NEAR(r.force.back().z(), 1.0, 0.05) << "the hand's 1 N, straight up from the two rims";
+}
+
+// Rolled over the convex edge, the force follows the analytic contact normal: +z on the top, from
+// the edge to the centre round it, +x on the side face; it turns through 90° with no jump.
+TEST(ToolScenario, RollEdgeTurnsTheForceContinuously) {
+  const ToolScenarioReport r = run(ToolScenario::RollEdge);
+  double worst_angle = 0, worst_pen = 0, worst_turn = 0;
+  Vec3 prev = Vec3::Zero();
+  int scored = 0;
+  for (size_t k = 0; k < r.centre.size(); ++k) {
+    const Vec3& c = r.centre[k];
+    const Vec3& f = r.force[k];
+    if (f.norm() < 0.05) {
+      prev = Vec3::Zero();
+      continue;
+    }
+    worst_pen = std::max(worst_pen, kR - block_distance(c, false));
+    const Vec3 n = c.x() <= 1 ? Vec3::UnitZ() : c.z() >= 0 ? Vec3(c.x() - 1, 0, c.z()) : Vec3::UnitX();
+    worst_angle = std::max(worst_angle, angle_deg(f, n));
+    if (prev.norm() > 0) worst_turn = std::max(worst_turn, angle_deg(f, prev));
+    prev = f;
+    ++scored;
+  }
+  std::printf(
+      "roll_edge: max angle to the analytic normal %.3f deg, turn per tick %.3f deg, penetration %.4f %% of "
+      "r; harness: step %.3f %%, normal error max %.3f deg\n",
+      worst_angle, worst_turn, 100 * worst_pen / kR, r.max_force_step_pct, r.normal_error_max_deg);
+  ASSERT_GT(scored, 1000);
+  EXPECT_LT(angle_deg(r.force.back(), Vec3::UnitX()), 1.0) << "on the side face";
+  EXPECT_LE(worst_pen, 0.02 * kR);
+  // The bake rounds the edge over about one grid cell (0.05 here): there the rendered normal
+  // leads the analytic one by a few degrees.
+  EXPECT_LT(worst_angle, 8.0);
+  // Analytic turn per tick round the edge: v·dt / r = 0.1 m/s × 1 ms / 3 cm = 0.19°.
+  EXPECT_LT(worst_turn, 1.0);
+  EXPECT_LT(r.max_force_step_pct, 2.0);
+}
+
+TEST(ToolScenario, BadOptionsAndNamesAreRefused) {
+  EXPECT_EQ(parse_tool_scenario("roll_edge"), ToolScenario::RollEdge);
+  EXPECT_TRUE(is_tool_scenario("slot"));
+  EXPECT_FALSE(is_tool_scenario("slide"));
+  EXPECT_THROW(parse_tool_scenario("groove"), InvalidInput);
+  ToolScenarioOptions o;
+  o.rate_hz = 10;
+  EXPECT_THROW(run_tool_scenario(o), InvalidInput);
+  o = {};
+  o.press_force_n = NAN;
+  EXPECT_THROW(run_tool_scenario(o), InvalidInput);
+}
+
+}  // namespace
+}  // namespace hdm
