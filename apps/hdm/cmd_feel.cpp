@@ -77,36 +77,44 @@ ProxyParams proxy_params(const FeelArgs& a) {
   return p;
 }
 
-// The tool scenarios (slot, roll_edge): their own analytic block, no model file.
-void run_tool_feel(const FeelArgs& a) {
-  if (!a.model.empty() || !a.replay.empty() || !a.trace.empty() || !a.input.empty())
-    throw InvalidInput("--scenario " + a.scenario +
-                       ": a tool scenario builds its own block; give no model, --input, --replay or --trace");
-  ToolScenarioOptions o;
-  o.scenario = parse_tool_scenario(a.scenario);
-  o.rate_hz = a.rate;
-  o.proxy = proxy_params(a);
-  o.press_force_n = a.press;
-  o.speed_m_s = a.speed;
-  const ToolScenarioReport r = run_tool_scenario(o);
-  const nlohmann::json j = {{"scenario", r.scenario},
-                            {"rate_hz", r.rate_hz},
-                            {"mode", "sphere"},
-                            {"radius", r.radius},
-                            {"ticks", r.ticks},
-                            {"contact_ticks", r.contact_ticks},
-                            {"max_penetration_pct_r", r.max_penetration_pct_r},
-                            {"rest_height_error_pct_r", r.rest_height_error_pct_r},
-                            {"entered", r.entered},
-                            {"max_force_step_pct", r.max_force_step_pct},
-                            {"max_direction_step_deg", r.max_direction_step_deg},
-                            {"normal_error_p95_deg", r.normal_error_p95_deg},
-                            {"normal_error_max_deg", r.normal_error_max_deg},
-                            {"max_force_n", r.max_force_n},
-                            {"mean_contact_force_n", r.mean_contact_force_n},
-                            {"note", r.note}};
-  if (a.json) {
-    std::printf("%s\n", j.dump(2).c_str());
+// The tool scenario's report as `hdm feel --json` prints it.
+nlohmann::json tool_report_json(const ToolScenarioReport& r) {
+  return {{"scenario", r.scenario},
+          {"rate_hz", r.rate_hz},
+          {"mode", r.scenario == "shaft_edge" ? "rigid" : "sphere"},
+          {"radius", r.radius},
+          {"ticks", r.ticks},
+          {"contact_ticks", r.contact_ticks},
+          {"max_penetration_pct_r", r.max_penetration_pct_r},
+          {"rest_height_error_pct_r", r.rest_height_error_pct_r},
+          {"entered", r.entered},
+          {"max_force_step_pct", r.max_force_step_pct},
+          {"max_direction_step_deg", r.max_direction_step_deg},
+          {"normal_error_p95_deg", r.normal_error_p95_deg},
+          {"normal_error_max_deg", r.normal_error_max_deg},
+          {"max_force_n", r.max_force_n},
+          {"mean_contact_force_n", r.mean_contact_force_n},
+          {"head_contacts", r.head_contacts},
+          {"shaft_contacts", r.shaft_contacts},
+          {"torque_error_pct", r.torque_error_pct},
+          {"torque_sense_ok", r.torque_sense_ok},
+          {"torque_nm", {r.tool_torque.x(), r.tool_torque.y(), r.tool_torque.z()}},
+          {"force_n", {r.tool_force.x(), r.tool_force.y(), r.tool_force.z()}},
+          {"tool_tip", {r.tool_tip.x(), r.tool_tip.y(), r.tool_tip.z()}},
+          {"tool_axis", {r.tool_axis.x(), r.tool_axis.y(), r.tool_axis.z()}},
+          {"note", r.note}};
+}
+
+// The tool scenario's report as `hdm feel` prints it.
+void print_tool_report(const ToolScenarioReport& r) {
+  if (r.scenario == "shaft_edge") {
+    std::printf("feel shaft_edge: rigid burr, %.0f Hz (%s)\n", r.rate_hz, r.note.c_str());
+    std::printf("  contacts            %d on the head, %d on the shaft\n", r.head_contacts, r.shaft_contacts);
+    std::printf("  tip height error    %.3f %% of r\n", r.rest_height_error_pct_r);
+    std::printf("  torque              (%.5f, %.5f, %.5f) N m, %.2f %% from the lever-arm reference, sense %s\n",
+                r.tool_torque.x(), r.tool_torque.y(), r.tool_torque.z(), r.torque_error_pct,
+                r.torque_sense_ok ? "right" : "wrong");
+    std::printf("  force               (%.4f, %.4f, %.4f) N\n", r.tool_force.x(), r.tool_force.y(), r.tool_force.z());
     return;
   }
   std::printf("feel %s: sphere proxy, %.0f Hz (%s)\n", r.scenario.c_str(), r.rate_hz, r.note.c_str());
@@ -122,11 +130,30 @@ void run_tool_feel(const FeelArgs& a) {
   std::printf("  force               max %.3f N, mean in contact %.3f N\n", r.max_force_n, r.mean_contact_force_n);
 }
 
+// The tool scenarios (slot, roll_edge): their own analytic block, no model file.
+void run_tool_feel(const FeelArgs& a) {
+  if (!a.model.empty() || !a.replay.empty() || !a.trace.empty() || !a.input.empty())
+    throw InvalidInput("--scenario " + a.scenario +
+                       ": a tool scenario builds its own block; give no model, --input, --replay or --trace");
+  ToolScenarioOptions o;
+  o.scenario = parse_tool_scenario(a.scenario);
+  o.rate_hz = a.rate;
+  o.proxy = proxy_params(a);
+  o.press_force_n = a.press;
+  o.speed_m_s = a.speed;
+  const ToolScenarioReport r = run_tool_scenario(o);
+  if (a.json)
+    std::printf("%s\n", tool_report_json(r).dump(2).c_str());
+  else
+    print_tool_report(r);
+}
+
 void run_feel(const FeelArgs& a) {
   if (is_tool_scenario(a.scenario)) return run_tool_feel(a);
   if (a.model.empty())
     if (a.model.empty())  // a usage error (exit 2), as when CLI11 finds a required argument missing
-      throw CLI::RequiredError("model (.hdm): needed by every scenario but the tool scenarios slot and roll_edge");
+      throw CLI::RequiredError(
+          "model (.hdm): needed by every scenario but the tool scenarios slot, roll_edge and shaft_edge");
   const RenderMode mode = parse_render_mode(a.mode);
   if (mode == RenderMode::Sphere || mode == RenderMode::RigidTool)
     throw InvalidInput("--mode " + a.mode +
@@ -220,10 +247,10 @@ void run_feel(const FeelArgs& a) {
 void add_feel_command(CLI::App& app) {
   auto a = std::make_shared<FeelArgs>();
   CLI::App* cmd = app.add_subcommand("feel", "Score haptic rendering on a scripted scenario with a simulated hand");
-  cmd->add_option("model", a->model, "slab model (.hdm); none for the tool scenarios slot and roll_edge");
+  cmd->add_option("model", a->model, "slab model (.hdm); none for the tool scenarios slot, roll_edge and shaft_edge");
   cmd->add_option("--scenario", a->scenario,
-                  "slide, press, thin, edges or stiff (on the model); slot or roll_edge (the sphere proxy on a "
-                  "block built in code)");
+                  "slide, press, thin, edges or stiff (on the model); slot, roll_edge (the sphere proxy) or shaft_edge "
+                  "(the rigid burr) on a block built in code");
   cmd->add_option("--replay", a->replay,
                   "play this recorded trajectory (CSV with time_s,device_x_m,device_y_m,device_z_m, e.g. from --trace) "
                   "instead of a scenario");

@@ -1,13 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
 #include <hdm/core/percentile.h>
-#include <hdm/harness/tool_scenarios.h>
-#include <hdm/harness/voxel_surface.h>
 #include <hdm/haptics/sphere_proxy.h>
-#include <hdm/mesh/exact_mesh_query.h>
-#include <hdm/slab/bake.h>
 
 #include "angle_deg.h"
+#include "tool_scenario_detail.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,30 +14,17 @@
 namespace hdm {
 namespace {
 
-constexpr double kR = 0.3;         // the ball's radius [model units]
-constexpr double kScale = 10;      // model units per metre
+constexpr double kR = 0.3;  // the ball's radius [model units]
+constexpr double kScale = harness_detail::kToolScale;
 constexpr double kSlotHalf = 0.2;  // the slot's half width [model units]
 constexpr double kEdgeX = 1.0;     // the block's edge rolled over: x = 1, z = 0
 
-// The block [-1,1]² × [-1,0] from cubes of 0.1, with a slot |x| < 0.2 of depth 0.4 along y when
-// @p slot, baked into slabs, with exact queries on its own mesh.
-struct Block {
-  explicit Block(bool slot) : mesh(block_mesh(slot)), model(bake(mesh)), locator(model), reference(mesh) {}
-  static TriangleMesh block_mesh(bool slot) {
-    return voxel_surface(20, 20, 10, 0.1, Vec3(-1, -1, -1),
-                         [slot](int i, int, int k) { return !(slot && k >= 6 && i >= 8 && i < 12); });
-  }
-  static SlabModel bake(const TriangleMesh& m) {
-    BakeOptions o;
-    o.slabs = 500;
-    o.grid_n = 8;
-    return bake_slabs(m, "block", o);
-  }
-  TriangleMesh mesh;
-  SlabModel model;
-  SlabLocator locator;
-  ExactMeshQuery reference;
-};
+using harness_detail::Block;
+
+// The block's cells: all, or all but a slot |x| < 0.2 of depth 0.4 along y.
+std::function<bool(int, int, int)> block_cells(bool slot) {
+  return [slot](int i, int, int k) { return !(slot && k >= 6 && i >= 8 && i < 12); };
+}
 
 void check_options(const ToolScenarioOptions& o) {
   if (!(o.rate_hz >= 100 && o.rate_hz <= 1e6)) throw InvalidInput("tool scenario: rate_hz must be in [100, 1e6] Hz");
@@ -132,20 +116,32 @@ void score_tick(const Block& b, const SphereProxyState& st, const Vec3& force, S
 ToolScenario parse_tool_scenario(const std::string& name) {
   if (name == "slot") return ToolScenario::Slot;
   if (name == "roll_edge") return ToolScenario::RollEdge;
-  throw InvalidInput("tool scenario '" + name + "': expected slot or roll_edge");
+  if (name == "shaft_edge") return ToolScenario::ShaftEdge;
+  throw InvalidInput("tool scenario '" + name + "': expected slot, roll_edge or shaft_edge");
 }
 
-bool is_tool_scenario(const std::string& name) noexcept { return name == "slot" || name == "roll_edge"; }
+bool is_tool_scenario(const std::string& name) noexcept {
+  return name == "slot" || name == "roll_edge" || name == "shaft_edge";
+}
 
 const char* tool_scenario_name(ToolScenario s) noexcept {
-  return s == ToolScenario::Slot ? "slot" : s == ToolScenario::RollEdge ? "roll_edge" : "?";
+  switch (s) {
+    case ToolScenario::Slot:
+      return "slot";
+    case ToolScenario::RollEdge:
+      return "roll_edge";
+    case ToolScenario::ShaftEdge:
+      return "shaft_edge";
+  }
+  return "?";
 }
 
 ToolScenarioReport run_tool_scenario(const ToolScenarioOptions& options) {
   check_options(options);
   ToolScenarioOptions o = options;
+  if (o.scenario == ToolScenario::ShaftEdge) return harness_detail::run_shaft_edge(o);
   const bool slot = o.scenario == ToolScenario::Slot;
-  const Block b(slot);
+  const Block b(block_cells(slot));
   Workspace ws;
   ws.scale = kScale;
   SphereProxyParams p;

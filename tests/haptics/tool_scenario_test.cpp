@@ -102,6 +102,31 @@ TEST(ToolScenario, RollEdgeTurnsTheForceContinuously) {
   EXPECT_LT(r.max_force_step_pct, 2.0);
 }
 
+// The burr held leaning on the pit's edge: its head rests on the floor (the tip r above it) and its
+// shaft on the edge, two contacts; the edge, up and to the side of the tip, pushes the shaft up and
+// away from the block, so the torque about the tip turns the tool upright (+y), in the tool's plane.
+TEST(ToolScenario, ShaftEdgeRestsOnTheFloorAndTheEdge) {
+  ToolScenarioOptions o;
+  o.scenario = ToolScenario::ShaftEdge;
+  const ToolScenarioReport r = run_tool_scenario(o);
+  const double head = 0.1, floor = -0.4;
+  std::printf(
+      "shaft_edge: tip (%.4f, %.4f, %.4f), torque (%.5f, %.5f, %.5f) N m, %.2f %% from the lever-arm "
+      "reference\n",
+      r.tool_tip.x(), r.tool_tip.y(), r.tool_tip.z(), r.tool_torque.x(), r.tool_torque.y(), r.tool_torque.z(),
+      r.torque_error_pct);
+  EXPECT_GE(r.head_contacts, 1);
+  EXPECT_GE(r.shaft_contacts, 1);
+  EXPECT_NEAR(r.tool_tip.z(), floor + head, 0.02 * head) << "the head rests on the floor";
+  EXPECT_GT(r.tool_tip.x(), head) << "clear of the pit's wall";
+  const Vec3 lever = Vec3(0, r.tool_tip.y(), 0) - r.tool_tip;  // to the edge point in the tool's plane
+  EXPECT_GT(lever.z(), 0);
+  EXPECT_LT(lever.x(), 0);
+  EXPECT_GT(r.tool_torque.y(), 0) << "the edge's push turns the tool upright";
+  EXPECT_LT(std::hypot(r.tool_torque.x(), r.tool_torque.z()), 0.1 * r.tool_torque.y()) << "in the tool's plane";
+  EXPECT_TRUE(r.torque_sense_ok);
+}
+
 TEST(ToolScenario, BadOptionsAndNamesAreRefused) {
   EXPECT_EQ(parse_tool_scenario("roll_edge"), ToolScenario::RollEdge);
   EXPECT_TRUE(is_tool_scenario("slot"));

@@ -2,7 +2,7 @@
 #pragma once
 /// @file
 /// The tool scenarios of `hdm feel`: a simulated hand drives a tool-shaped renderer (the sphere
-/// proxy) on analytic geometry built in code, a block of grid cubes (voxel_surface()) baked into
+/// proxy, the rigid tool) on analytic geometry built in code, a block of grid cubes (voxel_surface()) baked into
 /// slabs, and the run is scored against that exact input (Embree closest point,
 /// hdm::ExactMeshQuery), as the point scenarios are (scenarios.h).
 ///
@@ -29,11 +29,17 @@ enum class ToolScenario : uint8_t {
   /// turns from the top's normal to the side's continuously, along the direction from the edge (or
   /// the face) to the ball's centre.
   RollEdge,
+  /// A rigid dental burr (burr_shell(), head radius 0.1, shaft radius 0.04; rigid_tool_step()) held
+  /// at 50° from the vertical by a hand pressing it down and towards a step: its head rests on the
+  /// floor (z = −0.4) of a pit x > 0 while its shaft leans on the pit's edge (x = 0, z = 0), two
+  /// contacts. The torque about the tip is scored against the lever-arm reference r × F of the
+  /// edge's contact force (the floor's contact is straight below the tip: no moment).
+  ShaftEdge,
 };
 
-/// @brief Parses slot or roll_edge. @throws InvalidInput otherwise, naming the name.
+/// @brief Parses slot, roll_edge or shaft_edge. @throws InvalidInput otherwise, naming the name.
 ToolScenario parse_tool_scenario(const std::string& name);
-/// @brief Whether @p name names a tool scenario (slot, roll_edge). noexcept.
+/// @brief Whether @p name names a tool scenario (slot, roll_edge, shaft_edge). noexcept.
 bool is_tool_scenario(const std::string& name) noexcept;
 /// Name of @p s (as `hdm feel --scenario` takes it).
 const char* tool_scenario_name(ToolScenario s) noexcept;
@@ -58,11 +64,11 @@ struct ToolScenarioReport {
   /// @{ Ticks run and ticks with the ball in contact.
   int64_t ticks = 0, contact_ticks = 0;
   /// @}
-  /// Deepest the ball went into the input over the run, r minus the exact distance from its centre
-  /// to the input mesh, as % of r (target <= 2 %).
+  /// Slot, RollEdge: deepest the ball went into the input over the run, r minus the exact distance
+  /// from its centre to the input mesh, as % of r (target <= 2 %).
   double max_penetration_pct_r = 0;
   /// Slot: the held ball's centre height above the top against the analytic sqrt(r² − (w/2)²), as
-  /// % of r; RollEdge: 0.
+  /// % of r; ShaftEdge: the held tip's height against r above the floor, as % of r; RollEdge: 0.
   double rest_height_error_pct_r = 0;
   bool entered = false;  ///< Slot: the ball's centre went below the top (into the slot)
   /// Largest tick-to-tick |ΔF| over ticks in contact, as % of the maximum force.
@@ -76,13 +82,26 @@ struct ToolScenarioReport {
   /// @{ Largest force and mean force over the contact ticks [N].
   double max_force_n = 0, mean_contact_force_n = 0;
   /// @}
+  /// @{ ShaftEdge, held (the mean over the last 0.1 s): shell points pushing on the burr's head and
+  /// on its shaft (the last tick), the torque [N·m] about the tip against the lever-arm reference
+  /// (c − tip) × F_edge, F_edge the edge's share of the force along the shaft's normal at the edge
+  /// c, as % of the reference's magnitude, and whether the two turn the same way.
+  int head_contacts = 0, shaft_contacts = 0;
+  double torque_error_pct = 0;
+  bool torque_sense_ok = false;
+  /// @}
+  /// @{ ShaftEdge, held: the god-object's tip [model units], its axis (unit, tool +z in the model
+  /// frame), the force [N] and the torque about the tip [N·m] sent (means over the last 0.1 s).
+  Vec3 tool_tip = Vec3::Zero(), tool_axis = Vec3::UnitZ(), tool_force = Vec3::Zero(), tool_torque = Vec3::Zero();
+  /// @}
   std::string note;          ///< what the scenario did
   std::vector<Vec3> centre;  ///< keep_trace: the ball's centre per tick [model units]
   std::vector<Vec3> force;   ///< keep_trace: the rendered force per tick [N, device frame]
 };
 
 /// @brief Runs one tool scenario: builds its block, bakes it (500 slabs, n = 8), and drives the
-/// sphere proxy (sphere_proxy_step(), r = 0.3) with a SimulatedDevice, scored against the block.
+/// sphere proxy (sphere_proxy_step(), r = 0.3) or, for ShaftEdge, the rigid burr (rigid_tool_step()
+/// with `proxy`'s stiffness and force limit) with a SimulatedDevice, scored against the block.
 /// @throws InvalidInput for a rate outside [100, 1e6] Hz, a press force or speed that is not
 /// positive and finite, or a maximum force that is not positive (naming the option).
 /// @note Simulated time, ticks back to back on the calling thread; allocates before the tick loop

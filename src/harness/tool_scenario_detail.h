@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Internals of the tool scenarios (tool_scenarios.h): the baked block they share and the rigid
+// tool's scenario, which has its own file.
+#include <hdm/harness/tool_scenarios.h>
+#include <hdm/harness/voxel_surface.h>
+#include <hdm/mesh/exact_mesh_query.h>
+#include <hdm/query/slab_locator.h>
+#include <hdm/slab/bake.h>
+
+#include <functional>
+
+namespace hdm::harness_detail {
+
+inline constexpr double kToolScale = 10;  // model units per metre: the 2-unit block is 0.2 m wide
+
+// The block [-1,1]² × [-1,0] from 20 × 20 × 10 cubes of 0.1, less the cells @p solid leaves out,
+// baked into 500 slabs with n = 8, with exact queries on its own mesh.
+struct Block {
+  explicit Block(const std::function<bool(int, int, int)>& solid)
+      : mesh(voxel_surface(20, 20, 10, 0.1, Vec3(-1, -1, -1), solid)),
+        model(bake(mesh)),
+        locator(model),
+        reference(mesh) {}
+  static SlabModel bake(const TriangleMesh& m) {
+    BakeOptions o;
+    o.slabs = 500;
+    o.grid_n = 8;
+    return bake_slabs(m, "block", o);
+  }
+  TriangleMesh mesh;
+  SlabModel model;
+  SlabLocator locator;  // after model: built from it
+  ExactMeshQuery reference;
+};
+
+// ToolScenario::ShaftEdge (shaft_edge_scenario.cpp).
+ToolScenarioReport run_shaft_edge(const ToolScenarioOptions& options);
+
+}  // namespace hdm::harness_detail
