@@ -81,7 +81,7 @@ ProxyParams proxy_params(const FeelArgs& a) {
 nlohmann::json tool_report_json(const ToolScenarioReport& r) {
   return {{"scenario", r.scenario},
           {"rate_hz", r.rate_hz},
-          {"mode", r.scenario == "shaft_edge" ? "rigid" : "sphere"},
+          {"mode", r.scenario == "shaft_edge" || r.scenario == "drill_layers" ? "rigid" : "sphere"},
           {"radius", r.radius},
           {"ticks", r.ticks},
           {"contact_ticks", r.contact_ticks},
@@ -102,11 +102,26 @@ nlohmann::json tool_report_json(const ToolScenarioReport& r) {
           {"force_n", {r.tool_force.x(), r.tool_force.y(), r.tool_force.z()}},
           {"tool_tip", {r.tool_tip.x(), r.tool_tip.y(), r.tool_tip.z()}},
           {"tool_axis", {r.tool_axis.x(), r.tool_axis.y(), r.tool_axis.z()}},
+          {"enamel_rate_mm3_per_ns", r.enamel_rate},
+          {"dentin_rate_mm3_per_ns", r.dentin_rate},
+          {"enamel_archard_mm3_per_ns", r.enamel_archard},
+          {"dentin_archard_mm3_per_ns", r.dentin_archard},
+          {"ratio_error_pct", r.ratio_error_pct},
           {"note", r.note}};
 }
 
 // The tool scenario's report as `hdm feel` prints it.
 void print_tool_report(const ToolScenarioReport& r) {
+  if (r.scenario == "drill_layers") {
+    std::printf("feel drill_layers: rigid burr drilling, %.0f Hz (%s)\n", r.rate_hz, r.note.c_str());
+    std::printf("  enamel              %.5f mm3/(N s), Archard %.5f (%.3f)\n", r.enamel_rate, r.enamel_archard,
+                r.enamel_rate / r.enamel_archard);
+    std::printf("  dentin              %.5f mm3/(N s), Archard %.5f (%.3f)\n", r.dentin_rate, r.dentin_archard,
+                r.dentin_rate / r.dentin_archard);
+    std::printf("  dentin / enamel     %.3f against the hardness ratio %.3f: %.2f %% off\n",
+                r.enamel_rate > 0 ? r.dentin_rate / r.enamel_rate : 0.0, 300.0 / 55.0, r.ratio_error_pct);
+    return;
+  }
   if (r.scenario == "shaft_edge") {
     std::printf("feel shaft_edge: rigid burr, %.0f Hz (%s)\n", r.rate_hz, r.note.c_str());
     std::printf("  contacts            %d on the head, %d on the shaft\n", r.head_contacts, r.shaft_contacts);
@@ -153,7 +168,7 @@ void run_feel(const FeelArgs& a) {
   if (a.model.empty())
     if (a.model.empty())  // a usage error (exit 2), as when CLI11 finds a required argument missing
       throw CLI::RequiredError(
-          "model (.hdm): needed by every scenario but the tool scenarios slot, roll_edge and shaft_edge");
+          "model (.hdm): needed by every scenario but the tool scenarios slot, roll_edge, shaft_edge and drill_layers");
   const RenderMode mode = parse_render_mode(a.mode);
   if (mode == RenderMode::Sphere || mode == RenderMode::RigidTool)
     throw InvalidInput("--mode " + a.mode +
@@ -247,10 +262,12 @@ void run_feel(const FeelArgs& a) {
 void add_feel_command(CLI::App& app) {
   auto a = std::make_shared<FeelArgs>();
   CLI::App* cmd = app.add_subcommand("feel", "Score haptic rendering on a scripted scenario with a simulated hand");
-  cmd->add_option("model", a->model, "slab model (.hdm); none for the tool scenarios slot, roll_edge and shaft_edge");
-  cmd->add_option("--scenario", a->scenario,
-                  "slide, press, thin, edges or stiff (on the model); slot, roll_edge (the sphere proxy) or shaft_edge "
-                  "(the rigid burr) on a block built in code");
+  cmd->add_option("model", a->model,
+                  "slab model (.hdm); none for the tool scenarios slot, roll_edge, shaft_edge and drill_layers");
+  cmd->add_option(
+      "--scenario", a->scenario,
+      "slide, press, thin, edges or stiff (on the model); slot, roll_edge (the sphere proxy), shaft_edge or "
+      "drill_layers (the rigid burr) on a block built in code");
   cmd->add_option("--replay", a->replay,
                   "play this recorded trajectory (CSV with time_s,device_x_m,device_y_m,device_z_m, e.g. from --trace) "
                   "instead of a scenario");

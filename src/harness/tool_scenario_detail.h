@@ -15,17 +15,17 @@ namespace hdm::harness_detail {
 inline constexpr double kToolScale = 10;  // model units per metre: the 2-unit block is 0.2 m wide
 
 // The block [-1,1]² × [-1,0] from 20 × 20 × 10 cubes of 0.1, less the cells @p solid leaves out,
-// baked into 500 slabs with n = 8, with exact queries on its own mesh.
+// baked into 500 slabs with @p grid_n intervals per slab edge, with exact queries on its own mesh.
 struct Block {
-  explicit Block(const std::function<bool(int, int, int)>& solid)
+  explicit Block(const std::function<bool(int, int, int)>& solid, int grid_n = 8)
       : mesh(voxel_surface(20, 20, 10, 0.1, Vec3(-1, -1, -1), solid)),
-        model(bake(mesh)),
+        model(bake(mesh, grid_n)),
         locator(model),
         reference(mesh) {}
-  static SlabModel bake(const TriangleMesh& m) {
+  static SlabModel bake(const TriangleMesh& m, int grid_n) {
     BakeOptions o;
     o.slabs = 500;
-    o.grid_n = 8;
+    o.grid_n = grid_n;
     return bake_slabs(m, "block", o);
   }
   TriangleMesh mesh;
@@ -36,5 +36,7 @@ struct Block {
 
 // ToolScenario::ShaftEdge (shaft_edge_scenario.cpp).
 ToolScenarioReport run_shaft_edge(const ToolScenarioOptions& options);
+// ToolScenario::DrillLayers (drill_layers_scenario.cpp).
+ToolScenarioReport run_drill_layers(const ToolScenarioOptions& options);
 
 }  // namespace hdm::harness_detail

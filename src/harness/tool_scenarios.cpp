@@ -117,11 +117,12 @@ ToolScenario parse_tool_scenario(const std::string& name) {
   if (name == "slot") return ToolScenario::Slot;
   if (name == "roll_edge") return ToolScenario::RollEdge;
   if (name == "shaft_edge") return ToolScenario::ShaftEdge;
-  throw InvalidInput("tool scenario '" + name + "': expected slot, roll_edge or shaft_edge");
+  if (name == "drill_layers") return ToolScenario::DrillLayers;
+  throw InvalidInput("tool scenario '" + name + "': expected slot, roll_edge, shaft_edge or drill_layers");
 }
 
 bool is_tool_scenario(const std::string& name) noexcept {
-  return name == "slot" || name == "roll_edge" || name == "shaft_edge";
+  return name == "slot" || name == "roll_edge" || name == "shaft_edge" || name == "drill_layers";
 }
 
 const char* tool_scenario_name(ToolScenario s) noexcept {
@@ -132,6 +133,8 @@ const char* tool_scenario_name(ToolScenario s) noexcept {
       return "roll_edge";
     case ToolScenario::ShaftEdge:
       return "shaft_edge";
+    case ToolScenario::DrillLayers:
+      return "drill_layers";
   }
   return "?";
 }
@@ -140,6 +143,7 @@ ToolScenarioReport run_tool_scenario(const ToolScenarioOptions& options) {
   check_options(options);
   ToolScenarioOptions o = options;
   if (o.scenario == ToolScenario::ShaftEdge) return harness_detail::run_shaft_edge(o);
+  if (o.scenario == ToolScenario::DrillLayers) return harness_detail::run_drill_layers(o);
   const bool slot = o.scenario == ToolScenario::Slot;
   const Block b(block_cells(slot));
   Workspace ws;

@@ -120,7 +120,7 @@ exit_codes)
   expect 2 "" "$hdm" check "$tmp/m.hdm" --against "$meshes/sphere.off" --points 1
   expect 1 "no-such-file.off" "$hdm" bake "$tmp/no-such-file.off" -o "$tmp/b.hdm"
   expect 1 "" "$hdm" info "$meshes/sphere.off"
-  expect 2 "roll_edge and shaft_edge" "$hdm" feel --scenario press
+  expect 2 "shaft_edge and drill_layers" "$hdm" feel --scenario press
   expect 1 "builds its own block" "$hdm" feel "$tmp/m.hdm" --scenario slot
   expect 1 "--mode rigid" "$hdm" feel "$tmp/m.hdm" --scenario press --mode rigid
   expect 1 "render mode 'spherical'" "$hdm" feel "$tmp/m.hdm" --scenario press --mode spherical

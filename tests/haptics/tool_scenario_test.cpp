@@ -127,8 +127,25 @@ TEST(ToolScenario, ShaftEdgeRestsOnTheFloorAndTheEdge) {
   EXPECT_TRUE(r.torque_sense_ok);
 }
 
+// Drilling at equal force, enamel and dentin each lose Archard's K·v_s/H per N·s of the head's
+// contact force (computed here: a 1 mm burr at 200,000 rpm, K = 0.01), so their removal rates stand
+// in the inverse ratio of their hardnesses, 300 / 55.
+TEST(ToolScenario, DrillLayersRemovesByArchardOnEachLayer) {
+  ToolScenarioOptions o;
+  o.scenario = ToolScenario::DrillLayers;
+  const ToolScenarioReport r = run_tool_scenario(o);
+  const double speed = 2 * std::numbers::pi * 200000 / 60 * 1e-3;                   // ω·r [m/s]
+  auto archard = [&](double hv) { return 0.01 * speed / (hv * 9.80665e6) * 1e9; };  // [mm³/(N·s)]
+  std::printf("drill_layers: enamel %.5f (Archard %.5f), dentin %.5f (Archard %.5f) mm3/(N s), ratio %.4f\n",
+              r.enamel_rate, archard(300), r.dentin_rate, archard(55), r.dentin_rate / r.enamel_rate);
+  EXPECT_NEAR(r.enamel_rate / archard(300), 1.0, 0.05);
+  EXPECT_NEAR(r.dentin_rate / archard(55), 1.0, 0.05);
+  EXPECT_NEAR(r.dentin_rate / r.enamel_rate / (300.0 / 55.0), 1.0, 0.10);
+}
+
 TEST(ToolScenario, BadOptionsAndNamesAreRefused) {
   EXPECT_EQ(parse_tool_scenario("roll_edge"), ToolScenario::RollEdge);
+  EXPECT_EQ(parse_tool_scenario("drill_layers"), ToolScenario::DrillLayers);
   EXPECT_TRUE(is_tool_scenario("slot"));
   EXPECT_FALSE(is_tool_scenario("slide"));
   EXPECT_THROW(parse_tool_scenario("groove"), InvalidInput);

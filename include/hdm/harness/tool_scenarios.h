@@ -35,11 +35,18 @@ enum class ToolScenario : uint8_t {
   /// contacts. The torque about the tip is scored against the lever-arm reference r × F of the
   /// edge's contact force (the floor's contact is straight below the tip: no moment).
   ShaftEdge,
+  /// The rigid burr (head radius 1 mm, the block 2 cm wide) drilling with the drill brush (K = 0.01,
+  /// 200,000 rpm; SculptSession with RenderMode::RigidTool) for 0.5 s, pressed with `press_force_n`:
+  /// once on the surface material (enamel, 300 HV) and once where the under-layer is exposed (dentin,
+  /// 55 HV). The removal per N·s of the head's contact force (the drop of the displaced surface's
+  /// enclosed volume) is scored against Archard's K·v_s/H for each, and their ratio against the
+  /// hardness ratio 300 / 55.
+  DrillLayers,
 };
 
-/// @brief Parses slot, roll_edge or shaft_edge. @throws InvalidInput otherwise, naming the name.
+/// @brief Parses slot, roll_edge, shaft_edge or drill_layers. @throws InvalidInput otherwise, naming the name.
 ToolScenario parse_tool_scenario(const std::string& name);
-/// @brief Whether @p name names a tool scenario (slot, roll_edge, shaft_edge). noexcept.
+/// @brief Whether @p name names a tool scenario (slot, roll_edge, shaft_edge, drill_layers). noexcept.
 bool is_tool_scenario(const std::string& name) noexcept;
 /// Name of @p s (as `hdm feel --scenario` takes it).
 const char* tool_scenario_name(ToolScenario s) noexcept;
@@ -94,14 +101,20 @@ struct ToolScenarioReport {
   /// frame), the force [N] and the torque about the tip [N·m] sent (means over the last 0.1 s).
   Vec3 tool_tip = Vec3::Zero(), tool_axis = Vec3::UnitZ(), tool_force = Vec3::Zero(), tool_torque = Vec3::Zero();
   /// @}
+  /// @{ DrillLayers: removal per N·s of the head's contact force [mm³/(N·s)] on enamel and on
+  /// dentin, Archard's K·v_s/H for each, and the dentin / enamel ratio of the removal against the
+  /// hardness ratio, as % of the latter.
+  double enamel_rate = 0, dentin_rate = 0, enamel_archard = 0, dentin_archard = 0, ratio_error_pct = 0;
+  /// @}
   std::string note;          ///< what the scenario did
   std::vector<Vec3> centre;  ///< keep_trace: the ball's centre per tick [model units]
   std::vector<Vec3> force;   ///< keep_trace: the rendered force per tick [N, device frame]
 };
 
 /// @brief Runs one tool scenario: builds its block, bakes it (500 slabs, n = 8), and drives the
-/// sphere proxy (sphere_proxy_step(), r = 0.3) or, for ShaftEdge, the rigid burr (rigid_tool_step()
-/// with `proxy`'s stiffness and force limit) with a SimulatedDevice, scored against the block.
+/// sphere proxy (sphere_proxy_step(), r = 0.3) or, for ShaftEdge and DrillLayers, the rigid burr
+/// (rigid_tool_step() with `proxy`'s stiffness and force limit) with a SimulatedDevice, scored
+/// against the block (DrillLayers: against Archard's law on its displaced surface).
 /// @throws InvalidInput for a rate outside [100, 1e6] Hz, a press force or speed that is not
 /// positive and finite, or a maximum force that is not positive (naming the option).
 /// @note Simulated time, ticks back to back on the calling thread; allocates before the tick loop
