@@ -2,6 +2,7 @@
 // The Python module's hdm.feel: the scripted haptic scenarios of `hdm feel` (hdm::harness), scored
 // against the exact input mesh, returning the same dict as `hdm feel --json`.
 #include <hdm/harness/scenarios.h>
+#include <hdm/harness/tool_scenarios.h>
 #include <hdm/io/hdm_file.h>
 #include <hdm/io/read_mesh.h>
 
@@ -25,6 +26,18 @@ std::string find_input(const Model& m) {
   throw InvalidInput("model: input mesh '" + m.model.source + "' not found; pass it as input=");
 }
 
+// The renderer's parameters of feel() and feel_tool(): solver, stiffness, damping and its ramp, force limit.
+ProxyParams proxy_params(const std::string& solver, double stiffness, double damping, double damping_force,
+                         double max_force) {
+  ProxyParams p;
+  p.solver = parse_alpha_solver(solver);
+  p.force.stiffness = stiffness;
+  p.force.damping = damping;
+  p.damping_force_n = damping_force;
+  p.force.max_force = max_force;
+  return p;
+}
+
 py::dict feel(py::object model_arg, const std::string& scenario, const std::string& input_arg,
               const std::string& replay, const std::string& mode, const std::string& solver, double rate,
               double stiffness, double damping, double damping_force, double max_force, double speed, double press,
@@ -39,12 +52,8 @@ py::dict feel(py::object model_arg, const std::string& scenario, const std::stri
   ScenarioOptions o;
   if (!scenario.empty()) o.scenario = parse_scenario(scenario);
   o.mode = parse_render_mode(mode);
-  o.proxy.solver = parse_alpha_solver(solver);
+  o.proxy = proxy_params(solver, stiffness, damping, damping_force, max_force);
   o.rate_hz = rate;
-  o.proxy.force.stiffness = stiffness;
-  o.proxy.force.damping = damping;
-  o.proxy.damping_force_n = damping_force;
-  o.proxy.force.max_force = max_force;
   o.friction = friction;
   o.speed_m_s = speed;
   o.press_force_n = press;
@@ -119,9 +128,58 @@ py::dict feel(py::object model_arg, const std::string& scenario, const std::stri
   return d;
 }
 
+// A 3-vector as the list `hdm feel --json` writes.
+py::list xyz(const Vec3& v) {
+  py::list l;
+  for (int k = 0; k < 3; ++k) l.append(v[k]);
+  return l;
+}
+
+// A tool scenario (no model): the dict of `hdm feel --scenario NAME --json` for slot, roll_edge,
+// shaft_edge and drill_layers.
+py::dict feel_tool(const std::string& scenario, const std::string& solver, double rate, double stiffness,
+                   double damping, double damping_force, double max_force, double speed, double press) {
+  ToolScenarioOptions o;
+  o.scenario = parse_tool_scenario(scenario);
+  o.rate_hz = rate;
+  o.proxy = proxy_params(solver, stiffness, damping, damping_force, max_force);
+  o.speed_m_s = speed;
+  o.press_force_n = press;
+  ToolScenarioReport r;
+  {
+    py::gil_scoped_release release;
+    r = run_tool_scenario(o);
+  }
+  const bool rigid = o.scenario == ToolScenario::ShaftEdge || o.scenario == ToolScenario::DrillLayers;
+  py::dict d;
+  d["scenario"] = r.scenario, d["rate_hz"] = r.rate_hz, d["mode"] = rigid ? "rigid" : "sphere";
+  d["radius"] = r.radius, d["ticks"] = r.ticks, d["contact_ticks"] = r.contact_ticks;
+  d["max_penetration_pct_r"] = r.max_penetration_pct_r, d["rest_height_error_pct_r"] = r.rest_height_error_pct_r;
+  d["entered"] = r.entered, d["max_force_step_pct"] = r.max_force_step_pct;
+  d["max_direction_step_deg"] = r.max_direction_step_deg, d["normal_error_p95_deg"] = r.normal_error_p95_deg;
+  d["normal_error_max_deg"] = r.normal_error_max_deg, d["max_force_n"] = r.max_force_n;
+  d["mean_contact_force_n"] = r.mean_contact_force_n, d["head_contacts"] = r.head_contacts;
+  d["shaft_contacts"] = r.shaft_contacts, d["torque_error_pct"] = r.torque_error_pct;
+  d["torque_sense_ok"] = r.torque_sense_ok, d["torque_nm"] = xyz(r.tool_torque), d["force_n"] = xyz(r.tool_force);
+  d["tool_tip"] = xyz(r.tool_tip), d["tool_axis"] = xyz(r.tool_axis);
+  d["enamel_rate_mm3_per_ns"] = r.enamel_rate, d["dentin_rate_mm3_per_ns"] = r.dentin_rate;
+  d["enamel_archard_mm3_per_ns"] = r.enamel_archard, d["dentin_archard_mm3_per_ns"] = r.dentin_archard;
+  d["ratio_error_pct"] = r.ratio_error_pct, d["note"] = r.note;
+  return d;
+}
+
 }  // namespace
 
 void bind_feel(py::module_& m) {
+  m.def("feel_tool", &feel_tool, py::arg("scenario"), py::kw_only(), py::arg("solver") = "newton",
+        py::arg("rate") = 1000.0, py::arg("stiffness") = 1000.0, py::arg("damping") = 1.0,
+        py::arg("damping_force") = 0.2, py::arg("max_force") = 3.3, py::arg("speed") = 0.1, py::arg("press") = 1.0,
+        "Runs a tool scenario of `hdm feel` (no model: each builds its block in code; hdm::run_tool_scenario): "
+        "'slot' and 'roll_edge' (the sphere proxy), 'shaft_edge' and 'drill_layers' (the rigid burr). solver "
+        "'newton' or 'bisection'; rate [Hz]; stiffness [N/m]; damping [N·s/m]; damping_force [N]; max_force [N]; "
+        "speed [m/s]; press [N].\n"
+        "Returns the dict of `hdm feel --scenario NAME --json` (same keys and values).\n"
+        "Raises ValueError for an unknown scenario or solver, or an option out of range, naming it.");
   m.def("feel", &feel, py::arg("model"), py::arg("scenario") = "", py::kw_only(), py::arg("input") = "",
         py::arg("replay") = "", py::arg("mode") = "proxy", py::arg("solver") = "newton", py::arg("rate") = 1000.0,
         py::arg("stiffness") = 1000.0, py::arg("damping") = 1.0, py::arg("damping_force") = 0.2,

@@ -64,3 +64,18 @@ def test_feel_errors(sphere_files, tmp_path):
     unnamed, _ = hdm.bake(icosphere(1), slabs=20, error_bound=False)
     with pytest.raises(ValueError, match="input="):
         hdm.feel(unnamed, "slide")
+
+
+@pytest.mark.parametrize("scenario", ["slot", "shaft_edge"])
+def test_feel_tool_gives_the_programs_report(hdm_program, scenario):
+    theirs = program_json(hdm_program, "--scenario", scenario)
+    mine = hdm.feel_tool(scenario)
+    assert_same_report(mine, theirs)
+    assert mine["contact_ticks"] > 0
+
+
+def test_feel_tool_errors():
+    with pytest.raises(ValueError, match="groove"):
+        hdm.feel_tool("groove")
+    with pytest.raises(ValueError, match="press_force_n"):
+        hdm.feel_tool("slot", press=-1.0)
