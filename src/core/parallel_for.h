@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::core::detail {
 
 /// Number of `worker` values parallel_blocks() may pass for @p count elements in blocks of @p grain.
 inline size_t parallel_workers(size_t count, size_t grain) {
@@ -49,5 +49,4 @@ void parallel_blocks(size_t count, size_t grain, Body&& body) {
     if (e) std::rethrow_exception(e);
 }
 
-
-}  // namespace hdm::detail
+}  // namespace hdm::core::detail

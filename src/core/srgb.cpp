@@ -39,8 +39,8 @@ std::array<float, 256> make_decode() noexcept {
 }  // namespace
 
 // Built before main; nothing runs encode or decode during static initialisation.
-const std::array<float, 256> detail::srgb_bound = make_bounds();
-const std::array<float, 256> detail::srgb_decode = make_decode();
+const std::array<float, 256> core::detail::srgb_bound = make_bounds();
+const std::array<float, 256> core::detail::srgb_decode = make_decode();
 
 namespace {
 
@@ -56,7 +56,7 @@ std::array<uint8_t, kBuckets + 1> make_buckets() noexcept {
   unsigned c = 0;
   for (int i = 0; i <= kBuckets; ++i) {
     const float x = float(i) / kBuckets;
-    while (detail::srgb_bound[c] <= x) ++c;
+    while (core::detail::srgb_bound[c] <= x) ++c;
     t[size_t(i)] = static_cast<uint8_t>(c);
   }
   return t;
@@ -64,6 +64,6 @@ std::array<uint8_t, kBuckets + 1> make_buckets() noexcept {
 
 }  // namespace
 
-const std::array<uint8_t, kBuckets + 1> detail::srgb_bucket = make_buckets();
+const std::array<uint8_t, kBuckets + 1> core::detail::srgb_bucket = make_buckets();
 
 }  // namespace hdm

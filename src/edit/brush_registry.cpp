@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <limits>
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 // Each brush's kernel, defined in its kernel file.
 extern const BrushHooks carve_brush, add_brush, smooth_brush, flatten_brush, paint_brush, drill_brush;
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail
 
 namespace hdm {
 namespace {
@@ -25,22 +25,23 @@ constexpr uint16_t kCommon = bit(BrushParam::Radius) | bit(BrushParam::Strength)
 constexpr BrushInfo kBrushes[] = {
     {BrushTool::Carve, "carve", "carve",
      "removes material in the swept sphere whose bottom is the tool position (paper §4.1)",
-     kCommon | bit(BrushParam::Resilience), Falloff::Constant, ToolPlacement::BehindHip, true, &detail::carve_brush},
+     kCommon | bit(BrushParam::Resilience), Falloff::Constant, ToolPlacement::BehindHip, true,
+     &edit::detail::carve_brush},
     {BrushTool::Add, "add", "add", "adds a ridge of `height` above the stroke's starting surface (paper §4.2)",
-     kCommon | bit(BrushParam::Height), Falloff::Constant, ToolPlacement::StartSurface, true, &detail::add_brush},
+     kCommon | bit(BrushParam::Height), Falloff::Constant, ToolPlacement::StartSurface, true, &edit::detail::add_brush},
     {BrushTool::Smooth, "smooth", "smooth",
      "relaxes the surface towards its neighbours' mean at strength·pressure·20 /s of contact",
-     kCommon | bit(BrushParam::Pressure), Falloff::Smooth, ToolPlacement::Contact, false, &detail::smooth_brush},
+     kCommon | bit(BrushParam::Pressure), Falloff::Smooth, ToolPlacement::Contact, false, &edit::detail::smooth_brush},
     {BrushTool::Flatten, "flatten", "flatten",
      "relaxes the surface towards the tool's plane at strength·pressure·20 /s of contact",
-     kCommon | bit(BrushParam::Pressure), Falloff::Smooth, ToolPlacement::Contact, true, &detail::flatten_brush},
+     kCommon | bit(BrushParam::Pressure), Falloff::Smooth, ToolPlacement::Contact, true, &edit::detail::flatten_brush},
     {BrushTool::Paint, "paint", "paint", "blends a field (colour, roughness, friction, ...) towards a value (paper §5)",
      kCommon | bit(BrushParam::Field) | bit(BrushParam::Colour) | bit(BrushParam::Value) | bit(BrushParam::Pressure),
-     Falloff::Linear, ToolPlacement::Contact, false, &detail::paint_brush},
+     Falloff::Linear, ToolPlacement::Contact, false, &edit::detail::paint_brush},
     {BrushTool::Drill, "drill", "drill",
      "removes the volume K·F·v·dt/H of Archard's wear law under the burr (force, speed, hardness)",
      kCommon | bit(BrushParam::WearCoefficient) | bit(BrushParam::Rpm), Falloff::Smooth, ToolPlacement::Contact, false,
-     &detail::drill_brush},
+     &edit::detail::drill_brush},
 };
 constexpr size_t kCount = sizeof kBrushes / sizeof kBrushes[0];
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 
 StrokeMemory::StrokeMemory(const SlabModel& m)
     : sample_mark(m.samples.count, 0),
@@ -236,4 +236,4 @@ bool EditJob::run(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   }
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail

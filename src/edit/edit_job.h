@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 
 // A texel's stored codes (SlabModel::colour and roughness): 4 bytes, copied without decoding and
 // compared as one word (no branch per channel: paint compares every blend it makes).
@@ -159,4 +159,4 @@ class EditJob {
 // The paper's cone deposit (add_material), the one kernel that is not a brush (flood_shape.cpp).
 bool paper_cone_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexcept;
 
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail

@@ -13,7 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 
 // projection_line() with the same arithmetic (so the same bits), fed from tables: the grid
 // weights come from EditScratch::grid_weights and the six coarse corners of the last home slab are
@@ -207,4 +207,4 @@ bool EditJob::flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScr
   return true;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail

@@ -32,7 +32,7 @@ EditScratch::EditScratch(const SlabModel& m)
   const SampleLayout& T = m.texels;
   for (int k = 0; k < T.per_slab; ++k) {
     const double wS = T.point_j[k] / double(T.n), wT = T.point_i[k] / double(T.n);
-    const detail::LocalCell c = detail::local_cell(m.grid_n, wS, wT);
+    const slab_query::detail::LocalCell c = slab_query::detail::local_cell(m.grid_n, wS, wT);
     texel_weights[k] = {wS, wT, c.wa, c.wb, c.wd};
     texel_points[k] = {c.la, c.lb, c.ld};
   }
@@ -47,9 +47,9 @@ EditScratch::EditScratch(const SlabModel& m)
 }
 
 void refresh_normals(SlabModel& m, EditScratch& s) noexcept {
-  detail::EditJob job;
+  edit::detail::EditJob job;
   job.start_normals(s);
-  detail::Deadline never = detail::Deadline::never();
+  edit::detail::Deadline never = edit::detail::Deadline::never();
   job.run(m, s, never);
 }
 
@@ -60,8 +60,8 @@ void clear_dirty(EditScratch& s) noexcept {
 
 namespace {
 
-EditResult run_to_end(SlabModel& m, EditScratch& s, detail::EditJob& job) noexcept {
-  detail::Deadline never = detail::Deadline::never();
+EditResult run_to_end(SlabModel& m, EditScratch& s, edit::detail::EditJob& job) noexcept {
+  edit::detail::Deadline never = edit::detail::Deadline::never();
   job.run(m, s, never);
   const EditResult r = job.result;
   refresh_normals(m, s);
@@ -129,7 +129,7 @@ bool line_capsule(const Vec3& p0, const Vec3& L, const Vec3& a, const Vec3& b, d
 }
 
 EditResult apply_brush(SlabModel& m, EditScratch& s, const BrushSweep& sweep) noexcept {
-  detail::EditJob job;
+  edit::detail::EditJob job;
   job.start_sweep(m, s, sweep, nullptr);
   return run_to_end(m, s, job);
 }
@@ -146,7 +146,7 @@ EditResult carve(SlabModel& m, EditScratch& s, const Contact& contact, const Vec
 
 EditResult add_material(SlabModel& m, EditScratch& s, const Contact& contact, double radius, double height) noexcept {
   if (!contact.in_shell() || !(radius > 0) || !(height > 0)) return {};
-  detail::EditJob job;
+  edit::detail::EditJob job;
   job.start_paper_cone(m, s, contact, radius, height);
   return run_to_end(m, s, job);
 }

@@ -5,7 +5,7 @@
 
 #include <numbers>
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 
 namespace {
 
@@ -81,4 +81,4 @@ FloodOn drill_start(const BrushSweep& sw, double) noexcept {
 extern const BrushHooks drill_brush;
 const BrushHooks drill_brush{&drill_start, &drill_flood};
 
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail

@@ -2,7 +2,7 @@
 // The paint brush's kernel: per-sample fields, and per-texel colour and roughness.
 #include "edit_kernels.h"
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 
 namespace {
 
@@ -126,4 +126,4 @@ bool paint_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
 extern const BrushHooks paint_brush;
 const BrushHooks paint_brush{&paint_start, &paint_flood};
 
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail

@@ -2,7 +2,7 @@
 // The relaxing brushes' kernels: smooth and flatten.
 #include "edit_kernels.h"
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 
 namespace {
 
@@ -62,4 +62,4 @@ extern const BrushHooks smooth_brush, flatten_brush;
 const BrushHooks smooth_brush{&smooth_start, &flood_relax<true>};
 const BrushHooks flatten_brush{&flatten_start, &flood_relax<false>};
 
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail

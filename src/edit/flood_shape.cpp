@@ -2,7 +2,7 @@
 // The shape brushes' kernels: carve and add (the swept sphere's boolean), and the paper's cone deposit.
 #include "edit_kernels.h"
 
-namespace hdm::detail {
+namespace hdm::edit::detail {
 
 namespace {
 
@@ -85,4 +85,4 @@ bool paper_cone_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) n
   });
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::edit::detail

@@ -35,9 +35,9 @@ struct StrokeEditor::Impl {
   }
   StrokeEditorOptions options;
   EditScratch scratch;
-  detail::StrokeMemory memory;
+  edit::detail::StrokeMemory memory;
   UndoHistory history;
-  detail::EditJob job;
+  edit::detail::EditJob job;
   std::vector<Event> queue;
   size_t head = 0, count = 0;
   bool producer_open = false;  // begin_stroke called and end_stroke not yet
@@ -117,7 +117,8 @@ struct StrokeEditor::Impl {
       case ToolPlacement::StartSurface: {
         // The starting surface under the contact: the stroke's first-touch displacements,
         // interpolated over the grid cell evaluate_surface uses.
-        const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
+        const slab_query::detail::GridCell cell =
+            slab_query::detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
         auto base = [&](int32_t id) {
           return memory.sample_mark[id] == memory.id ? double(memory.sample_base[id].delta)
                                                      : double(m.displacement[id]);
@@ -137,7 +138,8 @@ struct StrokeEditor::Impl {
   // contact crosses cells.
   Vec3 base_normal(const SlabModel& m, const Contact& c) const noexcept {
     const SampleLayout& L = m.samples;
-    const detail::GridCell cell = detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
+    const slab_query::detail::GridCell cell =
+        slab_query::detail::grid_cell(m, c.slab, c.coords.bary[1], c.coords.bary[2]);
     // The first-touch values in the stroke memory are this stroke's only once its Begin was
     // processed; before that they are an earlier stroke's (or none), and the model is the start.
     const bool own_memory = open && processed_strokes == producer_strokes;
@@ -294,7 +296,7 @@ bool StrokeEditor::redo() noexcept {
 EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
   Impl& s = *impl_;
   EditWork w;
-  detail::Deadline d(deadline_ns);
+  edit::detail::Deadline d(deadline_ns);
   for (;;) {
     if (s.job.active()) {
       if (!s.job.run(m, s.scratch, d)) {
@@ -411,6 +413,6 @@ bool StrokeEditor::in_stroke() const noexcept { return impl_->open || impl_->pro
 EditScratch& StrokeEditor::scratch() noexcept { return impl_->scratch; }
 const UndoHistory& StrokeEditor::history() const noexcept { return impl_->history; }
 int64_t StrokeEditor::total_changed() const noexcept { return impl_->changed_total; }
-int64_t StrokeEditor::now_ns() noexcept { return detail::Deadline::now_ns(); }
+int64_t StrokeEditor::now_ns() noexcept { return edit::detail::Deadline::now_ns(); }
 
 }  // namespace hdm

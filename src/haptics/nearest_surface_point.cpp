@@ -73,7 +73,7 @@ void corners_of(int i, int j, bool down, int gi[3], int gj[3]) noexcept {
 SlabNearest slab_nearest(const SlabModel& m, int slab, double wS, double wT, const Vec3& c) noexcept {
   const int n = m.grid_n;
   const SlabGeometry& g = m.geometry[slab];
-  const SlabSample* v = detail::slab_block(m, slab);
+  const SlabSample* v = slab_query::detail::slab_block(m, slab);
   auto valid = [n](int i, int j, bool down) { return i >= 0 && j >= 0 && i + j <= n - (down ? 2 : 1); };
   auto test = [&](int i, int j, bool down, double w[3]) {
     int gi[3], gj[3];
@@ -133,7 +133,7 @@ SlabNearest slab_nearest(const SlabModel& m, int slab, double wS, double wT, con
 Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& facet) noexcept {
   const int n = m.grid_n;
   const SlabGeometry& g = m.geometry[slab];
-  const SlabSample* v = detail::slab_block(m, slab);
+  const SlabSample* v = slab_query::detail::slab_block(m, slab);
   const int ia = b.down ? b.i + 1 : b.i, ja = b.down ? b.j + 1 : b.j;
   const int ids[3] = {grid::index(n, ia, ja), grid::index(n, b.i + 1, b.j), grid::index(n, b.i, b.j + 1)};
   const Vec3 p0 = grid_point(n, g, v, ia, ja), p1 = grid_point(n, g, v, b.i + 1, b.j),
@@ -183,7 +183,7 @@ SurfacePoint nearest_surface_point(const SlabModel& m, int slab, double wS, doub
     // slab is a minimum): an up triangle's edge on RS (i = 0), ST (i + j = n − 1) or TR (j = 0),
     // or a corner.
     const SlabGeometry& g = m.geometry[slab];
-    const SlabSample* v = detail::slab_block(m, slab);
+    const SlabSample* v = slab_query::detail::slab_block(m, slab);
     const double tiny = 1e-9 * (g.e1.norm() + g.e2.norm());
     auto on = [&](int i0, int j0, int i1, int j1) {
       const Vec3 a = grid_point(n, g, v, i0, j0), b = grid_point(n, g, v, i1, j1);

@@ -42,10 +42,10 @@ bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Cont
     return out.surface_point.allFinite() && out.normal.allFinite();
   }
   const double wS = c.bary[1], wT = c.bary[2];
-  const detail::LocalCell cell = detail::local_cell(model.grid_n, wS, wT);
+  const slab_query::detail::LocalCell cell = slab_query::detail::local_cell(model.grid_n, wS, wT);
   double delta;
   Vec3 ray;
-  out.surface_point = detail::surface_point(model, slab, wS, wT, cell, delta, ray);
+  out.surface_point = slab_query::detail::surface_point(model, slab, wS, wT, cell, delta, ray);
   const Vec3f* hn =
       model.force_shading_normals.data() + static_cast<size_t>(slab) * model.samples.per_slab;  // slab-major
   const Vec3f nf = static_cast<float>(cell.wa) * hn[cell.la] + static_cast<float>(cell.wb) * hn[cell.lb] +
@@ -174,7 +174,8 @@ static inline void follow_surface(const SlabModel& model, ProxyState& s, Contact
 // Stiffness and friction under the proxy, blended towards the under-layer's where it is exposed.
 static inline Material material_at_proxy(const SlabModel& model, const ProxyParams& p, const ProxyState& s) noexcept {
   // The surface fields share one grid cell (the same one interpolate_field would find).
-  const detail::GridCell cell = detail::grid_cell(model, s.slab, s.coords.bary[1], s.coords.bary[2]);
+  const slab_query::detail::GridCell cell =
+      slab_query::detail::grid_cell(model, s.slab, s.coords.bary[1], s.coords.bary[2]);
   auto field = [&](const std::vector<float>& f, double fallback) {
     if (f.empty()) return fallback;
     const double v = cell.wa * f[cell.a] + cell.wb * f[cell.b] + cell.wd * f[cell.d];
@@ -244,7 +245,7 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
                          double fallback) noexcept {
   if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
   // Same grid triangle and weights as evaluate_surface (docs/design.md#query).
-  const detail::GridCell cell = detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
+  const slab_query::detail::GridCell cell = slab_query::detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
   const double v = cell.wa * field[cell.a] + cell.wb * field[cell.b] + cell.wd * field[cell.d];
   return std::isfinite(v) ? v : fallback;
 }

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 bool blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
@@ -72,4 +72,4 @@ MeshFormat format_by_content(std::string_view bytes) {
   return MeshFormat::Other;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 
 enum class MeshFormat { Obj, Ply, Off, Stl, Other };
 
@@ -22,4 +22,4 @@ bool has_no_extension(const std::string& name);
 /// @note O(1): looks at the first 64 KiB at most.
 MeshFormat format_by_content(std::string_view bytes);
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

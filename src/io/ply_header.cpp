@@ -5,7 +5,7 @@
 
 #include <hdm/core/error.h>
 
-namespace hdm::detail::ply {
+namespace hdm::io::detail::ply {
 namespace {
 
 Type type_named(std::string_view t) {
@@ -124,4 +124,4 @@ Header parse_header(std::string_view bytes, const std::string& name) {
   return h;
 }
 
-}  // namespace hdm::detail::ply
+}  // namespace hdm::io::detail::ply

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-namespace hdm::detail::ply {
+namespace hdm::io::detail::ply {
 
 /// A scalar type of the format; None for a name that is not one.
 enum class Type : uint8_t { None, I8, U8, I16, U16, I32, U32, F32, F64 };
@@ -32,11 +32,11 @@ struct Element {
 enum class Format { Ascii, BinaryLittle, BinaryBig };
 
 struct Header {
-  std::vector<Element> elements;       ///< in file order
+  std::vector<Element> elements;  ///< in file order
   Format format = Format::Ascii;
-  size_t body_start = 0;               ///< offset of the first byte after the end_header line
-  int64_t body_line = 0;               ///< the file's line number there (for ASCII bodies)
-  std::vector<std::string> warnings;   ///< header lines skipped: "<name>:<line>: ..."
+  size_t body_start = 0;              ///< offset of the first byte after the end_header line
+  int64_t body_line = 0;              ///< the file's line number there (for ASCII bodies)
+  std::vector<std::string> warnings;  ///< header lines skipped: "<name>:<line>: ..."
 };
 
 /// @brief Parses the header of the PLY file @p bytes, up to its end_header line (found first, so
@@ -48,4 +48,4 @@ struct Header {
 /// @note O(header size).
 Header parse_header(std::string_view bytes, const std::string& name);
 
-}  // namespace hdm::detail::ply
+}  // namespace hdm::io::detail::ply

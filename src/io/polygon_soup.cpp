@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <array>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 // Drops consecutive repeats of a corner (cyclically: the last corner repeating the first too) from
@@ -67,8 +67,8 @@ struct Skipped {
 void report_skipped(const PolygonSoup& soup, const Skipped& s, const std::string& name,
                     std::vector<std::string>& warnings) {
   auto where = [&](uint64_t p) {
-    const auto it = std::lower_bound(soup.polygon_lines.begin(), soup.polygon_lines.end(),
-                                     std::pair<uint64_t, int64_t>(p, 0));
+    const auto it =
+        std::lower_bound(soup.polygon_lines.begin(), soup.polygon_lines.end(), std::pair<uint64_t, int64_t>(p, 0));
     if (it != soup.polygon_lines.end() && it->first == p) return name + ":" + std::to_string(it->second);
     return name + ": face " + with_commas(p);
   };
@@ -81,12 +81,12 @@ void report_skipped(const PolygonSoup& soup, const Skipped& s, const std::string
                        plural(s.repeated_corners.count, "polygon repeats", "polygons repeat") + " a corner in a row" +
                        first_here(s.repeated_corners) + ": read without the repeats");
   if (s.repeated_cycles.count > 0)
-    warnings.push_back(where(s.repeated_cycles.first) + ": a polygon of " + with_commas(s.repeated_cycles.first_corners) +
-                       " corners is a cycle of " + with_commas(s.repeated_cycles.first_cycle) + " corners written " +
-                       with_commas(s.repeated_cycles.first_repeats) + " times" +
-                       (s.repeated_cycles.count > 1 ? " (and " + with_commas(s.repeated_cycles.count - 1) + " more)"
-                                                    : std::string()) +
-                       ": read as that cycle");
+    warnings.push_back(
+        where(s.repeated_cycles.first) + ": a polygon of " + with_commas(s.repeated_cycles.first_corners) +
+        " corners is a cycle of " + with_commas(s.repeated_cycles.first_cycle) + " corners written " +
+        with_commas(s.repeated_cycles.first_repeats) + " times" +
+        (s.repeated_cycles.count > 1 ? " (and " + with_commas(s.repeated_cycles.count - 1) + " more)" : std::string()) +
+        ": read as that cycle");
   if (s.crossing.count == 1)
     warnings.push_back(where(s.crossing.first) + ": skipped a polygon of " + with_commas(s.crossing.first_corners) +
                        " corners whose edges cross or overlap in its best-fit plane: its triangles would need corners "
@@ -156,10 +156,10 @@ TriangleMesh to_triangle_mesh(PolygonSoup&& soup, const std::string& name, std::
     part(short_faces.count, "face of fewer than three corners", "faces of fewer than three corners");
     part(crossing.count, "polygon that crosses itself", "polygons that cross themselves");
     if (held.empty()) held = "no faces";
-    throw InvalidInput(name + ": holds no triangles: " + held + " (" +
-                       plural(positions.size(), "vertex", "vertices") + ")");
+    throw InvalidInput(name + ": holds no triangles: " + held + " (" + plural(positions.size(), "vertex", "vertices") +
+                       ")");
   }
   return weld_vertices(positions, triangles);
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

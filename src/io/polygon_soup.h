@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 
 /// The file's vertices and polygons, as written. Corner ids index `positions` and are checked by
 /// the reader (in [0, positions.size())); positions keep the file's precision until
@@ -60,4 +60,4 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name);
 PolygonSoup parse_obj(std::string_view bytes, const std::string& name);
 PolygonSoup parse_stl(std::string_view bytes, const std::string& name);
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

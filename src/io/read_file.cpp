@@ -11,8 +11,8 @@ namespace hdm {
 
 void check_input_size(uint64_t size, uint64_t max_bytes, const std::string& name) {
   if (size > max_bytes)
-    throw IoError(name + ": " + detail::with_commas(size) + " bytes, more than the input limit of " +
-                  detail::with_commas(max_bytes) + " bytes" +
+    throw IoError(name + ": " + io::detail::with_commas(size) + " bytes, more than the input limit of " +
+                  io::detail::with_commas(max_bytes) + " bytes" +
                   (max_bytes >= (1u << 20) ? " (" + std::to_string(max_bytes >> 20) + " MiB)" : std::string()) +
                   "; raise the limit to read it (hdm: --max-input-mb)");
 }

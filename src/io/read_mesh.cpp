@@ -27,7 +27,7 @@
 namespace hdm {
 namespace {
 
-using detail::with_commas;
+using io::detail::with_commas;
 
 std::string lower_extension(const std::string& name) {
   std::string ext = std::filesystem::path(name).extension().string();
@@ -173,33 +173,34 @@ TriangleMesh read_mesh_from_memory(std::string_view bytes, const std::string& na
     if (report) report->warnings.insert(report->warnings.end(), warnings.begin(), warnings.end());
     return mesh;
   };
-  detail::MeshFormat format = detail::format_by_extension(name);
-  if (format == detail::MeshFormat::Other && detail::has_no_extension(name)) format = detail::format_by_content(bytes);
+  io::detail::MeshFormat format = io::detail::format_by_extension(name);
+  if (format == io::detail::MeshFormat::Other && io::detail::has_no_extension(name))
+    format = io::detail::format_by_content(bytes);
   switch (format) {
-    case detail::MeshFormat::Obj:
-      return done(detail::to_triangle_mesh(detail::parse_obj(bytes, name), name, warnings));
-    case detail::MeshFormat::Ply:
-      return done(detail::to_triangle_mesh(detail::parse_ply(bytes, name), name, warnings));
-    case detail::MeshFormat::Off:
-      return done(detail::to_triangle_mesh(detail::parse_off(bytes, name), name, warnings));
-    case detail::MeshFormat::Stl:
-      return done(detail::to_triangle_mesh(detail::parse_stl(bytes, name), name, warnings));
-    case detail::MeshFormat::Other:
+    case io::detail::MeshFormat::Obj:
+      return done(io::detail::to_triangle_mesh(io::detail::parse_obj(bytes, name), name, warnings));
+    case io::detail::MeshFormat::Ply:
+      return done(io::detail::to_triangle_mesh(io::detail::parse_ply(bytes, name), name, warnings));
+    case io::detail::MeshFormat::Off:
+      return done(io::detail::to_triangle_mesh(io::detail::parse_off(bytes, name), name, warnings));
+    case io::detail::MeshFormat::Stl:
+      return done(io::detail::to_triangle_mesh(io::detail::parse_stl(bytes, name), name, warnings));
+    case io::detail::MeshFormat::Other:
       break;
   }
   return done(read_with_assimp(name, &bytes, warnings));
 }
 
 TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options, MeshReadReport* report) {
-  if (detail::format_by_extension(path) == detail::MeshFormat::Other) {
+  if (io::detail::format_by_extension(path) == io::detail::MeshFormat::Other) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
     if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": not a regular file");
     check_input_size(std::filesystem::file_size(path, ec), options.max_file_bytes, path);
     // Without an extension the content decides; a format of hdm's own is read from memory.
-    if (detail::has_no_extension(path)) {
+    if (io::detail::has_no_extension(path)) {
       const std::string bytes = read_file(path, options.max_file_bytes);
-      if (detail::format_by_content(bytes) != detail::MeshFormat::Other)
+      if (io::detail::format_by_content(bytes) != io::detail::MeshFormat::Other)
         return read_mesh_from_memory(bytes, path, options, report);
     }
     // assimp reads the file itself, so formats that refer to other files (glTF buffers) work.

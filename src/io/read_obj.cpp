@@ -18,7 +18,7 @@
 #include <optional>
 #include <string>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 // Splits @p line into whitespace-separated tokens, one at a time.
@@ -153,4 +153,4 @@ PolygonSoup parse_obj(std::string_view file_bytes, const std::string& name) {
   return soup;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 // Smallest number of bytes a vertex line ("x y z" and its line end) and a face line ("k i" and
@@ -130,4 +130,4 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
   return soup;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 using namespace ply;
@@ -232,8 +232,10 @@ Targets find_targets(const std::vector<Element>& elements, const std::string& na
   const uint64_t faces = t.face ? t.face->count : 0, strips = t.strips ? t.strips->count : 0;
   if (faces + strips == 0)
     throw InvalidInput(name + ": holds no triangles: " +
-                       (t.face ? std::string("0 faces") : t.strips ? "0 triangle strips" : "no face element") + " (" +
-                       with_commas(t.vertex ? t.vertex->count : 0) + " vertices)");
+                       (t.face     ? std::string("0 faces")
+                        : t.strips ? "0 triangle strips"
+                                   : "no face element") +
+                       " (" + with_commas(t.vertex ? t.vertex->count : 0) + " vertices)");
   if (!t.vertex) throw IoError(name + ": the PLY header declares faces but no vertex element");
   if (faces > 0) t.face_list = id_list(*t.face, name);
   if (strips > 0) t.strip_list = id_list(*t.strips, name);
@@ -284,4 +286,4 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
   return soup;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

@@ -19,7 +19,7 @@
 #include <cstring>
 #include <limits>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 constexpr uint64_t header_bytes = 84, record_bytes = 50;
@@ -152,4 +152,4 @@ PolygonSoup parse_stl(std::string_view bytes, const std::string& name) {
   return parse_ascii(bytes, name);
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <system_error>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 
 class TextCursor {
  public:
@@ -144,4 +144,4 @@ inline std::string quoted(std::string_view token) {
   return out + "\"";
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

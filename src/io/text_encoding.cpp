@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 enum class Order { None, Big, Little };
@@ -80,4 +80,4 @@ std::string_view without_utf8_bom(std::string_view text) {
   return text.substr(0, 3) == "\xEF\xBB\xBF" ? text.substr(3) : text;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

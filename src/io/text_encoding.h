@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 
 /// @brief The UTF-8 text of @p bytes when they are UTF-16, else nullopt.
 ///
@@ -23,4 +23,4 @@ std::optional<std::string> utf16_to_utf8(std::string_view bytes, const std::stri
 /// @p text without a leading UTF-8 byte-order mark (EF BB BF).
 std::string_view without_utf8_bom(std::string_view text);
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

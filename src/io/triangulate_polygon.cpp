@@ -18,7 +18,7 @@
 #include <numbers>
 #include <utility>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 // Exact predicates, inexact constructions (as CGAL's Epick), under a name of this file.
@@ -30,7 +30,8 @@ struct Corner {
   int32_t index = -1;  // its number among the polygon's distinct points
 };
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<Corner, Kernel>;
-using Fb = CGAL::Triangulation_face_base_with_info_2<int8_t, Kernel, CGAL::Constrained_triangulation_face_base_2<Kernel>>;
+using Fb =
+    CGAL::Triangulation_face_base_with_info_2<int8_t, Kernel, CGAL::Constrained_triangulation_face_base_2<Kernel>>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 // An edge may pass through a corner; an edge that crosses or overlaps another throws (resolving
 // either would need new points, or a count of overlaps whose bookkeeping can grow quadratically).
@@ -164,4 +165,4 @@ PolygonTriangles triangulate_polygon(const std::vector<Vec3>& positions, const i
   return triangulate_outline(q, ids, k, out);
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 
 /// What triangulate_polygon() made of a polygon.
 enum class PolygonTriangles {
@@ -46,4 +46,4 @@ enum class PolygonTriangles {
 PolygonTriangles triangulate_polygon(const std::vector<Vec3>& positions, const int32_t* ids, size_t k,
                                      std::vector<Tri>& out, std::vector<std::array<double, 2>>& plane);
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

@@ -10,7 +10,7 @@
 #include <numeric>
 #include <tuple>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 namespace {
 
 // Exact-position order for welding; +0.0 folds -0 into +0 like operator==.
@@ -200,4 +200,4 @@ TriangleMesh weld_vertices(const std::vector<Vec3>& positions, const std::vector
   return mesh;
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

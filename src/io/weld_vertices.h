@@ -6,7 +6,7 @@
 
 #include <vector>
 
-namespace hdm::detail {
+namespace hdm::io::detail {
 
 /// @brief The mesh of @p triangles (corner ids into @p positions) with the vertices at identical
 /// positions welded (the first in file order keeps its place; not where the weld would put more
@@ -16,4 +16,4 @@ namespace hdm::detail {
 /// @note O(#V log #V), plus the faces around the welds it undoes.
 TriangleMesh weld_vertices(const std::vector<Vec3>& positions, const std::vector<Tri>& triangles);
 
-}  // namespace hdm::detail
+}  // namespace hdm::io::detail

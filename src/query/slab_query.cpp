@@ -10,11 +10,11 @@ namespace hdm {
 
 void evaluate_surface(const SlabModel& model, int slab, const SlabCoordinates& c, Contact& out) noexcept {
   const double wS = c.bary[1], wT = c.bary[2];
-  const detail::LocalCell cell = detail::local_cell(model.grid_n, wS, wT);
+  const slab_query::detail::LocalCell cell = slab_query::detail::local_cell(model.grid_n, wS, wT);
   double delta;
   Vec3 ray;
-  out.surface_point = detail::surface_point(model, slab, wS, wT, cell, delta, ray);
-  const Vec3f nf = detail::interpolated_normal(model, slab, cell);
+  out.surface_point = slab_query::detail::surface_point(model, slab, wS, wT, cell, delta, ray);
+  const Vec3f nf = slab_query::detail::interpolated_normal(model, slab, cell);
   out.slab = slab;
   out.coords = c;
   out.delta = delta;

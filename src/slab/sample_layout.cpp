@@ -31,7 +31,7 @@ void build_csr(Each each, int count, std::vector<int32_t>& offsets, std::vector<
   each([&](int32_t key, int32_t value) { raw[fill[key]++] = value; });
   std::vector<int32_t>().swap(fill);
   std::vector<int32_t> kept(count);
-  detail::parallel_blocks(size_t(count), 4096, [&](size_t b, size_t e, size_t) {
+  core::detail::parallel_blocks(size_t(count), 4096, [&](size_t b, size_t e, size_t) {
     for (size_t s = b; s < e; ++s) {
       auto first = raw.begin() + start[s], last = raw.begin() + start[s + 1];
       std::sort(first, last);
@@ -41,7 +41,7 @@ void build_csr(Each each, int count, std::vector<int32_t>& offsets, std::vector<
   offsets.assign(count + 1, 0);
   for (int s = 0; s < count; ++s) offsets[s + 1] = offsets[s] + kept[s];
   values.assign(offsets[count], 0);
-  detail::parallel_blocks(size_t(count), 4096, [&](size_t b, size_t e, size_t) {
+  core::detail::parallel_blocks(size_t(count), 4096, [&](size_t b, size_t e, size_t) {
     for (size_t s = b; s < e; ++s)
       std::copy(raw.begin() + start[s], raw.begin() + start[s] + kept[s], values.begin() + offsets[s]);
   });

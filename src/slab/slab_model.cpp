@@ -307,17 +307,17 @@ void rebuild_derived(SlabModel& m) {
   // In blocks of samples, in parallel: each call writes only its own samples' position, normal and
   // slab copies, and a normal is the same sum in the same order whatever the block.
   constexpr size_t block = 16384;
-  detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
+  core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
     for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_positions(m, ids, k); });
   });
   m.force_shading_normals.clear();  // filled once below, not per update_normals() ring
-  std::vector<FaceNormalCache> caches(detail::parallel_workers(ns, block));
-  detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t w) {
+  std::vector<FaceNormalCache> caches(core::detail::parallel_workers(ns, block));
+  core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t w) {
     // Also fills slab_samples.
     for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_normals(m, ids, k, caches[w]); });
   });
   m.force_shading_normals.resize(m.samples.ids.size());
-  detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
+  core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
     // Reads the finished normals.
     for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_force_shading_normals(m, ids, k, false); });
   });

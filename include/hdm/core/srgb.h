@@ -22,7 +22,7 @@ struct Srgb8 {
   friend bool operator==(const Srgb8&, const Srgb8&) = default;
 };
 
-namespace detail {
+namespace core::detail {
 /// @{ Tables of the sRGB encodings (src/core/srgb.cpp), built before main: srgb_bound[k] is the
 /// least float whose code is above k (srgb_bound[255] = +inf), srgb_bucket[i] the code of linear
 /// i/4096 (i = 0..4096), srgb_decode[k] the linear value of code k. Inline so that paint's
@@ -30,7 +30,7 @@ namespace detail {
 extern const std::array<float, 256> srgb_bound, srgb_decode;
 extern const std::array<uint8_t, 4097> srgb_bucket;
 /// @}
-}  // namespace detail
+}  // namespace core::detail
 
 /// @brief Encodes a linear colour channel in [0,1] as an 8-bit sRGB value (IEC 61966-2-1):
 /// round(255 · s) with s = 12.92·c for c ≤ 0.0031308, else 1.055·c^(1/2.4) − 0.055, exactly
@@ -45,14 +45,14 @@ inline uint8_t linear_to_srgb8(float linear) noexcept {
   const float c = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;
   // A bucket spans less than one code boundary (12.92·255 codes per unit at the steepest), so the
   // code is the bucket's or the next; 1.0 indexes the last entry (code 255, below bound +inf).
-  const unsigned code = detail::srgb_bucket[static_cast<uint32_t>(static_cast<int32_t>(c * 4096.0f))];
-  return static_cast<uint8_t>(code + (detail::srgb_bound[code] <= c ? 1u : 0u));
+  const unsigned code = core::detail::srgb_bucket[static_cast<uint32_t>(static_cast<int32_t>(c * 4096.0f))];
+  return static_cast<uint8_t>(code + (core::detail::srgb_bound[code] <= c ? 1u : 0u));
 }
 
 /// @brief Decodes an 8-bit sRGB value to a linear channel in [0,1] (the inverse transfer function
 /// of IEC 61966-2-1); linear_to_srgb8(srgb8_to_linear(c)) == c for every code.
 /// @note noexcept, a table lookup.
-inline float srgb8_to_linear(uint8_t code) noexcept { return detail::srgb_decode[code]; }
+inline float srgb8_to_linear(uint8_t code) noexcept { return core::detail::srgb_decode[code]; }
 
 /// @brief linear_to_srgb8() of each channel of the linear RGB colour @p linear.
 /// @note noexcept, no allocation.
@@ -63,7 +63,7 @@ inline Srgb8 encode_srgb8(const Vec3f& linear) noexcept {
 /// @brief srgb8_to_linear() of each channel: the linear RGB colour @p c stands for.
 /// @note noexcept, three table lookups.
 inline Vec3f decode_srgb8(Srgb8 c) noexcept {
-  return {detail::srgb_decode[c.r], detail::srgb_decode[c.g], detail::srgb_decode[c.b]};
+  return {core::detail::srgb_decode[c.r], core::detail::srgb_decode[c.g], core::detail::srgb_decode[c.b]};
 }
 
 /// @brief Encodes @p v in [0,1] as unorm8, round(255 · v) with halves up; outside [0,1] clamped,

@@ -17,7 +17,7 @@
 
 namespace hdm {
 
-namespace detail {
+namespace edit::detail {
 struct BrushHooks;
 }
 
@@ -73,7 +73,7 @@ struct BrushInfo {
   /// The tool's axis is the normal of the stroke's starting surface (the tool is placed or
   /// oriented along it: carve, add, flatten); otherwise the contact normal.
   bool along_axis;
-  const detail::BrushHooks* hooks;  ///< internal: its flood kernel (src/edit/edit_job.h)
+  const edit::detail::BrushHooks* hooks;  ///< internal: its flood kernel (src/edit/edit_job.h)
   /// True when the brush reads parameter @p p. noexcept, O(1).
   constexpr bool uses(BrushParam p) const noexcept { return (params >> static_cast<int>(p)) & 1u; }
 };

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal (namespace hdm::detail, not part of the API): the displaced-surface interpolation shared
+// Internal (namespace hdm::slab_query::detail, not part of the API): the displaced-surface interpolation shared
 // by the query (slab_query.cpp), the proxy, the edit kernels and the texture atlas, inline so paint
 // can skip the normal. One formula for all, so a texel's position agrees bit for bit with what
 // evaluate_surface() reports. All read the slab-major SlabModel::slab_samples (one slab's block
@@ -12,7 +12,7 @@
 
 #include <algorithm>
 
-namespace hdm::detail {
+namespace hdm::slab_query::detail {
 
 /// Grid triangle under (wS, wT) of a slab with n intervals per edge: its three grid indices
 /// (grid::index order within the slab) and their weights (docs/design.md#query: the renderer's
@@ -85,4 +85,4 @@ inline Vec3f interpolated_normal(const SlabModel& model, int slab, const LocalCe
          static_cast<float>(cell.wd) * Map(v[cell.ld].n);
 }
 
-}  // namespace hdm::detail
+}  // namespace hdm::slab_query::detail
