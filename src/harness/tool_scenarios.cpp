@@ -113,29 +113,35 @@ void score_tick(const Block& b, const SphereProxyState& st, const Vec3& force, S
 
 }  // namespace
 
+namespace {
+
+// Each tool scenario with the name hdm feel's --scenario and Python spell it.
+struct NamedScenario {
+  ToolScenario scenario;
+  const char* name;
+};
+constexpr NamedScenario kToolScenarios[] = {{ToolScenario::Slot, "slot"},
+                                            {ToolScenario::RollEdge, "roll_edge"},
+                                            {ToolScenario::ShaftEdge, "shaft_edge"},
+                                            {ToolScenario::DrillLayers, "drill_layers"}};
+
+}  // namespace
+
 ToolScenario parse_tool_scenario(const std::string& name) {
-  if (name == "slot") return ToolScenario::Slot;
-  if (name == "roll_edge") return ToolScenario::RollEdge;
-  if (name == "shaft_edge") return ToolScenario::ShaftEdge;
-  if (name == "drill_layers") return ToolScenario::DrillLayers;
+  for (const NamedScenario& s : kToolScenarios)
+    if (name == s.name) return s.scenario;
   throw InvalidInput("tool scenario '" + name + "': expected slot, roll_edge, shaft_edge or drill_layers");
 }
 
 bool is_tool_scenario(const std::string& name) noexcept {
-  return name == "slot" || name == "roll_edge" || name == "shaft_edge" || name == "drill_layers";
+  for (const NamedScenario& s : kToolScenarios)
+    if (name == s.name) return true;
+  return false;
 }
 
-const char* tool_scenario_name(ToolScenario s) noexcept {
-  switch (s) {
-    case ToolScenario::Slot:
-      return "slot";
-    case ToolScenario::RollEdge:
-      return "roll_edge";
-    case ToolScenario::ShaftEdge:
-      return "shaft_edge";
-    case ToolScenario::DrillLayers:
-      return "drill_layers";
-  }
+const char* tool_scenario_name(ToolScenario scenario) noexcept {
+  for (const NamedScenario& s : kToolScenarios)
+    if (s.scenario == scenario) return s.name;
   return "?";
 }
 
