@@ -68,7 +68,13 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     o.slabs = next;
     if (tolerance.adapt_grid) {
       if (round == 0) budget = static_cast<double>(r.slabs) * o.grid_n * o.grid_n;
-      if (worst_rms > 1) budget *= std::min(worst_rms, 3.0);
+      // Only a round that meets the maximum error and misses the RMS misses by sampling density.
+      // A round that misses the maximum misses it by coarse geometry (a part the coarse mesh cuts
+      // off, undercut columns, overlapping slabs), and those spots raise its RMS as well: more
+      // slabs fix them, denser samples everywhere would not.
+      const bool max_met =
+          std::max(f.max_pct, f.max_back_pct) <= tolerance.max_pct && r.invalid_slabs == 0 && r.overlapping_pairs == 0;
+      if (worst_rms > 1 && max_met) budget *= std::min(worst_rms, 3.0);
       const int n = static_cast<int>(std::floor(std::sqrt(budget / next)));
       o.grid_n = std::clamp(n, std::min(tolerance.min_grid, options.grid_n), options.grid_n);
     }

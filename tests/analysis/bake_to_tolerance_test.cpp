@@ -126,6 +126,27 @@ TEST(BakeToToleranceTest, LowersTheGridWhenOnlyTheMaximumErrorIsMissed) {
             1.5 * double(rounds[0].slabs) * rounds[0].grid_n * rounds[0].grid_n);
 }
 
+// A round that misses the maximum error misses it by coarse geometry, and the same spots raise its
+// RMS: such a round adds slabs, never samples, even when the RMS bound is missed as well.
+TEST(BakeToToleranceTest, AddsNoSamplesForAnRmsMissedWithTheMaximum) {
+  const ExactMeshQuery exact(bumpy_ellipsoid());
+  Tolerance both;
+  both.max_pct = 1e-6;  // unreachable: every round misses both bounds
+  both.rms_pct = 1e-9;
+  both.max_rounds = 3;
+  BakeOptions o;
+  o.slabs = 20;
+  o.grid_n = 16;  // the rounds stay above the smallest grid (Tolerance::min_grid)
+  std::vector<ToleranceRound> rounds;
+  bake_to_tolerance(exact, "bumpy", o, both, &rounds);
+  ASSERT_EQ(rounds.size(), 3u);
+  const double budget = double(rounds[0].slabs) * rounds[0].grid_n * rounds[0].grid_n;
+  for (size_t k = 1; k < rounds.size(); ++k) {
+    EXPECT_GT(rounds[k].slabs, rounds[k - 1].slabs) << "round " << k;
+    EXPECT_LE(double(rounds[k].slabs) * rounds[k].grid_n * rounds[k].grid_n, budget * 1.1) << "round " << k;
+  }
+}
+
 // Two open sheets crossing each other (a T of plates modelled apart, as in CAD exports): slabs on
 // both sides of the crossing line overlap at every resolution, so refining cannot remove the
 // fault. The loop stops at the first round that does not reduce it instead of running to the cap.

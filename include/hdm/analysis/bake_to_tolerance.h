@@ -69,9 +69,10 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 /// Tolerance::max_slabs and the input's triangle count. With Tolerance::adapt_grid the grid n of
 /// the next round is the largest n <= options.grid_n (and >= min_grid) with slabs·n² within the
 /// sample budget: round 1's slabs·n², times the RMS ratio (clamped to [1, 3]) in each round that
-/// missed the RMS bound. A missed maximum error is a coarse-geometry fault (undercut columns, a part
-/// the coarse mesh cuts off) that more slabs fix; sampling that part four times as densely only
-/// costs memory, and it sharpens the force-shading field the proxy follows (docs/haptics.md). Every
+/// met the maximum bound, had no invalid or overlapping slab, and missed the RMS bound. A missed
+/// maximum error is a coarse-geometry fault (undercut columns, a part the coarse mesh cuts off)
+/// that more slabs fix, and the same spots raise that round's RMS; sampling everything more densely
+/// only costs memory, and it sharpens the force-shading field the proxy follows (docs/haptics.md). Every
 /// other option stays as given. Stops at the first model that meets the bounds, at the cap, after
 /// Tolerance::max_rounds bakes, or when the round before had invalid or overlapping slabs and this
 /// round has more of them, or as many for the second round running (faults that more slabs do not
