@@ -10,7 +10,7 @@
 #include <numbers>
 #include <string>
 
-namespace hdm::harness_detail {
+namespace hdm::harness::detail {
 namespace {
 
 constexpr double kScale = 100;                 // model units per metre: the 2-unit block is 2 cm wide
@@ -119,4 +119,4 @@ ToolScenarioReport run_drill_layers(const ToolScenarioOptions& o) {
   return r;
 }
 
-}  // namespace hdm::harness_detail
+}  // namespace hdm::harness::detail

@@ -15,7 +15,7 @@
 namespace hdm {
 namespace {
 
-using harness_detail::angle_deg;
+using harness::detail::angle_deg;
 
 Vec3 tangential(const Vec3& v, const Vec3& n) { return v - v.dot(n) * n; }
 

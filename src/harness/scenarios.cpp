@@ -16,7 +16,7 @@
 namespace hdm {
 namespace {
 
-using harness_detail::angle_deg;
+using harness::detail::angle_deg;
 
 // ---- hand-target paths, device frame [m] -------------------------------------------------------
 

@@ -9,7 +9,7 @@
 #include <numbers>
 #include <string>
 
-namespace hdm::harness_detail {
+namespace hdm::harness::detail {
 namespace {
 
 constexpr double kHead = 0.1;                         // burr head radius [model units]
@@ -107,4 +107,4 @@ ToolScenarioReport run_shaft_edge(const ToolScenarioOptions& o) {
   return r;
 }
 
-}  // namespace hdm::harness_detail
+}  // namespace hdm::harness::detail

@@ -10,7 +10,7 @@
 
 #include <functional>
 
-namespace hdm::harness_detail {
+namespace hdm::harness::detail {
 
 inline constexpr double kToolScale = 10;  // model units per metre: the 2-unit block is 0.2 m wide
 
@@ -39,4 +39,4 @@ ToolScenarioReport run_shaft_edge(const ToolScenarioOptions& options);
 // ToolScenario::DrillLayers (drill_layers_scenario.cpp).
 ToolScenarioReport run_drill_layers(const ToolScenarioOptions& options);
 
-}  // namespace hdm::harness_detail
+}  // namespace hdm::harness::detail

@@ -15,11 +15,11 @@ namespace hdm {
 namespace {
 
 constexpr double kR = 0.3;  // the ball's radius [model units]
-constexpr double kScale = harness_detail::kToolScale;
+constexpr double kScale = harness::detail::kToolScale;
 constexpr double kSlotHalf = 0.2;  // the slot's half width [model units]
 constexpr double kEdgeX = 1.0;     // the block's edge rolled over: x = 1, z = 0
 
-using harness_detail::Block;
+using harness::detail::Block;
 
 // The block's cells: all, or all but a slot |x| < 0.2 of depth 0.4 along y.
 std::function<bool(int, int, int)> block_cells(bool slot) {
@@ -103,10 +103,10 @@ void score_tick(const Block& b, const SphereProxyState& st, const Vec3& force, S
   if (s.prev_contact && size_t(r.ticks) > s.steps_from) {
     r.max_force_step_pct = std::max(r.max_force_step_pct, 100 * (force - s.f_prev).norm() / s.max_force);
     if (f > 0.05 && s.f_prev.norm() > 0.05)
-      r.max_direction_step_deg = std::max(r.max_direction_step_deg, harness_detail::angle_deg(force, s.f_prev));
+      r.max_direction_step_deg = std::max(r.max_direction_step_deg, harness::detail::angle_deg(force, s.f_prev));
   }
   if (f > 0.05 && cp.distance > 0 && st.planes == 1)
-    s.normal_error.push_back(harness_detail::angle_deg(force, st.center - cp.point));
+    s.normal_error.push_back(harness::detail::angle_deg(force, st.center - cp.point));
   s.f_prev = force;
   s.prev_contact = true;
 }
@@ -148,8 +148,8 @@ const char* tool_scenario_name(ToolScenario scenario) noexcept {
 ToolScenarioReport run_tool_scenario(const ToolScenarioOptions& options) {
   check_options(options);
   ToolScenarioOptions o = options;
-  if (o.scenario == ToolScenario::ShaftEdge) return harness_detail::run_shaft_edge(o);
-  if (o.scenario == ToolScenario::DrillLayers) return harness_detail::run_drill_layers(o);
+  if (o.scenario == ToolScenario::ShaftEdge) return harness::detail::run_shaft_edge(o);
+  if (o.scenario == ToolScenario::DrillLayers) return harness::detail::run_drill_layers(o);
   const bool slot = o.scenario == ToolScenario::Slot;
   const Block b(block_cells(slot));
   Workspace ws;
