@@ -13,7 +13,7 @@ import sys
 
 # The data flow, bottom to top: a folder may include folders of a lower level only.
 LEVEL = {"core": 0, "mesh": 1, "slab": 2, "query": 3, "haptics": 4, "edit": 4, "session": 5,
-         "surface": 4, "analysis": 4, "pipeline": 5, "io": 5, "render": 5, "bridge": 6, "harness": 7}
+         "atlas": 4, "analysis": 4, "pipeline": 5, "io": 5, "render": 5, "bridge": 6, "harness": 7}
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]')
 
 

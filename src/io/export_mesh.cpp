@@ -3,7 +3,7 @@
 #include <hdm/core/error.h>
 #include <hdm/io/export_mesh.h>
 #include <hdm/io/hdm_file.h>
-#include <hdm/surface/texture_atlas.h>
+#include <hdm/atlas/texture_atlas.h>
 #include <hdm/slab/triangle_grid.h>
 
 #include <tiny_gltf.h>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
-#include <hdm/surface/texture_atlas.h>
+#include <hdm/atlas/texture_atlas.h>
 #include <hdm/render/camera.h>
 #include <hdm/render/egl_context.h>
 #include <hdm/render/framebuffer.h>

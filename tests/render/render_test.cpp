@@ -2,7 +2,7 @@
 // Render tests: properties of the image (coverage, background, colours, locality of slab
 // re-uploads), never golden images. Every test draws with the real headless EGL/llvmpipe path.
 #include <hdm/core/error.h>
-#include <hdm/surface/texture_atlas.h>
+#include <hdm/atlas/texture_atlas.h>
 #include <hdm/render/camera.h>
 #include <hdm/render/egl_context.h>
 #include <hdm/render/framebuffer.h>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
-#include <hdm/surface/texture_atlas.h>
+#include <hdm/atlas/texture_atlas.h>
 #include <hdm/query/slab_query.h>
 #include <hdm/slab/triangle_grid.h>
 

@@ -3,7 +3,7 @@
 // footprints stay inside a slab's tile, and tiles do not overlap.
 #include "io/io_test_util.h"
 
-#include <hdm/surface/texture_atlas.h>
+#include <hdm/atlas/texture_atlas.h>
 #include <hdm/slab/triangle_grid.h>
 
 #include <gtest/gtest.h>
