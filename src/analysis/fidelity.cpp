@@ -48,7 +48,7 @@ std::vector<uint8_t> interior_faces(const ExactMeshQuery& input) {
   // The generalized winding number counts the parts that cover a point: a face inside two
   // overlapping parts is interior too, where ray parity calls it outside; and rays of an open input
   // leave through its openings. Inside is a winding of at least 1/2, the rule
-  // resolve_self_intersections() and resolve_crossing_sheets() drop faces by. A closed input is
+  // resolve_self_intersections() and resolve_open_self_intersections() drop faces by. A closed input is
   // probed 10⁻⁹ of the diagonal off the face, as resolve_self_intersections() does: its layers
   // may run closer than 10⁻⁵ of the diagonal (mannequin-devil.off), and a point farther out would
   // pass the layer above.

@@ -5,7 +5,7 @@
 
 #include <hdm/mesh/exact_mesh_query.h>
 
-#include "crossing_faces.h"
+#include "self_intersecting_faces.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
@@ -237,7 +237,7 @@ bool refill_region(const TriangleMesh& mesh, const std::vector<char>& region, Tr
 }  // namespace
 
 bool retriangulate_tangles(const TriangleMesh& mesh, double tolerance, TriangleMesh& out, int64_t& removed_faces) {
-  const std::vector<char> crossing = mesh::detail::crossing_faces(mesh);
+  const std::vector<char> crossing = mesh::detail::self_intersecting_faces(mesh);
   const ExactMeshQuery input(mesh);
   for (int rings = 1; rings <= kMaxTangleRings; ++rings) {
     const std::vector<char> region = tangle_region(mesh, crossing, rings);
@@ -245,7 +245,7 @@ bool retriangulate_tangles(const TriangleMesh& mesh, double tolerance, TriangleM
     std::vector<Tri> fill;
     if (!refill_region(mesh, region, candidate, fill)) continue;
     int64_t left = 0;
-    mesh::detail::crossing_faces(candidate, &left);
+    mesh::detail::self_intersecting_faces(candidate, &left);
     if (left > 0) continue;
     TriangleMesh fill_mesh;
     fill_mesh.vertices = candidate.vertices;

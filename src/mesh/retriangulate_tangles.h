@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal to resolve_crossing_sheets(): a sheet whose triangulation crosses itself in a few
+// Internal to resolve_open_self_intersections(): a sheet whose triangulation crosses itself in a few
 // crumpled spots, repaired where it crumples.
 
 #include <hdm/mesh/triangle_mesh.h>

@@ -4,10 +4,10 @@
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/core/error.h>
 #include <hdm/mesh/self_intersections.h>
-#include <hdm/mesh/crossing_sheets.h>
+#include <hdm/mesh/open_self_intersections.h>
 #include <hdm/mesh/winding_number.h>
 
-#include "crossing_faces.h"
+#include "self_intersecting_faces.h"
 #include "nearly_closed.h"
 #include "surface_mesh_copy.h"
 
@@ -62,7 +62,8 @@ bool holes_fillable(const Mesh& sm) {
     if (loop.size() > kMaxFillEdges) return false;
     Vec3 c = Vec3::Zero();
     for (const Vec3& q : loop) c += q / double(loop.size());
-    for (size_t i = 0; i < loop.size(); ++i) fans += mesh::detail::cap_triangle_area(loop[i], loop[(i + 1) % loop.size()], c);
+    for (size_t i = 0; i < loop.size(); ++i)
+      fans += mesh::detail::cap_triangle_area(loop[i], loop[(i + 1) % loop.size()], c);
   }
   return mesh::detail::nearly_closed(fans, PMP::area(sm));
 }
@@ -156,7 +157,7 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
 
 }  // namespace
 
-std::vector<char> mesh::detail::crossing_faces(const TriangleMesh& mesh, int64_t* pairs_out) {
+std::vector<char> mesh::detail::self_intersecting_faces(const TriangleMesh& mesh, int64_t* pairs_out) {
   const Mesh sm = mesh::detail::to_surface_mesh<Mesh>(mesh);
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
@@ -172,7 +173,7 @@ std::vector<char> mesh::detail::crossing_faces(const TriangleMesh& mesh, int64_t
 int64_t count_self_intersections(const TriangleMesh& mesh) {
   validate_mesh_data(mesh, "count_self_intersections input");
   int64_t pairs = 0;
-  mesh::detail::crossing_faces(mesh, &pairs);
+  mesh::detail::self_intersecting_faces(mesh, &pairs);
   return pairs;
 }
 
@@ -203,7 +204,7 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
   };
   if (rep.pairs_before == 0) return keep();
   const bool open = !CGAL::is_closed(sm);
-  auto give_up = [&] { return open ? resolve_crossing_sheets(mesh, report) : keep(); };
+  auto give_up = [&] { return open ? resolve_open_self_intersections(mesh, report) : keep(); };
   if (open) {
     // A nearly closed input (a bust with an open base, a scan with a cut) is resolved as the
     // solid it nearly bounds: its holes are filled (Liepa) and stay filled, so the result is a

@@ -9,7 +9,7 @@ namespace {
 
 // Steps 4 and 5 of prepare_input(): an open mesh that crosses itself is joined at its seams, and
 // a nearly closed one that still crosses is closed. Returns whether the seams closed it.
-bool close_crossing_parts(PreparedInput& in, bool& open) {
+bool close_self_intersecting_parts(PreparedInput& in, bool& open) {
   PrepareReport& r = in.report;
   bool closed_by_seams = false;
   TriangleMesh joined = stitch_seams(in.mesh, &r.seams);
@@ -53,7 +53,7 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
   r.orient = orient_outward(in.mesh);
   r.self_intersections = count_self_intersections(in.mesh);
   bool open = r.orient.nearly_closed + r.orient.sheets > 0;  // some part has a boundary edge
-  const bool closed_by_seams = r.self_intersections > 0 && open && close_crossing_parts(in, open);
+  const bool closed_by_seams = r.self_intersections > 0 && open && close_self_intersecting_parts(in, open);
   if (open) r.folds = remove_folds(in.mesh);
   if (!options.resolve || r.self_intersections == 0) return in;
   if (closed_by_seams) {

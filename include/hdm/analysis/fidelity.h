@@ -42,7 +42,7 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
 /// union. Inside is where the generalized winding number (WindingNumber, Jacobson et al. 2013)
 /// is at least ½: it counts the parts covering a point, and rays of an open input would leave
 /// through its openings. Open input: interior when the point 10⁻⁵ of the diagonal in front of the
-/// centroid is inside (the rule resolve_crossing_sheets() drops faces by). Closed input: the
+/// centroid is inside (the rule resolve_open_self_intersections() drops faces by). Closed input: the
 /// rule resolve_self_intersections() keeps pieces by, 10⁻⁹ of the diagonal off the centroid
 /// (layers may run closer than 10⁻⁵): interior when the point in front is inside or the point
 /// behind is not (no material on either side: a fin, a part turned inside out). No face of a
@@ -78,7 +78,7 @@ struct ContactAccuracy {
 /// @param interior  optional #F flags of interior input faces (interior_faces()). For an open input that
 ///                crosses itself, the points are drawn from the exposed faces only and judged
 ///                against them alone (the side of the nearest exposed face): interior faces are not
-///                on the surface a user touches (resolve_crossing_sheets() drops them). Ignored for
+///                on the surface a user touches (resolve_open_self_intersections() drops them). Ignored for
 ///                a closed input, whose inside (the union's winding) already accounts for them.
 /// @pre @p input is oriented as orient_outward() orients it (an open input's inside is the back
 ///      of its surface).

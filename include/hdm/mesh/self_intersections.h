@@ -19,8 +19,8 @@ int64_t count_self_intersections(const TriangleMesh& mesh);
 
 /// What resolve_self_intersections() did.
 struct SelfIntersectionReport {
-  int64_t pairs_before = 0;    ///< crossing face pairs of the input
-  int64_t pairs_after = 0;     ///< crossing face pairs left (the input's count when it was kept)
+  int64_t pairs_before = 0;    ///< self-intersecting face pairs of the input
+  int64_t pairs_after = 0;     ///< self-intersecting face pairs left (the input's count when it was kept)
   int64_t faces_before = 0;    ///< faces of the input
   int64_t faces_after = 0;     ///< faces of the result
   int64_t interior_faces = 0;  ///< faces (after refinement) dropped as inside the union
@@ -30,7 +30,7 @@ struct SelfIntersectionReport {
   int64_t seam_vertices = 0;   ///< open input: boundary vertices stitched into a facing boundary edge or merged into a
                                ///< nearly coincident one (stitch_seams())
   int64_t retriangulated_faces = 0;  ///< open input: faces of crumpled spots cut out and triangulated again
-                                     ///< (resolve_crossing_sheets())
+                                     ///< (resolve_open_self_intersections())
   bool resolved = false;             ///< the result is the union's boundary; false: the input was kept
 };
 
@@ -70,7 +70,7 @@ TriangleMesh fill_nearly_closed(const TriangleMesh& mesh);
 /// orient_outward() counts nearly closed: a bust with an open base, mannequin-devil.off): its
 /// holes are filled (`triangulate_and_refine_hole`, Liepa 2003) and stay filled, so the result is
 /// closed (report->filled_faces). Other open meshes, and nearly closed ones this fails on, go to
-/// resolve_crossing_sheets() (sheets pushed into each other, pig.stl).
+/// resolve_open_self_intersections() (sheets pushed into each other, pig.stl).
 /// @param mesh  edge-manifold triangles, oriented by orient_outward() [model units].
 /// @param[out] report  counts (optional).
 /// @return the union's boundary; @p mesh itself when it does not cross itself, or the

@@ -106,7 +106,7 @@ void expect_default_bake_passes(const std::string& file) {
 
 }  // namespace
 
-TEST(ClosedCrossing, AUnionTouchingItselfAtAPointIsSplitIntoAManifold) {
+TEST(ClosedSelfIntersection, AUnionTouchingItselfAtAPointIsSplitIntoAManifold) {
   TriangleMesh input = read_mesh(test::data_path("cow.off"));
   orient_outward(input);
   ASSERT_GT(count_self_intersections(input), 0) << "cow.off's halves cross";
@@ -124,7 +124,7 @@ TEST(ClosedCrossing, AUnionTouchingItselfAtAPointIsSplitIntoAManifold) {
   EXPECT_EQ(points.size(), u.vertices.size());
 }
 
-TEST(ClosedCrossing, FlippingCapsKeepsTheSurfaceAndItsTopology) {
+TEST(ClosedSelfIntersection, FlippingCapsKeepsTheSurfaceAndItsTopology) {
   // A cap on a plane: apex (1, 1e-5) on edge (0,0)-(2,0), its neighbour below; both face +z.
   TriangleMesh flat;
   flat.vertices = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(1, 1e-5, 0), Vec3(1, -1, 0)};
@@ -152,6 +152,6 @@ TEST(ClosedCrossing, FlippingCapsKeepsTheSurfaceAndItsTopology) {
   EXPECT_THROW(flip_slivers(tri, 0), InvalidInput);
 }
 
-TEST(ClosedCrossing, CowBakesAtDefaultSettings) { expect_default_bake_passes("cow.off"); }
+TEST(ClosedSelfIntersection, CowBakesAtDefaultSettings) { expect_default_bake_passes("cow.off"); }
 
-TEST(ClosedCrossing, TriceratopsBakesAtDefaultSettings) { expect_default_bake_passes("triceratops.off"); }
+TEST(ClosedSelfIntersection, TriceratopsBakesAtDefaultSettings) { expect_default_bake_passes("triceratops.off"); }

@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file
-/// The exposed surface of an open input made of sheets that cross each other.
+/// Self-intersections of an open mesh resolved: the exposed surface of an input made of sheets
+/// that intersect each other. resolve_self_intersections() (self_intersections.h) resolves closed
+/// and nearly closed meshes into the boundary of their union and hands every other open mesh to
+/// resolve_open_self_intersections(). Include as `<hdm/mesh/open_self_intersections.h>` (it was
+/// `<hdm/mesh/crossing_sheets.h>`).
 
 #include <hdm/mesh/self_intersections.h>
 #include <hdm/mesh/triangle_mesh.h>
@@ -14,7 +18,7 @@ namespace hdm {
 /// Every connected component (faces joined by edges) is one sheet. When a sheet crosses itself
 /// (CGAL's `does_self_intersect`), the crossings are taken as a crumpled triangulation of one
 /// surface (faces folded over or overlapping their neighbours, as in polygon_mesh.off): the faces
-/// of the crossing pairs, grown by 1 to 6 vertex rings (the fewest that work; plus the islands they
+/// of the intersecting face pairs, grown by 1 to 6 vertex rings (the fewest that work; plus the islands they
 /// enclose, and every face around a vertex their boundary passes twice), are cut out, and each
 /// boundary loop of the cut that is not a loop of the input's own border is triangulated again
 /// without new vertices (CGAL's `triangulate_hole_polyline`). The result is kept only if nothing
@@ -40,8 +44,8 @@ namespace hdm {
 ///         itself where retriangulation fails, CGAL throws, or the result is not an edge-manifold consistently oriented
 ///         surface free of crossings.
 /// @throws InvalidInput for invalid mesh data.
-/// @note O(#F log #F + k) for k crossing pairs, single-threaded corefinement; pig.stl (16,848
+/// @note O(#F log #F + k) for k intersecting face pairs, single-threaded corefinement; pig.stl (16,848
 ///       faces, 17 sheets): well under a second.
-TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionReport* report = nullptr);
+TriangleMesh resolve_open_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report = nullptr);
 
 }  // namespace hdm

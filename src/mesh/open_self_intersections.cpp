@@ -2,7 +2,7 @@
 // Open sheets that cross each other: corefine them pairwise, drop the interior patches, weld the
 // rest. One of the few translation units that include CGAL (heavy templates).
 #include <hdm/core/error.h>
-#include <hdm/mesh/crossing_sheets.h>
+#include <hdm/mesh/open_self_intersections.h>
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/orient_mesh.h>
 #include <hdm/mesh/stitch_seams.h>
@@ -211,8 +211,8 @@ Mesh with_pinches_split(const TriangleMesh& out, SelfIntersectionReport& rep) {
 
 }  // namespace
 
-TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionReport* report) {
-  validate_mesh_data(mesh, "resolve_crossing_sheets input");
+TriangleMesh resolve_open_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report) {
+  validate_mesh_data(mesh, "resolve_open_self_intersections input");
   SelfIntersectionReport rep;
   rep.faces_before = rep.faces_after = static_cast<int64_t>(mesh.faces.size());
   auto keep = [&] {
@@ -277,7 +277,7 @@ TriangleMesh resolve_crossing_sheets(const TriangleMesh& mesh, SelfIntersectionR
     rep.pairs_after = rep.pairs_before;
     return keep();
   }
-  TriangleMesh resolved = mesh::detail::to_triangle_mesh(result, "resolve_crossing_sheets");
+  TriangleMesh resolved = mesh::detail::to_triangle_mesh(result, "resolve_open_self_intersections");
   rep.faces_after = static_cast<int64_t>(resolved.faces.size());
   rep.resolved = true;
   if (report) *report = rep;

@@ -4,7 +4,7 @@
 // non-manifold and inconsistent edges), against analytic areas and volumes, and with Embree on the input (every face of
 // the result lies on an input face).
 #include <hdm/analysis/fidelity.h>
-#include <hdm/mesh/crossing_sheets.h>
+#include <hdm/mesh/open_self_intersections.h>
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/stitch_seams.h>
 
@@ -130,12 +130,12 @@ TEST(StitchSeams, LeavesSeparateSheetsAlone) {
   EXPECT_EQ(rep.boundary_edges_after, 4 * 3 + 4 * 4);
 }
 
-TEST(CrossingSheets, PatchCubeWithTJunctionsBecomesOneClosedSurface) {
+TEST(OpenSelfIntersections, PatchCubeWithTJunctionsBecomesOneClosedSurface) {
   // The hanging vertices lie on the coarse patches' edges: CGAL counts the touching faces of
-  // different patches as crossing pairs.
+  // different patches as intersecting face pairs.
   const TriangleMesh in = patch_cube();
   SelfIntersectionReport rep;
-  const TriangleMesh out = resolve_crossing_sheets(in, &rep);
+  const TriangleMesh out = resolve_open_self_intersections(in, &rep);
   EXPECT_GT(rep.pairs_before, 0);
   ASSERT_TRUE(rep.resolved);
   EXPECT_EQ(rep.pairs_after, 0);
@@ -143,7 +143,7 @@ TEST(CrossingSheets, PatchCubeWithTJunctionsBecomesOneClosedSurface) {
   expect_unit_cube(out);
 }
 
-TEST(CrossingSheets, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
+TEST(OpenSelfIntersections, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
   // Box [-1,1]^3 (closed, a patch of 4 x 4 per side) and two open tubes, each with one end inside
   // the box and the other outside: the result is the box with two holes, the tubes outside it.
   TriangleMesh in;
@@ -191,7 +191,7 @@ TEST(CrossingSheets, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
   EXPECT_GT(inside, 100);
   EXPECT_GT(outside, 300);
   SelfIntersectionReport rep;
-  const TriangleMesh out = resolve_crossing_sheets(in, &rep);
+  const TriangleMesh out = resolve_open_self_intersections(in, &rep);
   ASSERT_TRUE(rep.resolved);
   EXPECT_EQ(rep.pairs_after, 0);
   const MeshTopology topo = analyze_topology(out);
@@ -200,19 +200,20 @@ TEST(CrossingSheets, TwoOpenTubesPushedIntoABoxLeaveTheBoxWhereTheyEnter) {
   // The tubes' outer rims stay open; the inner ends are inside the box.
   EXPECT_EQ(topo.boundary_edges, 2 * n);
   // Analytic area: the box less the two n-gon holes, plus the tubes' 1.2 and 1.4 units outside it.
-  const double ngon = n / 2.0 * r * r * std::sin(2 * std::numbers::pi / n), perimeter = n * 2 * r * std::sin(std::numbers::pi / n);
+  const double ngon = n / 2.0 * r * r * std::sin(2 * std::numbers::pi / n),
+               perimeter = n * 2 * r * std::sin(std::numbers::pi / n);
   EXPECT_NEAR(area(out), 24 - 2 * ngon + (1.2 + 1.4) * perimeter, 1e-9);
   expect_on_input(out, in);
 }
 
-TEST(CrossingSheets, TwoCrossingFlatSheetsHaveNoInsideAndAreKept) {
+TEST(OpenSelfIntersections, TwoCrossingFlatSheetsHaveNoInsideAndAreKept) {
   // A "+" of two open squares: in front of every face is outside, so all four half-sheets stay
   // and would meet four to an edge: the input is kept, as documented.
   TriangleMesh in;
   add_patch(in, Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), 5);
   add_patch(in, Vec3(-1, 0, -1), Vec3(0, 0, 2), Vec3(2, 0, 0), 5);
   SelfIntersectionReport rep;
-  const TriangleMesh out = resolve_crossing_sheets(in, &rep);
+  const TriangleMesh out = resolve_open_self_intersections(in, &rep);
   EXPECT_GT(rep.pairs_before, 0);
   EXPECT_FALSE(rep.resolved);
   EXPECT_EQ(rep.pairs_after, rep.pairs_before);
@@ -220,7 +221,7 @@ TEST(CrossingSheets, TwoCrossingFlatSheetsHaveNoInsideAndAreKept) {
   EXPECT_EQ(out.vertices, in.vertices);
 }
 
-TEST(CrossingSheets, CrumpledFlatSheetIsTriangulatedAgain) {
+TEST(OpenSelfIntersections, CrumpledFlatSheetIsTriangulatedAgain) {
   // An 8 x 8 grid of the unit square (one open sheet) with one inner vertex dragged in the plane
   // past its right-hand neighbour: its faces fold over their neighbours (a crumpled
   // triangulation). The surface is still the flat square: the crumpled spot is cut out and
@@ -232,7 +233,7 @@ TEST(CrossingSheets, CrumpledFlatSheetIsTriangulatedAgain) {
   in.vertices[4 * (n + 1) + 4] = Vec3(5.5 / n, 4.4 / n, 0);
   ASSERT_GT(count_self_intersections(in), 0);
   SelfIntersectionReport rep;
-  const TriangleMesh out = resolve_crossing_sheets(in, &rep);
+  const TriangleMesh out = resolve_open_self_intersections(in, &rep);
   ASSERT_TRUE(rep.resolved);
   EXPECT_GT(rep.retriangulated_faces, 0);
   EXPECT_EQ(count_self_intersections(out), 0);
@@ -250,7 +251,7 @@ TEST(CrossingSheets, CrumpledFlatSheetIsTriangulatedAgain) {
   expect_on_input(out, in);
 }
 
-TEST(CrossingSheets, SheetPassingThroughItselfIsKept) {
+TEST(OpenSelfIntersections, SheetPassingThroughItselfIsKept) {
   // The "+" of two open squares above, joined into one sheet by a strip from the edge y = 1 of
   // the horizontal square to the edge z = 1 of the vertical one: a part of the sheet passes
   // through another along the whole x axis. Cutting the crossing out would move the surface far
@@ -270,7 +271,7 @@ TEST(CrossingSheets, SheetPassingThroughItselfIsKept) {
   const int64_t before = count_self_intersections(in);
   ASSERT_GT(before, 0);
   SelfIntersectionReport rep;
-  const TriangleMesh out = resolve_crossing_sheets(in, &rep);
+  const TriangleMesh out = resolve_open_self_intersections(in, &rep);
   EXPECT_FALSE(rep.resolved);
   EXPECT_EQ(rep.pairs_after, before);
   EXPECT_EQ(out.faces.size(), in.faces.size());
