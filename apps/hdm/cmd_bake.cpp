@@ -75,11 +75,13 @@ void add_input_json(nlohmann::json& j, const PrepareReport& in) {
                  {"split_vertices", fixed.split_vertices},   {"flipped_faces", fixed.flipped_faces},
                  {"filled_holes", fixed.filled_holes},       {"added_faces", fixed.added_faces},
                  {"open_boundaries", fixed.open_boundaries}};
-  j["folds"] = {
-      {"flap_faces", in.folds.flap_faces},         {"folded_stars", in.folds.folded_before},
-      {"moved_vertices", in.folds.moved},          {"max_move", std::ldexp(in.folds.max_move, -in.scale_exponent)},
-      {"max_deviation", in.folds.max_deviation},   {"rim_faces", in.folds.rim_faces},
-      {"folded_stars_left", in.folds.folded_after}};
+  j["folds"] = {{"flap_faces", in.folds.flap_faces},
+                {"empty_cone_vertices", in.folds.empty_cones_before},
+                {"moved_vertices", in.folds.moved},
+                {"max_move", std::ldexp(in.folds.max_move, -in.scale_exponent)},
+                {"max_deviation", in.folds.max_deviation},
+                {"rim_faces", in.folds.rim_faces},
+                {"empty_cone_vertices_left", in.folds.empty_cones_after}};
   j["self_intersections"] = in.self_intersections;
   j["self_intersections_left"] = in.resolved.pairs_after;
   j["seam_vertices"] = in.resolved.seam_vertices;
@@ -142,10 +144,11 @@ void print_input_changes(const PrepareReport& in, double diagonal) {
         (long long)fixed.flipped_faces, fixed.filled_holes, (long long)fixed.added_faces, fixed.open_boundaries);
   if (const FoldReport& fo = in.folds; fo.flap_faces + fo.moved + fo.rim_faces > 0)
     std::printf(
-        "  folds removed       %lld rim flap faces and %lld faces of folded stars cut, %lld vertices moved to "
-        "unfold %lld folded stars (%lld left); the surface changed by at most %.3g%% of the diagonal\n",
-        (long long)fo.flap_faces, (long long)fo.rim_faces, (long long)fo.moved, (long long)fo.folded_before,
-        (long long)fo.folded_after, 100 * fo.max_deviation / diagonal);
+        "  folds removed       %lld rim flap faces and %lld faces of empty-cone vertices cut, %lld vertices moved to "
+        "open the dual cones of %lld empty-cone vertices (%lld left); the surface changed by at most %.3g%% of the "
+        "diagonal\n",
+        (long long)fo.flap_faces, (long long)fo.rim_faces, (long long)fo.moved, (long long)fo.empty_cones_before,
+        (long long)fo.empty_cones_after, 100 * fo.max_deviation / diagonal);
   if (in.self_intersections > 0)
     std::printf(
         "  self-intersections  %lld face pairs crossed, %lld after the local repair (%lld -> %lld faces, %lld "

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Rim flaps, crumples and folded rim stars of an open sheet removed (see remove_folds.h).
+// Rim flaps, crumples and empty-cone rim vertices of an open sheet removed (see remove_folds.h).
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/remove_folds.h>
-#include <hdm/mesh/unfold_stars.h>
+#include <hdm/mesh/fix_empty_dual_cones.h>
 
 #include "max_min_direction.h"
 
@@ -17,8 +17,9 @@ constexpr double kFlapTurn = -0.5;       // cos 120°: faces joined across an ed
 constexpr size_t kMaxFlapFaces = 6;      // largest rim flap removed
 constexpr double kMaxFlapExtent = 0.05;  // ... and its largest extent, as a fraction of the diagonal
 constexpr int kRimRounds = 8;
-constexpr double kRimSeen = 0.1;  // a rim star seen at no better dot than this (84°) is folded
-constexpr double kFolded = 0.02;  // a star seen at no better dot than this is folded (as in the decimation)
+constexpr double kRimSeen = 0.1;  // a rim vertex of no better cone margin than this (84°) counts as empty
+constexpr double kEmptyCone =
+    0.02;  // a star of no better cone margin than this has an empty dual cone (as in the decimation)
 
 int32_t root(std::vector<int32_t>& parent, int32_t x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
@@ -186,8 +187,8 @@ int64_t remove_rim_flaps(TriangleMesh& mesh) {
   return removed;
 }
 
-// Step 3: folded rim stars (see the header). Returns the faces removed.
-int64_t trim_folded_rim(TriangleMesh& mesh) {
+// Step 3: empty-cone rim vertices (see the header). Returns the faces removed.
+int64_t trim_empty_cone_rim(TriangleMesh& mesh) {
   int64_t removed = 0;
   std::vector<Vec3> normals;
   std::vector<int32_t> star;
@@ -215,10 +216,10 @@ int64_t trim_folded_rim(TriangleMesh& mesh) {
     };
     int64_t now = 0;
     for (int32_t v = 0; v < int32_t(mesh.vertices.size()); ++v) {
-      const double visibility = seen(v);
-      if (visibility > (sheet.on_boundary(v) ? kRimSeen : kFolded)) continue;
-      const bool deep = visibility <= kFolded;
-      // The most turned faces first; one goes if that leaves fewer folded stars among its corners
+      const double margin = seen(v);
+      if (margin > (sheet.on_boundary(v) ? kRimSeen : kEmptyCone)) continue;
+      const bool deep = margin <= kEmptyCone;
+      // The most turned faces first; one goes if that leaves fewer empty-cone vertices among its corners
       // and folds none that was not (a cut in a pleat would only move the fold).
       const std::vector<int32_t> faces = star;
       std::vector<double> dots(normals.size());
@@ -273,9 +274,9 @@ FoldReport remove_folds(TriangleMesh& mesh) {
   FoldReport report;
   const TriangleMesh input = mesh;
   report.flap_faces = remove_rim_flaps(mesh);
-  auto unfold = [&] {
+  auto fix_cones = [&] {
     const std::vector<Vec3> before = mesh.vertices;
-    const UnfoldReport r = unfold_stars(mesh, kFolded, 4);
+    const DualConeReport r = fix_empty_dual_cones(mesh, kEmptyCone, 4);
     for (size_t v = 0; v < before.size(); ++v) {
       const double d = (mesh.vertices[v] - before[v]).norm();
       report.moved += d > 0;
@@ -283,9 +284,9 @@ FoldReport remove_folds(TriangleMesh& mesh) {
     }
     return r;
   };
-  report.folded_before = unfold().folded_before;
-  report.rim_faces = trim_folded_rim(mesh);
-  report.folded_after = unfold().folded_after;  // the trim may have freed folds for the discs
+  report.empty_cones_before = fix_cones().empty_cones_before;
+  report.rim_faces = trim_empty_cone_rim(mesh);
+  report.empty_cones_after = fix_cones().empty_cones_after;  // the trim may have freed folds for the discs
   if (report.flap_faces + report.rim_faces + report.moved > 0) report.max_deviation = sampled_distance(input, mesh);
   return report;
 }

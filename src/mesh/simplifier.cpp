@@ -27,14 +27,14 @@ Simplifier::Simplifier(const TriangleMesh& mesh, const DecimateOptions& o) : o_(
   alive_.assign(nv, 1);
   version_.assign(nv, 0);
   retry_.assign(nv, 0);
-  vis_.assign(nv, std::numbers::pi);  // unknown: recounted when first needed
-  max_angle_ = std::acos(std::clamp(o.min_visibility, -1.0, 1.0));
+  cone_angle_.assign(nv, std::numbers::pi);  // unknown: recounted when first needed
+  max_angle_ = std::acos(std::clamp(o.min_cone_margin, -1.0, 1.0));
   faces_left_ = static_cast<int64_t>(nf);
   cos_turn_ = std::cos(o.max_normal_turn_deg * std::numbers::pi / 180);
   sin_min_angle_ = std::sin(o.min_angle_deg * std::numbers::pi / 180);
   init_quadrics();
-  folded_.assign(nv, 0);
-  for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) folded_[v] = exact_visibility(v) <= kFold;
+  empty_cone_.assign(nv, 0);
+  for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) empty_cone_[v] = vertex_cone_margin(v) <= kEmptyCone;
 }
 
 void Simplifier::run(int64_t target) {
@@ -119,9 +119,9 @@ void Simplifier::push_edges(int32_t v, int32_t skip, bool once) {
     if (u == skip || (once && u < v)) continue;
     const Quadric q = quadric_[v] + quadric_[u];
     const Vec3 x = place(q, v, u);
-    // Folded stars first: they cannot give valid slabs, and at the end of the order (their
+    // Empty-cone vertices first: they cannot give valid slabs, and at the end of the order (their
     // quadric error is high) they would survive every decimation.
-    const float cost = folded_[v] || folded_[u] ? -1.0f : static_cast<float>(q(x));
+    const float cost = empty_cone_[v] || empty_cone_[u] ? -1.0f : static_cast<float>(q(x));
     heap_.push({cost, v, u, version_[v], version_[u]});
   }
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal to decimate_mesh(): the mesh being decimated, its quadrics and the visibility of vertex
+// Internal to decimate_mesh(): the mesh being decimated, its quadrics and the cone margin of vertex
 // stars. One class, its methods in three files by purpose: simplifier.cpp (set-up, the collapse
 // queue, the result), simplifier_collapse.cpp (one checked collapse), simplifier_folds.cpp (stars
 // no direction sees, merged or removed after the queue).
@@ -63,14 +63,14 @@ double smallest_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c);
 // The smallest dot product of @p normals with the best direction found by a few steps from their
 // mean towards the worst-seen normal: a lower bound of the max-min cone axis's value, so a refusal
 // on it is conservative. -1 when the normals cancel.
-double visibility(const std::vector<Vec3>& normals);
+double cone_margin(const std::vector<Vec3>& normals);
 
-// visibility(), made exact where it is below 0.5 (improve_max_min()). Whether a star is folded is decided on this: the
-// quick estimate took barely seen stars of a resolved union for folded ones, and the "unfolding" collapses then folded
-// good stars (bones.off: a star seen at 0.03 merged into one seen at -0.09). The acceptance of ordinary collapses stays
-// on the quick, conservative estimate (more collapses near barely seen stars cost fidelity: ChineseDragon-10kv.off
-// needed one more round).
-double exact_visibility_of(const std::vector<Vec3>& normals);
+// cone_margin(), made exact where it is below 0.5 (improve_max_min()). Whether a vertex's dual cone is empty is decided
+// on this: the quick estimate took barely seen stars of a resolved union for empty-cone ones, and the reopening
+// collapses then emptied the cones of good stars (bones.off: a star seen at 0.03 merged into one seen at -0.09). The
+// acceptance of ordinary collapses stays on the quick, conservative estimate (more collapses near barely seen stars
+// cost fidelity: ChineseDragon-10kv.off needed one more round).
+double exact_cone_margin(const std::vector<Vec3>& normals);
 
 // The mesh being decimated. Each vertex has a singly linked list of its face corners (corner
 // 3f+k is vertex k of face f); a collapse of b into a relabels b's corners and splices b's list
@@ -86,11 +86,11 @@ class Simplifier {
   // beyond the target, by the collapse that most improves its star and keeps the others seen.
   void clean_folds();
 
-  // Merges the crumple around folded vertex v into v: the vertices within distance r of v that
+  // Merges the crumple around empty-cone vertex v into v: the vertices within distance r of v that
   // edges connect to it through such vertices (r = 1/4, 1/2, 1 of v's mean edge length), by
   // collapses that check only the link condition. Kept when the stars around end up with fewer
-  // folded ones and none newly folded; undone otherwise. Why: at a crumpled tip (diplodocus.off's
-  // tail) every single collapse or removal leaves the merged star as folded as before, while the
+  // empty-cone ones and none newly empty; undone otherwise. Why: at a crumpled tip (diplodocus.off's
+  // tail) every single collapse or removal leaves the merged star's cone as empty as before, while the
   // crumple as a whole is a few tiny faces whose removal leaves a cone seen from its axis.
   bool collapse_cluster(int32_t v);
 
@@ -102,8 +102,8 @@ class Simplifier {
     std::vector<Quadric> quadric;
     std::vector<int32_t> head, next;
     std::vector<uint32_t> version;
-    std::vector<double> vis;
-    std::vector<uint8_t> alive, folded, retry, alive_face;
+    std::vector<double> cone_angle;
+    std::vector<uint8_t> alive, empty_cone, retry, alive_face;
     std::vector<Tri> face;
     int64_t faces_left = 0, collapses = 0;
   };
@@ -111,8 +111,8 @@ class Simplifier {
   void restore(const Journal& j);
 
   // Removes interior vertex v and fills its ring with the fan from one ring vertex (the one whose
-  // fan leaves every ring vertex best seen), when that unfolds v's neighbourhood: a crumple that
-  // no single edge collapse resolves (its ring twists, so every merged star is folded too).
+  // fan leaves every ring vertex best seen), when that opens the cones of v's neighbourhood: a crumple that
+  // no single edge collapse resolves (its ring twists, so every merged star's cone is empty too).
   bool remove_vertex(int32_t v);
 
   TriangleMesh result() const;
@@ -161,20 +161,20 @@ class Simplifier {
 
   // Collapses edge (a, b) into a at the quadric's minimiser if the link condition and the
   // geometric checks allow it. Returns whether it did.
-  bool collapse(int32_t a, int32_t b, bool unfold = false);
+  bool collapse(int32_t a, int32_t b, bool reopen = false);
 
   // Collapses b into a at x (the checks passed): kills the faces on edge ab, relabels b's corners,
-  // splices b's list into a's. @p seen is the new star's visibility (-2: unknown), @p max_turn the
+  // splices b's list into a's. @p seen is the new star's cone margin (-2: unknown), @p max_turn the
   // largest turn of a link face [rad].
   void merge(int32_t a, int32_t b, const Vec3& x, const Quadric& q, double seen, double max_turn);
 
-  // Visibility of v's star as it is (exact_visibility_of()).
-  double exact_visibility(int32_t v);
+  // Cone margin of v's star as it is (exact_cone_margin()).
+  double vertex_cone_margin(int32_t v);
 
-  // Whether link vertex w's faces stay visible (DecimateOptions::min_visibility) with a and b
-  // moved to x, or at least no worse seen than before. vis_[w] bounds the angle at which some
+  // Whether link vertex w's faces stay visible (DecimateOptions::min_cone_margin) with a and b
+  // moved to x, or at least no worse seen than before. cone_angle_[w] bounds the angle at which some
   // direction sees all of w's faces; no face turns by more than @p max_turn, so that direction
-  // sees the new star within vis_[w] + max_turn: most stars pass on that bound without a recount.
+  // sees the new star within cone_angle_[w] + max_turn: most stars pass on that bound without a recount.
   bool link_visible(int32_t w, int32_t a, int32_t b, const Vec3& x, double max_turn);
 
   DecimateOptions o_;
@@ -185,12 +185,13 @@ class Simplifier {
   std::vector<uint8_t> alive_face_, alive_, retry_;
   std::vector<uint32_t> version_;
   std::vector<Quadric> quadric_;
-  std::vector<double> vis_;  // per vertex, an upper bound of the angle at which one direction sees its faces [rad]
-  double max_angle_ = 0;     // acos(min_visibility)
+  std::vector<double>
+      cone_angle_;        // per vertex, an upper bound of the angle at which one direction sees its faces [rad]
+  double max_angle_ = 0;  // acos(min_cone_margin)
   std::priority_queue<Candidate> heap_;
-  std::vector<int32_t> nbr_, ra_, rb_, shared_, fold_ring_, unfolded_;
-  std::vector<uint8_t> folded_;          // stars no direction sees (visibility <= kFold)
-  static constexpr double kFold = 0.02;  // a star seen at no better dot than this is folded
+  std::vector<int32_t> nbr_, ra_, rb_, shared_, fold_ring_, reopened_;
+  std::vector<uint8_t> empty_cone_;           // stars no direction sees (cone margin <= kEmptyCone)
+  static constexpr double kEmptyCone = 0.02;  // a star seen at no better dot than this has an empty dual cone
   std::vector<Vec3> before_, after_;
   int64_t faces_left_ = 0, features_ = 0, collapses_ = 0;
   double cos_turn_ = 0, sin_min_angle_ = 0;

@@ -11,7 +11,7 @@
 
 namespace hdm::mesh::detail {
 
-bool Simplifier::collapse(int32_t a, int32_t b, bool unfold) {
+bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
   // Link condition (Dey et al. 1999): the common neighbours of a and b are exactly the apexes of
   // the faces on edge ab; an interior edge may not join two boundary vertices; and two faces
   // (a,c,d), (b,c,d) would become one pair of duplicates.
@@ -48,7 +48,7 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool unfold) {
   const Quadric q = quadric_[a] + quadric_[b];
   if (forced_) return merge(a, b, pos_[a], q, -2, std::numbers::pi), true;
   // Geometry: no face of the star turns by more than max_normal_turn or becomes a new sliver;
-  // every vertex whose star changes (the new vertex and the link) stays visible. An unfolding
+  // every vertex whose star changes (the new vertex and the link) stays visible. A reopening
   // collapse may turn faces as it likes, and tries several places for the new vertex.
   double min_cos = 1;  // cosine of the largest normal turn of a moved face
   auto check = [&](int32_t v, const Vec3& x) {
@@ -62,10 +62,10 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool unfold) {
       const Vec3& r = pos_[t[(k + 2) % 3]];
       const Vec3 nb = (p - pos_[v]).cross(r - pos_[v]), na = (p - x).cross(r - x);
       const double lb = nb.norm(), la = na.norm();
-      if (!(la > 0) || (!unfold && lb > 0 && nb.dot(na) < cos_turn_ * lb * la)) return void(ok = false);
+      if (!(la > 0) || (!reopen && lb > 0 && nb.dot(na) < cos_turn_ * lb * la)) return void(ok = false);
       if (lb > 0) min_cos = std::min(min_cos, nb.dot(na) / (lb * la));
       const double sine = smallest_angle_sine(x, p, r);
-      if (!unfold && sine < sin_min_angle_ && sine < smallest_angle_sine(pos_[v], p, r)) return void(ok = false);
+      if (!reopen && sine < sin_min_angle_ && sine < smallest_angle_sine(pos_[v], p, r)) return void(ok = false);
       after_.push_back(na / la);
     });
     return ok;
@@ -74,13 +74,13 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool unfold) {
   double seen = -2;
   {
     Vec3 tries[4] = {x, pos_[a], pos_[b], 0.5 * (pos_[a] + pos_[b])};
-    const int count = unfold ? 4 : 1;
+    const int count = reopen ? 4 : 1;
     double best_cos = 1;
     for (int k = 0; k < count; ++k) {
       after_.clear();
       min_cos = 1;
       if (!check(a, tries[k]) || !check(b, tries[k])) continue;
-      const double v = visibility(after_);
+      const double v = cone_margin(after_);
       if (v > seen) seen = v, x = tries[k], best_cos = min_cos;
     }
     if (seen == -2) return false;
@@ -89,10 +89,10 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool unfold) {
   if (!x.allFinite()) return false;
 
   // The worse seen of the two stars it replaces: the new star must not be seen worse, unless it
-  // is seen well enough anyway; an unfolding collapse must do strictly better.
-  const bool good = unfold ? seen > kFold : seen >= o_.min_visibility;
-  const double was = good ? -2 : std::min(exact_visibility(a), exact_visibility(b));
-  if (!good && (unfold ? !(seen > was + 1e-3) : seen < was)) {
+  // is seen well enough anyway; a reopening collapse must do strictly better.
+  const bool good = reopen ? seen > kEmptyCone : seen >= o_.min_cone_margin;
+  const double was = good ? -2 : std::min(vertex_cone_margin(a), vertex_cone_margin(b));
+  if (!good && (reopen ? !(seen > was + 1e-3) : seen < was)) {
     return false;
   }
   const double max_turn = std::acos(std::clamp(min_cos, -1.0, 1.0));
@@ -134,40 +134,40 @@ void Simplifier::merge(int32_t a, int32_t b, const Vec3& x, const Quadric& q, do
   ++collapses_;
   // The link's stars lost faces or turned them by at most max_turn: their cone angle bound grows
   // by max_turn; the new vertex's star was just measured.
-  for (int32_t w : ra_) vis_[w] += max_turn;
+  for (int32_t w : ra_) cone_angle_[w] += max_turn;
   for (int32_t w : rb_)
-    if (!std::binary_search(ra_.begin(), ra_.end(), w)) vis_[w] += max_turn;
-  if (seen == -2) seen = exact_visibility(a);
-  vis_[a] = std::acos(std::clamp(seen, -1.0, 1.0));
-  folded_[a] = seen <= kFold;
-  // Folded link vertices may have unfolded: their edges lose the priority (new version).
+    if (!std::binary_search(ra_.begin(), ra_.end(), w)) cone_angle_[w] += max_turn;
+  if (seen == -2) seen = vertex_cone_margin(a);
+  cone_angle_[a] = std::acos(std::clamp(seen, -1.0, 1.0));
+  empty_cone_[a] = seen <= kEmptyCone;
+  // Empty-cone link vertices may have a direction again: their edges lose the priority (new version).
   for (const std::vector<int32_t>* r : {&ra_, &rb_})
     for (int32_t w : *r)
-      if (w != a && w != b && folded_[w] && exact_visibility(w) > kFold) {
-        folded_[w] = 0;
+      if (w != a && w != b && empty_cone_[w] && vertex_cone_margin(w) > kEmptyCone) {
+        empty_cone_[w] = 0;
         ++version_[w];
-        unfolded_.push_back(w);
+        reopened_.push_back(w);
       }
   push_edges(a, -1, false);
-  for (int32_t w : unfolded_) push_edges(w, a, false);
-  unfolded_.clear();
+  for (int32_t w : reopened_) push_edges(w, a, false);
+  reopened_.clear();
   // Edges refused earlier near here may pass now that the neighbourhood changed.
   ring(a, ra_);
   for (int32_t w : ra_)
     if (retry_[w]) retry_[w] = 0, push_edges(w, a, false);
 }
 
-double Simplifier::exact_visibility(int32_t v) {
+double Simplifier::vertex_cone_margin(int32_t v) {
   before_.clear();
   for_faces(v, [&](int32_t f, int) {
     const Vec3 n = face_normal(f);
     if (n.norm() > 0) before_.push_back(n.normalized());
   });
-  return exact_visibility_of(before_);
+  return exact_cone_margin(before_);
 }
 
 bool Simplifier::link_visible(int32_t w, int32_t a, int32_t b, const Vec3& x, double max_turn) {
-  if (vis_[w] + max_turn <= max_angle_) return true;
+  if (cone_angle_[w] + max_turn <= max_angle_) return true;
   // Recount: the star as it is (tightens the bound), then as it would be.
   before_.clear();
   after_.clear();
@@ -186,15 +186,15 @@ bool Simplifier::link_visible(int32_t w, int32_t a, int32_t b, const Vec3& x, do
     const Vec3 na = (c[1] - c[0]).cross(c[2] - c[0]);
     if (na.norm() > 0) after_.push_back(na.normalized());
   });
-  const double was = visibility(before_);
-  vis_[w] = std::acos(std::clamp(was, -1.0, 1.0));
-  const double will = visibility(after_);
-  if (will >= o_.min_visibility) return true;
+  const double was = cone_margin(before_);
+  cone_angle_[w] = std::acos(std::clamp(was, -1.0, 1.0));
+  const double will = cone_margin(after_);
+  if (will >= o_.min_cone_margin) return true;
   // "No worse seen" on the quick estimate alone let a barely seen star fold (the estimate is a
   // bound, not a measure): the exact values must not fold it either.
   if (!(will >= was)) return false;
-  const double will_exact = exact_visibility_of(after_);
-  return will_exact > kFold || will_exact >= exact_visibility_of(before_);
+  const double will_exact = exact_cone_margin(after_);
+  return will_exact > kEmptyCone || will_exact >= exact_cone_margin(before_);
 }
 
 }  // namespace hdm::mesh::detail

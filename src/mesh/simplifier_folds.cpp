@@ -15,7 +15,7 @@ void Simplifier::clean_folds() {
   for (int pass = 0; pass < 4; ++pass) {
     bool any = false;
     for (int32_t v = 0; v < static_cast<int32_t>(pos_.size()); ++v) {
-      if (!alive_[v] || exact_visibility(v) > kFold) continue;
+      if (!alive_[v] || vertex_cone_margin(v) > kEmptyCone) continue;
       ring(v, fold_ring_);
       const std::vector<int32_t> around = fold_ring_;
       bool done = false;
@@ -57,7 +57,7 @@ bool Simplifier::collapse_cluster(int32_t v) {
     }
     std::vector<uint8_t> was(region.size());
     int64_t before = 0;
-    for (size_t i = 0; i < region.size(); ++i) before += was[i] = exact_visibility(region[i]) <= kFold;
+    for (size_t i = 0; i < region.size(); ++i) before += was[i] = vertex_cone_margin(region[i]) <= kEmptyCone;
     const Journal saved = journal(region);  // region starts with the cluster
     forced_ = true;
     for (bool merged = true; merged;) {
@@ -74,7 +74,7 @@ bool Simplifier::collapse_cluster(int32_t v) {
     ring(v, near);
     near.push_back(v);
     // The merged vertex at each cluster vertex's place and at the cluster's centroid; the place
-    // with the fewest folded stars around, then the best seen worst star, is kept.
+    // with the fewest empty-cone vertices around, then the best seen worst star, is kept.
     std::vector<Vec3> places;
     Vec3 centroid = Vec3::Zero();
     for (size_t i = 0; i < cluster.size(); ++i) places.push_back(saved.pos[i]), centroid += saved.pos[i];
@@ -89,8 +89,8 @@ bool Simplifier::collapse_cluster(int32_t v) {
       bool fresh = false;
       double low = 2;
       for (int32_t w : near) {
-        const double seen = exact_visibility(w);
-        const bool f = seen <= kFold;
+        const double seen = vertex_cone_margin(w);
+        const bool f = seen <= kEmptyCone;
         count += f;
         low = std::min(low, seen);
         const auto it = std::find(region.begin(), region.end(), w);
@@ -101,7 +101,7 @@ bool Simplifier::collapse_cluster(int32_t v) {
     }
     pos_[v] = best_place;
     if (all && after < before && !newly) {
-      for (int32_t w : near) folded_[w] = exact_visibility(w) <= kFold;
+      for (int32_t w : near) empty_cone_[w] = vertex_cone_margin(w) <= kEmptyCone;
       return true;
     }
     restore(saved);
@@ -115,8 +115,8 @@ Simplifier::Journal Simplifier::journal(const std::vector<int32_t>& region) {
   for (int32_t v : j.vertices) {
     for_faces(v, [&](int32_t f, int) { j.faces.push_back(f); });
     j.pos.push_back(pos_[v]), j.quadric.push_back(quadric_[v]), j.head.push_back(head_[v]);
-    j.version.push_back(version_[v]), j.vis.push_back(vis_[v]), j.alive.push_back(alive_[v]);
-    j.folded.push_back(folded_[v]), j.retry.push_back(retry_[v]);
+    j.version.push_back(version_[v]), j.cone_angle.push_back(cone_angle_[v]), j.alive.push_back(alive_[v]);
+    j.empty_cone.push_back(empty_cone_[v]), j.retry.push_back(retry_[v]);
   }
   std::sort(j.faces.begin(), j.faces.end());
   j.faces.erase(std::unique(j.faces.begin(), j.faces.end()), j.faces.end());
@@ -132,7 +132,7 @@ void Simplifier::restore(const Journal& j) {
   for (size_t i = 0; i < j.vertices.size(); ++i) {
     const int32_t v = j.vertices[i];
     pos_[v] = j.pos[i], quadric_[v] = j.quadric[i], head_[v] = j.head[i], version_[v] = j.version[i];
-    vis_[v] = j.vis[i], alive_[v] = j.alive[i], folded_[v] = j.folded[i], retry_[v] = j.retry[i];
+    cone_angle_[v] = j.cone_angle[i], alive_[v] = j.alive[i], empty_cone_[v] = j.empty_cone[i], retry_[v] = j.retry[i];
   }
   for (size_t i = 0; i < j.faces.size(); ++i) {
     const int32_t f = j.faces[i];
@@ -167,7 +167,7 @@ bool Simplifier::remove_vertex(int32_t v) {
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
   // Stars of the ring vertices without v's faces, and how well they are seen now.
   double before = 2;
-  for (int32_t r : cycle) before = std::min(before, exact_visibility(r));
+  for (int32_t r : cycle) before = std::min(before, vertex_cone_margin(r));
   int best_root = -1;
   double best = -2;
   std::vector<int32_t> around;
@@ -198,7 +198,7 @@ bool Simplifier::remove_vertex(int32_t v) {
         else
           after_.push_back(n.normalized());
       }
-      worst = std::min(worst, visibility(after_));
+      worst = std::min(worst, cone_margin(after_));
     }
     if (worst > best) best = worst, best_root = static_cast<int>(root);
   }
@@ -218,7 +218,7 @@ bool Simplifier::remove_vertex(int32_t v) {
   }
   alive_[v] = 0;
   head_[v] = -1;
-  for (int32_t r : cycle) vis_[r] = std::numbers::pi, ++version_[r];
+  for (int32_t r : cycle) cone_angle_[r] = std::numbers::pi, ++version_[r];
   return true;
 }
 

@@ -4,7 +4,7 @@
 
 #include <hdm/mesh/decimate_mesh.h>
 #include <hdm/mesh/flip_slivers.h>
-#include <hdm/mesh/unfold_stars.h>
+#include <hdm/mesh/fix_empty_dual_cones.h>
 
 #include <algorithm>
 
@@ -26,13 +26,14 @@ CoarseMesh decimate(const TriangleMesh& mesh, int target) {
 
 }  // namespace
 
-// A vertex whose incident face normals do not fit in an open hemisphere (a star folded by the
-// decimation) admits no ray direction that sees every face, so no thickness makes its slabs valid.
+// A vertex whose incident face normals do not fit in an open hemisphere (an empty dual cone, left
+// by the decimation) admits no ray direction that sees every face, so no thickness makes its slabs
+// valid.
 // Move such vertices towards the centroid of their one-ring (alone first, then with the ring)
-// until every star is visible from one direction; the displacement map records the input surface
+// until every vertex's dual cone is not empty; the displacement map records the input surface
 // wherever the vertex goes. A move is kept only when it leaves the worst seen star around it
 // (the moved vertices and their neighbours) better seen than before: an unchecked Laplacian step
-// folds the neighbours' stars (bones.off: 5 folded stars became 6).
+// empties the neighbours' cones (bones.off: 5 empty-cone vertices became 6).
 void untangle(CoarseMesh& c) {
   const size_t nv = c.vertices.size();
   const VertexFrame topo = vertex_frames(c, 0);  // the CSR vertex -> faces; positions change below
@@ -111,9 +112,9 @@ CoarseMesh coarse_surface(const TriangleMesh& mesh, int target) {
   CoarseMesh coarse = decimate(mesh, target);
   // A vertex whose star no direction sees whole cannot have valid slabs at any thickness.
   untangle(coarse);
-  // Crumples the moves above could not unfold: smoothed towards harmonic discs (unfold_stars()).
+  // Crumples whose cones the moves above could not open: smoothed towards harmonic discs (fix_empty_dual_cones()).
   TriangleMesh m{std::move(coarse.vertices), std::move(coarse.faces)};
-  unfold_stars(m);
+  fix_empty_dual_cones(m);
   return CoarseMesh{std::move(m.vertices), std::move(m.faces)};
 }
 

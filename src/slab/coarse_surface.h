@@ -11,7 +11,7 @@ namespace hdm::slab::detail {
 // The coarse surface of @p mesh with about @p target triangles: checked edge collapses
 // (decimate_mesh(), so it keeps the input's topology and orientation), near-degenerate caps
 // flipped (flip_slivers()), then every vertex star made visible from one direction (untangle(),
-// then unfold_stars() for what that leaves), since a star no direction sees whole has no valid
+// then fix_empty_dual_cones() for what that leaves), since a star no direction sees whole has no valid
 // slabs at any thickness. O(#F log #F) for the decimation.
 CoarseMesh coarse_surface(const TriangleMesh& mesh, int target);
 

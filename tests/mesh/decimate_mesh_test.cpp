@@ -190,8 +190,8 @@ TriangleMesh check_decimation(const TriangleMesh& in, int64_t target, const std:
   EXPECT_EQ(after.boundary_loops, before.boundary_loops) << what;
   EXPECT_LT(int64_t(out.faces.size()), int64_t(in.faces.size())) << what;
   EXPECT_EQ(report.faces, int64_t(out.faces.size()));
-  // Half-edge collapses (on_input): coarse vertices are input vertices, but for the rare unfolding
-  // collapse of a folded star, which may take the edge's midpoint.
+  // Half-edge collapses (on_input): coarse vertices are input vertices, but for the rare reopening
+  // collapse of an empty-cone vertex, which may take the edge's midpoint.
   std::set<std::tuple<double, double, double>> input_points;
   for (const Vec3& p : in.vertices) input_points.emplace(p.x(), p.y(), p.z());
   int64_t off = 0;
@@ -263,12 +263,12 @@ TEST(DecimateMeshTest, ThinTubedKnotKeepsAClosedTube) {
 
 TEST(DecimateMeshTest, ACrumpleIsMergedAway) {
   // The ring of one vertex shrunk to a tenth of an edge and turned by 150 degrees: the faces from
-  // it to the next ring twist over each other, so the ring's stars are folded, and no single
-  // collapse or vertex removal unfolds them (the merged star keeps the twist).
+  // it to the next ring twist over each other, so the ring's dual cones are empty, and no single
+  // collapse or vertex removal opens them (the merged star keeps the twist).
   const TriangleMesh in = test::crumpled_icosphere(3, 0.1, 150);
-  ASSERT_GT(test::count_folded_stars(in), 0);
+  ASSERT_GT(test::count_empty_cones(in), 0);
   const TriangleMesh out = check_decimation(in, 600, "crumpled icosphere");
-  EXPECT_EQ(test::count_folded_stars(out), 0);
+  EXPECT_EQ(test::count_empty_cones(out), 0);
 }
 
 TEST(DecimateMeshTest, RefusesWhatItCannotDecimate) {

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // decimate_mesh() on a real self-crossing mesh resolved into its union (bones.off of the
 // libcgal-demo archive): the refinement's thin faces along the crossing curves leave stars that
-// are barely seen from any direction, and the decimation must not fold them (a folded star has no
-// ray direction, so its slabs are invalid at any thickness). Visibility is measured here by a
+// are barely seen from any direction, and the decimation must not empty their cones (an empty-cone vertex has no
+// ray direction, so its slabs are invalid at any thickness). Cone margin is measured here by a
 // direct search over directions, independent of the decimation's own estimate.
 #include "support/test_models.h"
 
@@ -22,7 +22,7 @@ namespace {
 
 // max over unit d of min over the star's face normals of d·n, by a Fibonacci sphere of 2000
 // directions refined by a shrinking pattern search around the best one.
-std::vector<double> star_visibility(const TriangleMesh& m) {
+std::vector<double> cone_margins(const TriangleMesh& m) {
   std::vector<std::vector<Vec3>> normals(m.vertices.size());
   for (const Tri& t : m.faces) {
     const Vec3 n = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
@@ -61,22 +61,22 @@ std::vector<double> star_visibility(const TriangleMesh& m) {
   return out;
 }
 
-int folded(const std::vector<double>& visibility) {
+int empty_cones(const std::vector<double>& margins) {
   int n = 0;
-  for (double v : visibility) n += v <= 0;
+  for (double v : margins) n += v <= 0;
   return n;
 }
 
 }  // namespace
 
-TEST(DecimateUnion, BarelySeenStarsOfAResolvedUnionAreNotFolded) {
+TEST(DecimateUnion, BarelySeenStarsOfAResolvedUnionKeepNonEmptyDualCones) {
   TriangleMesh in = read_mesh(test::data_path("bones.off"));
   orient_outward(in);
   SelfIntersectionReport rep;
   const TriangleMesh u = resolve_self_intersections(in, &rep);
   ASSERT_TRUE(rep.resolved) << "bones.off crosses itself; its union is what the bake decimates";
-  const std::vector<double> seen = star_visibility(u);
-  ASSERT_EQ(folded(seen), 0) << "every star of the union is seen from some direction";
+  const std::vector<double> seen = cone_margins(u);
+  ASSERT_EQ(empty_cones(seen), 0) << "every star of the union is seen from some direction";
   ASSERT_LT(*std::min_element(seen.begin(), seen.end()), 0.05) << "... some only barely (the case under test)";
   // The first rounds of the bake's error-bounded loop and a target just below the input.
   for (int64_t target :
@@ -84,6 +84,6 @@ TEST(DecimateUnion, BarelySeenStarsOfAResolvedUnionAreNotFolded) {
     DecimateOptions o;
     o.target_faces = target;
     const TriangleMesh out = decimate_mesh(u, o);
-    EXPECT_EQ(folded(star_visibility(out)), 0) << "target " << target << ": " << out.faces.size() << " faces";
+    EXPECT_EQ(empty_cones(cone_margins(out)), 0) << "target " << target << ": " << out.faces.size() << " faces";
   }
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // remove_folds() on a flat sheet with a flap folded back over its rim, a folded-back wall kept when
 // it turns by less, and a crumple in its interior: checked by counting (faces, boundary edges,
-// folded stars by the brute-force search of the test support) and against the plane z = 0.
+// empty-cone vertices by the brute-force search of the test support) and against the plane z = 0.
 #include "support/test_models.h"
 
 #include <hdm/core/error.h>
@@ -46,7 +46,7 @@ TEST(RemoveFoldsTest, AFlapFoldedBackOverTheRimIsRemoved) {
   TriangleMesh m = flat_sheet(n);
   // Over the sheet, just above it: the flap turns back by about 172 degrees.
   add_rim_face(m, 3, 4, Vec3(3.5 / n, 0.6 / n, 0.004));
-  ASSERT_EQ(test::count_folded_stars(m, 0.1), 2);
+  ASSERT_EQ(test::count_empty_cones(m, 0.1), 2);
   const FoldReport r = remove_folds(m);
   EXPECT_EQ(r.flap_faces, 1);
   EXPECT_NEAR(r.max_deviation, 0.004, 1e-12);  // the flap's tip, 0.004 above the sheet
@@ -55,7 +55,7 @@ TEST(RemoveFoldsTest, AFlapFoldedBackOverTheRimIsRemoved) {
   EXPECT_EQ(analyze_topology(m).boundary_edges, 4 * n);
   EXPECT_NEAR(area(m), 1.0, 1e-12);
   for (const Vec3& p : m.vertices) EXPECT_EQ(p.z(), 0.0);
-  EXPECT_EQ(test::count_folded_stars(m, 0.0), 0);
+  EXPECT_EQ(test::count_empty_cones(m, 0.0), 0);
 }
 
 TEST(RemoveFoldsTest, AWallAtTheRimIsKept) {
@@ -79,14 +79,14 @@ TEST(RemoveFoldsTest, ACrumpleInsideTheSheetIsUnfoldedIntoThePlane) {
   // Vertex (4, 4) dragged 1.6 cells sideways, past its ring: faces of its star flip over.
   const int32_t v = 4 * (n + 1) + 4;
   m.vertices[v].x() += 1.6 / n;
-  ASSERT_GT(test::count_folded_stars(m, 0.0), 0);
+  ASSERT_GT(test::count_empty_cones(m, 0.0), 0);
   const FoldReport r = remove_folds(m);
-  EXPECT_GT(r.folded_before, 0);
-  EXPECT_EQ(r.folded_after, 0);
+  EXPECT_GT(r.empty_cones_before, 0);
+  EXPECT_EQ(r.empty_cones_after, 0);
   EXPECT_GT(r.moved, 0);
   EXPECT_LT(r.max_deviation, 1e-12);  // moved within the plane: the surface is the same square
   EXPECT_EQ(m.faces.size(), size_t(2 * n * n));
-  EXPECT_EQ(test::count_folded_stars(m, 0.0), 0);
+  EXPECT_EQ(test::count_empty_cones(m, 0.0), 0);
   for (const Vec3& p : m.vertices) EXPECT_EQ(p.z(), 0.0);
   // Unfolded, the faces cover the square once: every normal +z and the area is the square's.
   for (const Tri& t : m.faces)

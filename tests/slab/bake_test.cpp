@@ -57,7 +57,7 @@ TEST(BakeTest, SphereReconstructionMatchesTheAnalyticSurface) {
 
 TEST(BakeTest, ACrumpledSurfaceGivesValidSlabs) {
   // A crumple (a ring shrunk and twisted over itself) is no reason for an invalid slab: the
-  // decimation merges it or the bake unfolds the stars around it, at any slab count.
+  // decimation merges it or the bake opens the dual cones around it, at any slab count.
   const TriangleMesh in = test::crumpled_icosphere(3, 0.1, 150);
   for (int slabs : {100, 400, 1280}) {
     BakeOptions o;

@@ -57,7 +57,7 @@ TriangleMesh crumpled_icosphere(int subdivisions, double size, double twist_deg)
   return m;
 }
 
-int count_folded_stars(const TriangleMesh& mesh, double margin) {
+int count_empty_cones(const TriangleMesh& mesh, double margin) {
   constexpr int kDirections = 40000;
   std::vector<Vec3> dirs(kDirections);
   const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
@@ -76,7 +76,7 @@ int count_folded_stars(const TriangleMesh& mesh, double margin) {
     for (const Vec3& x : normals) w = std::min(w, d.dot(x));
     return w;
   };
-  int folded = 0;
+  int empty = 0;
   for (const std::vector<Vec3>& normals : star) {
     if (normals.empty()) continue;
     double best = -2;
@@ -91,9 +91,9 @@ int count_folded_stars(const TriangleMesh& mesh, double margin) {
         const Vec3 d = (best_d + step * Vec3(g(rng), g(rng), g(rng))).normalized();
         if (const double w = worst(normals, d); w > best) best = w, best_d = d;
       }
-    folded += !(best > margin);
+    empty += !(best > margin);
   }
-  return folded;
+  return empty;
 }
 
 TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre) {

@@ -25,13 +25,13 @@ TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre = Vec
 
 /// icosphere(subdivisions, 1) with a crumple at vertex 0: its ring shrunk to @p size around it and
 /// turned by @p twist_deg about its normal, so the faces from the ring to the next ring twist over
-/// each other (as where a scanned surface crumples) and the ring's stars are folded.
+/// each other (as where a scanned surface crumples) and the ring's vertices have empty dual cones.
 TriangleMesh crumpled_icosphere(int subdivisions, double size, double twist_deg);
 
 /// Vertices whose incident face normals no direction sees all with a dot product above
 /// @p margin, by brute force over 40,000 directions (a Fibonacci sphere, about 1 degree apart),
 /// then a local refinement around the best. Degenerate faces are left out.
-int count_folded_stars(const TriangleMesh& mesh, double margin = 0.0);
+int count_empty_cones(const TriangleMesh& mesh, double margin = 0.0);
 
 /// X(w, α) = Σ wV·(V0 + α·(V1 − V0)) from the stored corners of slab @p slab (an independent
 /// evaluation of the slab map, not through SlabGeometry). @p w = (wR, wS, wT).

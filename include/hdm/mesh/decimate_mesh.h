@@ -29,10 +29,10 @@ struct DecimateOptions {
   /// no direction sees with a dot product of at least this, unless that vertex was already worse
   /// seen (a slab needs a ray direction at each corner that sees every face around it; the
   /// larger the margin, the thicker a valid shell can grow).
-  double min_visibility = 0.2;
+  double min_cone_margin = 0.2;
   /// true: each collapse keeps the end of least quadric error (a half-edge collapse), so coarse
-  /// vertices are input vertices and lie on the surface (but for an input's folded star, which
-  /// an unfolding collapse may resolve at the edge's midpoint); false: the quadric's minimiser, which
+  /// vertices are input vertices and lie on the surface (but for an input's empty-cone vertex, which
+  /// a reopening collapse may resolve at the edge's midpoint); false: the quadric's minimiser, which
   /// follows the input more closely between vertices but puts vertices off the surface.
   bool on_input = true;
 };
@@ -63,13 +63,13 @@ struct DecimateReport {
 /// - no face it moves turns its normal by more than DecimateOptions::max_normal_turn_deg (no
 ///   fold-over) or becomes a new sliver (DecimateOptions::min_angle_deg);
 /// - every vertex whose star changes keeps a direction that sees all its faces
-///   (DecimateOptions::min_visibility): thin parts, tubes and tips stop the decimation early
+///   (DecimateOptions::min_cone_margin): thin parts, tubes and tips stop the decimation early
 ///   instead of giving vertices no valid slab direction, so the face count follows the shape.
 ///
-/// Stars of the input that no direction sees (folded: a crumple of a scanned surface) are collapsed
+/// Stars of the input that no direction sees (an empty dual cone: a crumple of a scanned surface) are collapsed
 /// first; those left at the end are merged into a neighbour, or the vertex removed and its ring
-/// filled, beyond the target; a crumple that neither unfolds (its ring twists over itself) is
-/// merged whole into its folded vertex when that leaves fewer folded stars around it and folds no
+/// filled, beyond the target; a crumple whose cones neither opens (its ring twists over itself) is
+/// merged whole into its empty-cone vertex when that leaves fewer empty-cone vertices around it and folds no
 /// other (its vertices within 1/4, 1/2 or 1 of the vertex's mean edge length, by collapses under
 /// the link condition alone, placed at the best of their places and their centroid; undone
 /// otherwise).

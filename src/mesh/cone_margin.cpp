@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// How well one direction sees a vertex star: the decimation's fold test.
+// The cone margin of a vertex star (the best direction's smallest dot product with its face
+// normals; positive when its dual cone is not empty): the decimation's test.
 #include "simplifier.h"
 
 #include "max_min_direction.h"
@@ -17,7 +18,7 @@ double smallest_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
   return longer > 0 ? twice_area / std::sqrt(longer) : 0;
 }
 
-double visibility(const std::vector<Vec3>& normals) {
+double cone_margin(const std::vector<Vec3>& normals) {
   Vec3 d = Vec3::Zero();
   for (const Vec3& n : normals) d += n;
   if (!(d.norm() > 0)) return -1;
@@ -35,8 +36,8 @@ double visibility(const std::vector<Vec3>& normals) {
   return best;
 }
 
-double exact_visibility_of(const std::vector<Vec3>& normals) {
-  double best = visibility(normals);
+double exact_cone_margin(const std::vector<Vec3>& normals) {
+  double best = cone_margin(normals);
   if (best <= 0.5) mesh::detail::improve_max_min(normals, best, nullptr);
   return best;
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Folded stars of a coarse mesh replaced by harmonic discs (see unfold_stars.h).
+// Empty-cone vertices of a coarse mesh replaced by harmonic discs (see fix_empty_dual_cones.h).
 #include <hdm/core/error.h>
-#include <hdm/mesh/unfold_stars.h>
+#include <hdm/mesh/fix_empty_dual_cones.h>
 
 #include "max_min_direction.h"
 
@@ -54,18 +54,19 @@ Stars stars_of(const TriangleMesh& mesh) {
   return s;
 }
 
-// Unfolds folded stars by Laplacian smoothing of a disc around each folded vertex.
-class Unfolder {
+// Gives empty-cone vertices a direction that sees their faces by Laplacian smoothing of a disc
+// around each.
+class ConeSmoother {
  public:
-  Unfolder(TriangleMesh& mesh, double min_visibility)
+  ConeSmoother(TriangleMesh& mesh, double min_cone_margin)
       : mesh_(mesh),
         p_(mesh.vertices),
         s_(stars_of(mesh)),
-        min_visibility_(min_visibility),
+        min_margin_(min_cone_margin),
         layer_(mesh.vertices.size(), -1) {}
 
   // The best direction's smallest dot product with v's face normals (degenerate faces left out).
-  double visibility(int32_t v) {
+  double cone_margin(int32_t v) {
     normals_.clear();
     Vec3 mean = Vec3::Zero();
     for (int32_t k = s_.offset[v]; k < s_.offset[v + 1]; ++k) {
@@ -79,16 +80,16 @@ class Unfolder {
       best = 2;
       const Vec3 d = mean.normalized();
       for (const Vec3& n : normals_) best = std::min(best, d.dot(n));
-      if (best > min_visibility_) return best;  // seen well enough: no search needed
+      if (best > min_margin_) return best;  // seen well enough: no search needed
     }
     mesh::detail::improve_max_min(normals_, best, nullptr);
     return best;
   }
-  bool folded(int32_t v) { return visibility(v) <= min_visibility_; }
+  bool empty(int32_t v) { return cone_margin(v) <= min_margin_; }
 
-  // Tries discs of 1 .. max_rings rings around folded vertex v; returns the vertices moved (0 when
-  // no disc unfolded, positions restored).
-  int64_t unfold(int32_t v, int max_rings) {
+  // Tries discs of 1 .. max_rings rings around empty-cone vertex v; returns the vertices moved (0 when
+  // no disc opened the cones, positions restored).
+  int64_t open_cone(int32_t v, int max_rings) {
     for (int k = 1; k <= max_rings; ++k) {
       gather_disc(v, k);
       const int64_t moved = smooth_disc();
@@ -118,14 +119,14 @@ class Unfolder {
     for (size_t i = 0; i < free_.size(); ++i) saved_[i] = p_[free_[i]];
   }
 
-  // Smooth in growing numbers of sweeps and keep the first state that unfolds: a crumple is
+  // Smooth in growing numbers of sweeps and keep the first state that opens the cones: a crumple is
   // small next to the disc, so it goes in a few sweeps while the disc's shape stays (a disc
   // smoothed to convergence around a thin part, such as a tail's tip, flattens the part).
-  // Returns the free vertices moved when the disc has fewer folded stars and none newly folded.
+  // Returns the free vertices moved when the disc has fewer empty-cone vertices and none newly empty.
   int64_t smooth_disc() {
-    was_folded_.resize(disc_.size());
+    was_empty_.resize(disc_.size());
     int64_t before = 0;
-    for (size_t i = 0; i < disc_.size(); ++i) before += was_folded_[i] = folded(disc_[i]);
+    for (size_t i = 0; i < disc_.size(); ++i) before += was_empty_[i] = empty(disc_[i]);
     for (int sweep = 1; sweep <= 1024; ++sweep) {
       for (int32_t u : free_) {
         Vec3 sum = Vec3::Zero();
@@ -136,9 +137,9 @@ class Unfolder {
       int64_t after = 0;
       bool newly = false;
       for (size_t i = 0; i < disc_.size(); ++i) {
-        const bool f = folded(disc_[i]);
+        const bool f = empty(disc_[i]);
         after += f;
-        newly |= f && !was_folded_[i];
+        newly |= f && !was_empty_[i];
       }
       if (after < before && !newly) return static_cast<int64_t>(free_.size());
     }
@@ -148,27 +149,29 @@ class Unfolder {
   TriangleMesh& mesh_;
   std::vector<Vec3>& p_;
   const Stars s_;
-  const double min_visibility_;
+  const double min_margin_;
   std::vector<int32_t> layer_;  // ring index of a vertex in the current disc, -1 outside
   std::vector<int32_t> disc_, free_;
-  std::vector<uint8_t> was_folded_;
+  std::vector<uint8_t> was_empty_;
   std::vector<Vec3> saved_, normals_;
 };
 
 }  // namespace
 
-UnfoldReport unfold_stars(TriangleMesh& mesh, double min_visibility, int max_rings) {
-  if (!(min_visibility >= -1 && min_visibility < 1))
-    throw InvalidInput("unfold_stars: min_visibility " + std::to_string(min_visibility) + " must be in [-1, 1)");
-  if (max_rings < 1) throw InvalidInput("unfold_stars: max_rings " + std::to_string(max_rings) + " must be >= 1");
-  validate_mesh_data(mesh, "unfold_stars input");
+DualConeReport fix_empty_dual_cones(TriangleMesh& mesh, double min_cone_margin, int max_rings) {
+  if (!(min_cone_margin >= -1 && min_cone_margin < 1))
+    throw InvalidInput("fix_empty_dual_cones: min_cone_margin " + std::to_string(min_cone_margin) +
+                       " must be in [-1, 1)");
+  if (max_rings < 1)
+    throw InvalidInput("fix_empty_dual_cones: max_rings " + std::to_string(max_rings) + " must be >= 1");
+  validate_mesh_data(mesh, "fix_empty_dual_cones input");
   const auto nv = static_cast<int32_t>(mesh.vertices.size());
-  Unfolder u(mesh, min_visibility);
-  UnfoldReport report;
-  for (int32_t v = 0; v < nv; ++v) report.folded_before += u.folded(v);
+  ConeSmoother u(mesh, min_cone_margin);
+  DualConeReport report;
+  for (int32_t v = 0; v < nv; ++v) report.empty_cones_before += u.empty(v);
   for (int32_t v = 0; v < nv; ++v)
-    if (u.folded(v)) report.moved += u.unfold(v, max_rings);
-  for (int32_t v = 0; v < nv; ++v) report.folded_after += u.folded(v);
+    if (u.empty(v)) report.moved += u.open_cone(v, max_rings);
+  for (int32_t v = 0; v < nv; ++v) report.empty_cones_after += u.empty(v);
   return report;
 }
 
