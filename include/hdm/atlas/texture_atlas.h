@@ -3,8 +3,6 @@
 /// @file
 /// One texture image holding the colour texels of every slab (paper §6: colour is a texture per
 /// slab; docs/design.md#texture-atlas: texel centres on the grid points, padding against bilinear bleeding).
-/// Include as `<hdm/atlas/texture_atlas.h>` (the folder `atlas/` holds the atlas alone; it was
-/// `<hdm/surface/texture_atlas.h>`).
 
 #include <hdm/slab/slab_model.h>
 

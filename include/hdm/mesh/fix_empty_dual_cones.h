@@ -6,7 +6,7 @@
 /// the cone of its incident face normals; its *dual cone* holds the directions d with d·n > 0 for
 /// each of them, and is empty when the normals fit in no open hemisphere; the *cone margin* is
 /// max over unit d of min over the normals n of d·n (positive exactly when the dual cone is not
-/// empty). Include as `<hdm/mesh/fix_empty_dual_cones.h>` (it was `<hdm/mesh/unfold_stars.h>`).
+/// empty).
 
 #include <hdm/mesh/triangle_mesh.h>
 

@@ -4,8 +4,7 @@
 /// Self-intersections of an open mesh resolved: the exposed surface of an input made of sheets
 /// that intersect each other. resolve_self_intersections() (self_intersections.h) resolves closed
 /// and nearly closed meshes into the boundary of their union and hands every other open mesh to
-/// resolve_open_self_intersections(). Include as `<hdm/mesh/open_self_intersections.h>` (it was
-/// `<hdm/mesh/crossing_sheets.h>`).
+/// resolve_open_self_intersections().
 
 #include <hdm/mesh/self_intersections.h>
 #include <hdm/mesh/triangle_mesh.h>
