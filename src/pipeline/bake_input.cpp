@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <utility>
 
 namespace hdm {
@@ -19,6 +20,7 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
     if (options.bake.progress) options.bake.progress(stage, f);
   };
   progress("prepare", 0);
+  const int64_t given_triangles = static_cast<int64_t>(mesh.faces.size());
   PrepareOptions prepare = options.prepare;
   prepare.resolve = true;
   PreparedInput in = prepare_input(std::move(mesh), name, prepare);
@@ -35,14 +37,23 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
   if (r.input.self_intersections > 0) interior = interior_faces(reference);
   r.interior_faces = std::count(interior.begin(), interior.end(), uint8_t(1));
   const double bvh_seconds = since(bvh_start);
+  // BakeOptions::density counts the triangles the user gave, not the prepared mesh's: resolving
+  // self-intersections splits faces along every intersection curve, which adds no detail to
+  // sample. The smaller count is used, since repair may also drop duplicate or degenerate faces.
+  BakeOptions bake = options.bake;
+  if (bake.slabs == 0 && bake.grid_n >= 1 && bake.density > 0 && bake.density <= 1024) {  // else bake_slabs() refuses
+    const double t = static_cast<double>(std::min<int64_t>(given_triangles, reference.mesh().faces.size()));
+    bake.slabs =
+        std::max(8, static_cast<int>(std::lround(std::min(t * bake.density / (bake.grid_n * bake.grid_n), 1e9))));
+  }
   SlabModel model;
   if (options.bounded) {
     Tolerance t = options.tolerance;
     t.interior = interior.empty() ? nullptr : &interior;
-    model = bake_to_tolerance(reference, name, options.bake, t, &r.rounds, &r.bake);
+    model = bake_to_tolerance(reference, name, bake, t, &r.rounds, &r.bake);
     r.fidelity = r.rounds.back().fidelity;
   } else {
-    model = bake_slabs(reference, name, options.bake, &r.bake);
+    model = bake_slabs(reference, name, bake, &r.bake);
     progress("fidelity", 0);
     r.fidelity = measure_fidelity(model, reference, interior.empty() ? nullptr : &interior);
     progress("fidelity", 1);

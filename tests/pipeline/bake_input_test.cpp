@@ -53,10 +53,10 @@ struct TwoBoxes {
   double scale = 3e-3;  // not a power of two: the model must come back in these units
   Vec3 offset{0.01, -0.02, 0.005};
   Vec3 a_lo{0, 0, 0}, a_hi{1, 1, 1}, b_lo{0.5, 0.25, 0.25}, b_hi{1.5, 0.75, 0.75};  // before scale and offset
-  TriangleMesh mesh() const {
+  TriangleMesh mesh(int k = 12) const {
     TriangleMesh m;
-    add_box(m, a_lo, a_hi, 12);
-    add_box(m, b_lo, b_hi, 12);
+    add_box(m, a_lo, a_hi, k);
+    add_box(m, b_lo, b_hi, k);
     for (Vec3& p : m.vertices) p = p * scale + offset;
     return m;
   }
@@ -124,4 +124,24 @@ TEST(BakeInput, RefusesMeshDataWithNaNByName) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("nan.off"), std::string::npos) << e.what();
   }
+}
+
+// BakeOptions::density counts the triangles the user gave: resolving the intersections of two
+// boxes of 12 triangles each splits faces along the intersection curves (24 triangles become 40),
+// which adds no detail to sample. Flat faces decimate to the target, so the slab count is it.
+TEST(BakeInput, DensityCountsTheTrianglesAsGiven) {
+  const TwoBoxes boxes;
+  const TriangleMesh given = boxes.mesh(1);  // 24 triangles; resolved, 40
+  PrepareOptions prepare;
+  prepare.resolve = true;
+  const int64_t prepared = static_cast<int64_t>(prepare_input(given, "two boxes", prepare).mesh.faces.size());
+  const int64_t counted = std::min<int64_t>(prepared, static_cast<int64_t>(given.faces.size()));
+  ASSERT_GT(prepared, static_cast<int64_t>(given.faces.size()));  // the case this test is about
+  BakeInputOptions o;
+  o.bounded = false;
+  o.bake.grid_n = 2;  // density 4 / n² = 1 slab per triangle counted
+  BakeInputReport report;
+  bake_input(given, "two boxes", o, &report);
+  const double target = counted * o.bake.density / (o.bake.grid_n * o.bake.grid_n);
+  EXPECT_NEAR(report.bake.slabs, target, 0.05 * target);
 }

@@ -43,7 +43,9 @@ struct BakeInputReport {
 /// seams, folds, crossings resolved), one Embree BVH over the prepared mesh, the faces inside
 /// the solid it bounds when it crossed itself (left out of the fidelity), then bake_to_tolerance()
 /// (or one bake_slabs() and measure_fidelity() when not bounded), and the model scaled back to the
-/// input's units (exact: a power of two).
+/// input's units (exact: a power of two). With BakeOptions::slabs = 0, the first slab count follows
+/// BakeOptions::density per triangle of @p mesh as given (or of the prepared mesh, if fewer):
+/// resolving self-intersections splits faces along the intersection curves, which adds no detail.
 /// @param mesh     triangles as read [model units].
 /// @param name     file or argument name for error messages and SlabModel::source.
 /// @param options  see BakeInputOptions.
