@@ -13,6 +13,10 @@ using Quat = Eigen::Quaterniond;
 // point's inward normal (120°): a surface facing the tool's inside is the far side of a thin part.
 constexpr double kFacing = -0.5;
 
+// A row whose surface normal is farther than this cosine (20°) from the tool's normal at its point
+// may be at an edge of the surface: see contact_normal.
+constexpr double kEdgeGap = 0.9396926207859084;
+
 // The god-object's displacement: v [model units] and ω [rad] about the tip, model frame.
 struct Twist {
   Vec3 v = Vec3::Zero(), w = Vec3::Zero();
@@ -56,6 +60,35 @@ double band_of(const SlabModel& model, const RigidToolParams& p) noexcept {
   return 0.002 * (model.source_diagonal > 0 ? model.source_diagonal : 1.0);
 }
 
+// The contact normal of a shell point: @p c its query, @p nt the tool's inward normal there.
+// Where the surface turns within a few bands (a convex edge the bake has rounded over a grid cell),
+// the true contact lies where the surface's normal meets the tool's, and the shell point in contact
+// is up to about its spacing from it, where the surface's normal can be tens of degrees off: the
+// normal is then the tool's, with the part along the edge (where the surface does not turn)
+// removed. A surface that does not turn so fast (a face, a large curvature radius) gives its own
+// normal, as does a sharp part of the tool (a rim) on it.
+Vec3 contact_normal(const SlabModel& model, const SlabLocator& locator, const Contact& c, const Vec3& nt, double band,
+                    QueryCache cache, AlphaSolver solver) noexcept {
+  const Vec3& ns = c.normal;
+  const double gap = ns.dot(nt);
+  if (gap > kEdgeGap) return ns;
+  const Vec3 u = (nt - gap * ns).normalized();
+  // One probe where the surface's normal has turned the most (it turns one way along a convex
+  // edge); nearer ones only when the farther probes leave the shell.
+  for (double e = 8 * band; e >= band; e *= 0.5) {
+    const Contact q = query(model, locator, c.surface_point + e * u, cache, solver);
+    if (!q.in_shell()) continue;
+    const Vec3 turn = q.normal - q.normal.dot(ns) * ns;
+    if (!(turn.norm() > 1e-6)) continue;
+    const Vec3 d = turn.normalized();  // the way the surface turns: towards the tool's normal at a convex edge
+    const double lean = nt.dot(d);
+    if (!(lean > 0)) return ns;
+    const Vec3 n = (gap * ns + lean * d).normalized();
+    return q.normal.dot(d) >= n.dot(d) ? n : ns;
+  }
+  return ns;
+}
+
 // Queries every shell point at the god-object's pose and writes the rows of those near or below the
 // surface, warm-started from the multipliers they had. Returns the shell's reach max |r| [model
 // units]; @p deepest is the largest depth among the rows (0 for none).
@@ -74,8 +107,11 @@ double gather(const SlabModel& model, const SlabLocator& locator, const ToolShel
     s.lambda[i] = 0;
     if (!c.in_shell() || !(c.depth > -band) || c.normal.dot(R * shell.normals[i]) < kFacing) continue;
     ToolConstraint& row = s.rows[s.row_count++];
-    row.n = c.normal;
-    row.rxn = r.cross(c.normal);
+    // Only a point that pushed last tick or is below the surface can push: the others keep the
+    // surface's normal and save contact_normal's probe.
+    const bool can_push = warm > 0 || c.depth > 0;
+    row.n = can_push ? contact_normal(model, locator, c, R * shell.normals[i], band, s.caches[i], p.solver) : c.normal;
+    row.rxn = r.cross(row.n);
     row.b = c.depth;
     row.inv_k = 1.0 / (m.t + m.r * row.rxn.squaredNorm());
     row.lambda = warm;

@@ -89,6 +89,12 @@ struct ToolWrench {
 /// point). A point in the shell on a surface it can touch (normal within 120° of the point's inward
 /// normal) and within `band` of it or below it gives a row n·(v + ω×r) >= depth, the non-penetration
 /// constraint linearised in the god-object's displacement (v [model units], ω [rad], about the tip).
+/// n is the surface's normal there, except at an edge the shell does not resolve: a row whose
+/// normal is more than 20° from the tool's normal at its point, and whose point pushed on the last
+/// tick or is below the surface, probes the surface 8·`band` away along the tool's normal's lean;
+/// if the surface's normal has turned that far towards it there, the row takes the tool's normal projected on
+/// the plane in which the surface turns (the normal the tool and the edge share, which the shell
+/// point nearest it, up to about the shell's spacing off, does not see in the surface's normal).
 /// The displacement is the one nearest the unconstrained motion a = (device − god-object position,
 /// rotation vector of device·god⁻¹) in the metric M = diag(k_t/scale²·I, k_r·I) that meets every
 /// row: Gauss's principle of least constraint (Redon, Kheddar & Coquillart 2002), solved by
@@ -124,8 +130,9 @@ struct ToolWrench {
 ///      the model than the shell is not pushed out.
 /// @throws none; noexcept.
 /// @note No allocation, no locks, no I/O. Cost per round: #P queries (one slab test each when
-///       coherent, less for points in no slab's cell) plus `sweeps` × rows constraint updates
-///       (about 20 flops each). `hdm bench` reports the tick with a 1,000-point burr (docs/haptics.md).
+///       coherent, less for points in no slab's cell), one to four more per row at an edge, plus
+///       `sweeps` × rows constraint updates (about 20 flops each). `hdm bench` reports the tick
+///       with a 1,000-point burr (docs/haptics.md).
 /// @see McNeely, Puterbaugh & Troy 1999 (point shell, virtual coupling); Redon, Kheddar &
 ///      Coquillart 2002 (Gauss's principle of least constraint); Ortega, Redon & Coquillart 2007
 ///      (a 6-DOF god-object with it); Hildreth 1957 (the projection); docs/haptics.md.
