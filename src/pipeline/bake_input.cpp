@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <utility>
 
 namespace hdm {
@@ -41,11 +40,8 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
   // self-intersections splits faces along every intersection curve, which adds no detail to
   // sample. The smaller count is used, since repair may also drop duplicate or degenerate faces.
   BakeOptions bake = options.bake;
-  if (bake.slabs == 0 && bake.grid_n >= 1 && bake.density > 0 && bake.density <= 1024) {  // else bake_slabs() refuses
-    const double t = static_cast<double>(std::min<int64_t>(given_triangles, reference.mesh().faces.size()));
-    bake.slabs =
-        std::max(8, static_cast<int>(std::lround(std::min(t * bake.density / (bake.grid_n * bake.grid_n), 1e9))));
-  }
+  if (bake.slabs == 0 && bake.grid_n >= 1 && bake.density > 0 && bake.density <= 1024)  // else bake_slabs() refuses
+    bake.slabs = default_slab_count(std::min<int64_t>(given_triangles, reference.mesh().faces.size()), bake);
   SlabModel model;
   if (options.bounded) {
     Tolerance t = options.tolerance;

@@ -105,9 +105,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   validate_for_bake(mesh, name);
   const double diag = bounds(mesh).diagonal();
   const int n = o.grid_n;
-  const int target = o.slabs > 0
-                         ? o.slabs
-                         : std::max(8, static_cast<int>(std::lround(double(mesh.faces.size()) * o.density / (n * n))));
+  const int target = o.slabs > 0 ? o.slabs : default_slab_count(static_cast<int64_t>(mesh.faces.size()), o);
 
   progress(o, "decimate", 0);
   const CoarseMesh coarse = coarse_surface(mesh, target);
@@ -156,6 +154,11 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
 }
 
 }  // namespace
+
+int default_slab_count(int64_t triangles, const BakeOptions& o) {
+  const double target = double(triangles) * o.density / (double(o.grid_n) * o.grid_n);
+  return std::max(8, static_cast<int>(std::lround(std::min(target, 1e9))));
+}
 
 SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& o, BakeReport* report) {
   return bake(mesh, nullptr, name, o, report);

@@ -57,6 +57,14 @@ struct BakeReport {
   double seconds = 0;             ///< wall time of the bake [s]
 };
 
+/// @brief The slab count a bake targets when BakeOptions::slabs is 0: @p triangles ·
+/// BakeOptions::density / n², at least 8, so that the submesh (slabs·n² triangles) has density
+/// times the input's triangles.
+/// @param triangles  the input's triangle count, >= 0.
+/// @param options    density in (0, 1024] and grid_n >= 1 (checked by bake_slabs(), not here).
+/// @return the target slab count, at most 10⁹. @note O(1).
+int default_slab_count(int64_t triangles, const BakeOptions& options);
+
 /// @brief Bakes @p mesh into a slab model.
 /// @param mesh     closed or open, edge-manifold, consistently oriented triangle mesh [model units].
 /// @param name     file or argument name used in error messages.
