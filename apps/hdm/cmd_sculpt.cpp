@@ -18,6 +18,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -47,6 +48,7 @@ struct TickRecord {
   Vec3f force;
   int8_t tool_on, carried;
   int16_t sweeps;
+  std::array<float, 4> orientation;  // the handle's (w, x, y, z), tool → device frame
 };
 
 // What the hooks touch, set up before the loop so that the tick never allocates.
@@ -82,26 +84,30 @@ void after_tick(void* user, const ServoTick& t, const SessionTick& out) noexcept
   Run& r = *static_cast<Run*>(user);
   if (static_cast<size_t>(t.tick) >= r.records.size()) return;
   const bool contact = out.out.contact.in_shell() && out.out.status != ProxyStatus::Free;
-  r.records[static_cast<size_t>(t.tick)] = {static_cast<float>(t.time_s),
-                                            out.device.position.cast<float>(),
-                                            static_cast<int8_t>(contact),
-                                            static_cast<float>(contact ? out.out.contact.depth / r.scale : 0.0),
-                                            out.force.cast<float>(),
-                                            static_cast<int8_t>(out.tool_on),
-                                            static_cast<int8_t>(out.edit_pending),
-                                            static_cast<int16_t>(std::min(out.sweeps, 32767))};
+  const Eigen::Quaterniond& q = out.device.orientation;
+  r.records[static_cast<size_t>(t.tick)] = {
+      static_cast<float>(t.time_s),
+      out.device.position.cast<float>(),
+      static_cast<int8_t>(contact),
+      static_cast<float>(contact ? out.out.contact.depth / r.scale : 0.0),
+      out.force.cast<float>(),
+      static_cast<int8_t>(out.tool_on),
+      static_cast<int8_t>(out.edit_pending),
+      static_cast<int16_t>(std::min(out.sweeps, 32767)),
+      {static_cast<float>(q.w()), static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())}};
 }
 
 void write_csv(const std::string& path, const std::vector<TickRecord>& rows) {
   std::string out =
       "time_s,device_x_m,device_y_m,device_z_m,contact,depth_m,force_x_n,force_y_n,force_z_n,tool_on,sweeps,"
-      "carried\n";
-  out.reserve(out.size() + rows.size() * 96);  // rows take about 80 bytes, 96 at most: one allocation
-  char line[256];
+      "carried,device_qw,device_qx,device_qy,device_qz\n";
+  out.reserve(out.size() + rows.size() * 140);  // rows take about 120 bytes, 140 at most: one allocation
+  char line[320];
   for (const TickRecord& r : rows) {
-    std::snprintf(line, sizeof line, "%.4f,%.6f,%.6f,%.6f,%d,%.7f,%.5f,%.5f,%.5f,%d,%d,%d\n", r.t, r.device.x(),
-                  r.device.y(), r.device.z(), r.contact, r.depth_m, r.force.x(), r.force.y(), r.force.z(), r.tool_on,
-                  r.sweeps, r.carried);
+    const std::array<float, 4>& q = r.orientation;
+    std::snprintf(line, sizeof line, "%.4f,%.6f,%.6f,%.6f,%d,%.7f,%.5f,%.5f,%.5f,%d,%d,%d,%.7f,%.7f,%.7f,%.7f\n", r.t,
+                  r.device.x(), r.device.y(), r.device.z(), r.contact, r.depth_m, r.force.x(), r.force.y(), r.force.z(),
+                  r.tool_on, r.sweeps, r.carried, q[0], q[1], q[2], q[3]);
     out += line;
   }
   write_file_atomic(path, out.data(), out.size());
@@ -162,7 +168,7 @@ nlohmann::json check_strokes(const SlabModel& model, const ExactMeshQuery& exact
 // CSV text and the sweep log when asked for.
 void require_sculpt_memory(const SculptArgs& a, int64_t ticks) {
   const int64_t per_tick = sizeof(Vec3) * 2 + sizeof(Tool) + sizeof(int16_t) + sizeof(uint32_t) + sizeof(TickRecord) +
-                           (a.forces.empty() ? 0 : 112) + (a.check_against.empty() ? 0 : int64_t(sizeof(EditLogEntry)));
+                           (a.forces.empty() ? 0 : 156) + (a.check_against.empty() ? 0 : int64_t(sizeof(EditLogEntry)));
   require_memory(sculpt_peak_bytes(file_bytes(a.model), ticks, per_tick), a.budget, "hdm sculpt " + a.model,
                  std::to_string(ticks) + " ticks of the script at " + std::to_string(int64_t(a.rate)) + " Hz");
 }

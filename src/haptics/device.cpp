@@ -2,23 +2,93 @@
 #include <hdm/core/error.h>
 #include <hdm/haptics/device.h>
 
+#include "rotation.h"
+
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string_view>
 
 namespace hdm {
 
+namespace {
+
+using haptics_detail::from_rotation_vector;
+using haptics_detail::rotation_vector;
+using Quat = Eigen::Quaterniond;
+
+bool usable_quaternion(const Quat& q) noexcept { return q.coeffs().allFinite() && q.norm() > 0; }
+
+// @p v shortened to length @p cap if longer; NaN or infinite → zero (an amplifier's saturation).
+Vec3 clamp_length(const Vec3& v, double cap) noexcept {
+  if (!v.allFinite()) return Vec3::Zero();
+  const double mag = v.norm();
+  cap = std::max(0.0, cap);
+  return mag > cap ? Vec3(v * (cap / mag)) : v;
+}
+
+// A recording's optional orientation columns, all four or none.
+constexpr const char* kOrientationColumns[4] = {"device_qw", "device_qx", "device_qy", "device_qz"};
+
+// Where the orientation columns are in the header @p cols; none when it has none of them.
+// @throws InvalidInput naming @p path when it has some but not all four.
+std::optional<std::array<size_t, 4>> orientation_columns(const std::vector<std::string_view>& cols,
+                                                         const std::string& path) {
+  std::array<size_t, 4> at{};
+  int found = 0;
+  for (int i = 0; i < 4; ++i) {
+    at[i] = static_cast<size_t>(std::find(cols.begin(), cols.end(), kOrientationColumns[i]) - cols.begin());
+    found += at[i] < cols.size();
+  }
+  if (found == 0) return std::nullopt;
+  for (int i = 0; i < 4; ++i)
+    if (at[i] == cols.size())
+      throw InvalidInput(path + ": header lacks column " + kOrientationColumns[i] +
+                         " (the orientation columns device_qw,device_qx,device_qy,device_qz come all four or none)");
+  return at;
+}
+
+// A row's orientation, normalised. @throws InvalidInput after @p where when it is not finite or zero.
+Quat read_orientation(const std::vector<double>& v, const std::array<size_t, 4>& c, const std::string& where) {
+  const Quat q(v[c[0]], v[c[1]], v[c[2]], v[c[3]]);
+  if (!q.coeffs().allFinite())
+    throw InvalidInput(where + "orientation (device_qw,device_qx,device_qy,device_qz) is not a finite quaternion");
+  if (!(q.norm() >= 1e-6))
+    throw InvalidInput(where + "orientation (device_qw,device_qx,device_qy,device_qz) is a zero quaternion (norm " +
+                       "below 1e-6)");
+  return q.normalized();
+}
+
+}  // namespace
+
 SimulatedDevice::SimulatedDevice(const SimulatedDeviceOptions& o, std::span<const Vec3> targets, const Vec3& start,
-                                 std::span<const uint32_t> buttons)
-    : options_(o), targets_(targets), buttons_(buttons), x_(start), v_(Vec3::Zero()), x_prev_(start) {
+                                 std::span<const uint32_t> buttons, std::span<const Quat> orientation_targets)
+    : options_(o),
+      targets_(targets),
+      buttons_(buttons),
+      orientation_targets_(orientation_targets),
+      x_(start),
+      v_(Vec3::Zero()),
+      x_prev_(start) {
   if (!(o.mass_kg > 0) || !(o.rate_hz > 0) || o.substeps < 1)
     throw InvalidInput("SimulatedDevice: mass_kg and rate_hz must be > 0 and substeps >= 1");
-  if (!o.orientation.coeffs().allFinite() || !(o.orientation.norm() > 0))
+  if (!(o.inertia_kgm2 > 0) || !std::isfinite(o.inertia_kgm2))
+    throw InvalidInput("SimulatedDevice: inertia_kgm2 must be finite and > 0");
+  if (!(o.wrist_stiffness >= 0) || !(o.wrist_damping >= 0) || !std::isfinite(o.wrist_damping))
+    throw InvalidInput(
+        "SimulatedDevice: wrist_stiffness must be >= 0 (+infinity: held rigidly) and wrist_damping finite and >= 0");
+  if (!usable_quaternion(o.orientation))
     throw InvalidInput("SimulatedDevice: the orientation must be a finite, non-zero quaternion");
+  for (size_t k = 0; k < orientation_targets.size(); ++k)
+    if (!usable_quaternion(orientation_targets[k]))
+      throw InvalidInput("SimulatedDevice: the orientation target of tick " + std::to_string(k) +
+                         " is not a finite, non-zero quaternion");
   options_.orientation.normalize();
+  q_ = q_prev_ = options_.orientation;
 }
 
 bool SimulatedDevice::begin_frame(DeviceState& s) noexcept {
@@ -27,29 +97,21 @@ bool SimulatedDevice::begin_frame(DeviceState& s) noexcept {
   s.velocity = tick_ > 0 ? Vec3((x_ - x_prev_) / dt) : Vec3::Zero();
   s.buttons = buttons_.empty() ? 0u : buttons_[std::min<size_t>(static_cast<size_t>(tick_), buttons_.size() - 1)];
   s.time_s = tick_ * dt;
-  s.orientation = options_.orientation;
-  s.angular_velocity = Vec3::Zero();
+  s.orientation = q_;
+  s.angular_velocity = tick_ > 0 ? Vec3(rotation_vector(q_ * q_prev_.conjugate()) / dt) : Vec3::Zero();
   return true;
 }
 
-void SimulatedDevice::end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept {
-  end_frame(force_n);
-  Vec3 t = torque_nm.allFinite() ? torque_nm : Vec3::Zero();
-  const double mag = t.norm(), cap = std::max(0.0, options_.spec.max_torque_nm);
-  if (mag > cap) t *= cap / mag;
-  torque_ = t;
-}
+void SimulatedDevice::end_frame(const Vec3& force_n) noexcept { end_frame(force_n, Vec3::Zero()); }
 
-void SimulatedDevice::end_frame(const Vec3& force_n) noexcept {
-  Vec3 f = force_n.allFinite() ? force_n : Vec3::Zero();
-  const double mag = f.norm();
-  if (mag > options_.spec.max_force_n) f *= options_.spec.max_force_n / mag;  // amplifier saturation
+void SimulatedDevice::end_frame(const Vec3& force_n, const Vec3& torque_nm) noexcept {
+  const Vec3 f = clamp_length(force_n, options_.spec.max_force_n);
+  torque_ = clamp_length(torque_nm, options_.spec.max_torque_nm);
   const Vec3 target = targets_.empty() ? x_ : targets_[std::min<size_t>(tick_, targets_.size() - 1)];
   const Vec3 target_next = targets_.empty() ? x_ : targets_[std::min<size_t>(tick_ + 1, targets_.size() - 1)];
   const double T = 1.0 / options_.rate_hz, h = T / options_.substeps;
   const Vec3 target_v = (target_next - target) / T;
   x_prev_ = x_;
-  torque_.setZero();
   hand_force_.setZero();
   for (int k = 0; k < options_.substeps; ++k) {
     const Vec3 tk = target + target_v * (k * h);  // the hand moves smoothly between ticks
@@ -58,7 +120,33 @@ void SimulatedDevice::end_frame(const Vec3& force_n) noexcept {
     x_ += h * v_;                             // then position with the new velocity
     hand_force_ += hand / options_.substeps;
   }
+  integrate_rotation(T);
   ++tick_;
+}
+
+void SimulatedDevice::integrate_rotation(double T) noexcept {
+  auto target_at = [&](int64_t tick) {
+    if (orientation_targets_.empty()) return options_.orientation;
+    return orientation_targets_[std::min<size_t>(static_cast<size_t>(tick), orientation_targets_.size() - 1)]
+        .normalized();
+  };
+  const Quat target = target_at(tick_), target_next = target_at(tick_ + 1);
+  const Vec3 target_w = rotation_vector(target_next * target.conjugate()) / T;  // device frame
+  q_prev_ = q_;
+  wrist_torque_.setZero();
+  if (std::isinf(options_.wrist_stiffness)) {  // held rigidly: the handle is where the hand puts it
+    q_ = target_next;
+    w_ = target_w;
+    return;
+  }
+  const double h = T / options_.substeps, k = options_.wrist_stiffness, b = options_.wrist_damping;
+  for (int i = 0; i < options_.substeps; ++i) {
+    const Quat ti = from_rotation_vector(target_w * (i * h)) * target;  // the hand turns smoothly between ticks
+    const Vec3 wrist = k * rotation_vector(ti * q_.conjugate()) - b * (w_ - target_w);
+    w_ += h * (wrist + torque_) / options_.inertia_kgm2;    // semi-implicit: angular velocity first,
+    q_ = (from_rotation_vector(w_ * h) * q_).normalized();  // then the orientation with the new one
+    wrist_torque_ += wrist / options_.substeps;
+  }
 }
 
 ReplayDevice::ReplayDevice(const std::string& path, DeviceSpec spec, uint64_t max_file_bytes) : spec_(spec) {
@@ -119,6 +207,7 @@ void ReplayDevice::parse(std::string_view text, const std::string& path) {
   const auto tool_it = std::find(cols.begin(), cols.end(), "tool_on");
   const bool has_tool = tool_it != cols.end();
   const size_t ctool = static_cast<size_t>(tool_it - cols.begin());
+  const std::optional<std::array<size_t, 4>> cq = orientation_columns(cols, path);
   std::vector<double> v;
   for (int64_t no = 2; next_line(line); ++no) {
     if (trim(line).empty()) continue;
@@ -145,6 +234,7 @@ void ReplayDevice::parse(std::string_view text, const std::string& path) {
     time_.push_back(v[ct]);
     position_.emplace_back(v[cx], v[cy], v[cz]);
     if (has_tool) buttons_.push_back(static_cast<uint32_t>(v[ctool]));
+    if (cq) orientation_.push_back(read_orientation(v, *cq, where));
   }
   if (position_.empty()) throw InvalidInput(path + ": no rows");
 }
@@ -161,8 +251,10 @@ bool ReplayDevice::begin_frame(DeviceState& s) noexcept {
   const double dt = next_ > 0 ? time_[next_] - time_[next_ - 1] : 0;
   s.velocity = dt > 0 ? Vec3((position_[next_] - position_[next_ - 1]) / dt) : Vec3::Zero();
   s.buttons = buttons_.empty() ? 0u : buttons_[next_];
-  s.orientation = Eigen::Quaterniond::Identity();
-  s.angular_velocity = Vec3::Zero();
+  s.orientation = orientation_.empty() ? Quat::Identity() : orientation_[next_];
+  s.angular_velocity = orientation_.empty() || !(dt > 0)
+                           ? Vec3::Zero()
+                           : Vec3(rotation_vector(orientation_[next_] * orientation_[next_ - 1].conjugate()) / dt);
   return true;
 }
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/haptics/rigid_tool.h>
 
+#include "rotation.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,6 +10,8 @@ namespace hdm {
 namespace {
 
 using Quat = Eigen::Quaterniond;
+using haptics_detail::from_rotation_vector;
+using haptics_detail::rotation_vector;
 
 // A shell point may be pushed by a surface whose outward normal is within this cosine of the
 // point's inward normal (120°): a surface facing the tool's inside is the far side of a thin part.
@@ -26,22 +30,6 @@ struct Twist {
 struct Metric {
   double t, r;
 };
-
-// Rotation vector of a unit quaternion (angle in [0, π]).
-Vec3 rotation_vector(Quat q) noexcept {
-  if (q.w() < 0) q.coeffs() = -q.coeffs();
-  const double s = q.vec().norm();
-  if (s < 1e-12) return 2 * q.vec();
-  return (2 * std::atan2(s, q.w()) / s) * q.vec();
-}
-
-// The unit quaternion of a rotation vector.
-Quat from_rotation_vector(const Vec3& w) noexcept {
-  const double a = w.norm();
-  if (a < 1e-12) return Quat(1, 0.5 * w.x(), 0.5 * w.y(), 0.5 * w.z()).normalized();
-  const Vec3 axis = w / a;
-  return Quat(Eigen::AngleAxisd(a, axis));
-}
 
 // Input the tick refuses (BadInput): the state is then left as it is.
 bool bad_input(const Workspace& ws, const ToolShell& shell, const ToolPose& d, const ToolTwist& v,

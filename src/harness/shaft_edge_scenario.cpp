@@ -73,7 +73,7 @@ ToolScenarioReport run_shaft_edge(const ToolScenarioOptions& o) {
   d.rate_hz = o.rate_hz;
   d.spec.max_force_n = p.max_force;
   d.spec.max_torque_nm = p.max_torque;
-  d.orientation = lean(kLean + kPush);
+  d.orientation = lean(kLean + kPush);  // the wrist's target: the handle yields to the torque by τ/k_wrist
   SimulatedDevice device(d, path, path.front());
   auto state = std::make_unique<RigidToolState>();
   ToolScenarioReport r;

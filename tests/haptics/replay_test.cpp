@@ -143,7 +143,7 @@ TEST(Replay, SizeLimitIsCheckedBeforeReading) {
   std::filesystem::remove(path);
 }
 
-// Orientation and torque on the devices: the simulated handle reads its fixed orientation (unit)
+// Orientation and torque on the devices: the simulated handle reads its start orientation (unit)
 // and zero angular velocity and records the torque clamped to the spec; a force-only end_frame
 // drops it; a 3-DOF spec (max_torque_nm 0) renders none; the replay reads identity.
 TEST(Device, OrientationAndTorque) {

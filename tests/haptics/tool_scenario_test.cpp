@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <utility>
 
 namespace hdm {
 namespace {
@@ -130,21 +131,25 @@ TEST(ToolScenario, ShaftEdgeRestsOnTheFloorAndTheEdge) {
 // The torque about the tip is the lever-arm moment of the two frictionless contacts, computed here
 // from the held tip, axis and force: the floor's force is along +z straight below the tip (no
 // moment), the edge's along the shaft's normal at the edge point c in the tool's plane, so its
-// size is F.x / n.x and the torque is (c − tip) × F_edge; within 5 % at 1 and 10 kHz.
+// size is F.x / n.x and the torque is (c − tip) × F_edge; within 5 % at 1 and 10 kHz, whether the
+// hand's wrist yields to the torque (the default) or holds the handle's attitude rigidly.
 TEST(ToolScenario, ShaftEdgeTorqueIsTheEdgeContactsLeverArmMoment) {
-  for (const double rate : {1000.0, 10000.0}) {
+  for (const auto& [rate, wrist] : {std::pair{1000.0, 1.0}, {10000.0, 1.0}, {1000.0, INFINITY}}) {
     ToolScenarioOptions o;
     o.scenario = ToolScenario::ShaftEdge;
     o.rate_hz = rate;
+    o.device.wrist_stiffness = wrist;
     const ToolScenarioReport r = run_tool_scenario(o);
     const Vec3 c(0, r.tool_tip.y(), 0), axis = r.tool_axis.normalized();
     const Vec3 n = (r.tool_tip + (c - r.tool_tip).dot(axis) * axis - c).normalized();  // edge → shaft axis
     const Vec3 edge_force = (r.tool_force.x() / n.x()) * n;
     const Vec3 reference = ((c - r.tool_tip) / 10.0).cross(edge_force);  // 10 model units per metre [N·m]
     const double error = (r.tool_torque - reference).norm() / reference.norm();
-    std::printf("shaft_edge at %.0f Hz: torque (%.5f, %.5f, %.5f), lever arm (%.5f, %.5f, %.5f) N m: %.2f %%\n", rate,
-                r.tool_torque.x(), r.tool_torque.y(), r.tool_torque.z(), reference.x(), reference.y(), reference.z(),
-                100 * error);
+    std::printf(
+        "shaft_edge at %.0f Hz, wrist %g N m/rad: torque (%.5f, %.5f, %.5f), lever arm (%.5f, %.5f, %.5f) N m: %.2f "
+        "%%\n",
+        rate, wrist, r.tool_torque.x(), r.tool_torque.y(), r.tool_torque.z(), reference.x(), reference.y(),
+        reference.z(), 100 * error);
     EXPECT_LT(error, 0.05) << rate << " Hz";
     EXPECT_LT(std::abs(r.tool_force.y()), 0.01 * r.tool_force.norm()) << "no force along the edge";
     EXPECT_GT(r.tool_force.x(), 0) << "the edge pushes the shaft away from the block";

@@ -33,7 +33,9 @@ enum class ToolScenario : uint8_t {
   /// at 50° from the vertical by a hand pressing it down and towards a step: its head rests on the
   /// floor (z = −0.4) of a pit x > 0 while its shaft leans on the pit's edge (x = 0, z = 0), two
   /// contacts. The torque about the tip is scored against the lever-arm reference r × F of the
-  /// edge's contact force (the floor's contact is straight below the tip: no moment).
+  /// edge's contact force (the floor's contact is straight below the tip: no moment). The hand
+  /// leans the handle 5° past the tool's rest with the simulated device's wrist (`device`'s
+  /// wrist_stiffness: the default yields to the torque, +infinity holds the attitude rigidly).
   ShaftEdge,
   /// The rigid burr (head radius 1 mm, the block 2 cm wide) drilling with the drill brush (K = 0.01,
   /// 200,000 rpm; SculptSession with RenderMode::RigidTool) for 0.5 s, pressed with `press_force_n`:
