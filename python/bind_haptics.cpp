@@ -152,6 +152,23 @@ py::array_t<double> map_rows(const Points& p, F&& f) {
   return out;
 }
 
+// A (w, x, y, z) quaternion from a sequence of 4 numbers. @throws InvalidInput naming @p what otherwise.
+Eigen::Quaterniond quaternion_from(py::object o, const char* what) {
+  const auto v = py::cast<std::vector<double>>(o);
+  if (v.size() != 4) throw InvalidInput(std::string(what) + ": expected 4 numbers (w, x, y, z)");
+  return Eigen::Quaterniond(v[0], v[1], v[2], v[3]);
+}
+
+py::tuple tuple3(const Vec3& v) { return py::make_tuple(v.x(), v.y(), v.z()); }
+
+// Ends @p d's tick with the force @p f and, unless None, the torque @p t.
+void end_frame_with(HapticDevice& d, py::object f, py::object t) {
+  if (t.is_none())
+    d.end_frame(vec3_from(f, "force"));
+  else
+    d.end_frame(vec3_from(f, "force"), vec3_from(t, "torque"));
+}
+
 // A SimulatedDevice with its own copy of the targets (the device keeps spans).
 struct PySimulatedDevice {
   std::vector<Vec3> targets;
@@ -165,6 +182,9 @@ py::object frame_dict(bool ok, const DeviceState& s) {
   d["velocity"] = py::make_tuple(s.velocity.x(), s.velocity.y(), s.velocity.z());
   d["buttons"] = s.buttons;
   d["time_s"] = s.time_s;
+  const Eigen::Quaterniond& q = s.orientation;
+  d["orientation"] = py::make_tuple(q.w(), q.x(), q.y(), q.z());
+  d["angular_velocity"] = py::make_tuple(s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z());
   return d;
 }
 
@@ -295,17 +315,21 @@ void bind_simulated_device(py::module_& m) {
             const bool ok = d.begin_frame(s);
             return frame_dict(ok, s);
           },
-          "Reads the handle: a dict position (3,) [m], velocity (3,) [m/s], buttons (int), time_s [s], device "
-          "frame; None when the device has nothing more to give.")
+          "Reads the handle: a dict position (3,) [m], velocity (3,) [m/s], buttons (int), time_s [s], "
+          "orientation (w, x, y, z) (tool → device frame), angular_velocity (3,) [rad/s], device frame; None when "
+          "the device has nothing more to give.")
       .def(
-          "end_frame", [](HapticDevice& d, py::object f) { d.end_frame(vec3_from(f, "force")); }, py::arg("force"),
-          "Commands the force (3,) [N, device frame] until the next tick and ends the tick.");
+          "end_frame", [](HapticDevice& d, py::object f, py::object t) { end_frame_with(d, f, t); }, py::arg("force"),
+          py::arg("torque") = py::none(),
+          "Commands the force (3,) [N, device frame] and, when given, the torque (3,) [N·m, device frame] until "
+          "the next tick and ends the tick.");
 
   py::class_<PySimulatedDevice>(m, "SimulatedDevice",
                                 "A simulated device: a handle of mass mass_kg pulled by a hand spring-damper towards "
                                 "one target per tick and pushed by the rendered force, held over each servo period.")
       .def(py::init([](const Points& targets, py::object start, double mass_kg, double hand_stiffness,
-                       double hand_damping, double rate_hz, int substeps, double max_force_n) {
+                       double hand_damping, double rate_hz, int substeps, double max_force_n, py::object orientation,
+                       double inertia_kgm2, double wrist_stiffness, double wrist_damping, double max_torque_nm) {
              require_rows_of_3(targets, "targets");
              if (targets.shape(0) == 0) throw InvalidInput("targets: no rows");
              auto d = std::make_unique<PySimulatedDevice>();
@@ -315,17 +339,26 @@ void bind_simulated_device(py::module_& m) {
              SimulatedDeviceOptions o;
              o.mass_kg = mass_kg, o.hand_stiffness = hand_stiffness, o.hand_damping = hand_damping;
              o.rate_hz = rate_hz, o.substeps = substeps, o.spec.max_force_n = max_force_n;
+             o.inertia_kgm2 = inertia_kgm2, o.wrist_stiffness = wrist_stiffness, o.wrist_damping = wrist_damping;
+             o.spec.max_torque_nm = max_torque_nm;
+             if (!orientation.is_none()) o.orientation = quaternion_from(orientation, "orientation");
              const Vec3 x0 = start.is_none() ? d->targets[0] : vec3_from(start, "start");
              d->device = std::make_unique<SimulatedDevice>(o, d->targets, x0);
              return d;
            }),
            py::arg("targets"), py::kw_only(), py::arg("start") = py::none(), py::arg("mass_kg") = 0.05,
            py::arg("hand_stiffness") = 200.0, py::arg("hand_damping") = 2.0, py::arg("rate_hz") = 1000.0,
-           py::arg("substeps") = 10, py::arg("max_force_n") = 3.3,
+           py::arg("substeps") = 10, py::arg("max_force_n") = 3.3, py::arg("orientation") = py::none(),
+           py::arg("inertia_kgm2") = 1e-4, py::arg("wrist_stiffness") = 1.0, py::arg("wrist_damping") = 0.006,
+           py::arg("max_torque_nm") = 0.0,
            "targets: (N, 3) float64 hand targets [m, device frame], one per tick (the last is held); start: (3,) "
            "initial handle position [m] (default the first target); mass_kg [kg], hand_stiffness [N/m], "
-           "hand_damping [N·s/m], rate_hz [Hz], substeps per period, max_force_n [N] (force clamp). Raises "
-           "ValueError for a non-positive mass or rate or substeps < 1.")
+           "hand_damping [N·s/m], rate_hz [Hz], substeps per period, max_force_n [N] (force clamp); orientation: "
+           "(w, x, y, z) the handle's start and the wrist's target (tool → device frame, normalised; default "
+           "identity); inertia_kgm2 [kg·m²] about the tip, wrist_stiffness [N·m/rad] (math.inf: held rigidly), "
+           "wrist_damping [N·m·s/rad], max_torque_nm [N·m] (torque clamp; 0: renders no torque, as a 3-DOF "
+           "device). Raises ValueError for a non-positive mass, inertia or rate, substeps < 1, a negative wrist "
+           "setting or a zero or non-finite orientation.")
       .def(
           "begin_frame",
           [](PySimulatedDevice& d) {
@@ -333,16 +366,18 @@ void bind_simulated_device(py::module_& m) {
             const bool ok = d.device->begin_frame(s);
             return frame_dict(ok, s);
           },
-          "Reads the handle: dict position (3,) [m], velocity (3,) [m/s], buttons, time_s [s].")
+          "Reads the handle: dict position (3,) [m], velocity (3,) [m/s], buttons, time_s [s], orientation "
+          "(w, x, y, z), angular_velocity (3,) [rad/s].")
       .def(
-          "end_frame", [](PySimulatedDevice& d, py::object f) { d.device->end_frame(vec3_from(f, "force")); },
-          py::arg("force"), "Holds the force (3,) [N] over one period and integrates the handle.")
+          "end_frame", [](PySimulatedDevice& d, py::object f, py::object t) { end_frame_with(*d.device, f, t); },
+          py::arg("force"), py::arg("torque") = py::none(),
+          "Holds the force (3,) [N] and the torque (3,) [N·m, device frame, about the tip; default none] over one "
+          "period and integrates the handle's position and orientation.")
       .def_property_readonly(
-          "hand_force",
-          [](const PySimulatedDevice& d) {
-            const Vec3& f = d.device->hand_force();
-            return py::make_tuple(f.x(), f.y(), f.z());
-          },
+          "wrist_torque", [](const PySimulatedDevice& d) { return tuple3(d.device->wrist_torque()); },
+          "the wrist's torque on the handle over the last period [N·m] (zero when held rigidly)")
+      .def_property_readonly(
+          "hand_force", [](const PySimulatedDevice& d) { return tuple3(d.device->hand_force()); },
           "the hand's force on the handle over the last period [N]")
       .def_property_readonly(
           "tick", [](const PySimulatedDevice& d) { return d.device->tick(); }, "ticks integrated");

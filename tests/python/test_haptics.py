@@ -205,3 +205,36 @@ def test_bake_gives_the_programs_report(hdm_program, tmp_path):
     for key in ("max_pct", "rms_pct", "max_back_pct", "rms_back_pct"):
         assert mine["fidelity"][key] == pytest.approx(theirs["fidelity"][key], rel=1e-9), key
     assert model.slab_count == hdm.load(str(tmp_path / "s.hdm")).slab_count
+
+
+def test_simulated_handle_turns_by_the_torque_as_a_free_rigid_body():
+    # A free handle (no wrist spring or damper) under a constant torque τ from rest turns by
+    # θ = τ·t²/(2I) (constant angular acceleration), about the torque's axis.
+    tau, inertia, ticks = 0.002, 1e-4, 100
+    device = hdm.SimulatedDevice(np.zeros((1, 3)), inertia_kgm2=inertia, wrist_stiffness=0.0, wrist_damping=0.0,
+                                 max_torque_nm=1.0)
+    for _ in range(ticks):
+        device.begin_frame()
+        device.end_frame((0.0, 0.0, 0.0), torque=(0.0, 0.0, tau))
+    w, x, y, z = device.begin_frame()["orientation"]
+    t = ticks / 1000.0
+    assert abs(x) < 1e-12 and abs(y) < 1e-12
+    assert 2 * np.arctan2(z, w) == pytest.approx(tau * t * t / (2 * inertia), rel=0.02)
+
+
+def test_simulated_wrist_settles_the_torque_over_its_stiffness():
+    # With the wrist spring k the handle comes to rest where k·θ balances τ.
+    tau, k = 0.01, 1.0
+    device = hdm.SimulatedDevice(np.zeros((1, 3)), wrist_stiffness=k, max_torque_nm=1.0)
+    for _ in range(3000):
+        device.begin_frame()
+        device.end_frame((0.0, 0.0, 0.0), torque=(tau, 0.0, 0.0))
+    frame = device.begin_frame()
+    w, x = frame["orientation"][:2]
+    assert 2 * np.arctan2(x, w) == pytest.approx(tau / k, rel=0.01)
+    assert np.linalg.norm(frame["angular_velocity"]) < 1e-6
+    assert np.allclose(device.wrist_torque, (-tau, 0.0, 0.0), atol=1e-4 * tau)
+    with pytest.raises(ValueError, match="orientation"):
+        hdm.SimulatedDevice(np.zeros((1, 3)), orientation=(0.0, 0.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="4 numbers"):
+        hdm.SimulatedDevice(np.zeros((1, 3)), orientation=(1.0, 0.0, 0.0))
