@@ -376,6 +376,8 @@ void run_sculpt(const SculptArgs& a) {
   dopt.spec.max_force_n = script.force.max_force;
   dopt.hand_stiffness = script.hand_stiffness;
   dopt.hand_damping = script.hand_damping;
+  // The rigid tool is a 6-DOF device: its torque reaches the hand's wrist and turns the handle.
+  if (so.mode == RenderMode::RigidTool) dopt.spec.max_torque_nm = so.rigid.max_torque;
   SimulatedDevice device(dopt, path.position, path.position.front(), buttons);
 
   Run run;
@@ -430,7 +432,8 @@ void add_sculpt_command(CLI::App& app) {
   cmd->add_option("--mode", a->mode,
                   "force model: proxy (a point god-object, default), penalty (the paper's), sphere (the brush felt as "
                   "a ball of its radius held outside the surface, which carves with it) or rigid (a 6-DOF dental burr, "
-                  "head radius 1 % of the model's diagonal, force and torque; its head drills with the drill brush)")
+                  "head radius 1 % of the model's diagonal, force and torque, the torque turning the simulated hand's "
+                  "handle against its wrist; its head drills with the drill brush)")
       ->check(CLI::IsMember({"proxy", "penalty", "sphere", "rigid"}));
   cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)")
       ->check(CLI::IsMember({"newton", "bisection"}));
