@@ -116,7 +116,11 @@ const std::vector<std::pair<int32_t, int32_t>>& Shell::current_pairs() {
 
 void Shell::separate() {
   for (int it = 0; it < 12; ++it) {
-    const auto pairs = current_pairs();
+    auto pairs = current_pairs();
+    if (pairs.empty()) {
+      checked_inner_.clear();
+      pairs = current_pairs();
+    }
     if (pairs.empty()) break;
     for (const auto& [a, b] : pairs)
       for (int32_t f : {a, b})

@@ -32,7 +32,8 @@ class Shell {
   void grow();
 
   // Thins the shell where slabs overlap (an exact boundary intersection test), then re-thins any
-  // slab the uneven shrinking made invalid; targets follow, so growth stops there. At most 12 rounds.
+  // slab the uneven shrinking made invalid; targets follow, so growth stops there. At most 12 rounds;
+  // no pair found around the slabs that moved is confirmed over every slab before stopping.
   void separate();
 
   // The overlapping slab pairs, recomputed only around slabs whose corners moved since the last call.

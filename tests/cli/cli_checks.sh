@@ -135,10 +135,12 @@ exit_codes)
 scale_free)
   # A mesh scaled by 2^k (exact in binary floating point) bakes to the same model, scaled: every
   # `hdm check` figure is equal. Scaled by powers of ten, from 1e-12 to 1e12, the input's decimal
-  # rounding (1e-16 of a coordinate) is the only difference: the same slab count, fidelity within
-  # 0.001 % of the diagonal, contact depth within 0.005 % and agreement within 0.01 points (maxima
-  # and counts over 20,000 random points). Outside the float range the input is refused, naming the
-  # scale. The bunny runs in the uninstrumented build only.
+  # rounding (1e-16 of a coordinate) is the only difference: the same slab count, RMS fidelity
+  # within 0.001 % of the diagonal, maximum fidelity and contact depth within 0.005 % (a fortieth of
+  # the bound: the rounding can tip a choice of the bake, which moves the single worst point a
+  # little), and at most 5 of the 20,000 random contact points judged differently (a point whose
+  # depth lies at the agreement bound goes either way). Outside the float range the input is
+  # refused, naming the scale. The bunny runs in the uninstrumented build only.
   scaled() {  # scaled IN OUT FACTOR: an OFF file with every coordinate times FACTOR
     python3 - "$@" <<'PY'
 import sys
@@ -175,16 +177,16 @@ ref = runs["1"]
 bad = []
 for k, r in runs.items():
     exact = k.startswith("0x")  # a power of two: every figure equal
-    tol = {"fidelity": 0.0, "depth": 0.0, "agreement": 0.0} if exact else {"fidelity": 1e-3, "depth": 5e-3, "agreement": 1e-4}
+    tol = {"rms": 0.0, "max": 0.0, "depth": 0.0, "points": 0} if exact else {"rms": 1e-3, "max": 5e-3, "depth": 5e-3, "points": 5}
     for key in ["slabs", "grid", "invalid_slabs", "overlapping_pairs", "samples"]:
         if r[key] != ref[key]:
             bad.append("%s at %s: %s %s, at 1: %s" % (mesh, k, key, r[key], ref[key]))
     for key, v in r["fidelity"].items():
-        if abs(v - ref["fidelity"][key]) > tol["fidelity"]:
+        if abs(v - ref["fidelity"][key]) > tol["max" if key.startswith("max") else "rms"]:
             bad.append("%s at %s: fidelity %s %.6f%%, at 1: %.6f%%" % (mesh, k, key, v, ref["fidelity"][key]))
     c, c0 = r["contact"], ref["contact"]
-    if abs(c["agreement"] - c0["agreement"]) > tol["agreement"]:
-        bad.append("%s at %s: agreement %.6f, at 1: %.6f" % (mesh, k, c["agreement"], c0["agreement"]))
+    if round(abs(c["agreement"] - c0["agreement"]) * c0["points"]) > tol["points"]:
+        bad.append("%s at %s: agreement %.6f, at 1: %.6f (of %d points)" % (mesh, k, c["agreement"], c0["agreement"], c0["points"]))
     for key in ["depth_rms_pct", "depth_max_pct"]:
         if abs(c[key] - c0[key]) > tol["depth"]:
             bad.append("%s at %s: %s %.6f, at 1: %.6f" % (mesh, k, key, c[key], c0[key]))
