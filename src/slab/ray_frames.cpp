@@ -5,7 +5,6 @@
 #include "../mesh/max_min_direction.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace hdm::slab::detail {
 
@@ -17,12 +16,12 @@ double min_dot(const Vec3& d, const std::vector<Vec3>& normals) {
 
 // The unit direction that maximises the smallest dot product with the incident face normals (the
 // centre of the smallest spherical cap holding them). The optimum is fixed by one, two or three
-// active normals: try the angle-weighted normal, every normal, every pair bisector and every triple
+// active normals: try the area-weighted normal, every normal, every pair bisector and every triple
 // circumcentre (small one-rings), keep the best.
 Vec3 max_min_direction(const Vec3& start, const std::vector<Vec3>& normals) {
   Vec3 best = start;
   double best_val = min_dot(start, normals);
-  if (best_val > 0.5) return best;  // the angle-weighted normal is good enough: keep it (smooth field)
+  if (best_val > 0.5) return best;  // the area-weighted normal is good enough: keep it (smooth field)
   mesh::detail::improve_max_min(normals, best_val, &best);
   return best;
 }
@@ -41,11 +40,8 @@ VertexFrame vertex_frames(const CoarseMesh& c, int smoothing) {
     const Tri& t = c.faces[f];
     const Vec3 n = (c.vertices[t[1]] - c.vertices[t[0]]).cross(c.vertices[t[2]] - c.vertices[t[0]]);
     fr.face_normal[f] = n.normalized();
-    // Angle-weighted normal (Thürmer & Wüthrich 1998): the same however a planar facet is cut.
     for (int a = 0; a < 3; ++a) {
-      const Vec3 e1 = c.vertices[t[(a + 1) % 3]] - c.vertices[t[a]], e2 = c.vertices[t[(a + 2) % 3]] - c.vertices[t[a]];
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      fr.direction[t[a]] += angle * fr.face_normal[f];
+      fr.direction[t[a]] += n;
       fr.edge[t[a]] += (c.vertices[t[(a + 1) % 3]] - c.vertices[t[a]]).norm() +
                        (c.vertices[t[(a + 2) % 3]] - c.vertices[t[a]]).norm();
       valence[t[a]] += 2;
@@ -66,9 +62,8 @@ VertexFrame vertex_frames(const CoarseMesh& c, int smoothing) {
   }
   // Smooth the direction field: near-parallel rays on neighbouring vertices keep slabs prism-like,
   // so concave regions can take a thicker shell before an alpha-triangle folds. A smoothed
-  // direction is kept only while it sees every incident face well (min dot >= 0.5, or no worse
-  // than before): the neighbours averaged depend on how planar facets were cut, and a ray tilted
-  // further towards one face of a sharp convex corner makes the displaced grid cut the edge off.
+  // direction is kept only while it still sees every incident face (min dot >= 0.25, or no worse
+  // than the max-min direction).
   for (int it = 0; it < smoothing; ++it) {
     std::vector<Vec3> next = fr.direction;
     for (size_t v = 0; v < nv; ++v) {
@@ -80,7 +75,7 @@ VertexFrame vertex_frames(const CoarseMesh& c, int smoothing) {
       for (int32_t k = fr.offsets[v]; k < fr.offsets[v + 1]; ++k)
         mc = std::min(mc, cand.dot(fr.face_normal[fr.faces[k]])),
         mo = std::min(mo, fr.direction[v].dot(fr.face_normal[fr.faces[k]]));
-      if (mc >= std::min(0.5, mo)) next[v] = cand;
+      if (mc >= std::min(0.25, mo)) next[v] = cand;
     }
     fr.direction = std::move(next);
   }

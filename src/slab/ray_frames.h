@@ -33,11 +33,10 @@ double min_dot(const Vec3& d, const std::vector<Vec3>& normals);
 // 0.5, so the field stays smooth). O(k^3) for k normals up to 24 (improve_max_min()).
 Vec3 max_min_direction(const Vec3& start, const std::vector<Vec3>& normals);
 
-// Frames of every vertex of @p c: each direction (from the angle-weighted vertex normal) has a
-// positive dot product with every incident face normal where one exists, which guarantees a
-// positive Jacobian for a thin enough shell; then @p smoothing Laplacian sweeps of the directions,
-// each step kept only while the vertex still sees its faces well (smallest dot product 0.5).
-// O(#V) per sweep.
+// Frames of every vertex of @p c: each direction has a positive dot product with every incident
+// face normal where one exists, which guarantees a positive Jacobian for a thin enough shell; then
+// @p smoothing Laplacian sweeps of the directions, each step kept only while the vertex still sees
+// its faces. O(#V) per sweep.
 VertexFrame vertex_frames(const CoarseMesh& c, int smoothing);
 
 }  // namespace hdm::slab::detail
