@@ -2,7 +2,9 @@
 # The molar drilled with the 6-DOF burr in the studio: blobby.off (libcgal-demo) as a molar crown
 # with 1 mm of enamel (300 HV) over dentin (55 HV, orange), `hdm studio --burr` with the drill
 # brush held 2 mm into the crown for 900 frames (data/scripts/studio_molar_burr.json), then the
-# burr lifted beside the pit and the window saved. Needs an X display, or runs under Xvfb.
+# burr held 1 mm into the pit and tilted 35° further until its shaft rests on the crown beside it
+# (probe "shaft_on_cusp": head and shaft contacts, the torque) and the window saved from the side
+# about the tip. Needs an X display, or runs under Xvfb.
 # Leaves out/molar_burr/{molar.hdm,molar_layers.hdm,molar_burr.png,report.json}.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

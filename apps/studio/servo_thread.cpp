@@ -79,6 +79,8 @@ void ServoThread::after(void* user, const ServoTick& t, const SessionTick& r) no
     tool.orientation = r.tool_orientation;
     tool.torque = r.torque;
     tool.tool_contacts = r.tool_contacts;
+    tool.head = r.head;
+    tool.shaft = r.shaft;
     tool.contact = r.tool_contacts > 0;
   }
   tool.tool_on = r.tool_on;

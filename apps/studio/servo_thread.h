@@ -30,6 +30,8 @@ struct ToolState {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   Vec3 torque = Vec3::Zero();  ///< rigid tool: torque rendered [N·m] about the tip
   int32_t tool_contacts = 0;   ///< rigid tool: shell points pushing the god-object
+  ToolPartContacts head;       ///< rigid tool: the head's contacts (SessionTick::head)
+  ToolPartContacts shaft;      ///< rigid tool: the shaft's contacts (SessionTick::shaft)
   bool tool_on = false;        ///< the tool button is held
   bool edit_pending = false;   ///< edit work carried over to the next tick
   int64_t tick = 0;            ///< tick index

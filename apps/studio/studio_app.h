@@ -57,7 +57,7 @@ class Studio final : public ScriptHost {
   void redo() override { command(SessionCommand::Redo); }
   void save(const std::string& path) override;
   void export_model(const std::string& path) override;
-  void view(double azimuth_deg, double elevation_deg, double zoom) override;
+  void view(double azimuth_deg, double elevation_deg, double zoom, bool on_tool) override;
   void turn_tool(double yaw_deg, double pitch_deg) override;
 
  private:

@@ -66,6 +66,13 @@ void Studio::probe(const std::string& name) {
     fig_.probes[name]["orientation_wxyz"] = {q.w(), q.x(), q.y(), q.z()};
     fig_.probes[name]["torque_nm"] = v(t.torque);
     fig_.probes[name]["tool_contacts"] = t.tool_contacts;
+    // The head's and the shaft's contacts: how many, their force on the tool and where they press.
+    auto part = [&](const ToolPartContacts& c) {
+      return nlohmann::json{
+          {"contacts", c.contacts}, {"force_n", v(c.force)}, {"point_m", v(workspace_.to_device(c.point))}};
+    };
+    fig_.probes[name]["head"] = part(t.head);
+    fig_.probes[name]["shaft"] = part(t.shaft);
   }
 }
 
@@ -87,10 +94,14 @@ void Studio::export_model(const std::string& path) {
   message_ = "exported " + path;
 }
 
-void Studio::view(double azimuth_deg, double elevation_deg, double zoom) {
+void Studio::view(double azimuth_deg, double elevation_deg, double zoom, bool on_tool) {
   camera_.azimuth_deg = azimuth_deg, camera_.elevation_deg = elevation_deg;
   camera_.fit();
   camera_.zoom = zoom;
+  if (on_tool) {  // a close view of the tool where it touches; the mouse's handle follows the new view
+    const ToolState& t = servo_->tool();
+    camera_.target = t.rigid || t.ball ? t.ball_centre : t.proxy;
+  }
 }
 
 bool Studio::set_footprint(const ToolState& t) {

@@ -149,6 +149,7 @@ std::vector<ScriptStep> read_studio_script(const std::string& path) {
       s.azimuth_deg = number(j.value("azimuth", nlohmann::json(0)), where + ": \"azimuth\"", -360, 360);
       s.elevation_deg = number(j.value("elevation", nlohmann::json(15)), where + ": \"elevation\"", -89, 89);
       s.zoom = number(j.value("zoom", nlohmann::json(1)), where + ": \"zoom\"", 0.2, 200);
+      s.on_tool = j.value("on_tool", false);
     } else {
       throw InvalidInput(
           where + ": unknown action \"" + action +
@@ -195,7 +196,7 @@ bool ScriptPlayer::frame(ScriptHost& host) {
         host.export_model(s.path);
         break;
       case ScriptStep::View:
-        host.view(s.azimuth_deg, s.elevation_deg, s.zoom);
+        host.view(s.azimuth_deg, s.elevation_deg, s.zoom, s.on_tool);
         break;
       case ScriptStep::Probe:
         host.probe(s.path);

@@ -37,6 +37,8 @@ struct ScriptStep {
   bool ui = false;                      ///< Screenshot: the whole window, panels and tool glyphs included
   bool footprint = false;               ///< Screenshot: the model view with the brush's footprint on the surface
   double azimuth_deg = 0, elevation_deg = 15, zoom = 1;  ///< View
+  /// View: about the tool's tip (the god-object's, else the proxy) instead of the model's centre
+  bool on_tool = false;
   /// Turn: the tool's turn about the view's vertical and horizontal axes [degrees]
   double yaw_deg = 0, pitch_deg = 0;
 };
@@ -73,7 +75,9 @@ class ScriptHost {
   virtual void redo() = 0;
   virtual void save(const std::string& path) = 0;
   virtual void export_model(const std::string& path) = 0;
-  virtual void view(double azimuth_deg, double elevation_deg, double zoom) = 0;
+  /// Sets the camera: view direction [degrees, as `hdm render --view`] and zoom (1: the model
+  /// fits) about the model's centre, or with @p on_tool about the tool's tip as the servo left it.
+  virtual void view(double azimuth_deg, double elevation_deg, double zoom, bool on_tool) = 0;
   /// Turns the handle (a rigid tool) by @p yaw_deg about the view's vertical axis, then
   /// @p pitch_deg about its horizontal axis, as Alt with the mouse does.
   virtual void turn_tool(double yaw_deg, double pitch_deg) = 0;

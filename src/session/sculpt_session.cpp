@@ -64,6 +64,7 @@ struct SculptSession::Impl {
   ToolWrench wrench;                           // RenderMode::RigidTool: the last tick's
   std::vector<uint8_t> in_head;                // RenderMode::RigidTool: per shell point, 1 on the burr's head
   double head_force_n = 0;                     // the head's contact normal forces [N], the last tick's
+  ToolPartContacts head_part, shaft_part;      // the head's and the shaft's contacts, the last tick's
   Contact head_contact;                        // the head's contact on the surface, the last tick's
   QueryCache head_cache;                       // coherence of the head contact's query
   Brush brush;
@@ -104,20 +105,27 @@ struct SculptSession::Impl {
 
   // The head's contacts after the solve: a row's multiplier λ is its contact force over the
   // workspace's scale (the coupling's force is scale·Σλ·n, rigid_tool.h), so F_n = scale·Σλ over
-  // the head's rows. The contact is their force-weighted mean point, projected on the surface.
+  // the head's rows. The contact is their force-weighted mean point, projected on the surface. The
+  // shaft's rows give its part of the wrench the same way (for the caller's records).
   void head_contact_of_tool() noexcept {
     const RigidToolState& st = *tool_state;
     const Eigen::Matrix3d R = st.orientation.toRotationMatrix();
-    double lambda = 0;
-    Vec3 at = Vec3::Zero();
-    for (int k = 0; k < st.row_count; ++k) {
+    double lambda[2] = {0, 0};  // head, shaft
+    ToolPartContacts part[2];
+    for (int k = 0; k < st.row_count && st.contact; ++k) {
       const ToolConstraint& row = st.rows[k];
-      if (!(row.lambda > 0) || !in_head[row.point]) continue;
-      lambda += row.lambda;
-      at += row.lambda * (st.position + R * options.tool.points[row.point]);
+      if (!(row.lambda > 0)) continue;
+      const int j = in_head[row.point] ? 0 : 1;
+      lambda[j] += row.lambda;
+      ++part[j].contacts;
+      part[j].force += (ws.scale * row.lambda) * row.n;
+      part[j].point += row.lambda * (st.position + R * options.tool.points[row.point]);
     }
-    head_force_n = st.contact ? ws.scale * lambda : 0.0;
-    head_contact = head_force_n > 0 ? query(model, locator, at / lambda, head_cache, options.rigid.solver) : Contact{};
+    for (int j = 0; j < 2; ++j) part[j].point = lambda[j] > 0 ? Vec3(part[j].point / lambda[j]) : st.position;
+    head_part = part[0], shaft_part = part[1];
+    head_force_n = ws.scale * lambda[0];
+    head_contact =
+        head_force_n > 0 ? query(model, locator, head_part.point, head_cache, options.rigid.solver) : Contact{};
   }
 
   // The stroke's sample of this tick: the point renderers' contact, or the rigid tool's head
@@ -223,6 +231,8 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     r.tool_orientation = s.tool_state->orientation;
     r.tool_contacts = s.wrench.contacts;
     r.head_force_n = s.head_force_n;
+    r.head = s.head_part;
+    r.shaft = s.shaft_part;
     r.torque = s.wrench.torque * t.force_gain;
     device.end_frame(r.force, r.torque);  // the wrench first: edits never delay it
   } else {

@@ -71,6 +71,21 @@ struct SessionCommand {
   ProxyParams proxy;  ///< SetProxy: the force and proxy parameters from this tick on (the proxy's state is kept)
 };
 
+/// RenderMode::RigidTool: the contacts of one part of the tool (the head or the shaft) in the
+/// tick's solve. The parts split the shell at SessionOptions::head_radius from the tip: the head is
+/// within it, the shaft (with its end) beyond.
+struct ToolPartContacts {
+  int32_t contacts = 0;  ///< the part's shell points pushing the god-object (multiplier > 0)
+  /// The sum of their contact forces on the tool [N, device axes = model axes]: scale·λ·n per point,
+  /// the solve's forces before damping and the force clamp. At the solve's equilibrium their moments
+  /// about the tip add up to the torque rendered before damping and the torque clamp (rigid_tool.h),
+  /// so the shaft's lever arm sets the torque's sense.
+  Vec3 force = Vec3::Zero();
+  /// Their force-weighted mean point [model units, model frame] (on the tool's surface where they
+  /// press); the god-object's tip without a contact.
+  Vec3 point = Vec3::Zero();
+};
+
 /// What one tick did (for the caller's records).
 struct SessionTick {
   DeviceState device;         ///< the device reading of the tick (device frame)
@@ -88,6 +103,8 @@ struct SessionTick {
   /// within SessionOptions::head_radius of the tip), the drill's F_n: the contact forces of the
   /// solve, before damping and the force clamp; 0 without a head contact.
   double head_force_n = 0;
+  ToolPartContacts head;      ///< RenderMode::RigidTool: the head's contacts (shell points within head_radius)
+  ToolPartContacts shaft;     ///< RenderMode::RigidTool: the shaft's contacts (the other shell points)
   bool ended = false;         ///< the device had nothing more (begin_frame returned false)
   bool tool_on = false;       ///< the tool button is held
   int32_t sweeps = 0;         ///< sweeps finished in this tick
