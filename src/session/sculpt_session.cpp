@@ -234,7 +234,8 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
     r.head = s.head_part;
     r.shaft = s.shaft_part;
     r.torque = s.wrench.torque * t.force_gain;
-    device.end_frame(r.force, r.torque);  // the wrench first: edits never delay it
+    device.end_frame(r.force, r.torque);                          // the wrench first: edits never delay it
+    r.head.force *= t.force_gain, r.shaft.force *= t.force_gain;  // as rendered, like the wrench
   } else {
     r.ball_centre = s.ball.center;
     device.end_frame(r.force);  // the force first: edits never delay it

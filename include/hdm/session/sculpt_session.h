@@ -77,9 +77,10 @@ struct SessionCommand {
 struct ToolPartContacts {
   int32_t contacts = 0;  ///< the part's shell points pushing the god-object (multiplier > 0)
   /// The sum of their contact forces on the tool [N, device axes = model axes]: scale·λ·n per point,
-  /// the solve's forces before damping and the force clamp. At the solve's equilibrium their moments
-  /// about the tip add up to the torque rendered before damping and the torque clamp (rigid_tool.h),
-  /// so the shaft's lever arm sets the torque's sense.
+  /// the solve's forces before damping and the force clamp, times the servo loop's force gain as the
+  /// rendered force and torque are (0 while the watchdog fades them out). At the solve's equilibrium
+  /// their moments about the tip add up to the torque rendered before damping and the torque clamp
+  /// (rigid_tool.h), so the shaft's lever arm sets the torque's sense.
   Vec3 force = Vec3::Zero();
   /// Their force-weighted mean point [model units, model frame] (on the tool's surface where they
   /// press); the god-object's tip without a contact.
