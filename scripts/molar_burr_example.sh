@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
-# The molar drilled with the 6-DOF burr in the studio: blobby.off (libcgal-demo) as a molar crown
-# with 1 mm of enamel (300 HV) over dentin (55 HV, orange), `hdm studio --burr` with the drill
-# brush held 2 mm into the crown for 900 frames (data/scripts/studio_molar_burr.json), then the
-# burr held 1 mm into the pit and tilted 35° further until its shaft rests on the crown beside it
-# (probe "shaft_on_cusp": head and shaft contacts, the torque) and the window saved from the side
-# about the tip. Needs an X display, or runs under Xvfb.
-# Leaves out/molar_burr/{molar.hdm,molar_layers.hdm,molar_burr.png,report.json}.
+# A molar drilled with the 6-DOF burr in the studio: scripts/molar_crown.py writes a crown with four
+# cusps around a central fossa, with 1 mm of enamel (300 HV) over dentin (55 HV, orange);
+# `hdm studio --burr` with the drill brush holds the burr upright 2 mm into the fossa for 900 frames
+# (data/scripts/studio_molar_burr.json), then holds it 1 mm into the pit and tilts it toward a cusp:
+# at 53° the head alone touches (probe "tilted"), 10° further the shaft rests on the cusp's inner
+# slope (probe "shaft_on_cusp": head and shaft contacts, the torque), and the window is saved from
+# the side about the tip. Needs an X display, or runs under Xvfb.
+# Leaves out/molar_burr/{molar.off,molar.hdm,molar_layers.hdm,molar_burr.png,report.json}.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$here/out/molar_burr"
 mkdir -p "$out"
-"$here/build/bin/hdm" bake "$here/data/meshes/blobby.off" -o "$out/molar.hdm" --slabs 1000 >/dev/null
+/usr/bin/python3 "$here/scripts/molar_crown.py" "$out/molar.off"
+"$here/build/bin/hdm" bake "$out/molar.off" -o "$out/molar.hdm" --slabs 1000 >/dev/null
 PYTHONPATH="$here/build/python" /usr/bin/python3 - "$out" <<'PY'
 import sys
 import hdm
