@@ -2,7 +2,8 @@
 # A molar drilled with the 6-DOF burr in the studio: scripts/molar_crown.py writes a crown with four
 # cusps around a central fossa, with 1 mm of enamel (300 HV) over dentin (55 HV, orange);
 # `hdm studio --burr` with the drill brush holds the burr upright 2 mm into the fossa for 900 frames
-# (data/scripts/studio_molar_burr.json), then holds it 1 mm into the pit and tilts it toward a cusp:
+# (data/scripts/studio_molar_burr.json; the servo loop in lockstep, 100 ticks a frame, so that
+# every run gives the same figures), then holds it 1 mm into the pit and tilts it toward a cusp:
 # at 53° the head alone touches (probe "tilted"), 10° further the shaft rests on the cusp's inner
 # slope (probe "shaft_on_cusp": head and shaft contacts, the torque), and the window is saved from
 # the side about the tip. Needs an X display, or runs under Xvfb.
@@ -27,5 +28,6 @@ PY
 run=()
 [ -n "${DISPLAY:-}" ] || run=(xvfb-run -a -s "-screen 0 1280x720x24")
 (cd "$out" && "${run[@]}" "$here/build/bin/hdm-studio" molar_layers.hdm --size 1280x720 --lod 0 --burr \
+  --ticks-per-frame 100 \
   --script "$here/data/scripts/studio_molar_burr.json" --report report.json)
 echo "wrote $out/molar_burr.png"

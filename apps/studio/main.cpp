@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
   app.add_option("--secret-file", o.secret_file,
                  "with --device: the bridge's shared secret, created with mode 0600 when missing (default: the "
                  "HDM_BRIDGE_SECRET environment variable)");
+  app.add_option("--ticks-per-frame", o.ticks_per_frame,
+                 "with --script: run exactly this many servo ticks per frame, in lockstep with the frames, so that the "
+                 "script's run is the same every time (default: the servo runs in real time beside the frames)")
+      ->check(CLI::Range(1, 100000));
   app.add_option("--frames", o.frames, "stop after this many frames")->check(CLI::Range(1L, 100000000L));
   app.add_option("--screenshot", o.screenshot, "write the model view of the last frame here (PNG)");
   app.add_option("--report", o.report, "write the session's figures here (JSON): frame times, uploads, servo timing");

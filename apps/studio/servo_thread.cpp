@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <thread>
 #include <vector>
 
 namespace hdm::studio {
@@ -18,15 +19,18 @@ int64_t now_ns() noexcept {
 
 }  // namespace
 
-ServoThread::ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge)
+ServoThread::ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge,
+                         bool lockstep)
     : session_(session),
       bridge_(bridge),
       ball_(session.render_mode() == RenderMode::Sphere),
       rigid_(session.render_mode() == RenderMode::RigidTool),
-      rate_hz_(rate_hz) {
+      rate_hz_(rate_hz),
+      lockstep_(lockstep) {
   thread_ = std::thread([this, &device] {
     ServoOptions o;
     o.rate_hz = rate_hz_;
+    o.realtime = !lockstep_;
     o.ticks = std::numeric_limits<int64_t>::max();
     o.keep_ticks = static_cast<int64_t>(rate_hz_ * 120);  // medians over the last two minutes
     o.stop = &stop_;
@@ -45,8 +49,22 @@ const ServoStats& ServoThread::stop() {
   return stats_;
 }
 
-void ServoThread::before(void* user, SculptSession&, const ServoTick&) noexcept {
-  static_cast<ServoThread*>(user)->tick_start_ns_ = now_ns();
+void ServoThread::step(int64_t n) {
+  if (!lockstep_) return;
+  const int64_t target = granted_.fetch_add(n, std::memory_order_release) + n;
+  while (ticks_.load(std::memory_order_acquire) < target && !ended_.load(std::memory_order_acquire) &&
+         !stop_.load(std::memory_order_relaxed))
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
+}
+
+void ServoThread::before(void* user, SculptSession&, const ServoTick& t) noexcept {
+  ServoThread& s = *static_cast<ServoThread*>(user);
+  // Lockstep: wait for the render thread's grant (a stop lets the ramp-out ticks run). Sleeping, not
+  // spinning: the loop may hold SCHED_FIFO, and the render thread must get the core.
+  while (s.lockstep_ && t.tick >= s.granted_.load(std::memory_order_acquire) &&
+         !s.stop_.load(std::memory_order_relaxed))
+    std::this_thread::sleep_for(std::chrono::microseconds(20));
+  s.tick_start_ns_ = now_ns();
 }
 
 void ServoThread::after(void* user, const ServoTick& t, const SessionTick& r) noexcept {

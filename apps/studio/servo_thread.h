@@ -52,7 +52,10 @@ class ServoThread {
   /// @brief Starts the loop at @p rate_hz with @p session and @p device, which must outlive it.
   /// @p bridge: the same device when it comes through the bridge, so that each force packet carries
   /// the surface contact point of the tick before (as run_bridge_session sends it); else null.
-  ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge = nullptr);
+  /// @p lockstep: the loop runs only the ticks step() grants, back to back (ServoOptions::realtime
+  /// false, so no tick counts as late), instead of in real time.
+  ServoThread(SculptSession& session, HapticDevice& device, double rate_hz, bridge::BridgeDevice* bridge = nullptr,
+              bool lockstep = false);
   /// Stops the loop (ramping the force out) and joins.
   ~ServoThread();
   /// Requests the end, waits for it and returns the run's statistics (the kept window's
@@ -67,6 +70,9 @@ class ServoThread {
   bool ended() const noexcept { return ended_.load(std::memory_order_acquire); }
   /// Ticks run so far.
   int64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
+  /// @brief Lockstep: grants @p n more ticks and waits until the loop has run them (or has ended
+  /// or is stopping). Render thread only; without lockstep it returns at once.
+  void step(int64_t n);
   double rate_hz() const noexcept { return rate_hz_; }
   /// After stop(): why the servo thread ran without real-time scheduling (null: it had SCHED_FIFO).
   const char* realtime_note() const noexcept { return note_; }
@@ -81,6 +87,8 @@ class ServoThread {
   bool ball_;   // the session feels the tool as a ball
   bool rigid_;  // the session feels the tool as a rigid tool with torque
   double rate_hz_;
+  bool lockstep_;
+  std::atomic<int64_t> granted_{0};  // lockstep: ticks the loop may run
   std::atomic<bool> stop_{false};
   std::thread thread_;
   ServoStats stats_;

@@ -40,6 +40,8 @@ Studio::Studio(Window& window, SlabModel model, const StudioOptions& o, const Wi
   so.proxy.friction_scale = o.friction_scale;
   if (o.ball) so.mode = RenderMode::Sphere;
   if (o.burr) so.mode = RenderMode::RigidTool;
+  // Lockstep: each tick finishes its edits and publications, whatever they cost (no time budget).
+  if (o.ticks_per_frame > 0) so.edit_budget_s = 10;
   posted_proxy_ = so.proxy;
   settings_.stiffness = static_cast<float>(o.stiffness);
   settings_.friction = static_cast<float>(o.friction_scale);
@@ -70,7 +72,7 @@ Studio::Studio(Window& window, SlabModel model, const StudioOptions& o, const Wi
     settings_.brush = BrushTool::Carve;  // the recording's tool button strokes with the panel's brush
     post_brush_if_changed();
   }
-  servo_ = std::make_unique<ServoThread>(*session_, *device_, o.rate_hz, bridge_);
+  servo_ = std::make_unique<ServoThread>(*session_, *device_, o.rate_hz, bridge_, o.ticks_per_frame > 0);
 }
 
 Studio::~Studio() {
@@ -110,7 +112,8 @@ int Studio::run() {
     const UploadFrame up = uploader_->update();
     fig_.uploads.push_back(up.uploaded);
     if (up.dirty >= 0) fig_.dirty_total += up.dirty, fig_.mismatched_total += up.mismatched;
-    if (up.epoch != drawn_epoch_) drawn_epoch_ = up.epoch, epoch_changed_at_ = start;
+    if (up.epoch != drawn_epoch_)
+      drawn_epoch_ = up.epoch, epoch_changed_at_ = start, epoch_changed_frame_ = fig_.frames;
 
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_.handle, &w, &h);
@@ -129,6 +132,7 @@ int Studio::run() {
     renderer_->draw(cam, false, level_);
     fig_.levels.push_back(level_);
     drive_device(cam);
+    servo_->step(o_.ticks_per_frame);       // lockstep: this frame's ticks, with this frame's handle
     if (!footprint_screenshots_.empty()) {  // the model view with the footprint, at full detail
       if (level_ > 0) glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT), renderer_->draw(cam);
       for (const std::string& path : footprint_screenshots_) write_screenshot(path, w, h);
@@ -277,6 +281,9 @@ void check_options(const StudioOptions& options) {
     throw InvalidInput("--rate " + std::to_string(options.rate_hz) + ": the servo rate must be in [100, 20000] Hz");
   if (options.width < 64 || options.height < 64 || options.width > 8192 || options.height > 8192)
     throw InvalidInput("--size: the window must be 64..8192 pixels on each side");
+  if (options.ticks_per_frame < 0 ||
+      (options.ticks_per_frame > 0 && (options.script.empty() || !options.device.empty() || !options.replay.empty())))
+    throw InvalidInput("--ticks-per-frame: a scripted session with the mouse only, and not negative");
 }
 
 }  // namespace

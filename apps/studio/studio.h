@@ -34,6 +34,10 @@ struct StudioOptions {
   std::string device;
   /// The bridge's shared secret file (bridge::load_bridge_secret(); empty: HDM_BRIDGE_SECRET).
   std::string secret_file;
+  /// Scripted sessions: the servo loop runs exactly this many ticks per frame, back to back, in
+  /// lockstep with the frames (and edits without a time budget), so that a script's run is the same
+  /// every time; 0: in real time beside the frames.
+  int ticks_per_frame = 0;
   long frames = -1;             ///< stop after this many frames (-1: when the script ends or the window closes)
   std::string screenshot;       ///< write the last frame's model view here (PNG)
   std::string report;           ///< write the session's figures here (JSON)

@@ -137,6 +137,7 @@ class Studio final : public ScriptHost {
   long level_changed_at_ = 0;
   uint64_t drawn_epoch_ = 0;
   double epoch_changed_at_ = 0, edits_per_s_ = 0;
+  long epoch_changed_frame_ = 0;  // fig_.frames when the drawn epoch last changed
   ServoFigures figures_;
   std::vector<std::string> screenshots_, ui_screenshots_, footprint_screenshots_;
   StudioFigures fig_;

@@ -41,8 +41,12 @@ bool Studio::settled() {
   else if (tool_off_since_ < 0)
     tool_off_since_ = t.tick;
   const bool quiet = tool_off_since_ >= 0 && t.tick - tool_off_since_ >= static_cast<int64_t>(0.03 * o_.rate_hz);
+  // The newest epoch drawn for a while: 50 ms, or in lockstep two frames (a frame count, so that the
+  // settle ends at the same tick every run).
+  const bool drawn =
+      o_.ticks_per_frame > 0 ? fig_.frames - epoch_changed_frame_ >= 2 : seconds_now() - epoch_changed_at_ > 0.05;
   return !button_ && !t.tool_on && quiet && !t.edit_pending && t.tick >= quiet_after_tick_ &&
-         session_->snapshots()->epoch() == drawn_epoch_ && seconds_now() - epoch_changed_at_ > 0.05;
+         session_->snapshots()->epoch() == drawn_epoch_ && drawn;
 }
 
 void Studio::screenshot(const std::string& path, bool ui, bool footprint) {
