@@ -2,9 +2,12 @@
 """Reference driver for hdm's device bridge (docs/bridge.md), Python standard library only.
 
 Plays a recorded trajectory (the CSV of `hdm sculpt --forces` / `hdm feel --replay`: columns
-time_s, device_x_m, device_y_m, device_z_m and optionally tool_on) into hdm as device packets over
-UDP on localhost or POSIX shared memory, at a chosen rate, and records the force packets it gets
-back. A vendor driver does the same with its device's readings instead of the file's rows.
+time_s, device_x_m, device_y_m, device_z_m, optionally tool_on and the handle's orientation
+device_qw, device_qx, device_qy, device_qz) into hdm as device packets over UDP on localhost or
+POSIX shared memory, at a chosen rate, and records the force packets it gets back: the force, the
+surface contact point and the torque about the handle's tip (zero unless hdm's device spec allows
+a torque, docs/bridge.md). A vendor driver does the same with its device's readings instead of the
+file's rows.
 
     python3 bridge_client.py --udp 47000 trajectory.csv --rate 1000 --forces forces.csv --secret-file s.key
     HDM_BRIDGE_SECRET=... python3 bridge_client.py --shm hdm-bridge trajectory.csv --lockstep
@@ -16,7 +19,8 @@ the id, and the sequence numbers start at 1 again (a restarted client is a new s
 
 --lockstep waits for the force that answers each packet before sending the next (one servo tick
 per row, as a replay; the tests use it); otherwise rows go out on the rate's clock and the newest
-force is kept. A summary (packets, forces, round trip median and p99 in µs) is printed as JSON.
+force is kept. A summary (packets, forces, round trip median and p99 in µs, the largest force and
+torque received) is printed as JSON.
 """
 import argparse
 import json
@@ -107,8 +111,26 @@ def open_session(link, secret, wait_s):
     sys.exit(f"hdm did not answer the hello within {wait_s} s (is it listening, with the same secret?)")
 
 
+def quaternion_log(q):
+    """The rotation vector (axis times angle [rad]) of the unit quaternion q = (w, x, y, z)."""
+    w, v = q[0], q[1:]
+    if w < 0:
+        w, v = -w, tuple(-c for c in v)
+    s = math.sqrt(sum(c * c for c in v))
+    return (0.0, 0.0, 0.0) if s == 0 else tuple(2 * math.atan2(s, w) / s * c for c in v)
+
+
+def quaternion_mul(a, b):
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
+
+
 def read_trajectory(path):
-    """Rows (time, position, buttons) of a replay CSV; velocities as hdm's ReplayDevice makes them."""
+    """Rows (time, position, velocity, buttons, orientation, angular velocity) of a replay CSV;
+    velocities as hdm's ReplayDevice makes them (backward differences; the angular one from the
+    turn between rows), the orientation normalised and the identity without its columns."""
     with open(path) as f:
         header = [c.strip() for c in f.readline().split(",")]
         try:
@@ -116,6 +138,10 @@ def read_trajectory(path):
         except ValueError:
             sys.exit(f"{path}: the header lacks time_s, device_x_m, device_y_m or device_z_m")
         ib = header.index("tool_on") if "tool_on" in header else None
+        qcols = ("device_qw", "device_qx", "device_qy", "device_qz")
+        iq = [header.index(c) for c in qcols if c in header]
+        if len(iq) not in (0, 4):
+            sys.exit(f"{path}: the orientation columns device_qw,device_qx,device_qy,device_qz come all four or none")
         rows = []
         for n, line in enumerate(f, start=2):
             if not line.strip():
@@ -124,14 +150,21 @@ def read_trajectory(path):
             try:
                 t, p = float(c[it]), (float(c[ix]), float(c[iy]), float(c[iz]))
                 b = int(c[ib]) if ib is not None else 0
+                q = tuple(float(c[k]) for k in iq) if iq else (1.0, 0.0, 0.0, 0.0)
             except (ValueError, IndexError):
                 sys.exit(f"{path}:{n}: malformed row")
-            rows.append((t, p, b))
+            norm = math.sqrt(sum(x * x for x in q))
+            if not (math.isfinite(norm) and norm > 0):
+                sys.exit(f"{path}:{n}: the orientation is not a finite, non-zero quaternion")
+            rows.append((t, p, b, tuple(x / norm for x in q)))
     out = []
-    for k, (t, p, b) in enumerate(rows):
+    for k, (t, p, b, q) in enumerate(rows):
         dt = t - rows[k - 1][0] if k > 0 else 0.0
         v = tuple((p[i] - rows[k - 1][1][i]) / dt for i in range(3)) if dt > 0 else (0.0, 0.0, 0.0)
-        out.append((t, p, v, b))
+        prev = rows[k - 1][3] if k > 0 else q
+        turn = quaternion_log(quaternion_mul(q, (prev[0], -prev[1], -prev[2], -prev[3])))
+        w = tuple(c / dt for c in turn) if dt > 0 else (0.0, 0.0, 0.0)
+        out.append((t, p, v, b, q, w))
     return out
 
 
@@ -245,13 +278,13 @@ def main():
                 rtt.append(time.perf_counter() - sent_at.pop(f["sequence"]))
             last = f
 
-    for k, (t, p, v, b) in enumerate(rows):
+    for k, (t, p, v, b, q, w) in enumerate(rows):
         seq = k + 1
         if not a.lockstep:
             while time.perf_counter() < start + k * period:
                 take(link.force(0))  # forces come while waiting for the next row's time
         sent_at[seq] = time.perf_counter()
-        link.send(device_packet(seq, t, p, v, b))
+        link.send(device_packet(seq, t, p, v, b, orientation=q, angular=w))
         if a.lockstep:
             deadline = sent_at[seq] + a.timeout
             f = None
@@ -268,26 +301,30 @@ def main():
             take(link.force(0))
         records.append((seq, t, last))
     if not a.no_end and rows:
-        link.send(device_packet(len(rows) + 1, rows[-1][0], rows[-1][1], (0.0, 0.0, 0.0), 0, DEVICE_END))
+        link.send(device_packet(len(rows) + 1, rows[-1][0], rows[-1][1], (0.0, 0.0, 0.0), 0, DEVICE_END,
+                                orientation=rows[-1][4]))
 
     if a.forces:
         with open(a.forces + ".tmp", "w") as f:
             f.write("sequence,time_s,force_x_n,force_y_n,force_z_n,contact,watchdog,gain,answered_sequence,tick,"
-                    "contact_x_m,contact_y_m,contact_z_m\n")
+                    "contact_x_m,contact_y_m,contact_z_m,torque_x_nm,torque_y_nm,torque_z_nm\n")
             for seq, t, r in records:
                 if r is None:
-                    f.write(f"{seq},{t!r},0,0,0,0,0,0,0,0,0,0,0\n")
+                    f.write(f"{seq},{t!r},0,0,0,0,0,0,0,0,0,0,0,0,0,0\n")
                 else:
                     fx, fy, fz = r["force"]
                     cx, cy, cz = r["contact"]
+                    tx, ty, tz = r["torque"]
                     f.write(f"{seq},{t!r},{fx!r},{fy!r},{fz!r},{r['flags'] & FORCE_CONTACT},"
                             f"{(r['flags'] & FORCE_WATCHDOG) >> 1},{r['gain']!r},{r['sequence']},{r['tick']},"
-                            f"{cx!r},{cy!r},{cz!r}\n")
+                            f"{cx!r},{cy!r},{cz!r},{tx!r},{ty!r},{tz!r}\n")
         os.replace(a.forces + ".tmp", a.forces)
     rtt_us = sorted(x * 1e6 for x in rtt)
     summary = {"packets": len(rows), "answered": len(rtt_us), "lost": lost, "session_ms": session_s * 1e3,
                "rtt_median_us": rtt_us[len(rtt_us) // 2] if rtt_us else None,
-               "rtt_p99_us": rtt_us[min(len(rtt_us) - 1, int(0.99 * len(rtt_us)))] if rtt_us else None}
+               "rtt_p99_us": rtt_us[min(len(rtt_us) - 1, int(0.99 * len(rtt_us)))] if rtt_us else None,
+               "max_force_n": max((math.hypot(*r["force"]) for _, _, r in records if r), default=0.0),
+               "max_torque_nm": max((math.hypot(*r["torque"]) for _, _, r in records if r), default=0.0)}
     print(json.dumps(summary))
     return 1 if a.lockstep and lost else 0
 

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# `hdm studio MESH --burr --device shm:NAME` under Xvfb with the reference Python driver sending the
+# handle's orientation (the trajectory's device_qw..device_qz columns) in free space: the burr's
+# god-object, which follows the handle there, ends turned as the driver's last row says (probe
+# "end" after the driver's end packet, compared here with the row's quaternion, sign-free), and the
+# driver's forces CSV has the torque columns. Skips (exit 77) only when no X server can be started.
+# Usage: studio_bridge_burr.sh HDM_STUDIO PYTHON CLIENT MESH
+set -euo pipefail
+studio=$1 python=$2 client=$3 mesh=$4
+source "$(dirname "$0")/xvfb.sh"
+name="hdm-studio-burr-test-$$"
+export HDM_BRIDGE_SECRET="studio-bridge-burr-test-secret-$$-0123456789"
+
+# 600 rows, 1 ms apart, far above the surface (free space): the handle turns from the identity by
+# 70° about the axis (1, 2, 2)/3 over the first 300 rows, then holds.
+"$python" - "$tmp/path.csv" <<'PY'
+import math, sys
+with open(sys.argv[1], "w") as f:
+    f.write("time_s,device_x_m,device_y_m,device_z_m,tool_on,device_qw,device_qx,device_qy,device_qz\n")
+    for k in range(600):
+        a = math.radians(70) * min(k, 300) / 300
+        s = math.sin(a / 2) / 3
+        f.write(f"{k * 1e-3!r},0.0,0.12,0.0,0,{math.cos(a / 2)!r},{s!r},{2 * s!r},{2 * s!r}\n")
+PY
+echo '{"steps": [{"do": "device_end"}, {"do": "probe", "name": "end"}]}' >"$tmp/script.json"
+(cd "$tmp" && exec "$studio" "$mesh" --burr --device "shm:$name" --script script.json --report report.json) &
+studio_pid=$!
+cleanup_extra="kill $studio_pid 2>/dev/null || true"
+for _ in $(seq 1200); do  # the region appears once the bake is done and the session starts
+  [ -e "/dev/shm/$name" ] && break
+  kill -0 "$studio_pid" 2>/dev/null || break
+  sleep 0.05
+done
+"$python" "$client" --shm "$name" "$tmp/path.csv" --lockstep --timeout 10 --forces "$tmp/forces.csv" >/dev/null
+wait "$studio_pid"
+cleanup_extra=""
+"$python" - "$tmp/report.json" "$tmp/forces.csv" <<'PY'
+import json, math, sys
+probe = json.load(open(sys.argv[1]))["probes"]["end"]
+got = probe["orientation_wxyz"]
+a = math.radians(70)
+want = (math.cos(a / 2), math.sin(a / 2) / 3, 2 * math.sin(a / 2) / 3, 2 * math.sin(a / 2) / 3)
+angle = math.degrees(2 * math.acos(min(1.0, abs(sum(g * w for g, w in zip(got, want))))))
+print(f"the burr ends {angle:.3f} degrees from the driver's last orientation")
+assert angle < 1.0, (got, want)
+header = open(sys.argv[2]).readline().strip().split(",")
+assert header[-3:] == ["torque_x_nm", "torque_y_nm", "torque_z_nm"], header
+PY
