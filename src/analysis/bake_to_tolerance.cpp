@@ -2,10 +2,51 @@
 #include <hdm/analysis/bake_to_tolerance.h>
 #include <hdm/core/error.h>
 
+#include "edge_caps.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace hdm {
+
+namespace {
+
+// What a round leaves to the next: the options it changes and the faults it counts.
+struct Plan {
+  BakeOptions options;
+  double budget = 0;            // submesh triangles (slabs·n²) each round aims at (adapt_grid)
+  bool was_local = false;       // the round before refined locally
+  int64_t local_faults = 0;     // its faults
+  double local_max = 0;         // its maximum error over the bound
+  int stalls = 0;               // rounds running with as many faults as the round before
+  int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round
+  double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
+                                // slab count (-1: the next round sets it)
+};
+
+// The worst ratio of a measured error to its bound (2 with invalid or overlapping slabs).
+double worst_ratio(const ToleranceRound& t, const Tolerance& tolerance) {
+  const Fidelity& f = t.fidelity;
+  const double rms = std::max(f.rms_pct, f.rms_back_pct) / tolerance.rms_pct;
+  double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct, rms});
+  if (t.invalid_slabs > 0 || t.overlapping_pairs > 0) worst = std::max(worst, 2.0);
+  return worst;
+}
+
+// Invalid or overlapping slabs that grew in number, or stayed as many over two rounds running,
+// come from the input itself (faces that cross or fold at any resolution), not from a coarse mesh
+// too coarse for a part: further rounds only cost time. One round with as many is not enough: a
+// sliver of a resolved union needs slabs smaller than it.
+bool stuck(Plan& plan, int round, const ToleranceRound& t) {
+  const int64_t faults = int64_t(t.invalid_slabs) + t.overlapping_pairs;
+  const bool counted = round > 0 && plan.previous_faults > 0;
+  plan.stalls = counted && faults == plan.previous_faults ? plan.stalls + 1 : 0;
+  const bool s = counted && (faults > plan.previous_faults || plan.stalls >= 2);
+  plan.previous_faults = faults;
+  return s;
+}
+
+}  // namespace
 
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
                             const Tolerance& tolerance, std::vector<ToleranceRound>* rounds, BakeReport* report) {
@@ -14,50 +55,55 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
                        std::to_string(tolerance.rms_pct) + "%)");
   if (tolerance.max_slabs < 1 || tolerance.max_rounds < 1)
     throw InvalidInput(name + ": the slab cap and the number of rounds must be at least 1");
-  const int cap =
-      static_cast<int>(std::min<int64_t>(tolerance.max_slabs, static_cast<int64_t>(input.mesh().faces.size())));
-  BakeOptions o = options;
+  const int64_t faces = static_cast<int64_t>(input.mesh().faces.size());
+  const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, faces));
+  Plan plan{options};
+  if (tolerance.adapt_grid) {
+    // The samples of the first round's target: each round's grid follows its slab count.
+    const int target = options.slabs > 0 ? options.slabs : default_slab_count(faces, options);
+    plan.budget = std::max(double(target) * options.grid_n * options.grid_n, double(tolerance.min_samples));
+    plan.options.sample_budget = static_cast<int64_t>(plan.budget);
+    plan.options.min_grid = tolerance.min_grid;
+  }
   std::vector<ToleranceRound> tried;
-  double budget = 0;
-  int stalls = 0;               // rounds running with as many faults as the round before
-  int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round  // submesh triangles
-                                // (slabs·n²) the next round may use when the grid adapts
+  std::vector<Vec3> far;
   for (int round = 0;; ++round) {
     BakeReport r;
-    SlabModel model = bake_slabs(input, name, o, &r);
+    SlabModel model = bake_slabs(input, name, plan.options, &r);
+    if (plan.decimation_cost < 0) plan.decimation_cost = r.decimation_cost;
     ToleranceRound t;
     t.slabs = r.slabs;
     t.grid_n = r.grid_n;
-    t.fidelity = measure_fidelity(model, input, tolerance.interior);
-    const Fidelity& f = t.fidelity;
-    const double worst_rms = std::max(f.rms_pct / tolerance.rms_pct, f.rms_back_pct / tolerance.rms_pct);
-    double worst = std::max({f.max_pct / tolerance.max_pct, f.max_back_pct / tolerance.max_pct, worst_rms});
-    // A shell that is invalid somewhere or overlaps itself is a coarse-geometry fault as well:
-    // slabs that small enough parts get fix it (thin tubes, low-poly inputs, handles).
+    t.fidelity = measure_fidelity(model, input, tolerance.interior, tolerance.max_pct, &far);
     t.invalid_slabs = r.invalid_slabs;
     t.overlapping_pairs = r.overlapping_pairs;
     t.ray_misses = r.ray_misses;
-    if (r.invalid_slabs > 0 || r.overlapping_pairs > 0) worst = std::max(worst, 2.0);
+    const double worst = worst_ratio(t, tolerance);
     t.met = worst <= 1;
     tried.push_back(t);
-    // The decimation may land below its target (it stops where no collapse is allowed), so the
-    // next count grows from the larger of target and result.
-    const int base = std::max(r.slabs, o.slabs);
-    const int next = static_cast<int>(std::min<double>(cap, std::ceil(base * std::clamp(worst, 1.5, 3.0))));
-    // Invalid or overlapping slabs that grew with more slabs, or stayed as many over two rounds
-    // running, come from the input itself (faces that cross or fold at any resolution), not from
-    // a coarse mesh too coarse for a part: further rounds only cost time (pig.stl: 285, 919,
-    // 1878, ... faults over six rounds). One round with as many is not enough: a sliver of a
-    // resolved union needs slabs smaller than it (mannequin-devil.off: 13, 13, then 0 faults).
-    const int64_t faults = int64_t(r.invalid_slabs) + r.overlapping_pairs;
-    const bool counted = round > 0 && previous_faults > 0;
-    stalls = counted && faults == previous_faults ? stalls + 1 : 0;
-    const bool stuck = counted && (faults > previous_faults || stalls >= 2);
-    previous_faults = faults;
-    if (t.met || stuck || round + 1 >= tolerance.max_rounds || base >= cap || next <= base) {
-      const bool by_slab_cap = tolerance.max_slabs <= static_cast<int64_t>(input.mesh().faces.size());
+    const bool is_stuck = stuck(plan, round, t);
+    const Fidelity& f = t.fidelity;
+    const double max_ratio = std::max(f.max_pct, f.max_back_pct) / tolerance.max_pct;
+    const int64_t faults = int64_t(t.invalid_slabs) + t.overlapping_pairs;
+    // Misses with a place (overlapping slabs, points beyond the maximum error) are refined there
+    // alone, as long as that helps: the round before was not a local one, or it reduced the faults
+    // or the maximum error by a tenth. Not with invalid slabs: where the input folds, a finer
+    // coarse mesh follows the fold, a coarser one spans it.
+    const bool spots = !r.overlapping_slabs.empty() || !far.empty();
+    const bool helped = !plan.was_local || faults < plan.local_faults || max_ratio < 0.9 * plan.local_max;
+    const bool local = spots && helped && t.invalid_slabs == 0;
+    // Otherwise more slabs everywhere: for a missed RMS bound (the coarse mesh too coarse
+    // everywhere: smaller slabs at a lower grid follow the input better than larger ones at a
+    // finer grid with as many samples), or for spots that refining alone did not fix.
+    const double rms = std::max(f.rms_within_pct, f.rms_back_within_pct) / tolerance.rms_pct;
+    // A missed RMS bound alone grows the slabs by its ratio: the RMS falls about as fast.
+    const double growth = spots || faults > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * rms, 1.2, 3.0);
+    const int next = static_cast<int>(std::min<double>(cap, std::ceil(r.slabs * growth)));
+    const bool grows = local ? r.slabs < cap : r.slabs < cap && next > r.slabs;
+    if (t.met || is_stuck || round + 1 >= tolerance.max_rounds || !grows) {
+      const bool by_slab_cap = tolerance.max_slabs <= faces;
       tried.back().stop = t.met                               ? ToleranceStop::Met
-                          : stuck                             ? ToleranceStop::Faults
+                          : is_stuck                          ? ToleranceStop::Faults
                           : round + 1 >= tolerance.max_rounds ? ToleranceStop::Rounds
                           : by_slab_cap                       ? ToleranceStop::SlabCap
                                                               : ToleranceStop::InputFaces;
@@ -65,19 +111,28 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
       if (report) *report = r;
       return model;
     }
-    o.slabs = next;
-    if (tolerance.adapt_grid) {
-      if (round == 0) budget = static_cast<double>(r.slabs) * o.grid_n * o.grid_n;
-      // Only a round that meets the maximum error and misses the RMS misses by sampling density.
-      // A round that misses the maximum misses it by coarse geometry (a part the coarse mesh cuts
-      // off, undercut columns, overlapping slabs), and those spots raise its RMS as well: more
-      // slabs fix them, denser samples everywhere would not.
-      const bool max_met =
-          std::max(f.max_pct, f.max_back_pct) <= tolerance.max_pct && r.invalid_slabs == 0 && r.overlapping_pairs == 0;
-      if (worst_rms > 1 && max_met) budget *= std::min(worst_rms, 3.0);
-      const int n = static_cast<int>(std::floor(std::sqrt(budget / next)));
-      o.grid_n = std::clamp(n, std::min(tolerance.min_grid, options.grid_n), options.grid_n);
+    plan.was_local = local;
+    plan.local_faults = faults;
+    plan.local_max = max_ratio;
+    if (local) analysis::detail::tighten_edge_caps(model, input, r.overlapping_slabs, far, plan.options.max_edge);
+    if (local) {
+      // The next decimation stops at the quadric error the last global round reached, so the
+      // rest of the mesh decimates as far as before, and keeps the faulty regions at half size.
+      // A thousandth above it: collapses of equal cost (a symmetric part) all go, whatever their
+      // last bits, so the bake stays the same at any scale of the input.
+      plan.options.max_decimation_cost = plan.decimation_cost * (1 + 1e-3);
+      plan.options.slabs = 1;
+      continue;
     }
+    // A global round starts afresh: its slabs are smaller everywhere, and caps kept where the
+    // input folds would pin the coarse mesh to the fold (invalid slabs at any slab count).
+    plan.options.slabs = next;
+    plan.options.max_edge.clear();
+    plan.options.max_decimation_cost = INFINITY;
+    plan.decimation_cost = -1;  // the next round's decimation sets the level local refinement keeps
+    // Only a round that met the maximum and had no faults misses by sampling density as well.
+    if (!spots && rms > 1) plan.budget *= std::min(rms, 3.0);
+    if (tolerance.adapt_grid) plan.options.sample_budget = static_cast<int64_t>(std::ceil(plan.budget));
   }
 }
 

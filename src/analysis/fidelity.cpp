@@ -17,13 +17,16 @@ namespace {
 
 struct Sum {
   double sq = 0, max = 0;
-  Sum operator+(const Sum& o) const { return {sq + o.sq, std::max(max, o.max)}; }
+  double sq_within = 0;  // squares of the distances up to `far` alone
+  Sum operator+(const Sum& o) const { return {sq + o.sq, std::max(max, o.max), sq_within + o.sq_within}; }
 };
 
 // Exact distances from `count` points to `target`. Most points lie within `near` of it, so the
 // query starts with that radius; the others are queried again without a bound (same result).
+// Points farther than `far` are flagged in `far_flags` (#count, or empty: not flagged).
 template <class PointAt>
-Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt point_at) {
+Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt point_at, double far = INFINITY,
+              std::vector<uint8_t>* far_flags = nullptr) {
   return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<int64_t>(0, count, 1024), Sum{},
       [&](const tbb::blocked_range<int64_t>& r, Sum s) {
@@ -32,6 +35,8 @@ Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt 
           ClosestPoint c = target.closest_point(p, near);
           if (c.face < 0) c = target.closest_point(p);
           const double d = c.distance;
+          if (far_flags && d > far) (*far_flags)[k] = 1;
+          if (d <= far) s.sq_within += d * d;
           s.sq += d * d;
           s.max = std::max(s.max, d);
         }
@@ -66,7 +71,8 @@ std::vector<uint8_t> interior_faces(const ExactMeshQuery& input) {
   return interior;
 }
 
-Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<uint8_t>* interior) {
+Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<uint8_t>* interior,
+                          double far_pct, std::vector<Vec3>* far_points) {
   TriangleMesh surface;
   displaced_surface(model, surface.vertices, surface.faces);
   const TriangleMesh& in = input.mesh();
@@ -77,9 +83,13 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
     const Tri& f = m.faces[t];
     return Vec3((m.vertices[f[0]] + m.vertices[f[1]] + m.vertices[f[2]]) / 3.0);
   };
-  const double near = 1e-2 * diag;
-  const Sum fwd = distances(ns + nt, input, near,
-                            [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); });
+  const double near = 1e-2 * diag, far = far_pct / 100 * diag;
+  std::vector<uint8_t> far_flags;
+  if (far_points) far_points->clear(), far_flags.assign(ns + nt, 0);
+  const auto model_point = [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); };
+  const Sum fwd = distances(ns + nt, input, near, model_point, far, far_points ? &far_flags : nullptr);
+  for (int64_t k = 0; k < static_cast<int64_t>(far_flags.size()); ++k)
+    if (far_flags[k]) far_points->push_back(model_point(k));
   // About one query per triangle (medium quality); the surface is handed over, not copied (0.6 GB
   // at 10^5 slabs), as only the reconstruction's queries read it from here on.
   const ExactMeshQuery recon(std::move(surface), BvhQuality::medium);
@@ -111,13 +121,19 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
     for (size_t t = 0; t < in.faces.size(); ++t) back_points.push_back(centroid(in, static_cast<int64_t>(t)));
   }
   const auto nb = static_cast<int64_t>(back_points.size());
-  const Sum back = distances(nb, recon, near, [&](int64_t k) { return back_points[k]; });
+  if (far_points) far_flags.assign(nb, 0);
+  const Sum back = distances(
+      nb, recon, near, [&](int64_t k) { return back_points[k]; }, far, far_points ? &far_flags : nullptr);
+  for (int64_t k = 0; far_points && k < nb; ++k)
+    if (far_flags[k]) far_points->push_back(back_points[k]);
   f.points = ns + nt;
   f.back_points = nb;
   f.rms_pct = 100 * std::sqrt(fwd.sq / f.points) / diag;
   f.max_pct = 100 * fwd.max / diag;
   f.rms_back_pct = 100 * std::sqrt(back.sq / f.back_points) / diag;
   f.max_back_pct = 100 * back.max / diag;
+  f.rms_within_pct = 100 * std::sqrt(fwd.sq_within / f.points) / diag;
+  f.rms_back_within_pct = 100 * std::sqrt(back.sq_within / f.back_points) / diag;
   return f;
 }
 

@@ -22,7 +22,7 @@ using mesh::detail::Simplifier;
 
 // One vertex per fan: a vertex whose faces form several edge-connected fans (a pinch) is split,
 // since the link condition is defined on manifold vertices. Faces keep their orientation.
-TriangleMesh split_pinched_vertices(const TriangleMesh& mesh) {
+TriangleMesh split_pinched_vertices(const TriangleMesh& mesh, std::vector<int32_t>& origin) {
   const size_t nv = mesh.vertices.size(), nf = mesh.faces.size();
   std::vector<int32_t> offset(nv + 1, 0);
   for (const Tri& t : mesh.faces)
@@ -70,6 +70,7 @@ TriangleMesh split_pinched_vertices(const TriangleMesh& mesh) {
       if (it == root_copy.end()) {
         root_copy.emplace_back(r, static_cast<int32_t>(out.vertices.size()));
         out.vertices.push_back(mesh.vertices[v]);
+        origin.push_back(static_cast<int32_t>(v));
         it = root_copy.end() - 1;
       }
       for (int32_t& x : out.faces[faces[i]])
@@ -90,8 +91,16 @@ TriangleMesh decimate_mesh(const TriangleMesh& input, const DecimateOptions& opt
     throw InvalidInput("decimate_mesh input: " + std::to_string(topo.non_manifold_edges) + " non-manifold and " +
                        std::to_string(topo.inconsistent_edges) +
                        " inconsistently oriented edges (repair the mesh first)");
-  Simplifier s(split_pinched_vertices(input), options);
-  s.run(options.target_faces);
+  if (!options.max_edge.empty() && options.max_edge.size() != input.vertices.size())
+    throw InvalidInput("decimate_mesh: max_edge has " + std::to_string(options.max_edge.size()) + " values for " +
+                       std::to_string(input.vertices.size()) + " vertices");
+  std::vector<int32_t> origin;  // input vertex of each copy split_pinched_vertices() appended
+  DecimateOptions o = options;
+  const TriangleMesh split = split_pinched_vertices(input, origin);
+  for (int32_t v : origin)
+    if (!o.max_edge.empty()) o.max_edge.push_back(options.max_edge[v]);
+  Simplifier s(split, o);
+  s.run(options.target_faces, options.max_cost);
   s.clean_folds();
   TriangleMesh out = s.result();
   if (report) {
@@ -99,6 +108,7 @@ TriangleMesh decimate_mesh(const TriangleMesh& input, const DecimateOptions& opt
     report->vertices = static_cast<int64_t>(out.vertices.size());
     report->feature_edges = s.feature_edges();
     report->collapses = s.collapses();
+    report->last_cost = s.last_cost();
   }
   return out;
 }

@@ -11,7 +11,8 @@
 
 namespace hdm::mesh::detail {
 
-Simplifier::Simplifier(const TriangleMesh& mesh, const DecimateOptions& o) : o_(o) {
+Simplifier::Simplifier(const TriangleMesh& mesh, const DecimateOptions& o) : o_(o), max_edge_(o.max_edge) {
+  o_.max_edge = {};  // held once, in max_edge_
   pos_ = mesh.vertices;
   faces_ = mesh.faces;
   const size_t nv = pos_.size(), nf = faces_.size();
@@ -37,13 +38,17 @@ Simplifier::Simplifier(const TriangleMesh& mesh, const DecimateOptions& o) : o_(
   for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) empty_cone_[v] = vertex_cone_margin(v) <= kEmptyCone;
 }
 
-void Simplifier::run(int64_t target) {
+void Simplifier::run(int64_t target, double max_cost) {
   for (int32_t v = 0; v < static_cast<int32_t>(pos_.size()); ++v) push_edges(v, -1, true);
   while (faces_left_ > target && !heap_.empty()) {
     const Candidate e = heap_.top();
+    if (e.cost > max_cost) break;  // the heap's minimum: every other candidate costs as much
     heap_.pop();
     if (!alive_[e.a] || !alive_[e.b] || version_[e.a] != e.va || version_[e.b] != e.vb) continue;
-    if (!collapse(e.a, e.b, e.cost < 0)) retry_[e.a] = retry_[e.b] = 1;
+    if (!collapse(e.a, e.b, e.cost < 0))
+      retry_[e.a] = retry_[e.b] = 1;
+    else
+      last_cost_ = std::max(last_cost_, double(e.cost));
   }
 }
 

@@ -79,7 +79,9 @@ class Simplifier {
  public:
   Simplifier(const TriangleMesh& mesh, const DecimateOptions& o);
 
-  void run(int64_t target);
+  // Collapses the cheapest edges until at most @p target faces remain or the cheapest costs more
+  // than @p max_cost.
+  void run(int64_t target, double max_cost);
 
   // Removes vertices whose faces no direction sees (a fold of the input, or one the target left):
   // such a vertex has no valid slab direction at any thickness. Each is merged into a neighbour,
@@ -119,6 +121,7 @@ class Simplifier {
 
   int64_t feature_edges() const { return features_; }
   int64_t collapses() const { return collapses_; }
+  double last_cost() const { return last_cost_; }
 
  private:
   struct Candidate {
@@ -163,6 +166,9 @@ class Simplifier {
   // geometric checks allow it. Returns whether it did.
   bool collapse(int32_t a, int32_t b, bool reopen = false);
 
+  // Whether collapsing b into a at x leaves no edge (x, w) longer than the max_edge_ of a, b and w.
+  bool short_edges(int32_t a, int32_t b, const Vec3& x) const;
+
   // Collapses b into a at x (the checks passed): kills the faces on edge ab, relabels b's corners,
   // splices b's list into a's. @p seen is the new star's cone margin (-2: unknown), @p max_turn the
   // largest turn of a link face [rad].
@@ -194,6 +200,8 @@ class Simplifier {
   static constexpr double kEmptyCone = 0.02;  // a star seen at no better dot than this has an empty dual cone
   std::vector<Vec3> before_, after_;
   int64_t faces_left_ = 0, features_ = 0, collapses_ = 0;
+  double last_cost_ = 0;
+  std::vector<double> max_edge_;  // per vertex, DecimateOptions::max_edge (empty: no limit)
   double cos_turn_ = 0, sin_min_angle_ = 0;
 };
 

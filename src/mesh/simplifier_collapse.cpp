@@ -71,6 +71,7 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
     return ok;
   };
   Vec3 x = place(q, a, b);
+  if (!max_edge_.empty() && !reopen && !short_edges(a, b, x)) return false;
   double seen = -2;
   {
     Vec3 tries[4] = {x, pos_[a], pos_[b], 0.5 * (pos_[a] + pos_[b])};
@@ -130,6 +131,7 @@ void Simplifier::merge(int32_t a, int32_t b, const Vec3& x, const Quadric& q, do
   alive_[b] = 0;
   pos_[a] = x;
   quadric_[a] = q;
+  if (!max_edge_.empty()) max_edge_[a] = std::min(max_edge_[a], max_edge_[b]);
   ++version_[a];
   ++collapses_;
   // The link's stars lost faces or turned them by at most max_turn: their cone angle bound grows
@@ -155,6 +157,16 @@ void Simplifier::merge(int32_t a, int32_t b, const Vec3& x, const Quadric& q, do
   ring(a, ra_);
   for (int32_t w : ra_)
     if (retry_[w]) retry_[w] = 0, push_edges(w, a, false);
+}
+
+bool Simplifier::short_edges(int32_t a, int32_t b, const Vec3& x) const {
+  const double cap = std::min(max_edge_[a], max_edge_[b]);
+  for (const std::vector<int32_t>* r : {&ra_, &rb_})
+    for (int32_t w : *r) {
+      const double limit = std::min(cap, max_edge_[w]);
+      if (w != a && w != b && limit < INFINITY && (pos_[w] - x).squaredNorm() > limit * limit) return false;
+    }
+  return true;
 }
 
 double Simplifier::vertex_cone_margin(int32_t v) {

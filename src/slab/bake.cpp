@@ -37,6 +37,16 @@ void check_options(const BakeOptions& o) {
   if (o.slabs < 0) throw InvalidInput("--slabs " + std::to_string(o.slabs) + ": must be positive");
   if (!(o.density > 0 && o.density <= 1024))
     throw InvalidInput("--density " + std::to_string(o.density) + ": must be in (0, 1024]");
+  if (o.sample_budget < 0 || o.min_grid < 1)
+    throw InvalidInput("sample budget " + std::to_string(o.sample_budget) + " and smallest grid " +
+                       std::to_string(o.min_grid) + ": must be at least 0 and 1");
+}
+
+// The grid n for @p slabs under BakeOptions::sample_budget.
+int grid_for(const BakeOptions& o, size_t slabs) {
+  if (o.sample_budget <= 0 || slabs == 0) return o.grid_n;
+  const int n = static_cast<int>(std::floor(std::sqrt(double(o.sample_budget) / double(slabs))));
+  return std::clamp(n, std::min(o.min_grid, o.grid_n), o.grid_n);
 }
 
 // A model with the coarse faces as slabs, its sample layout and every displacement at mid-shell.
@@ -93,23 +103,30 @@ void grow_and_cast(SlabModel& model, const CoarseMesh& coarse, const ExactMeshQu
   }
   // Slab pairs that still overlap: none once separation converged; without separation (the
   // second pass) the exact check runs once here.
-  rep.overlapping_pairs = rep.separated ? static_cast<int64_t>(shell.current_pairs().size())
-                                        : static_cast<int64_t>(overlapping_pairs(model).size());
+  const std::vector<std::pair<int32_t, int32_t>> pairs =
+      rep.separated ? shell.current_pairs() : overlapping_pairs(model);
+  rep.overlapping_pairs = static_cast<int64_t>(pairs.size());
+  for (const auto& [s, t] : pairs) rep.overlapping_slabs.push_back(s), rep.overlapping_slabs.push_back(t);
 }
 
 // The bake; `prebuilt` is the caller's BVH over `mesh`, or null to build one here.
-SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const std::string& name, const BakeOptions& o,
-               BakeReport* report) {
+SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const std::string& name,
+               const BakeOptions& given, BakeReport* report) {
   const auto start = std::chrono::steady_clock::now();
-  check_options(o);
+  check_options(given);
   validate_for_bake(mesh, name);
   const double diag = bounds(mesh).diagonal();
-  const int n = o.grid_n;
-  const int target = o.slabs > 0 ? o.slabs : default_slab_count(static_cast<int64_t>(mesh.faces.size()), o);
+  const int target = given.slabs > 0 ? given.slabs : default_slab_count(static_cast<int64_t>(mesh.faces.size()), given);
 
-  progress(o, "decimate", 0);
-  const CoarseMesh coarse = coarse_surface(mesh, target);
-  progress(o, "decimate", 1);
+  progress(given, "decimate", 0);
+  BakeReport rep;
+  const CoarseMesh coarse =
+      coarse_surface(mesh, target, given.max_edge, given.max_decimation_cost, &rep.decimation_cost);
+  progress(given, "decimate", 1);
+  BakeOptions o = given;  // the stages below read the grid chosen for the slabs made
+  o.max_edge = {};
+  o.grid_n = grid_for(given, coarse.faces.size());
+  const int n = o.grid_n;
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);
   std::unique_ptr<const ExactMeshQuery> own;
   if (!prebuilt) own = std::make_unique<const ExactMeshQuery>(mesh);
@@ -121,7 +138,6 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   SlabModel model = new_model(mesh, coarse, name, o, diag);
   const int ns = model.samples.count;
   std::vector<uint8_t> missed(ns, 0), undercut(ns, 0);
-  BakeReport rep;
   Shell shell(model, coarse, fr, targets);
   grow_and_cast(model, coarse, input, shell, o, missed, undercut, rep);
   // A column that misses the input still has a best point: the one on its line nearest the input.
@@ -143,6 +159,9 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
       ++rep.invalid_slabs;
     }
   }
+  std::sort(rep.overlapping_slabs.begin(), rep.overlapping_slabs.end());
+  rep.overlapping_slabs.erase(std::unique(rep.overlapping_slabs.begin(), rep.overlapping_slabs.end()),
+                              rep.overlapping_slabs.end());
   rep.slabs = model.slab_count();
   rep.grid_n = n;
   rep.input_triangles = static_cast<int64_t>(mesh.faces.size());

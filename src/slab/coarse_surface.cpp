@@ -16,10 +16,15 @@ namespace {
 // decimation kept (an input vertex on another face's edge): no slab over a cap is valid. Only
 // near-degenerate caps (smallest angle below half a degree): flipping the milder caps along the
 // crossing curves of a resolved union made slabs overlap there (bones.off).
-CoarseMesh decimate(const TriangleMesh& mesh, int target) {
+CoarseMesh decimate(const TriangleMesh& mesh, int target, const std::vector<double>& max_edge, double max_cost,
+                    double* last_cost) {
   DecimateOptions o;
   o.target_faces = target;
-  TriangleMesh m = decimate_mesh(mesh, o);
+  o.max_edge = max_edge;
+  o.max_cost = max_cost;
+  DecimateReport r;
+  TriangleMesh m = decimate_mesh(mesh, o, &r);
+  if (last_cost) *last_cost = r.last_cost;
   flip_slivers(m, 0.5);
   return CoarseMesh{std::move(m.vertices), std::move(m.faces)};
 }
@@ -108,8 +113,9 @@ void untangle(CoarseMesh& c) {
   }
 }
 
-CoarseMesh coarse_surface(const TriangleMesh& mesh, int target) {
-  CoarseMesh coarse = decimate(mesh, target);
+CoarseMesh coarse_surface(const TriangleMesh& mesh, int target, const std::vector<double>& max_edge, double max_cost,
+                          double* last_cost) {
+  CoarseMesh coarse = decimate(mesh, target, max_edge, max_cost, last_cost);
   // A vertex whose star no direction sees whole cannot have valid slabs at any thickness.
   untangle(coarse);
   // Crumples whose cones the moves above could not open: smoothed towards harmonic discs (fix_empty_dual_cones()).

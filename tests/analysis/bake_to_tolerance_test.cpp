@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace hdm;
@@ -57,6 +58,7 @@ SlabModel bake_bumpy(const ExactMeshQuery& exact, int grid_n, std::vector<Tolera
   Tolerance t;
   t.max_pct = max_pct;
   t.adapt_grid = adapt_grid;
+  t.min_samples = 0;  // the budget of 20 slabs, not the floor for low-poly inputs
   return bake_to_tolerance(exact, "bumpy", o, t, &rounds);
 }
 
@@ -94,8 +96,8 @@ TEST(BakeToToleranceTest, AnUnreachableBoundStopsAtTheCap) {
   EXPECT_LE(int(rounds.size()), t.max_rounds);
 }
 
-// A missed maximum error adds slabs at the first round's sample budget (slabs·n², grid lowered);
-// a missed RMS adds samples; an explicit grid (adapt_grid off) is kept.
+// A missed maximum error adds slabs at the first round's sample budget (slabs·n², grid lowered
+// down to the smallest grid); a missed RMS adds samples; an explicit grid (adapt_grid off) is kept.
 TEST(BakeToToleranceTest, LowersTheGridWhenOnlyTheMaximumErrorIsMissed) {
   const ExactMeshQuery exact(bumpy_ellipsoid());
   std::vector<ToleranceRound> rounds;
@@ -107,7 +109,9 @@ TEST(BakeToToleranceTest, LowersTheGridWhenOnlyTheMaximumErrorIsMissed) {
   for (size_t k = 1; k < rounds.size(); ++k) {
     EXPECT_LT(rounds[k].grid_n, rounds[k - 1].grid_n + 1) << "round " << k;
     EXPECT_GE(rounds[k].grid_n, Tolerance{}.min_grid);
-    EXPECT_LE(double(rounds[k].slabs) * rounds[k].grid_n * rounds[k].grid_n, budget * 1.1) << "round " << k;
+    if (rounds[k].grid_n > Tolerance{}.min_grid) {
+      EXPECT_LE(double(rounds[k].slabs) * rounds[k].grid_n * rounds[k].grid_n, budget * 1.1) << "round " << k;
+    }
   }
   EXPECT_LT(rounds.back().grid_n, 16);
 
@@ -117,6 +121,7 @@ TEST(BakeToToleranceTest, LowersTheGridWhenOnlyTheMaximumErrorIsMissed) {
   Tolerance rms;
   rms.rms_pct = 1e-9;  // unreachable: every round misses the RMS by far, so the samples triple
   rms.max_rounds = 2;
+  rms.min_samples = 0;
   BakeOptions o;
   o.slabs = 20;
   o.grid_n = 8;
@@ -134,6 +139,7 @@ TEST(BakeToToleranceTest, AddsNoSamplesForAnRmsMissedWithTheMaximum) {
   both.max_pct = 1e-6;  // unreachable: every round misses both bounds
   both.rms_pct = 1e-9;
   both.max_rounds = 3;
+  both.min_samples = 0;
   BakeOptions o;
   o.slabs = 20;
   o.grid_n = 16;  // the rounds stay above the smallest grid (Tolerance::min_grid)
@@ -143,7 +149,10 @@ TEST(BakeToToleranceTest, AddsNoSamplesForAnRmsMissedWithTheMaximum) {
   const double budget = double(rounds[0].slabs) * rounds[0].grid_n * rounds[0].grid_n;
   for (size_t k = 1; k < rounds.size(); ++k) {
     EXPECT_GT(rounds[k].slabs, rounds[k - 1].slabs) << "round " << k;
-    EXPECT_LE(double(rounds[k].slabs) * rounds[k].grid_n * rounds[k].grid_n, budget * 1.1) << "round " << k;
+    EXPECT_GE(rounds[k].grid_n, Tolerance{}.min_grid);
+    if (rounds[k].grid_n > Tolerance{}.min_grid) {  // the smallest grid holds even above the budget
+      EXPECT_LE(double(rounds[k].slabs) * rounds[k].grid_n * rounds[k].grid_n, budget * 1.1) << "round " << k;
+    }
   }
 }
 
@@ -186,6 +195,44 @@ TEST(BakeToToleranceTest, StopsWhenMoreSlabsDoNotReduceTheFaults) {
   EXPECT_GE(last.invalid_slabs + last.overlapping_pairs, before.invalid_slabs + before.overlapping_pairs);
   EXPECT_GT(before.invalid_slabs + before.overlapping_pairs, 0);
   EXPECT_EQ(last.overlapping_pairs + last.invalid_slabs, faults);
+}
+
+// Local refinement: a sphere smooth everywhere but a patch of fine ripples near its north pole.
+// Only the patch misses the maximum bound at the first round's slabs, so the rounds after add
+// slabs there alone: counted by region, against the first round's model.
+TEST(BakeToToleranceTest, RefinesOnlyWhereTheBoundIsMissed) {
+  TriangleMesh input = test::icosphere(5, 1.0);  // 20,480 faces
+  for (Vec3& v : input.vertices) {
+    const Vec3 u = v.normalized();
+    const double w = std::clamp((u.z() - 0.75) / 0.1, 0.0, 1.0);  // ripples above z = 0.75
+    v = u * (1 + w * 0.01 * std::sin(40 * u.x()) * std::sin(40 * u.y()));
+  }
+  const ExactMeshQuery exact(input);
+  BakeOptions o;
+  o.slabs = 200;
+  o.grid_n = 8;
+  Tolerance t;
+  t.max_pct = 0.1;
+  t.adapt_grid = false;
+  std::vector<ToleranceRound> rounds;
+  const SlabModel fine = bake_to_tolerance(exact, "rippled sphere", o, t, &rounds);
+  ASSERT_GE(rounds.size(), 2u);
+  EXPECT_TRUE(rounds.back().met);
+  const SlabModel first = bake_slabs(exact, "rippled sphere", o);
+  const Fidelity f = measure_fidelity(first, exact);
+  EXPECT_GT(std::max(f.max_pct, f.max_back_pct), t.max_pct) << "the first round misses the bound";
+  // Slabs by the height of their inner corners' centroid.
+  auto count = [](const SlabModel& m, double lo, double hi) {
+    int c = 0;
+    for (const Tri& s : m.slabs) {
+      const double z = (m.inner[s[0]] + m.inner[s[1]] + m.inner[s[2]]).z() / 3;
+      c += z > lo && z <= hi;
+    }
+    return c;
+  };
+  EXPECT_GT(count(fine, 0.7, 2), 2 * count(first, 0.7, 2)) << "refined where the ripples are";
+  const int south_first = count(first, -2, 0), south_fine = count(fine, -2, 0);
+  EXPECT_NEAR(south_fine, south_first, 0.1 * south_first) << "and nowhere else";
 }
 
 TEST(BakeToToleranceTest, RefusesBoundsThatAreNotPositive) {

@@ -135,12 +135,13 @@ exit_codes)
 scale_free)
   # A mesh scaled by 2^k (exact in binary floating point) bakes to the same model, scaled: every
   # `hdm check` figure is equal. Scaled by powers of ten, from 1e-12 to 1e12, the input's decimal
-  # rounding (1e-16 of a coordinate) is the only difference: the same slab count, RMS fidelity
-  # within 0.001 % of the diagonal, maximum fidelity and contact depth within 0.005 % (a fortieth of
-  # the bound: the rounding can tip a choice of the bake, which moves the single worst point a
-  # little), and at most 5 of the 20,000 random contact points judged differently (a point whose
-  # depth lies at the agreement bound goes either way). Outside the float range the input is
-  # refused, naming the scale. The bunny runs in the uninstrumented build only.
+  # rounding (1e-16 of a coordinate) is the only difference, and it can tip a choice of the bake:
+  # local refinement acts on the points beyond the bound and on equal-cost collapses of a
+  # symmetric part, so one point tipped across refines another handful of slabs. Then: the same
+  # grid, slab count and samples within 10 %, every fidelity figure within the bound (0.2 % max,
+  # 0.02 % RMS of the diagonal) and within 0.05 % / 0.005 % of the figure at scale 1, and at most
+  # 0.5 % of the 20,000 random contact points judged differently. Outside the float range the
+  # input is refused, naming the scale. The bunny runs in the uninstrumented build only.
   scaled() {  # scaled IN OUT FACTOR: an OFF file with every coordinate times FACTOR
     python3 - "$@" <<'PY'
 import sys
@@ -177,12 +178,14 @@ ref = runs["1"]
 bad = []
 for k, r in runs.items():
     exact = k.startswith("0x")  # a power of two: every figure equal
-    tol = {"rms": 0.0, "max": 0.0, "depth": 0.0, "points": 0} if exact else {"rms": 1e-3, "max": 5e-3, "depth": 5e-3, "points": 5}
+    tol = {"rms": 0.0, "max": 0.0, "depth": 0.0, "points": 0, "count": 0.0} if exact else \
+        {"rms": 5e-3, "max": 5e-2, "depth": 5e-2, "points": 100, "count": 0.1}
     for key in ["slabs", "grid", "invalid_slabs", "overlapping_pairs", "samples"]:
-        if r[key] != ref[key]:
+        if abs(r[key] - ref[key]) > (0 if key in ("grid", "invalid_slabs", "overlapping_pairs") else tol["count"]) * ref[key]:
             bad.append("%s at %s: %s %s, at 1: %s" % (mesh, k, key, r[key], ref[key]))
     for key, v in r["fidelity"].items():
-        if abs(v - ref["fidelity"][key]) > tol["max" if key.startswith("max") else "rms"]:
+        is_max = key.startswith("max")
+        if abs(v - ref["fidelity"][key]) > tol["max" if is_max else "rms"] or v > (0.2 if is_max else 0.02):
             bad.append("%s at %s: fidelity %s %.6f%%, at 1: %.6f%%" % (mesh, k, key, v, ref["fidelity"][key]))
     c, c0 = r["contact"], ref["contact"]
     if round(abs(c["agreement"] - c0["agreement"]) * c0["points"]) > tol["points"]:

@@ -175,9 +175,8 @@ TriangleMesh gridded_plate_with_two_holes(int s) {
 }
 
 // Decimates @p in to @p target faces and checks every guarantee of decimate_mesh() against @p in.
-TriangleMesh check_decimation(const TriangleMesh& in, int64_t target, const std::string& what) {
+TriangleMesh check_decimation(const TriangleMesh& in, int64_t target, const std::string& what, DecimateOptions o = {}) {
   const Topology before = topology(in);
-  DecimateOptions o;
   o.target_faces = target;
   DecimateReport report;
   const TriangleMesh out = decimate_mesh(in, o, &report);
@@ -271,6 +270,43 @@ TEST(DecimateMeshTest, ACrumpleIsMergedAway) {
   EXPECT_EQ(test::count_empty_cones(out), 0);
 }
 
+// Local refinement: edge caps on the northern cap of a sphere keep the faces there small, and the
+// quadric-error level of an uncapped run keeps the rest as coarse as that run made it.
+TEST(DecimateMeshTest, EdgeCapsRefineTheirRegionAndNothingElse) {
+  const TriangleMesh in = test::icosphere(5, 1.0);  // 20,480 faces, edges about 0.04
+  DecimateOptions free;
+  free.target_faces = 400;
+  DecimateReport first;
+  const TriangleMesh coarse = decimate_mesh(in, free, &first);
+  ASSERT_GT(first.last_cost, 0);
+  constexpr double kCap = 0.15, kNorth = 0.6;
+  DecimateOptions capped;
+  capped.target_faces = 1;
+  capped.max_cost = first.last_cost;
+  capped.max_edge.assign(in.vertices.size(), INFINITY);
+  for (size_t v = 0; v < in.vertices.size(); ++v)
+    if (in.vertices[v].z() > kNorth) capped.max_edge[v] = kCap;
+  const TriangleMesh fine = check_decimation(in, 1, "capped sphere", capped);
+  // Edges made between capped vertices are at most the cap (input edges are shorter).
+  double longest = 0;
+  for (const Tri& t : fine.faces)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &a = fine.vertices[t[k]], &b = fine.vertices[t[(k + 1) % 3]];
+      if (a.z() > kNorth && b.z() > kNorth) longest = std::max(longest, (a - b).norm());
+    }
+  EXPECT_LE(longest, kCap + 1e-12);
+  // Counted by region: more vertices in the capped cap, about as many in the south.
+  auto count = [](const TriangleMesh& m, auto in_region) {
+    return std::count_if(m.vertices.begin(), m.vertices.end(), in_region);
+  };
+  const auto north = [&](const Vec3& p) { return p.z() > kNorth; };
+  const auto south = [](const Vec3& p) { return p.z() < -0.2; };
+  EXPECT_GT(count(fine, north), 3 * count(coarse, north));
+  EXPECT_NEAR(double(count(fine, south)), double(count(coarse, south)), 0.15 * double(count(coarse, south)));
+  // The cap's area over kCap²: at least that order of vertices are needed there.
+  EXPECT_GT(count(fine, north), 2.0 * std::numbers::pi * (1 - kNorth) / (kCap * kCap));
+}
+
 TEST(DecimateMeshTest, RefusesWhatItCannotDecimate) {
   const TriangleMesh sphere = test::icosphere(2, 1.0);
   DecimateOptions o;
@@ -281,6 +317,8 @@ TEST(DecimateMeshTest, RefusesWhatItCannotDecimate) {
   fin.faces.push_back({fin.faces[0][0], fin.faces[0][1], int(fin.vertices.size()) - 1});
   o.target_faces = 20;
   EXPECT_THROW(decimate_mesh(fin, o), InvalidInput);
+  o.max_edge.assign(3, 1.0);  // not one value per vertex
+  EXPECT_THROW(decimate_mesh(sphere, o), InvalidInput);
 }
 
 }  // namespace

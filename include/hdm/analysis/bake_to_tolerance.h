@@ -19,11 +19,15 @@ struct Tolerance {
   double max_pct = INFINITY;  ///< bound on the maximum distance, both ways (Fidelity::max_pct, max_back_pct)
   double rms_pct = INFINITY;  ///< bound on the RMS distance, both ways (Fidelity::rms_pct, rms_back_pct)
   int max_slabs = 100000;     ///< never bake more slabs than this (nor more than the input's triangles)
-  int max_rounds = 6;         ///< bakes tried at most
+  int max_rounds = 8;         ///< bakes tried at most
   /// Lower the grid n as the slab count grows, so that the samples (slabs·n²) do not grow with it
   /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
   bool adapt_grid = true;
   int min_grid = 4;  ///< smallest grid n adapt_grid chooses (never above options.grid_n)
+  /// The sample budget's floor [submesh triangles, slabs·n²]: a low-poly input (a few thousand
+  /// triangles) still gets the samples of a 20,000-triangle one at the default density, enough for
+  /// a smooth force-shading field; inputs above 20,000 triangles keep their density.
+  int64_t min_samples = 80000;
   /// Optional #F flags of interior input faces (interior_faces()), left out of the fidelity's
   /// input-to-model direction. Not owned.
   const std::vector<uint8_t>* interior = nullptr;
@@ -62,22 +66,32 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 /// meets @p tolerance (an error-bounded bake).
 ///
 /// Round 1 bakes with @p options as given. A round meets the tolerance when its fidelity holds
-/// every bound and it has no invalid slab and no overlapping pair. While a round does not, the
-/// next slab count is the previous one times the worst ratio of measured to wanted error (2 for an
-/// invalid or overlapping shell), clamped to [1.5, 3] (on smooth parts the error falls like the
-/// coarse edge length squared, so like 1/slabs), and capped at
-/// Tolerance::max_slabs and the input's triangle count. With Tolerance::adapt_grid the grid n of
-/// the next round is the largest n <= options.grid_n (and >= min_grid) with slabs·n² within the
-/// sample budget: round 1's slabs·n², times the RMS ratio (clamped to [1, 3]) in each round that
-/// met the maximum bound, had no invalid or overlapping slab, and missed the RMS bound. A missed
-/// maximum error is a coarse-geometry fault (undercut columns, a part the coarse mesh cuts off)
-/// that more slabs fix, and the same spots raise that round's RMS; sampling everything more densely
-/// only costs memory, and it sharpens the force-shading field the proxy follows (docs/haptics.md). Every
-/// other option stays as given. Stops at the first model that meets the bounds, at the cap, after
-/// Tolerance::max_rounds bakes, or when the round before had invalid or overlapping slabs and this
-/// round has more of them, or as many for the second round running (faults that more slabs do not
-/// reduce come from the input: faces that cross or fold at every resolution; a sliver of a
-/// resolved union needs one round more); the model returned is the last one baked (the finest).
+/// every bound and it has no invalid slab and no overlapping pair. While a round does not:
+/// - **Local refinement** where the misses have a place: slabs that overlap another, and the slabs
+///   nearest the points beyond the maximum error (measure_fidelity()'s far points). Input vertices
+///   within half such a slab's longest edge get half that edge as the longest coarse edge allowed
+///   (BakeOptions::max_edge), and the next decimation stops at the quadric error the last global
+///   round reached (BakeOptions::max_decimation_cost): the faulty regions get smaller slabs and the
+///   rest of the mesh the same ones. This goes on while it helps: each local round must reduce the
+///   faults or the maximum error by a tenth.
+/// - **Global growth** otherwise: for invalid slabs (where the input folds, a finer coarse mesh
+///   follows the fold and a coarser one spans it), for spots local refinement did not fix, and for
+///   a missed RMS bound (measured without the far points: the coarse mesh too coarse everywhere).
+///   The slab count is the previous one times the worst ratio of measured to wanted error (2 for
+///   an invalid or overlapping shell), clamped to [1.5, 3] (on smooth parts the error falls like
+///   the coarse edge length squared, so like 1/slabs); a missed RMS bound alone multiplies it by
+///   1.1 times its ratio, clamped to [1.2, 3]. Capped at Tolerance::max_slabs and the input's
+///   triangle count; the caps of local refinement are dropped.
+///
+/// With Tolerance::adapt_grid each round's grid n is the largest n <= options.grid_n (and >=
+/// min_grid) with slabs·n² within the sample budget (BakeOptions::sample_budget): round 1's target
+/// slabs·n² (at least Tolerance::min_samples), times the RMS ratio (up to 3) in each round that missed the RMS bound
+/// alone. Smaller slabs at a lower grid follow the input better than larger ones at a finer grid with as many samples,
+/// so the budget holds the samples at the density while the slabs adapt. Every other option stays as given. Stops at
+/// the first model that meets the bounds, at the cap, after Tolerance::max_rounds bakes, or when the round before had
+/// invalid or overlapping slabs and this round has more of them, or as many for the second round running (faults that
+/// more slabs do not reduce come from the input: faces that cross or fold at every resolution; a sliver of a resolved
+/// union needs one round more); the model returned is the last one baked (the finest).
 ///
 /// The decimation that places the coarse vertices is already error-driven (edge collapses of
 /// least quadric error first, decimate_mesh()), so this chooses how far it goes, measured on the

@@ -8,6 +8,7 @@
 #include <hdm/slab/slab_model.h>
 
 #include <cstdint>
+#include <cmath>
 #include <vector>
 
 namespace hdm {
@@ -20,6 +21,10 @@ struct Fidelity {
   double max_back_pct = 0;  ///< maximum of those
   int64_t points = 0;       ///< reconstructed points measured (samples and grid-triangle centroids)
   int64_t back_points = 0;  ///< input points measured (vertices and face centroids)
+  /// rms_pct with the points beyond measure_fidelity()'s `far_pct` counted as 0: the error of
+  /// the sampling where the reconstruction follows the input (equal to rms_pct without far_pct).
+  double rms_within_pct = 0;
+  double rms_back_within_pct = 0;  ///< rms_back_pct, likewise
 };
 
 /// @brief Fidelity of @p model against @p input: every sample and grid-triangle centroid of the
@@ -33,9 +38,15 @@ struct Fidelity {
 ///                diagonal in front of the vertex, along its exposed faces' normal, is inside: a
 ///                vertex of a face that crosses another part) are left out of the input-to-model
 ///                direction.
+/// @param far_pct  with @p far_points: the distance [% of the input's diagonal] beyond which a
+///                measured point is listed.
+/// @param[out] far_points  optional: the measured points (reconstructed points, then input points)
+///                farther than @p far_pct from the other surface [model units]: where the
+///                reconstruction misses a bound (bake_to_tolerance() refines there).
 /// @note Parallel (TBB); O((#samples + #V + #F) log #F).
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
-                          const std::vector<uint8_t>* interior = nullptr);
+                          const std::vector<uint8_t>* interior = nullptr, double far_pct = INFINITY,
+                          std::vector<Vec3>* far_points = nullptr);
 
 /// @brief Faces of an input that are not on the boundary of the material it bounds: faces of a
 /// part pushed into another (a mesh that crosses itself), whose outside is still inside the

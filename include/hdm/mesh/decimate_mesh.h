@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace hdm {
 
@@ -35,6 +36,17 @@ struct DecimateOptions {
   /// a reopening collapse may resolve at the edge's midpoint); false: the quadric's minimiser, which
   /// follows the input more closely between vertices but puts vertices off the surface.
   bool on_input = true;
+  /// Optional #V per input vertex: the longest edge a collapse may make at a vertex merged from
+  /// it [model units]: an edge a collapse makes is at most the smallest value of the input
+  /// vertices merged into its two ends (+inf or an empty vector: no limit; input edges stay).
+  /// Local refinement: where a coarse mesh made faulty slabs, the next decimation keeps its faces
+  /// smaller there and nowhere else.
+  std::vector<double> max_edge;
+  /// Stop once the cheapest remaining collapse costs more quadric error than this (in the
+  /// quadric's units: area-weighted squared distance [model units⁴]); +inf: target_faces alone.
+  /// With DecimateReport::last_cost of an earlier run and max_edge, a region is refined while
+  /// the rest of the mesh decimates as far as before.
+  double max_cost = INFINITY;
 };
 
 /// What decimate_mesh() did.
@@ -43,6 +55,7 @@ struct DecimateReport {
   int64_t vertices = 0;       ///< vertices of the result
   int64_t feature_edges = 0;  ///< input edges marked as features (creases and boundary)
   int64_t collapses = 0;      ///< edge collapses made
+  double last_cost = 0;       ///< largest quadric error of a collapse the queue made (DecimateOptions::max_cost)
 };
 
 /// @brief Decimates @p mesh by edge collapses ordered by Garland–Heckbert quadric error, each one

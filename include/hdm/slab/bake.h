@@ -8,8 +8,10 @@
 #include <hdm/mesh/triangle_mesh.h>
 #include <hdm/slab/slab_model.h>
 
+#include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace hdm {
 
@@ -36,6 +38,19 @@ struct BakeOptions {
   double miss_limit =
       0.10;  ///< when separation leaves more than this fraction of sample rays without a surface, bake again without it
   Vec3f colour{0.82f, 0.80f, 0.76f};  ///< initial surface colour, linear RGB
+  /// Local refinement (bake_to_tolerance()): optional #V per vertex of the input mesh, the longest
+  /// coarse edge allowed at it [model units] (DecimateOptions::max_edge); empty: none.
+  std::vector<double> max_edge;
+  /// Local refinement: the decimation stops at this quadric error as well as at the slab count
+  /// (DecimateOptions::max_cost; BakeReport::decimation_cost of an earlier bake); +inf: the slab
+  /// count alone.
+  double max_decimation_cost = INFINITY;
+  /// Submesh triangles (slabs·n²) to aim at: once the decimation has made the slabs, n becomes the
+  /// largest value in [min(min_grid, grid_n), grid_n] with slabs·n² within this budget, so a
+  /// decimation that stops above its target (thin parts) or a locally refined coarse mesh keeps
+  /// the sample count of the density. 0: n = grid_n.
+  int64_t sample_budget = 0;
+  int min_grid = 4;  ///< smallest n sample_budget chooses
   /// Progress callback: stage name and fraction in [0,1] of that stage. Called from the calling thread.
   std::function<void(const char* stage, double fraction)> progress;
 };
@@ -55,6 +70,10 @@ struct BakeReport {
   int shell_iterations = 0;       ///< rounds of shrinking/growing the shell
   bool separated = false;         ///< overlapping slabs were thinned apart (see BakeOptions::separate_slabs)
   double seconds = 0;             ///< wall time of the bake [s]
+  double decimation_cost = 0;  ///< largest quadric error of a collapse the decimation made (DecimateReport::last_cost)
+  /// Sorted ids of the slabs that overlap another (of a different part): where a finer coarse
+  /// mesh separates the parts.
+  std::vector<int32_t> overlapping_slabs;
 };
 
 /// @brief The slab count a bake targets when BakeOptions::slabs is 0: @p triangles ·
