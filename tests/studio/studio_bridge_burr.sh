@@ -3,7 +3,9 @@
 # handle's orientation (the trajectory's device_qw..device_qz columns) in free space: the burr's
 # god-object, which follows the handle there, ends turned as the driver's last row says (probe
 # "end" after the driver's end packet, compared here with the row's quaternion, sign-free), and the
-# driver's forces CSV has the torque columns. Skips (exit 77) only when no X server can be started.
+# driver's forces CSV has the torque columns. A second run lowers the tilted burr onto the sphere:
+# the driver receives the burr's torque (the studio reports a 6-DOF device spec with --burr).
+# Skips (exit 77) only when no X server can be started.
 # Usage: studio_bridge_burr.sh HDM_STUDIO PYTHON CLIENT MESH
 set -euo pipefail
 studio=$1 python=$2 client=$3 mesh=$4
@@ -45,4 +47,38 @@ print(f"the burr ends {angle:.3f} degrees from the driver's last orientation")
 assert angle < 1.0, (got, want)
 header = open(sys.argv[2]).readline().strip().split(",")
 assert header[-3:] == ["torque_x_nm", "torque_y_nm", "torque_z_nm"], header
+PY
+
+# The burr turned 70° as above, then lowered from 0.12 m to 0.03 m above the sphere's centre (its
+# surface is about 0.05 m from it in the workspace) and held there.
+"$python" - "$tmp/press.csv" <<'PY'
+import math, sys
+a = math.radians(70)
+s = math.sin(a / 2) / 3
+q = f"{math.cos(a / 2)!r},{s!r},{2 * s!r},{2 * s!r}"
+with open(sys.argv[1], "w") as f:
+    f.write("time_s,device_x_m,device_y_m,device_z_m,tool_on,device_qw,device_qx,device_qy,device_qz\n")
+    for k in range(1200):
+        y = 0.12 - 0.09 * min(k, 900) / 900
+        f.write(f"{k * 1e-3!r},0.0,{y!r},0.0,0,{q}\n")
+PY
+echo '{"steps": [{"do": "device_end"}]}' >"$tmp/script2.json"
+name2="$name-press"
+(cd "$tmp" && exec "$studio" "$mesh" --burr --device "shm:$name2" --script script2.json) &
+studio_pid=$!
+cleanup_extra="kill $studio_pid 2>/dev/null || true"
+for _ in $(seq 1200); do
+  [ -e "/dev/shm/$name2" ] && break
+  kill -0 "$studio_pid" 2>/dev/null || break
+  sleep 0.05
+done
+"$python" "$client" --shm "$name2" "$tmp/press.csv" --lockstep --timeout 10 >"$tmp/press.json"
+wait "$studio_pid"
+cleanup_extra=""
+"$python" - "$tmp/press.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+print(f"pressing the tilted burr: max force {s['max_force_n']:.3f} N, max torque {s['max_torque_nm'] * 1000:.2f} mN·m")
+assert s["max_force_n"] > 0.5, s
+assert s["max_torque_nm"] > 1e-3, s
 PY
