@@ -158,6 +158,7 @@ py::dict feel_tool(const std::string& scenario, const std::string& solver, doubl
   d["entered"] = r.entered, d["max_force_step_pct"] = r.max_force_step_pct;
   d["max_direction_step_deg"] = r.max_direction_step_deg, d["normal_error_p95_deg"] = r.normal_error_p95_deg;
   d["normal_error_max_deg"] = r.normal_error_max_deg, d["max_force_n"] = r.max_force_n;
+  d["energy_ratio"] = r.energy_ratio;
   d["mean_contact_force_n"] = r.mean_contact_force_n, d["head_contacts"] = r.head_contacts;
   d["shaft_contacts"] = r.shaft_contacts, d["torque_error_pct"] = r.torque_error_pct;
   d["torque_sense_ok"] = r.torque_sense_ok, d["torque_nm"] = xyz(r.tool_torque), d["force_n"] = xyz(r.tool_force);

@@ -93,6 +93,7 @@ nlohmann::json tool_report_json(const ToolScenarioReport& r) {
           {"normal_error_p95_deg", r.normal_error_p95_deg},
           {"normal_error_max_deg", r.normal_error_max_deg},
           {"max_force_n", r.max_force_n},
+          {"energy_ratio", r.energy_ratio},
           {"mean_contact_force_n", r.mean_contact_force_n},
           {"head_contacts", r.head_contacts},
           {"shaft_contacts", r.shaft_contacts},
@@ -143,6 +144,7 @@ void print_tool_report(const ToolScenarioReport& r) {
     std::printf("  normal error        p95 %.2f deg, max %.2f deg (against the exact input's contact normal)\n",
                 r.normal_error_p95_deg, r.normal_error_max_deg);
   std::printf("  force               max %.3f N, mean in contact %.3f N\n", r.max_force_n, r.mean_contact_force_n);
+  if (r.scenario != "drill_layers") std::printf("  energy ratio        %.3f (returned / absorbed)\n", r.energy_ratio);
 }
 
 // The tool scenarios (slot, roll_edge): their own analytic block, no model file.

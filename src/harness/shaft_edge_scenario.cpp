@@ -82,18 +82,25 @@ ToolScenarioReport run_shaft_edge(const ToolScenarioOptions& o) {
   r.radius = kHead;
   const size_t held_from = path.size() - size_t(std::lround(0.1 * o.rate_hz));
   Vec3 tip = Vec3::Zero(), axis = Vec3::Zero(), force = Vec3::Zero(), torque = Vec3::Zero();
+  EnergyTally energy;
+  Eigen::Quaterniond turned_from = Eigen::Quaterniond::Identity();
   for (size_t k = 0; k < path.size(); ++k) {
     DeviceState ds;
     device.begin_frame(ds);
     const ToolWrench w = rigid_tool_step(b.model, b.locator, ws, shell, ToolPose{ds.position, ds.orientation},
                                          ToolTwist{ds.velocity, ds.angular_velocity}, p, *state);
     device.end_frame(w.force, w.torque);
+    // The handle's turn since the last tick, as a rotation vector in the device frame.
+    const Eigen::AngleAxisd turn(ds.orientation * (k ? turned_from.conjugate() : ds.orientation.conjugate()));
+    turned_from = ds.orientation;
+    energy.add(ds.position, turn.angle() * turn.axis(), w.force, w.torque);
     ++r.ticks;
     r.contact_ticks += w.contacts > 0;
     r.max_force_n = std::max(r.max_force_n, w.force.norm());
     if (k < held_from) continue;
     tip += state->position, axis += state->orientation * Vec3::UnitZ(), force += w.force, torque += w.torque;
   }
+  r.energy_ratio = energy.ratio();
   const double held = double(path.size() - held_from);
   r.tool_tip = tip / held, r.tool_axis = axis.normalized(), r.tool_force = force / held, r.tool_torque = torque / held;
   count_contacts(shell, *state, r);

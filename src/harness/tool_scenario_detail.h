@@ -34,6 +34,25 @@ struct Block {
   ExactMeshQuery reference;
 };
 
+// Work of the wrench held over the last period on the handle's motion in that period, split into
+// what it returned to the hand (positive work) and what it absorbed: the energy ratio of the
+// point scenarios (scenarios.cpp), with the torque's work on the handle's turn added.
+struct EnergyTally {
+  Vec3 x_prev = Vec3::Zero(), f_prev = Vec3::Zero(), t_prev = Vec3::Zero();
+  double returned = 0, absorbed = 0;
+  bool started = false;
+  // @p x handle position [m], @p turn its rotation vector over the period [rad] (zero for a
+  // handle that only moves), @p f and @p t the force [N] and torque [N·m] sent this tick.
+  void add(const Vec3& x, const Vec3& turn, const Vec3& f, const Vec3& t) {
+    if (started) {
+      const double w = f_prev.dot(x - x_prev) + t_prev.dot(turn);
+      (w > 0 ? returned : absorbed) += std::abs(w);
+    }
+    started = true, x_prev = x, f_prev = f, t_prev = t;
+  }
+  double ratio() const { return absorbed > 0 ? returned / absorbed : 0; }
+};
+
 // ToolScenario::ShaftEdge (shaft_edge_scenario.cpp).
 ToolScenarioReport run_shaft_edge(const ToolScenarioOptions& options);
 // ToolScenario::DrillLayers (drill_layers_scenario.cpp).

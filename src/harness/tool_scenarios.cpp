@@ -170,17 +170,20 @@ ToolScenarioReport run_tool_scenario(const ToolScenarioOptions& options) {
   r.rate_hz = o.rate_hz;
   r.radius = kR;
   s.max_force = o.proxy.force.max_force;
+  harness::detail::EnergyTally energy;
   for (size_t k = 0; k < path.size(); ++k) {
     DeviceState ds;
     device.begin_frame(ds);
     const ProxyOutput out = sphere_proxy_step(b.model, b.locator, ws, ds.position, ds.velocity, p, st);
     device.end_frame(out.force);
+    energy.add(ds.position, Vec3::Zero(), out.force, Vec3::Zero());
     ++r.ticks;
     score_tick(b, st, out.force, s, r);
     r.entered = r.entered || (slot && st.center.z() < 0);
     if (o.keep_trace) r.centre.push_back(st.center), r.force.push_back(out.force);
   }
   r.mean_contact_force_n = r.contact_ticks > 0 ? s.force_sum / double(r.contact_ticks) : 0.0;
+  r.energy_ratio = energy.ratio();
   r.normal_error_p95_deg = percentile(s.normal_error, 0.95);
   for (double e : s.normal_error) r.normal_error_max_deg = std::max(r.normal_error_max_deg, e);
   const double rest = std::sqrt(kR * kR - kSlotHalf * kSlotHalf);

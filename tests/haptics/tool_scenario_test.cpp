@@ -65,6 +65,9 @@ TEST(ToolScenario, SlotHoldsTheBallOnItsRims) {
   EXPECT_NEAR(r.max_penetration_pct_r, 100 * std::max(0.0, worst) / kR, 0.5);
   EXPECT_FALSE(r.entered);
   EXPECT_NEAR(r.force.back().z(), 1.0, 0.05) << "the hand's 1 N, straight up from the two rims";
+  // Passive: the walls return no more work to the hand than they absorbed (0: nothing measured).
+  EXPECT_GT(r.energy_ratio, 0);
+  EXPECT_LE(r.energy_ratio, 1.0);
 }
 
 // Rolled over the convex edge, the force follows the analytic contact normal: +z on the top, from
@@ -101,6 +104,8 @@ TEST(ToolScenario, RollEdgeTurnsTheForceContinuously) {
   // Analytic turn per tick round the edge: v·dt / r = 0.1 m/s × 1 ms / 3 cm = 0.19°.
   EXPECT_LT(worst_turn, 1.0);
   EXPECT_LT(r.max_force_step_pct, 2.0);
+  EXPECT_GT(r.energy_ratio, 0);
+  EXPECT_LE(r.energy_ratio, 1.0) << "passive round the edge";
 }
 
 // The burr held leaning on the pit's edge: its head rests on the floor (the tip r above it) and its
@@ -126,6 +131,8 @@ TEST(ToolScenario, ShaftEdgeRestsOnTheFloorAndTheEdge) {
   EXPECT_GT(r.tool_torque.y(), 0) << "the edge's push turns the tool upright";
   EXPECT_LT(std::hypot(r.tool_torque.x(), r.tool_torque.z()), 0.1 * r.tool_torque.y()) << "in the tool's plane";
   EXPECT_TRUE(r.torque_sense_ok);
+  EXPECT_GT(r.energy_ratio, 0);
+  EXPECT_LE(r.energy_ratio, 1.0) << "passive with force and torque, the wrist yielding";
 }
 
 // The torque about the tip is the lever-arm moment of the two frictionless contacts, computed here

@@ -91,6 +91,10 @@ struct ToolScenarioReport {
   /// @{ Largest force and mean force over the contact ticks [N].
   double max_force_n = 0, mean_contact_force_n = 0;
   /// @}
+  /// Slot, RollEdge, ShaftEdge: the work the rendered force (and, on the rigid tool, torque) held
+  /// over each period did on the handle's motion in that period, returned over absorbed (the
+  /// contact is passive at <= 1: Colgate & Schenkel; 0 without contact), as for the point scenarios.
+  double energy_ratio = 0;
   /// @{ ShaftEdge, held (the mean over the last 0.1 s): shell points pushing on the burr's head and
   /// on its shaft (the last tick), the torque [N·m] about the tip against the lever-arm reference
   /// (c − tip) × F_edge, F_edge the edge's share of the force along the shaft's normal at the edge
