@@ -27,7 +27,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1:hard_rss_li
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$here/scripts/lsan.supp:print_suppressions=0"
 export HDM_SANITIZED=1
-gl='^studio_session$|^studio_burr$|^studio_bridge$|^RenderPng\.|^SlabRenderer\.'
+gl='^studio_session$|^studio_burr$|^studio_bridge$|^studio_bridge_burr$|^studio_lockstep$|^RenderPng\.|^SlabRenderer\.'
 # The corpus cases that take longest (seconds each in the main lane, minutes here; and
 # b9_mesh peaks at 1.4 GB uninstrumented) run in the main lane only; knot1, fandisk, boeing and the
 # b9.ply refusal run here too (remove_folds() has its unit tests here).
