@@ -9,8 +9,8 @@
 
 namespace hdm::analysis::detail {
 
-int64_t tighten_edge_caps(const SlabModel& model, const ExactMeshQuery& input, const std::vector<int32_t>& faulty,
-                          const std::vector<Vec3>& far_points, std::vector<double>& max_edge) {
+void tighten_edge_caps(const SlabModel& model, const ExactMeshQuery& input, const std::vector<int32_t>& faulty,
+                       const std::vector<Vec3>& far_points, std::vector<double>& max_edge) {
   const TriangleMesh& in = input.mesh();
   if (max_edge.size() != in.vertices.size()) max_edge.assign(in.vertices.size(), INFINITY);
   // The shell's mid-surface: one triangle per slab, halfway between its inner and outer corners,
@@ -40,15 +40,13 @@ int64_t tighten_edge_caps(const SlabModel& model, const ExactMeshQuery& input, c
     bad.faces.push_back(t);
     longest.push_back(l);
   }
-  const int64_t count = static_cast<int64_t>(bad.faces.size());
-  if (count == 0) return 0;
+  if (bad.faces.empty()) return;
   const double reach = 0.5 * *std::max_element(longest.begin(), longest.end());
   const ExactMeshQuery faulty_shell(std::move(bad));
   tbb::parallel_for(size_t(0), in.vertices.size(), [&](size_t v) {
     const ClosestPoint c = faulty_shell.closest_point(in.vertices[v], reach);
     if (c.face >= 0 && c.distance <= 0.5 * longest[c.face]) max_edge[v] = std::min(max_edge[v], 0.5 * longest[c.face]);
   });
-  return count;
 }
 
 }  // namespace hdm::analysis::detail

@@ -14,9 +14,9 @@ namespace hdm::analysis::detail {
 // slabs nearest @p far_points, where the reconstruction misses the distance bound; all on the
 // shell's mid-surface) ask for smaller slabs there: each input vertex within half a faulty slab's
 // longest edge of it gets at most that half edge in @p max_edge (#V of input, +inf where free; a
-// smaller value from an earlier round stays). Returns the number of faulty slabs.
+// smaller value from an earlier round stays).
 // O(#V log #S) closest-point queries (parallel), one BVH over the #S mid-surface triangles.
-int64_t tighten_edge_caps(const SlabModel& model, const ExactMeshQuery& input, const std::vector<int32_t>& faulty,
-                          const std::vector<Vec3>& far_points, std::vector<double>& max_edge);
+void tighten_edge_caps(const SlabModel& model, const ExactMeshQuery& input, const std::vector<int32_t>& faulty,
+                       const std::vector<Vec3>& far_points, std::vector<double>& max_edge);
 
 }  // namespace hdm::analysis::detail

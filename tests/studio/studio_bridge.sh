@@ -24,15 +24,6 @@ with open(sys.argv[1], "w") as f:
         f.write(f"{k * 1e-3!r},{x!r},{y!r},{z!r},0\n")
 PY
 echo '{"steps": [{"do": "device_end"}]}' >"$tmp/script.json"
-(cd "$tmp" && exec "$studio" "$mesh" --device "shm:$name" --script script.json --report report.json) &
-studio_pid=$!
-cleanup_extra="kill $studio_pid 2>/dev/null || true"
-for _ in $(seq 1200); do  # the region appears once the bake is done and the session starts
-  [ -e "/dev/shm/$name" ] && break
-  kill -0 "$studio_pid" 2>/dev/null || break
-  sleep 0.05
-done
-"$python" "$client" --shm "$name" "$tmp/path.csv" --lockstep --timeout 10 --forces "$tmp/forces.csv" >/dev/null
-wait "$studio_pid"
-cleanup_extra=""
+studio_with_driver "$name" /dev/null "$mesh" --device "shm:$name" --script script.json --report report.json -- \
+  "$tmp/path.csv" --lockstep --timeout 10 --forces "$tmp/forces.csv"
 "$checks" "$tmp" "$mesh"

@@ -25,17 +25,8 @@ with open(sys.argv[1], "w") as f:
         f.write(f"{k * 1e-3!r},0.0,0.12,0.0,0,{math.cos(a / 2)!r},{s!r},{2 * s!r},{2 * s!r}\n")
 PY
 echo '{"steps": [{"do": "device_end"}, {"do": "probe", "name": "end"}]}' >"$tmp/script.json"
-(cd "$tmp" && exec "$studio" "$mesh" --burr --device "shm:$name" --script script.json --report report.json) &
-studio_pid=$!
-cleanup_extra="kill $studio_pid 2>/dev/null || true"
-for _ in $(seq 1200); do  # the region appears once the bake is done and the session starts
-  [ -e "/dev/shm/$name" ] && break
-  kill -0 "$studio_pid" 2>/dev/null || break
-  sleep 0.05
-done
-"$python" "$client" --shm "$name" "$tmp/path.csv" --lockstep --timeout 10 --forces "$tmp/forces.csv" >/dev/null
-wait "$studio_pid"
-cleanup_extra=""
+studio_with_driver "$name" /dev/null "$mesh" --burr --device "shm:$name" --script script.json --report report.json -- \
+  "$tmp/path.csv" --lockstep --timeout 10 --forces "$tmp/forces.csv"
 "$python" - "$tmp/report.json" "$tmp/forces.csv" <<'PY'
 import json, math, sys
 probe = json.load(open(sys.argv[1]))["probes"]["end"]
@@ -64,17 +55,8 @@ with open(sys.argv[1], "w") as f:
 PY
 echo '{"steps": [{"do": "device_end"}]}' >"$tmp/script2.json"
 name2="$name-press"
-(cd "$tmp" && exec "$studio" "$mesh" --burr --device "shm:$name2" --script script2.json) &
-studio_pid=$!
-cleanup_extra="kill $studio_pid 2>/dev/null || true"
-for _ in $(seq 1200); do
-  [ -e "/dev/shm/$name2" ] && break
-  kill -0 "$studio_pid" 2>/dev/null || break
-  sleep 0.05
-done
-"$python" "$client" --shm "$name2" "$tmp/press.csv" --lockstep --timeout 10 >"$tmp/press.json"
-wait "$studio_pid"
-cleanup_extra=""
+studio_with_driver "$name2" "$tmp/press.json" "$mesh" --burr --device "shm:$name2" --script script2.json -- \
+  "$tmp/press.csv" --lockstep --timeout 10
 "$python" - "$tmp/press.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))

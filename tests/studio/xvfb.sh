@@ -27,3 +27,28 @@ if [ ! -s "$tmp/display" ]; then
   exit 77
 fi
 export DISPLAY=":$(head -n1 "$tmp/display")"
+
+# studio_with_driver NAME OUT STUDIO_ARGS... -- DRIVER_ARGS...: runs "$studio" with STUDIO_ARGS in
+# $tmp, waits for its shared-memory region NAME (it appears once the bake is done and the session
+# starts), runs the Python driver "$python" "$client" --shm NAME DRIVER_ARGS with its output in
+# OUT, and waits for the studio to exit.
+studio_with_driver() {
+  local name=$1 out=$2 studio_args=()
+  shift 2
+  while [ "$1" != "--" ]; do
+    studio_args+=("$1")
+    shift
+  done
+  shift
+  (cd "$tmp" && exec "$studio" "${studio_args[@]}") &
+  local studio_pid=$!
+  cleanup_extra="kill $studio_pid 2>/dev/null || true"
+  for _ in $(seq 1200); do
+    [ -e "/dev/shm/$name" ] && break
+    kill -0 "$studio_pid" 2>/dev/null || break
+    sleep 0.05
+  done
+  "$python" "$client" --shm "$name" "$@" >"$out"
+  wait "$studio_pid"
+  cleanup_extra=""
+}
