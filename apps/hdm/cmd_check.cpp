@@ -43,7 +43,8 @@ void run_check(const CheckArgs& a) {
   const ExactMeshQuery exact(std::move(prepared.mesh));
   std::vector<uint8_t> interior;
   if (prepared.report.self_intersections > 0) interior = interior_faces(exact);
-  const Fidelity f = measure_fidelity(model, exact, interior.empty() ? nullptr : &interior);
+  const std::vector<Vec3> points = surface_points(exact, interior.empty() ? nullptr : &interior);
+  const Fidelity f = measure_fidelity(model, exact, &points);
   const ContactAccuracy c = measure_contact(model, exact, a.points, 1, 1.0, interior.empty() ? nullptr : &interior);
   const int invalid = count_invalid_slabs(model);
   const int64_t overlapping = count_overlapping_pairs(model);

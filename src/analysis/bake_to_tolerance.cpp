@@ -74,7 +74,7 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     ToleranceRound t;
     t.slabs = r.slabs;
     t.grid_n = r.grid_n;
-    t.fidelity = measure_fidelity(model, input, tolerance.interior, tolerance.max_pct, &far);
+    t.fidelity = measure_fidelity(model, input, tolerance.input_points, tolerance.max_pct, &far);
     t.invalid_slabs = r.invalid_slabs;
     t.overlapping_pairs = r.overlapping_pairs;
     t.ray_misses = r.ray_misses;
@@ -114,8 +114,8 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     plan.was_local = local;
     plan.local_faults = faults;
     plan.local_max = max_ratio;
-    if (local) analysis::detail::tighten_edge_caps(model, input, r.overlapping_slabs, far, plan.options.max_edge);
     if (local) {
+      analysis::detail::tighten_edge_caps(model, input, r.overlapping_slabs, far, plan.options.max_edge);
       // The next decimation stops at the quadric error the last global round reached, so the
       // rest of the mesh decimates as far as before, and keeps the faulty regions at half size.
       // A thousandth above it: collapses of equal cost (a symmetric part) all go, whatever their

@@ -71,7 +71,42 @@ std::vector<uint8_t> interior_faces(const ExactMeshQuery& input) {
   return interior;
 }
 
-Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<uint8_t>* interior,
+std::vector<Vec3> surface_points(const ExactMeshQuery& input, const std::vector<uint8_t>* interior) {
+  const TriangleMesh& in = input.mesh();
+  auto centroid = [&](size_t t) {
+    const Tri& f = in.faces[t];
+    return Vec3((in.vertices[f[0]] + in.vertices[f[1]] + in.vertices[f[2]]) / 3.0);
+  };
+  std::vector<Vec3> points;
+  if (!interior) {
+    points.reserve(in.vertices.size() + in.faces.size());
+    points.insert(points.end(), in.vertices.begin(), in.vertices.end());
+    for (size_t t = 0; t < in.faces.size(); ++t) points.push_back(centroid(t));
+    return points;
+  }
+  std::vector<uint8_t> exposed(in.vertices.size(), 0);
+  std::vector<Vec3> normal(in.vertices.size(), Vec3::Zero());
+  for (size_t t = 0; t < in.faces.size(); ++t)
+    if (!(*interior)[t]) {
+      const Tri& f = in.faces[t];
+      const Vec3 n = (in.vertices[f[1]] - in.vertices[f[0]]).cross(in.vertices[f[2]] - in.vertices[f[0]]);
+      for (int32_t v : f) exposed[v] = 1, normal[v] += n;
+      points.push_back(centroid(t));
+    }
+  // A vertex of an exposed face may itself lie inside another part (the face crosses it): it is
+  // on the material's surface only if the point just in front of it is outside, as for faces.
+  const double eps = (input.closed() ? 1e-9 : 1e-5) * bounds(in).diagonal();  // as interior_faces()
+  const WindingNumber winding(in);
+  tbb::parallel_for(size_t(0), in.vertices.size(), [&](size_t v) {
+    if (!exposed[v] || !(normal[v].norm() > 0)) return;
+    if (winding.inside(in.vertices[v] + eps * normal[v].normalized())) exposed[v] = 0;
+  });
+  for (size_t v = 0; v < in.vertices.size(); ++v)
+    if (exposed[v]) points.push_back(in.vertices[v]);
+  return points;
+}
+
+Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<Vec3>* input_points,
                           double far_pct, std::vector<Vec3>* far_points) {
   TriangleMesh surface;
   displaced_surface(model, surface.vertices, surface.faces);
@@ -93,33 +128,9 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
   // About one query per triangle (medium quality); the surface is handed over, not copied (0.6 GB
   // at 10^5 slabs), as only the reconstruction's queries read it from here on.
   const ExactMeshQuery recon(std::move(surface), BvhQuality::medium);
-  // Input points on the surface of the material: every vertex and centroid, or without interior faces.
-  std::vector<Vec3> back_points;
-  if (interior) {
-    std::vector<uint8_t> exposed(in.vertices.size(), 0);
-    std::vector<Vec3> normal(in.vertices.size(), Vec3::Zero());
-    for (size_t t = 0; t < in.faces.size(); ++t)
-      if (!(*interior)[t]) {
-        const Tri& f = in.faces[t];
-        const Vec3 n = (in.vertices[f[1]] - in.vertices[f[0]]).cross(in.vertices[f[2]] - in.vertices[f[0]]);
-        for (int32_t v : f) exposed[v] = 1, normal[v] += n;
-        back_points.push_back(centroid(in, static_cast<int64_t>(t)));
-      }
-    // A vertex of an exposed face may itself lie inside another part (the face crosses it): it is
-    // on the material's surface only if the point just in front of it is outside, as for faces.
-    const double eps = (input.closed() ? 1e-9 : 1e-5) * diag;  // as interior_faces()
-    const WindingNumber winding(in);
-    tbb::parallel_for(size_t(0), in.vertices.size(), [&](size_t v) {
-      if (!exposed[v] || !(normal[v].norm() > 0)) return;
-      if (winding.inside(in.vertices[v] + eps * normal[v].normalized())) exposed[v] = 0;
-    });
-    for (size_t v = 0; v < in.vertices.size(); ++v)
-      if (exposed[v]) back_points.push_back(in.vertices[v]);
-  } else {
-    back_points.reserve(in.vertices.size() + in.faces.size());
-    back_points.insert(back_points.end(), in.vertices.begin(), in.vertices.end());
-    for (size_t t = 0; t < in.faces.size(); ++t) back_points.push_back(centroid(in, static_cast<int64_t>(t)));
-  }
+  std::vector<Vec3> all_points;  // every vertex and centroid, unless the caller chose the points
+  if (!input_points) all_points = surface_points(input, nullptr);
+  const std::vector<Vec3>& back_points = input_points ? *input_points : all_points;
   const auto nb = static_cast<int64_t>(back_points.size());
   if (far_points) far_flags.assign(nb, 0);
   const Sum back = distances(

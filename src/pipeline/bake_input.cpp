@@ -30,8 +30,9 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
   progress("input BVH", 0);
   const auto bvh_start = std::chrono::steady_clock::now();
   const ExactMeshQuery reference(std::move(in.mesh));  // the prepared mesh lives on in the BVH alone
-  // A mesh that crossed itself bounds the union of its parts; faces inside it are not on
-  // the surface the model follows, and the fidelity leaves them out.
+  // A mesh that crossed itself bounds the union of its parts; faces still inside it (where the
+  // seams closed it and what crosses stays) are reported. The fidelity measures the points of
+  // the material's surface, taken before the resolution (PreparedInput::surface_points).
   std::vector<uint8_t> interior;
   if (r.input.self_intersections > 0) interior = interior_faces(reference);
   r.interior_faces = std::count(interior.begin(), interior.end(), uint8_t(1));
@@ -45,13 +46,13 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
   SlabModel model;
   if (options.bounded) {
     Tolerance t = options.tolerance;
-    t.interior = interior.empty() ? nullptr : &interior;
+    t.input_points = in.surface_points.empty() ? nullptr : &in.surface_points;
     model = bake_to_tolerance(reference, name, bake, t, &r.rounds, &r.bake);
     r.fidelity = r.rounds.back().fidelity;
   } else {
     model = bake_slabs(reference, name, bake, &r.bake);
     progress("fidelity", 0);
-    r.fidelity = measure_fidelity(model, reference, interior.empty() ? nullptr : &interior);
+    r.fidelity = measure_fidelity(model, reference, in.surface_points.empty() ? nullptr : &in.surface_points);
     progress("fidelity", 1);
   }
   r.bake.seconds += bvh_seconds;

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+#include <hdm/analysis/fidelity.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/scale_mesh.h>
 #include <hdm/pipeline/prepare_input.h>
 
@@ -56,6 +58,11 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
   const bool closed_by_seams = r.self_intersections > 0 && open && close_self_intersecting_parts(in, open);
   if (open) r.folds = remove_folds(in.mesh);
   if (!options.resolve || r.self_intersections == 0) return in;
+  {
+    const ExactMeshQuery unresolved(in.mesh);  // a copy: the faces as `hdm check` measures them
+    const std::vector<uint8_t> interior = interior_faces(unresolved);
+    in.surface_points = surface_points(unresolved, &interior);
+  }
   if (closed_by_seams) {
     // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL 5.5's
     // refinement of a closed union crashes on some such surfaces.

@@ -85,20 +85,20 @@ void expect_default_bake_passes(const std::string& file) {
   const bool crosses = count_self_intersections(input) > 0;
   const TriangleMesh resolved = crosses ? resolve_self_intersections(input) : input;
   const ExactMeshQuery reference(resolved);
-  std::vector<uint8_t> interior_resolved;
-  if (crosses) interior_resolved = interior_faces(reference);
+  // The points of the material's surface on the input as read, as the check below measures them.
+  const ExactMeshQuery exact(input);
+  std::vector<uint8_t> interior;
+  if (crosses) interior = interior_faces(exact);
+  const std::vector<Vec3> points = surface_points(exact, crosses ? &interior : nullptr);
   Tolerance t;  // hdm bake's default bound
   t.max_pct = 0.2;
   t.rms_pct = 0.02;
-  if (crosses) t.interior = &interior_resolved;
+  t.input_points = &points;
   std::vector<ToleranceRound> rounds;
   const SlabModel m = bake_to_tolerance(reference, file, BakeOptions{}, t, &rounds);
   EXPECT_EQ(count_invalid_slabs(m), 0) << file;
   EXPECT_EQ(count_overlapping_pairs(m), 0) << file;
-  const ExactMeshQuery exact(input);
-  std::vector<uint8_t> interior;
-  if (crosses) interior = interior_faces(exact);
-  const Fidelity f = measure_fidelity(m, exact, crosses ? &interior : nullptr);
+  const Fidelity f = measure_fidelity(m, exact, &points);
   EXPECT_LE(std::max(f.max_pct, f.max_back_pct), 0.2) << file;
   EXPECT_LE(std::max(f.rms_pct, f.rms_back_pct), 0.02) << file;
   EXPECT_GE(measure_contact(m, exact, 20000, 1, 1.0).agreement, 0.995) << file;

@@ -3,6 +3,7 @@
 // other bake to their union (its signed distance, volume and area), in the input's own units.
 #include <hdm/core/error.h>
 #include <hdm/pipeline/bake_input.h>
+#include <hdm/slab/scale_model.h>
 
 #include <gtest/gtest.h>
 
@@ -144,4 +145,29 @@ TEST(BakeInput, DensityCountsTheTrianglesAsGiven) {
   bake_input(given, "two boxes", o, &report);
   const double target = counted * o.bake.density / (o.bake.grid_n * o.bake.grid_n);
   EXPECT_NEAR(report.bake.slabs, target, 0.05 * target);
+}
+
+// The bake's own fidelity figure is the one `hdm check` gives: both measure the points of the
+// material's surface on the faces as given (the check's reference), not the bake's resolution of
+// them, whose added vertices along the intersection curves would weigh the RMS differently.
+TEST(BakeInput, ReportsTheInputToModelFidelityTheCheckMeasures) {
+  const TwoBoxes boxes;
+  BakeInputReport report;
+  SlabModel model = bake_input(boxes.mesh(), "two boxes", {}, &report);
+  PrepareOptions check;
+  check.resolve = false;
+  PreparedInput given = prepare_input(boxes.mesh(), "two boxes", check);
+  scale_model(model, given.report.scale_exponent);
+  const ExactMeshQuery exact(std::move(given.mesh));
+  const std::vector<uint8_t> interior = interior_faces(exact);
+  const std::vector<Vec3> points = surface_points(exact, &interior);
+  const Fidelity f = measure_fidelity(model, exact, &points);
+  EXPECT_EQ(report.fidelity.back_points, f.back_points);
+  EXPECT_NEAR(report.fidelity.rms_back_pct, f.rms_back_pct, 1e-9 * f.rms_back_pct);
+  EXPECT_NEAR(report.fidelity.max_back_pct, f.max_back_pct, 1e-9 * f.max_back_pct);
+  // Independently: no measured point lies inside the union. A face inside it has its centroid at
+  // least 1/36 of a side deep (a third of a grid cell); half that separates the two (the repair
+  // welds B's vertices onto A's where they meet, and the faces there lie within 10⁻³ of a side).
+  const double to_input = std::ldexp(1.0, -given.report.scale_exponent);
+  for (const Vec3& p : points) EXPECT_LT(std::abs(boxes.union_distance(p * to_input)), boxes.scale / 72);
 }

@@ -28,9 +28,9 @@ struct Tolerance {
   /// triangles) still gets the samples of a 20,000-triangle one at the default density, enough for
   /// a smooth force-shading field; inputs above 20,000 triangles keep their density.
   int64_t min_samples = 80000;
-  /// Optional #F flags of interior input faces (interior_faces()), left out of the fidelity's
-  /// input-to-model direction. Not owned.
-  const std::vector<uint8_t>* interior = nullptr;
+  /// Optional points of the input's surface that the fidelity's input-to-model direction measures
+  /// (measure_fidelity()'s `input_points`, surface_points()). Not owned.
+  const std::vector<Vec3>* input_points = nullptr;
 };
 
 /// Why bake_to_tolerance() stopped after a round.

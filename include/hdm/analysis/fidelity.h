@@ -28,25 +28,38 @@ struct Fidelity {
 };
 
 /// @brief Fidelity of @p model against @p input: every sample and grid-triangle centroid of the
-/// reconstructed surface to the input, and every input vertex and face centroid to the
-/// reconstructed surface (an Embree BVH over the displaced grid triangles).
+/// reconstructed surface to the input, and every input point (@p input_points, by default every
+/// input vertex and face centroid) to the reconstructed surface (an Embree BVH over the displaced
+/// grid triangles).
 /// @param model   slab model with derived data (rebuild_derived()).
 /// @param input   exact queries on the mesh @p model was baked from (same frame and units).
-/// @param interior  optional #F flags of input faces that are not on the surface of the material
-///                (interior_faces()): their centroids, vertices all of whose faces are interior, and
-///                vertices inside the material (the point 10⁻⁵, closed input 10⁻⁹, of the
-///                diagonal in front of the vertex, along its exposed faces' normal, is inside: a
-///                vertex of a face that crosses another part) are left out of the input-to-model
-///                direction.
+/// @param input_points  optional points of the input's surface that the input-to-model direction
+///                measures (surface_points()), in @p input's frame; not owned. A bake of a mesh
+///                that crosses itself passes the points of the faces before they were resolved,
+///                so that it and `hdm check` (which measures against those faces) measure the
+///                same points.
 /// @param far_pct  with @p far_points: the distance [% of the input's diagonal] beyond which a
 ///                measured point is listed.
 /// @param[out] far_points  optional: the measured points (reconstructed points, then input points)
 ///                farther than @p far_pct from the other surface [model units]: where the
 ///                reconstruction misses a bound (bake_to_tolerance() refines there).
-/// @note Parallel (TBB); O((#samples + #V + #F) log #F).
+/// @note Parallel (TBB); O((#samples + #points) log #F).
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
-                          const std::vector<uint8_t>* interior = nullptr, double far_pct = INFINITY,
+                          const std::vector<Vec3>* input_points = nullptr, double far_pct = INFINITY,
                           std::vector<Vec3>* far_points = nullptr);
+
+/// @brief The points of an input that measure_fidelity() measures from the input to a model:
+/// every vertex and face centroid, or with @p interior, those on the surface of the material.
+/// @param input     exact queries on the input (its mesh and whether it is closed).
+/// @param interior  optional #F flags of input faces that are not on the surface of the material
+///                (interior_faces()): their centroids, vertices all of whose faces are interior, and
+///                vertices inside the material (the point 10⁻⁵, closed input 10⁻⁹, of the
+///                diagonal in front of the vertex, along its exposed faces' normal, is inside: a
+///                vertex of a face that crosses another part) are left out.
+/// @return the points, in @p input's frame.
+/// @note O(#V + #F); with @p interior, a winding-number tree (O(#F log #F)) and one query per
+///       exposed vertex, parallel (TBB).
+std::vector<Vec3> surface_points(const ExactMeshQuery& input, const std::vector<uint8_t>* interior);
 
 /// @brief Faces of an input that are not on the boundary of the material it bounds: faces of a
 /// part pushed into another (a mesh that crosses itself), whose outside is still inside the

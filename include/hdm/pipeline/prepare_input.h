@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace hdm {
 
@@ -43,6 +44,11 @@ struct PrepareReport {
 struct PreparedInput {
   TriangleMesh mesh;     ///< scaled by 2^report.scale_exponent (diagonal in [1, 2)) and prepared
   PrepareReport report;  ///< see PrepareReport
+  /// With PrepareOptions::resolve, where faces cross: the points of the material's surface on the
+  /// faces before step 7 (surface_points() with interior_faces()), which the bake's fidelity
+  /// measures from the input to the model. `hdm check` measures against those same faces, so the
+  /// bake and the check measure the same points. Empty otherwise.
+  std::vector<Vec3> surface_points;
 };
 
 /// @brief Makes a mesh as read ready to bake, in the one order every front end uses.
@@ -62,6 +68,7 @@ struct PreparedInput {
 /// 7. With PrepareOptions::resolve, faces that still cross are replaced by
 ///    resolve_self_intersections() of the mesh, unless the seams closed it (CGAL 5.5's
 ///    refinement of such a closed union can fail; what crosses then stays as the input has it).
+///    The points of the material's surface are taken before (PreparedInput::surface_points).
 ///
 /// @param mesh     triangles as read [any units].
 /// @param name     file or argument name for error messages.
