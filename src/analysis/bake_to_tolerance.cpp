@@ -2,10 +2,13 @@
 #include <hdm/analysis/bake_to_tolerance.h>
 #include <hdm/core/error.h>
 
+#include <hdm/mesh/split_faces.h>
+
 #include "edge_caps.h"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace hdm {
 
@@ -22,7 +25,27 @@ struct Plan {
   int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round
   double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
                                 // slab count (-1: the next round sets it)
+  // The mesh decimated into slabs: the input, or the input with its faces split (a low-poly input
+  // whose bound asks for more slabs than it has triangles); the same surface either way.
+  const ExactMeshQuery* source = nullptr;
+  std::unique_ptr<ExactMeshQuery> split;
 };
+
+// A decimation cannot make more faces than it starts from. The source runs short when a global
+// round asks for more slabs (@p next) than it has triangles and the last round's decimation
+// reached its target (@p slabs; a collapse removes two faces), or when a local round is to follow
+// one whose decimation kept every face; its faces are then split in four (the same surface). A
+// decimation that stopped above its target (thin parts keep their faces) is not limited by the
+// source's resolution, and splitting would only multiply its slabs. Called only after a round
+// without invalid or overlapping slabs: faults at the input's own resolution come from faces that
+// cross or fold, which smaller slabs follow rather than remove.
+bool source_runs_short(const Plan& plan, bool local, int64_t slabs, int64_t next, int64_t max_slabs) {
+  const auto faces = static_cast<int64_t>(plan.source->mesh().faces.size());
+  if (faces >= max_slabs) return false;
+  if (local) return slabs >= faces;  // the decimation kept every face: the caps ask for finer ones
+  const int64_t target = plan.options.slabs > 0 ? plan.options.slabs : default_slab_count(faces, plan.options);
+  return next > faces && slabs <= target + 2;
+}
 
 // The worst ratio of a measured error to its bound (2 with invalid or overlapping slabs).
 double worst_ratio(const ToleranceRound& t, const Tolerance& tolerance) {
@@ -56,8 +79,9 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   if (tolerance.max_slabs < 1 || tolerance.max_rounds < 1)
     throw InvalidInput(name + ": the slab cap and the number of rounds must be at least 1");
   const int64_t faces = static_cast<int64_t>(input.mesh().faces.size());
-  const int cap = static_cast<int>(std::min<int64_t>(tolerance.max_slabs, faces));
-  Plan plan{options};
+  Plan plan;
+  plan.options = options;
+  plan.source = &input;
   if (tolerance.adapt_grid) {
     // The samples of the first round's target: each round's grid follows its slab count.
     const int target = options.slabs > 0 ? options.slabs : default_slab_count(faces, options);
@@ -69,7 +93,8 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   std::vector<Vec3> far;
   for (int round = 0;; ++round) {
     BakeReport r;
-    SlabModel model = bake_slabs(input, name, plan.options, &r);
+    SlabModel model = bake_slabs(*plan.source, name, plan.options, &r);
+    model.source_triangles = faces;
     if (plan.decimation_cost < 0) plan.decimation_cost = r.decimation_cost;
     ToleranceRound t;
     t.slabs = r.slabs;
@@ -98,14 +123,19 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     const double rms = std::max(f.rms_within_pct, f.rms_back_within_pct) / tolerance.rms_pct;
     // A missed RMS bound alone grows the slabs by its ratio: the RMS falls about as fast.
     const double growth = spots || faults > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * rms, 1.2, 3.0);
-    const int next = static_cast<int>(std::min<double>(cap, std::ceil(r.slabs * growth)));
+    // Past the source's triangles only where it runs short, and then on its faces split.
+    const double wanted = std::min<double>(tolerance.max_slabs, std::ceil(r.slabs * growth));
+    const bool split = faults == 0 && source_runs_short(plan, local, r.slabs, wanted, tolerance.max_slabs);
+    const auto source_faces = static_cast<int64_t>(plan.source->mesh().faces.size());
+    const int cap =
+        static_cast<int>(split ? tolerance.max_slabs : std::min<int64_t>(tolerance.max_slabs, source_faces));
+    const int next = static_cast<int>(std::min<double>(cap, wanted));
     const bool grows = local ? r.slabs < cap : r.slabs < cap && next > r.slabs;
     if (t.met || is_stuck || round + 1 >= tolerance.max_rounds || !grows) {
-      const bool by_slab_cap = tolerance.max_slabs <= faces;
       tried.back().stop = t.met                               ? ToleranceStop::Met
                           : is_stuck                          ? ToleranceStop::Faults
                           : round + 1 >= tolerance.max_rounds ? ToleranceStop::Rounds
-                          : by_slab_cap                       ? ToleranceStop::SlabCap
+                          : cap == tolerance.max_slabs        ? ToleranceStop::SlabCap
                                                               : ToleranceStop::InputFaces;
       if (rounds) *rounds = std::move(tried);
       if (report) *report = r;
@@ -114,8 +144,13 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     plan.was_local = local;
     plan.local_faults = faults;
     plan.local_max = max_ratio;
+    if (split) {  // the caps carried to the new vertices (a local round's)
+      plan.split = std::make_unique<ExactMeshQuery>(
+          split_faces(plan.source->mesh(), plan.options.max_edge.empty() ? nullptr : &plan.options.max_edge));
+      plan.source = plan.split.get();
+    }
     if (local) {
-      analysis::detail::tighten_edge_caps(model, input, r.overlapping_slabs, far, plan.options.max_edge);
+      analysis::detail::tighten_edge_caps(model, *plan.source, r.overlapping_slabs, far, plan.options.max_edge);
       // The next decimation stops at the quadric error the last global round reached, so the
       // rest of the mesh decimates as far as before, and keeps the faulty regions at half size.
       // A thousandth above it: collapses of equal cost (a symmetric part) all go, whatever their
@@ -145,7 +180,7 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
       return "the slab cap (--max-slabs " + std::to_string(tolerance.max_slabs) + ") was reached";
     case ToleranceStop::InputFaces:
       return "the model has as many slabs as the input has triangles (" + std::to_string(input_triangles) +
-             "), the most a bake makes";
+             "), the most a bake makes where slabs are invalid or overlap or the decimation keeps the input's faces";
     case ToleranceStop::Rounds:
       return "the " + std::to_string(tolerance.max_rounds) + " rounds a bake tries were used";
     case ToleranceStop::Faults:

@@ -18,7 +18,7 @@ namespace hdm {
 struct Tolerance {
   double max_pct = INFINITY;  ///< bound on the maximum distance, both ways (Fidelity::max_pct, max_back_pct)
   double rms_pct = INFINITY;  ///< bound on the RMS distance, both ways (Fidelity::rms_pct, rms_back_pct)
-  int max_slabs = 100000;     ///< never bake more slabs than this (nor more than the input's triangles)
+  int max_slabs = 100000;     ///< never bake more slabs than this (see bake_to_tolerance() for the input's triangles)
   int max_rounds = 8;         ///< bakes tried at most
   /// Lower the grid n as the slab count grows, so that the samples (slabs·n²) do not grow with it
   /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
@@ -38,7 +38,7 @@ enum class ToleranceStop {
   NotLast,     ///< another round followed
   Met,         ///< the round met every bound
   SlabCap,     ///< the next round would pass Tolerance::max_slabs
-  InputFaces,  ///< the next round would have more slabs than the input has triangles
+  InputFaces,  ///< the next round would have more slabs than the input has triangles, and splitting them would not help
   Rounds,      ///< Tolerance::max_rounds bakes were tried
   Faults,      ///< invalid or overlapping slabs that more slabs did not reduce (the input's own crossings or folds)
 };
@@ -80,8 +80,16 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 ///   The slab count is the previous one times the worst ratio of measured to wanted error (2 for
 ///   an invalid or overlapping shell), clamped to [1.5, 3] (on smooth parts the error falls like
 ///   the coarse edge length squared, so like 1/slabs); a missed RMS bound alone multiplies it by
-///   1.1 times its ratio, clamped to [1.2, 3]. Capped at Tolerance::max_slabs and the input's
-///   triangle count; the caps of local refinement are dropped.
+///   1.1 times its ratio, clamped to [1.2, 3]. Capped at Tolerance::max_slabs; the caps of local
+///   refinement are dropped.
+/// - **A finer source** when the input runs short: a decimation makes at most the faces it starts
+///   from, so when a global round asks for more slabs than the mesh decimated has triangles and
+///   the round before reached its target, that mesh's faces are split in four at their edge
+///   midpoints (split_faces(): the same surface; a cube of 12 triangles gets small slabs along its
+///   edges). The fidelity is still measured against @p input. Not after a round with invalid or
+///   overlapping slabs (faults at the input's own resolution come from its faces, which cross or
+///   fold), nor when the decimation stopped above its target (thin parts keep their faces): the
+///   slab count then stays at most the input's triangles.
 ///
 /// With Tolerance::adapt_grid each round's grid n is the largest n <= options.grid_n (and >=
 /// min_grid) with slabs·n² within the sample budget (BakeOptions::sample_budget): round 1's target
