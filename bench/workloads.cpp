@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -51,27 +50,6 @@ Summary summarise(const std::vector<Stats>& runs) {
   for (const Stats& s : runs)
     r.spread_lo = std::min(r.spread_lo, s.median), r.spread_hi = std::max(r.spread_hi, s.median);
   return r;
-}
-
-TriangleMesh subdivide_midpoints(const TriangleMesh& in) {
-  TriangleMesh out;
-  out.vertices = in.vertices;
-  std::map<std::pair<int32_t, int32_t>, int32_t> mid;
-  auto midpoint = [&](int32_t a, int32_t b) {
-    const auto key = std::minmax(a, b);
-    auto [it, fresh] = mid.try_emplace({key.first, key.second}, static_cast<int32_t>(out.vertices.size()));
-    if (fresh) out.vertices.push_back(0.5 * (in.vertices[a] + in.vertices[b]));
-    return it->second;
-  };
-  out.faces.reserve(4 * in.faces.size());
-  for (const Tri& f : in.faces) {
-    const int32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-    out.faces.push_back({f[0], ab, ca});
-    out.faces.push_back({ab, f[1], bc});
-    out.faces.push_back({ca, bc, f[2]});
-    out.faces.push_back({ab, bc, ca});
-  }
-  return out;
 }
 
 std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, double depth, std::mt19937_64& rng) {

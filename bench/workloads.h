@@ -70,10 +70,6 @@ Stats time_batches(size_t n, Body&& body, size_t batch = kBatch) {
   return stats_of(std::move(per_query));
 }
 
-/// 1-to-4 midpoint subdivision: the same surface with 4x the triangles (a larger baseline input,
-/// or enough input triangles for large slab counts). O(#F log #F).
-TriangleMesh subdivide_midpoints(const TriangleMesh& in);
-
 /// A 1 kHz device path over the surface of @p m [model units]: a greedy walk over the sample graph
 /// towards random target samples, offset along the interpolated normal by depth·sin(2π·tick/1000)
 /// (a period of one second), so the point slides along and into the surface. The curve is traced

@@ -10,6 +10,7 @@
 #include <hdm/analysis/cgal_closest_point.h>
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
+#include <hdm/mesh/split_faces.h>
 #include <hdm/slab/bake.h>
 
 #include <CLI/CLI.hpp>
@@ -70,9 +71,9 @@ BenchInput read_bench_input(const BenchArgs& a) {
   in.mesh = read_mesh(in.path);
   in.file_triangles = static_cast<int64_t>(in.mesh.faces.size());
   for (; in.subdivisions < a.subdivide; ++in.subdivisions)
-    in.mesh = subdivide_midpoints(in.mesh);  // a larger baseline input
+    in.mesh = split_faces(in.mesh);  // a larger baseline input
   while (a.slabs > 0 && static_cast<int64_t>(in.mesh.faces.size()) <= a.slabs)
-    in.mesh = subdivide_midpoints(in.mesh), ++in.subdivisions;
+    in.mesh = split_faces(in.mesh), ++in.subdivisions;
   return in;
 }
 

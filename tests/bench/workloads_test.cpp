@@ -60,27 +60,6 @@ TEST(Workloads, TimeBatchesRunsEveryWholeBatchOnceInOrder) {
   EXPECT_LE(s.median, s.max);
 }
 
-TEST(Workloads, SubdivideMidpointsKeepsTheSurface) {
-  const TriangleMesh in = test::icosphere(1, 1.0);
-  const TriangleMesh out = subdivide_midpoints(in);
-  ASSERT_EQ(out.faces.size(), 4 * in.faces.size());
-  auto area = [](const TriangleMesh& m) {
-    double a = 0;
-    for (const Tri& f : m.faces)
-      a += 0.5 * (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]).norm();
-    return a;
-  };
-  EXPECT_NEAR(area(out), area(in), 1e-12 * area(in));  // midpoints lie on the flat faces
-  const MeshTopology t = analyze_topology(out);
-  EXPECT_EQ(t.boundary_edges, 0);
-  EXPECT_EQ(t.non_manifold_edges, 0);
-  EXPECT_EQ(t.inconsistent_edges, 0);
-  // Euler characteristic of a sphere: V - E + F = 2 with E = 3F/2.
-  EXPECT_EQ(static_cast<int64_t>(out.vertices.size()) - 3 * static_cast<int64_t>(out.faces.size()) / 2 +
-                static_cast<int64_t>(out.faces.size()),
-            2);
-}
-
 // The default bunny bake's displaced surface, as Embree sees it (independent of the slab code).
 struct Surface {
   const SlabModel& model = test::baked_bunny(150, 16);
