@@ -33,7 +33,8 @@ ExactMeshQuery::ExactMeshQuery(TriangleMesh mesh_in, BvhQuality quality)
                           quality == BvhQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   // Robust (watertight) triangle tests: a bake ray through an input vertex or edge, which a coarse
   // mesh at the input's own resolution casts on purpose, must hit one of its faces.
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  // The context filter lets segment_hits() collect every hit of a segment in one traversal.
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                          3 * sizeof(float), mesh.vertices.size()));
@@ -190,20 +191,47 @@ ClosestPoint ExactMeshQuery::closest_point(const Vec3& p, double radius) const {
   return st.best;
 }
 
+namespace {
+
+// Every candidate hit of one traversal, rejected so the traversal goes on (Embree's context filter).
+struct AllHitsContext {
+  RTCIntersectContext context;  // first member: Embree passes a pointer to it
+  std::vector<std::pair<float, int32_t>>* hits;
+};
+
+void collect_hit(const RTCFilterFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  auto* c = reinterpret_cast<const AllHitsContext*>(args->context);
+  c->hits->emplace_back(RTCRayN_tfar(args->ray, args->N, 0),
+                        static_cast<int32_t>(RTCHitN_primID(args->hit, args->N, 0)));
+  args->valid[0] = 0;
+}
+
+}  // namespace
+
 void ExactMeshQuery::segment_hits(const Vec3& a, const Vec3& b, std::vector<SegmentHit>& hits) const {
   hits.clear();
-  const Vec3 d = b - a;
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
+  // One traversal collects every hit, sorted by (t, face); then the hits are read as successive
+  // nearest-hit queries would, each from just past the last (a relative epsilon in t keeps
+  // adjacent triangles from repeating), 1024 steps at most. A traversal per hit cost as many
+  // descents as hits: an edge of a slab's boundary, cast against the shells of its neighbours,
+  // meets dozens of faces at its ends.
+  thread_local std::vector<std::pair<float, int32_t>> raw;
+  raw.clear();
+  AllHitsContext c;
+  rtcInitIntersectContext(&c.context);
+  c.context.filter = collect_hit;
+  c.hits = &raw;
+  RTCRayHit rh = make_ray(a, b - a, 0.0f, 1.0f);
+  rtcIntersect1(impl_->scene, &c.context, &rh);
+  std::sort(raw.begin(), raw.end());
   float tnear = 0;
-  for (int guard = 0; guard < 1024; ++guard) {
-    RTCRayHit rh = make_ray(a, d, tnear, 1.0f);
-    rtcIntersect1(impl_->scene, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-    const auto face = static_cast<int32_t>(rh.hit.primID);
-    if (hits.empty() || hits.back().face != face) hits.push_back({rh.ray.tfar, face});
-    // Step just past the hit; a relative epsilon in t keeps adjacent triangles from repeating.
-    tnear = std::nextafter(rh.ray.tfar, 2.0f) + 1e-7f;
+  int steps = 0;
+  for (const auto& [t, face] : raw) {
+    if (!(t >= tnear)) continue;
+    if (hits.empty() || hits.back().face != face) hits.push_back({t, face});
+    tnear = std::nextafter(t, 2.0f) + 1e-7f;
+    if (++steps == 1024) break;
   }
 }
 

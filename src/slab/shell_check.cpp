@@ -26,8 +26,9 @@ namespace {
 using Pair = std::pair<int32_t, int32_t>;
 
 // Boundary pairs among the slabs listed in `set` (see count_overlapping_pairs()): the boundary
-// triangles of those slabs in one BVH, each of their boundary edges cast against it. A pair is kept
-// when `keep(a, b)` holds. Sorted, unique.
+// triangles of those slabs in one BVH, each of their boundary edges cast against it once (an edge
+// on several slabs' boundaries, such as a coarse vertex's ray or an inner edge, for all of them:
+// about 6.5 casts per slab instead of 24). A pair is kept when `keep(a, b)` holds. Sorted, unique.
 template <class Keep>
 std::vector<Pair> pairs_among(const SlabModel& m, const std::vector<int32_t>& set, Keep keep) {
   // Boundary triangles of every listed slab; vertex ids: inner v -> v, outer v -> C + v.
@@ -57,18 +58,33 @@ std::vector<Pair> pairs_among(const SlabModel& m, const std::vector<int32_t>& se
         if (x == y) return true;
     return false;
   };
+  // (edge, slab) for every boundary edge: sorted, each edge's slabs are one run.
+  std::vector<std::pair<uint64_t, int32_t>> edges;
+  edges.reserve(3 * shell.faces.size());
+  for (size_t f = 0; f < shell.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto [lo, hi] = std::minmax(shell.faces[f][k], shell.faces[f][(k + 1) % 3]);
+      edges.emplace_back(uint64_t(uint32_t(lo)) << 32 | uint32_t(hi), owner[f]);
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<size_t> run;  // start of each edge's run, and the end
+  for (size_t e = 0; e < edges.size(); ++e)
+    if (e == 0 || edges[e].first != edges[e - 1].first) run.push_back(e);
+  run.push_back(edges.size());
   tbb::enumerable_thread_specific<std::vector<Pair>> found;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, shell.faces.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, run.size() - 1, 256), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<Pair>& acc = found.local();
     std::vector<SegmentHit> hits;
-    for (size_t f = r.begin(); f < r.end(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        bvh.segment_hits(shell.vertices[shell.faces[f][k]], shell.vertices[shell.faces[f][(k + 1) % 3]], hits);
-        for (const SegmentHit& h : hits) {
-          const int a = owner[f], b = owner[h.face];
+    for (size_t k = r.begin(); k < r.end(); ++k) {
+      const uint64_t key = edges[run[k]].first;
+      bvh.segment_hits(shell.vertices[key >> 32], shell.vertices[key & 0xffffffffu], hits);
+      for (const SegmentHit& h : hits)
+        for (size_t e = run[k]; e < run[k + 1]; ++e) {
+          const int a = edges[e].second, b = owner[h.face];
           if (a != b && !shares_vertex(a, b) && keep(a, b)) acc.push_back(std::minmax(a, b));
         }
-      }
+    }
   });
   std::vector<Pair> pairs;
   for (const std::vector<Pair>& v : found) pairs.insert(pairs.end(), v.begin(), v.end());

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 using namespace hdm;
@@ -118,4 +119,51 @@ TEST(ExactMeshQueryTest, SideOfAnOpenSheetMatchesTheHeightFieldAtEdgesAndVertice
         }
     }
   }
+}
+
+// Every hit of a segment, in order, against a brute-force segment-triangle test: five nested
+// spheres in one mesh, so a segment crosses up to ten faces. Segments that pass within 10⁻⁶ of an
+// edge (barycentric), or meet two faces at t within 10⁻⁵, are skipped: either face may be reported.
+TEST(ExactMeshQueryTest, SegmentHitsMatchBruteForceInOrder) {
+  TriangleMesh m;
+  for (int k = 1; k <= 5; ++k) {
+    const TriangleMesh s = test::icosphere(2, k, Vec3(0.1, -0.2, 0.05));
+    const auto base = static_cast<int32_t>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), s.vertices.begin(), s.vertices.end());
+    for (const Tri& t : s.faces) m.faces.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  const ExactMeshQuery q(m);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-6, 6);
+  std::vector<SegmentHit> hits;
+  int compared = 0, crossings = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+    std::vector<std::pair<double, int32_t>> want;
+    bool ambiguous = false;
+    for (size_t f = 0; f < m.faces.size(); ++f) {  // Möller-Trumbore in double
+      const Vec3 &p0 = m.vertices[m.faces[f][0]], &p1 = m.vertices[m.faces[f][1]], &p2 = m.vertices[m.faces[f][2]];
+      const Vec3 d = b - a, e1 = p1 - p0, e2 = p2 - p0, h = d.cross(e2);
+      const double det = e1.dot(h);
+      if (std::abs(det) < 1e-12) continue;
+      const Vec3 s = a - p0, qv = s.cross(e1);
+      const double v = s.dot(h) / det, w = d.dot(qv) / det, t = e2.dot(qv) / det;
+      if (v < -1e-6 || w < -1e-6 || v + w > 1 + 1e-6 || t < 0 || t > 1) continue;
+      if (v < 1e-6 || w < 1e-6 || v + w > 1 - 1e-6) ambiguous = true;
+      want.emplace_back(t, static_cast<int32_t>(f));
+    }
+    std::sort(want.begin(), want.end());
+    for (size_t i = 1; i < want.size(); ++i) ambiguous |= want[i].first - want[i - 1].first < 1e-5;
+    if (ambiguous) continue;
+    q.segment_hits(a, b, hits);
+    ASSERT_EQ(hits.size(), want.size()) << a.transpose() << " -> " << b.transpose();
+    for (size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(hits[i].face, want[i].second);
+      EXPECT_NEAR(hits[i].t, want[i].first, 1e-5);
+    }
+    ++compared;
+    crossings += static_cast<int>(want.size());
+  }
+  EXPECT_GT(compared, 350);
+  EXPECT_GT(crossings, 1000);  // most segments cross several spheres
 }

@@ -96,7 +96,12 @@ class ExactMeshQuery {
   /// @note Thread-safe (const); O(log #F + found).
   void faces_within(const Vec3& p, double radius, std::vector<int32_t>& faces) const;
 
-  /// @brief Every hit of the segment a→b, sorted by t in [0,1].
+  /// @brief Every hit of the segment a→b, sorted by t in [0,1]; @p hits is cleared first. Hits
+  /// within 10⁻⁷ (in t) after the last one kept are skipped (adjacent faces met at an edge count
+  /// once), and a face met again right after itself is listed once; at most 1024 steps.
+  /// @note Thread-safe (const); one BVH traversal that collects every candidate (Embree's
+  ///       context filter function), O(log #F + hits · log hits); allocates only when a thread
+  ///       meets more hits than before.
   void segment_hits(const Vec3& a, const Vec3& b, std::vector<SegmentHit>& hits) const;
 
   /// @brief First hit of the segment a→b, t in [0,1], or face -1 when none.
