@@ -66,11 +66,10 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
     const Vec3f goal = m.positions[target];
     int32_t next = -1;
     float best = (m.positions[at] - goal).squaredNorm();
-    for (int32_t e = L.neighbour_offsets[at]; e < L.neighbour_offsets[at + 1]; ++e) {
-      const int32_t t = L.neighbours[e];
+    L.for_each_neighbour(at, [&](int32_t t) {
       const float d = (m.positions[t] - goal).squaredNorm();
       if (d < best) best = d, next = t;
-    }
+    });
     if (next < 0) {  // reached the target or a local minimum: pick another target
       target = pick(rng);
       continue;

@@ -70,13 +70,14 @@ struct DirtyMarker {
 // them; returns the new count. Branch-free, as in the flood (out has room for one more).
 inline int32_t add_with_neighbours(const SampleLayout& L, int32_t c, std::vector<uint32_t>& marks, uint32_t stamp,
                                    int32_t* out, int32_t count) noexcept {
-  for (int32_t e = L.neighbour_offsets[c] - 1; e < L.neighbour_offsets[c + 1]; ++e) {
-    const int32_t t = e < L.neighbour_offsets[c] ? c : L.neighbours[e];
+  const auto add = [&](int32_t t) noexcept {
     const bool fresh = marks[t] != stamp;
     marks[t] = stamp;
     out[count] = t;
     count += fresh;
-  }
+  };
+  add(c);
+  L.for_each_neighbour(c, add);
   return count;
 }
 

@@ -39,10 +39,10 @@ EditScratch::EditScratch(const SlabModel& m)
   double sum = 0;
   int64_t edges = 0;
   for (int32_t a = 0; a < L.count && a < static_cast<int32_t>(m.positions.size()); ++a)
-    for (int32_t e = L.neighbour_offsets[a]; e < L.neighbour_offsets[a + 1]; ++e) {
-      sum += (m.positions[L.neighbours[e]] - m.positions[a]).norm();
+    L.for_each_neighbour(a, [&](int32_t t) {
+      sum += (m.positions[t] - m.positions[a]).norm();
       ++edges;
-    }
+    });
   sample_spacing = edges > 0 ? sum / double(edges) : 0.0;
 }
 

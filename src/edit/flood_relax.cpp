@@ -28,9 +28,8 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
     double target;
     if (smooth) {  // mean of the grid neighbours' displacements (across seams)
       double sum = 0;
-      const int32_t first = S.neighbour_offsets[id], last = S.neighbour_offsets[id + 1];
-      for (int32_t e = first; e < last; ++e) sum += m.displacement[S.neighbours[e]];
-      const int32_t valence = last - first;
+      int32_t valence = 0;
+      S.for_each_neighbour(id, [&](int32_t t) noexcept { sum += m.displacement[t], ++valence; });
       if (valence == 0) return true;
       target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
       if (static_cast<float>(cur + lambda * (target - cur)) == cur) return true;

@@ -132,17 +132,22 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
     if (L.homes[id] == kNone) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
-// With @p with_neighbours, the neighbours of every sample, from the grid triangles (listed on the
-// fly, never stored); always the slots of the shared samples.
+// With @p with_neighbours, the neighbours of every shared sample, from the grid triangles (listed
+// on the fly, never stored); always the slots of the shared samples. An interior sample's six
+// neighbours are read from its home slab's grid (SampleLayout::for_each_neighbour()).
 void build_adjacency(SampleLayout& L, int32_t interior_base, bool with_neighbours) {
   if (with_neighbours)
     build_csr(
         [&](auto emit) {
           L.for_each_triangle([&](const Tri& t) {
-            for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
+            for (int k = 0; k < 3; ++k) {
+              const int32_t a = t[k], b = t[(k + 1) % 3];
+              if (a < interior_base) emit(a, b);
+              if (b < interior_base) emit(b, a);
+            }
           });
         },
-        L.count, L.neighbour_offsets, L.neighbours);
+        interior_base, L.neighbour_offsets, L.neighbours);
 
   // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
   build_csr(

@@ -101,7 +101,7 @@ namespace {
 inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
   const SampleLayout& L = m.samples;
   Vec3f sum = m.normals[s];
-  for (int32_t k = L.neighbour_offsets[s]; k < L.neighbour_offsets[s + 1]; ++k) sum += m.normals[L.neighbours[k]];
+  L.for_each_neighbour(s, [&](int32_t t) noexcept { sum += m.normals[t]; });
   const float len = sum.norm();
   const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : m.normals[s];
   L.for_each_slot(s, [&](int32_t slot) { m.force_shading_normals[slot] = n; });
@@ -118,8 +118,7 @@ void update_force_shading_normals(SlabModel& model, const int32_t* samples, size
     store_force_shading_normal(model, s);
     if (!with_ring) continue;
     // A neighbour shared with another listed sample is recomputed once per listing: the same value.
-    for (int32_t e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e)
-      store_force_shading_normal(model, L.neighbours[e]);
+    L.for_each_neighbour(s, [&](int32_t t) noexcept { store_force_shading_normal(model, t); });
   }
 }
 

@@ -27,9 +27,9 @@ double roughness(const SlabModel& m, const Vec3& centre, double radius) {
     const Vec3 p = sample_position(m, s);
     if ((p - centre).norm() > radius) continue;
     Vec3 mean = Vec3::Zero(), normal = Vec3::Zero();
-    for (int e = L.neighbour_offsets[s]; e < L.neighbour_offsets[s + 1]; ++e)
-      mean += sample_position(m, L.neighbours[e]);
-    mean /= double(L.neighbour_offsets[s + 1] - L.neighbour_offsets[s]);
+    int valence = 0;
+    L.for_each_neighbour(s, [&](int32_t t) { mean += sample_position(m, t), ++valence; });
+    mean /= double(valence);
     L.for_each_incident_triangle(s, [&](int32_t, const Tri& t) {
       normal += (sample_position(m, t[1]) - sample_position(m, t[0]))
                     .cross(sample_position(m, t[2]) - sample_position(m, t[0]));

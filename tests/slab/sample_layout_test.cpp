@@ -118,6 +118,8 @@ TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
     const SampleLayout a = build_sample_layout(m.faces, int(m.vertices.size()), n);
     const SampleLayout b = build_sample_layout(m.faces, int(m.vertices.size()), n, false);
     EXPECT_TRUE(b.neighbour_offsets.empty() && b.neighbours.empty());
+    // Only the shared samples have a stored row: interior ones read their home slab's grid.
+    EXPECT_EQ(a.neighbour_offsets.size(), size_t(a.first_interior) + 1);
     EXPECT_EQ(a.ids, b.ids);
     EXPECT_EQ(a.homes, b.homes);
     EXPECT_EQ(a.shared_slot_offsets, b.shared_slot_offsets);
@@ -151,10 +153,12 @@ TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
       ASSERT_EQ(seen, incident[s]) << "n = " << n << ", sample " << s
                                    << ": every incident triangle, in increasing order";
       std::set<int32_t> seen_a, seen_b;
-      a.for_each_neighbour(s, [&](int32_t t) { seen_a.insert(t); });
+      size_t listed_a = 0;
+      a.for_each_neighbour(s, [&](int32_t t) { seen_a.insert(t), ++listed_a; });
       b.for_each_neighbour(s, [&](int32_t t) { seen_b.insert(t); });
       ASSERT_EQ(seen_b, joined[s]) << "n = " << n << ", sample " << s;
       ASSERT_EQ(seen_a, joined[s]) << "n = " << n << ", sample " << s;
+      ASSERT_EQ(listed_a, joined[s].size()) << "n = " << n << ", sample " << s << ": with adjacency, each once";
     }
   }
 }

@@ -43,9 +43,11 @@ struct SampleLayout {
   /// @{
   std::vector<int16_t> point_i, point_j;
   /// @}
-  /// CSR adjacency over grid edges: neighbours of sample s are
-  /// neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]), sorted. Empty in a layout built
-  /// without them (build_sample_layout()'s with_neighbours); for_each_neighbour() reads either.
+  /// CSR adjacency over grid edges of the shared samples (ids below first_interior): the
+  /// neighbours of shared sample s are neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]),
+  /// sorted, each once. Interior samples have no row: their six neighbours are read from the home
+  /// slab's `ids` (for_each_neighbour()), which saves 28 bytes per sample. Empty in a layout built
+  /// without them (build_sample_layout()'s with_neighbours). Read through for_each_neighbour().
   /// @{
   std::vector<int32_t> neighbour_offsets, neighbours;
   /// @}
@@ -79,22 +81,23 @@ struct SampleLayout {
     for (int32_t k = shared_slot_offsets[s]; k < shared_slot_offsets[s + 1]; ++k) f(slot_of_shared[k]);
   }
 
-  /// @brief Calls @p f(t) for every sample t that shares a grid edge with sample @p s: the stored
-  /// row (sorted, each once) when the layout has adjacency, else the grid neighbours (i±1, j),
-  /// (i, j±1), (i+1, j-1), (i-1, j+1) of each grid point holding @p s, where a neighbour seen from
-  /// two slabs (along a slab edge) comes twice.
+  /// @brief Calls @p f(t) for every sample t that shares a grid edge with sample @p s. An interior
+  /// sample: its six grid neighbours (i±1, j), (i, j±1), (i+1, j-1), (i-1, j+1) in its home slab,
+  /// in that order. A shared sample: its stored row (sorted, each once) when the layout has
+  /// adjacency, else the grid neighbours of each grid point holding @p s, where a neighbour seen
+  /// from two slabs (along a slab edge) comes twice.
   /// @note O(neighbours), no allocation: 6 for an interior sample; noexcept if @p f is.
   template <class F>
   void for_each_neighbour(int32_t s, F&& f) const {
-    if (!neighbour_offsets.empty()) {
-      for (int32_t e = neighbour_offsets[s]; e < neighbour_offsets[s + 1]; ++e) f(neighbours[e]);
-      return;
-    }
     if (s >= first_interior) {  // all six grid neighbours in the home slab, rows of n+1-j points
       const GridSlot h = home(s);
       const int32_t* g = &ids[static_cast<size_t>(h.slab) * per_slab];
       const int32_t p = h.index, row = n + 1 - point_j[p];
       f(g[p + 1]), f(g[p - 1]), f(g[p + row]), f(g[p + row - 1]), f(g[p - row]), f(g[p - row - 1]);
+      return;
+    }
+    if (!neighbour_offsets.empty()) {
+      for (int32_t e = neighbour_offsets[s]; e < neighbour_offsets[s + 1]; ++e) f(neighbours[e]);
       return;
     }
     for_each_slot(s, [&](int32_t slot) {
@@ -184,12 +187,13 @@ struct SampleLayout {
 /// @param slabs                #S slabs as coarse-vertex triples (R, S, T).
 /// @param coarse_vertex_count  number of coarse vertices; every id in @p slabs is below it.
 /// @param n                    intervals per slab edge, n >= 1.
-/// @param with_neighbours      keep the neighbour CSR (`neighbour_offsets`, `neighbours`): the
-///                             samples' normals, relaxation and force-shading ring read it every
-///                             tick. Without it (the colour texels: paint floods over
-///                             for_each_neighbour() and finds a texel's slabs by its slots) it is
-///                             not stored: at n·m = 32, 28 bytes per texel. No layout stores its
-///                             grid triangles (for_each_triangle()).
+/// @param with_neighbours      keep the neighbour CSR of the shared samples (`neighbour_offsets`,
+///                             `neighbours`), so that for_each_neighbour() lists each of their
+///                             neighbours once: the samples' normals, relaxation and force-shading
+///                             ring sum over them. Without it (the colour texels: paint floods
+///                             over for_each_neighbour() and finds a texel's slabs by its slots)
+///                             a shared sample's neighbours along a slab edge come twice. No
+///                             layout stores its grid triangles (for_each_triangle()).
 /// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
 ///         the whole one-ring (boundary edges belong to one slab).
 /// @throws InvalidInput if n < 1, an id is out of range, an edge is used by more than two slabs, or
