@@ -29,7 +29,6 @@ namespace {
 void restore(SlabModel& m, const SlabModel& from) {
   m.displacement = from.displacement;
   m.positions = from.positions;
-  m.normals = from.normals;
   m.slab_samples = from.slab_samples;
   m.force_shading_normals = from.force_shading_normals;
   m.colour = from.colour;
@@ -161,7 +160,7 @@ void stamp(benchmark::State& state, BrushTool tool) {
   std::vector<Contact> contacts;
   while (contacts.size() < kOps) {
     const int32_t s = pick(rng);
-    const Vec3 hip = m.positions[s].cast<double>() - 0.2 * radius * m.normals[s].cast<double>();
+    const Vec3 hip = m.positions[s].cast<double>() - 0.2 * radius * sample_normal(m, s).cast<double>();
     QueryCache qc;
     const Contact c = query(m, *f.locator, hip, qc);
     if (c.in_shell()) hips.push_back(hip), contacts.push_back(c);

@@ -75,7 +75,7 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
       continue;
     }
     const Vec3 a = m.positions[at].cast<double>(), b = m.positions[next].cast<double>();
-    const Vec3 na = m.normals[at].cast<double>(), nb = m.normals[next].cast<double>();
+    const Vec3 na = sample_normal(m, at).cast<double>(), nb = sample_normal(m, next).cast<double>();
     const double len = (b - a).norm();
     for (; carry < len && static_cast<int>(path.size()) < ticks; carry += fine) {
       const double u = carry / len;
@@ -284,7 +284,7 @@ std::vector<EditRow> cold_stamps(SlabModel& model, const SlabLocator& locator, d
       for (int k = 0; k < ops; ++k) {
         const int32_t s = pick(rng);
         // A hip 0.2·radius below the surface at sample s: the carve sphere then cuts into it.
-        const Vec3 hip = model.positions[s].cast<double>() - 0.2 * radius * model.normals[s].cast<double>();
+        const Vec3 hip = model.positions[s].cast<double>() - 0.2 * radius * sample_normal(model, s).cast<double>();
         QueryCache qc;
         const Contact c = query(model, locator, hip, qc);
         if (!c.in_shell()) continue;

@@ -262,13 +262,14 @@ void bind_model_edits(py::module_& m) {
             if (name == "layer_displacement") return copy_of(s.layer_displacement);
             if (name == "hardness") return copy_of(s.hardness);
             if (name == "colour" || name == "positions" || name == "normals") {
-              const bool colour = name == "colour";
-              const auto& v = name == "positions" ? s.positions : s.normals;
-              const size_t n = colour ? s.colour.size() : v.size();
+              const bool colour = name == "colour", normals = name == "normals";
+              const size_t n = colour ? s.colour.size() : s.positions.size();
               py::array_t<float> a({py::ssize_t(n), py::ssize_t(3)});
               float* d = a.mutable_data();
               for (size_t i = 0; i < n; ++i) {
-                const Vec3f c = colour ? decode_srgb8(s.colour[i]) : v[i];
+                const Vec3f c = colour    ? decode_srgb8(s.colour[i])
+                                : normals ? sample_normal(s, static_cast<int32_t>(i))
+                                          : s.positions[i];
                 for (int k = 0; k < 3; ++k) d[3 * i + k] = c[k];
               }
               return a;

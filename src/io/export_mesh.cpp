@@ -39,7 +39,7 @@ std::string with_extension(const std::string& path, const char* ext) {
 void check_derived(const SlabModel& m) {
   const size_t S = m.slabs.size();
   if (S == 0 || m.samples.n != m.grid_n || m.samples.ids.size() != S * m.samples.per_slab ||
-      m.normals.size() != size_t(m.samples.count) || m.displacement.size() != size_t(m.samples.count))
+      m.slab_samples.size() != m.samples.ids.size() || m.displacement.size() != size_t(m.samples.count))
     throw InvalidInput("export_mesh: the model has no slabs or no derived data (call rebuild_derived first)");
 }
 
@@ -110,7 +110,7 @@ void export_obj(const SlabModel& m, const std::string& path) {
     out += '\n';
   }
   for (int s = 0; s < m.samples.count; ++s) {
-    const Vec3f& q = m.normals[s];
+    const Vec3f q = sample_normal(m, s);
     out += "vn ";
     append_number(out, q.x());
     out += ' ';
@@ -165,7 +165,7 @@ void export_ply(const SlabModel& m, const std::string& path) {
   out.reserve(out.size() + static_cast<size_t>(m.samples.count) * 27 + size_t(m.samples.triangle_count()) * 13);
   for (int s = 0; s < m.samples.count; ++s) {
     const Vec3f p = sample_position(m, s).cast<float>();
-    const Vec3f& q = m.normals[s];
+    const Vec3f q = sample_normal(m, s);
     const Vec3f c = sample_colour(m, s);
     for (int k = 0; k < 3; ++k) append_pod(out, p[k]);
     for (int k = 0; k < 3; ++k) append_pod(out, q[k]);
@@ -225,7 +225,7 @@ void export_glb(const SlabModel& m, const std::string& path) {
       const Eigen::Vector2f t = atlas.uv(s, double(m.samples.point_i[k]) / n, double(m.samples.point_j[k]) / n);
       for (int c = 0; c < 3; ++c) {
         positions[3 * v + c] = p[c];
-        normals[3 * v + c] = m.normals[id][c];
+        normals[3 * v + c] = m.slab_samples[v].n[c];
         lo[c] = std::min(lo[c], double(p[c]));
         hi[c] = std::max(hi[c], double(p[c]));
       }

@@ -12,7 +12,7 @@ void check_renderable(const SlabModel& m) {
   const auto samples = static_cast<size_t>(m.samples.count), texels = static_cast<size_t>(m.texels.count);
   const bool fresh = m.samples.n == m.grid_n && m.samples.ids.size() == S * m.samples.per_slab &&
                      m.samples.point_i.size() == static_cast<size_t>(m.samples.per_slab) &&
-                     m.samples.homes.size() == samples && m.normals.size() == samples &&
+                     m.samples.homes.size() == samples && m.slab_samples.size() == m.samples.ids.size() &&
                      m.displacement.size() == samples && m.texels.n == m.grid_n * m.texel_density &&
                      m.texels.ids.size() == S * m.texels.per_slab && m.colour.size() == texels &&
                      m.roughness.size() == texels && m.layer_displacement.size() == samples;

@@ -162,7 +162,7 @@ struct SlabRenderer::State {
   }
   void fill_vertices(const SlabModel& m, int s, Vertex* out) const {
     fill_vertices(m, s, out, [&m](int, int32_t id, float& delta, Vec3f& nrm, float& layer) {
-      delta = m.displacement[id], nrm = m.normals[id], layer = m.layer_displacement[id];
+      delta = m.displacement[id], nrm = sample_normal(m, id), layer = m.layer_displacement[id];
     });
   }
 

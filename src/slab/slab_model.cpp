@@ -69,13 +69,11 @@ void update_positions(SlabModel& model, const int32_t* samples, size_t count) no
 
 namespace {
 
-// Stores the unit normal of sample s from its area-weighted sum, in `normals` and in every slab
-// copy of the sample (with its current displacement).
-inline void store_normal(SlabModel& m, int32_t s, const Vec3f& sum, bool copy) noexcept {
+// Stores the unit normal of sample s from its area-weighted sum in every slab copy of the sample
+// (with its current displacement): `slab_samples` is the only store of the normals.
+inline void store_normal(SlabModel& m, int32_t s, const Vec3f& sum) noexcept {
   const float len = sum.norm();
   const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : Vec3f(0, 0, 1);  // one division, not three
-  m.normals[s] = n;
-  if (!copy) return;
   const SlabSample v{m.displacement[s], {n[0], n[1], n[2]}};
   m.samples.for_each_slot(s, [&](int32_t slot) { m.slab_samples[slot] = v; });
 }
@@ -100,10 +98,11 @@ namespace {
 // One-ring sum of unit normals, normalised (the force-shading normal of sample s).
 inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
   const SampleLayout& L = m.samples;
-  Vec3f sum = m.normals[s];
-  L.for_each_neighbour(s, [&](int32_t t) noexcept { sum += m.normals[t]; });
+  const Vec3f own = sample_normal(m, s);
+  Vec3f sum = own;
+  L.for_each_neighbour(s, [&](int32_t t) noexcept { sum += sample_normal(m, t); });
   const float len = sum.norm();
-  const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : m.normals[s];
+  const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : own;
   L.for_each_slot(s, [&](int32_t slot) { m.force_shading_normals[slot] = n; });
 }
 
@@ -111,8 +110,7 @@ inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
 
 void update_force_shading_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept {
   const SampleLayout& L = model.samples;
-  if (model.force_shading_normals.size() != L.ids.size() || model.normals.size() != static_cast<size_t>(L.count))
-    return;
+  if (model.force_shading_normals.size() != L.ids.size() || model.slab_samples.size() != L.ids.size()) return;
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     store_force_shading_normal(model, s);
@@ -124,13 +122,13 @@ void update_force_shading_normals(SlabModel& model, const int32_t* samples, size
 
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept {
   const SampleLayout& L = model.samples;
-  const bool copy = model.slab_samples.size() == L.ids.size();
+  if (model.slab_samples.size() != L.ids.size()) return;
   const float scale = normal_scale(model);
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
     L.for_each_incident_triangle(s, [&](int32_t, const Tri& t) { sum += face_normal(model, t, scale); });
-    store_normal(model, s, sum, copy);
+    store_normal(model, s, sum);
   }
   update_force_shading_normals(model, samples, count, true);
 }
@@ -156,7 +154,7 @@ void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending, fl
 void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache,
                     bool force_shading_ring) noexcept {
   const SampleLayout& L = model.samples;
-  const bool copy = model.slab_samples.size() == L.ids.size();
+  if (model.slab_samples.size() != L.ids.size()) return;
   constexpr int32_t mask = FaceNormalCache::kSlots - 1;
   if (++cache.current == 0) {  // wrapped: forget every memo once every 2³² calls
     for (FaceNormalCache::Entry& e : cache.memo) e.tri = -1, e.stamp = 0;
@@ -189,7 +187,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
       const FaceNormalCache::Entry& m = cache.memo[f & mask];
       sum += m.tri == f ? m.face : face_normal(model, t, scale);  // recompute if evicted
     });
-    store_normal(model, s, sum, copy);
+    store_normal(model, s, sum);
   }
   if (force_shading_ring) update_force_shading_normals(model, samples, count, true);
 }
@@ -301,7 +299,6 @@ void rebuild_derived(SlabModel& m) {
   build_adjacency(m);
 
   m.positions.resize(ns);
-  m.normals.resize(ns);
   m.slab_samples.resize(m.samples.ids.size());
   // In blocks of samples, in parallel: each call writes only its own samples' position, normal and
   // slab copies, and a normal is the same sum in the same order whatever the block.

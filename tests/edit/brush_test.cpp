@@ -261,7 +261,7 @@ TEST(Layers, CarvingExposesTheUnderLayerAtItsDepth) {
     }
     // Depth of the cut along the surface normal (independent of the layer's representation).
     const double cut =
-        (before.positions[s] - f.model.positions[s]).cast<double>().dot(before.normals[s].cast<double>());
+        (before.positions[s] - f.model.positions[s]).cast<double>().dot(sample_normal(before, s).cast<double>());
     const bool is_exposed = f.model.displacement[s] < f.model.layer_displacement[s];
     if (std::abs(cut - t) < 0.05 * t) continue;  // at the layer's top itself: either
     EXPECT_EQ(is_exposed, cut > t) << "sample " << s << " cut " << cut / f.mm << " mm";

@@ -35,6 +35,13 @@ struct BunnyStrokes {
               const std::vector<Vec3>& normals, double depth, double dt = 1e-3, double force_n = 1.0);
 };
 
+/// Every sample's unit normal (sample_normal()), in sample order.
+inline std::vector<Vec3f> sample_normals(const SlabModel& m) {
+  std::vector<Vec3f> out(static_cast<size_t>(m.samples.count));
+  for (int32_t s = 0; s < m.samples.count; ++s) out[size_t(s)] = sample_normal(m, s);
+  return out;
+}
+
 /// Every array an edit may change, stored and derived.
 struct ModelState {
   explicit ModelState(const SlabModel& m)
@@ -46,7 +53,7 @@ struct ModelState {
         roughness(m.roughness),
         colour(m.colour),
         positions(m.positions),
-        normals(m.normals),
+        normals(sample_normals(m)),
         force_shading_normals(m.force_shading_normals),
         slab_samples(m.slab_samples) {}
   std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement;

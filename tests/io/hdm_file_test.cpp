@@ -129,8 +129,10 @@ TEST_F(HdmFile, RoundTripIsBitForBit) {
   EXPECT_EQ(loaded.source, model.source);
   EXPECT_EQ(loaded.source_triangles, model.source_triangles);
   EXPECT_EQ(std::memcmp(&loaded.source_diagonal, &model.source_diagonal, sizeof(double)), 0);
-  // Derived data rebuilt: one normal per sample.
-  EXPECT_EQ(loaded.normals.size(), model.displacement.size());
+  // Derived data rebuilt: the same slab-major samples (displacement and normal) in every slot.
+  ASSERT_EQ(loaded.slab_samples.size(), model.slab_samples.size());
+  for (size_t slot = 0; slot < model.slab_samples.size(); ++slot)
+    ASSERT_EQ(std::memcmp(&loaded.slab_samples[slot], &model.slab_samples[slot], sizeof(SlabSample)), 0) << slot;
 
   const std::string again = dir.file("again.hdm");
   save_model(loaded, again);

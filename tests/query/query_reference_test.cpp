@@ -58,7 +58,7 @@ void check_model(const SlabModel& m, int walk_steps, int global_points) {
   // A point near the surface of slab s: a grid sample moved along its normal.
   auto near_surface = [&](int s) {
     const int32_t id = m.samples.ids[static_cast<size_t>(s) * per_slab + grid_point(rng)];
-    return Vec3(m.positions[id].cast<double>() + off(rng) * m.source_diagonal * m.normals[id].cast<double>());
+    return Vec3(m.positions[id].cast<double>() + off(rng) * m.source_diagonal * sample_normal(m, id).cast<double>());
   };
   // Coherent walk: straight steps of ~1e-4 of the diagonal towards a point of a neighbouring slab,
   // up to 3 % of the diagonal above or below the surface (in the shell, above it and below it).

@@ -65,7 +65,7 @@ TEST(SampleLayoutTest, GridTrianglesFaceOutward) {
   });
   // Normals point away from the centre, within the facet angle of the 80-face polyhedron (< 12°).
   for (int id = 0; id < s.samples.count; ++id)
-    EXPECT_GT(s.normals[id].cast<double>().dot(sample_position(s, id).normalized()),
+    EXPECT_GT(sample_normal(s, id).cast<double>().dot(sample_position(s, id).normalized()),
               std::cos(12 * std::numbers::pi / 180));
 }
 

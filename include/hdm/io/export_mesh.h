@@ -13,7 +13,7 @@ namespace hdm {
 /// @brief Writes the displaced surface of @p model to @p path, in the format of its extension.
 ///
 /// The surface has one vertex per global displacement sample s at sample_position(model, s) with
-/// normal `model.normals[s]`, and the faces `model.samples.triangles` (counter-clockwise from
+/// normal sample_normal(model, s), and the faces `model.samples.triangles` (counter-clockwise from
 /// outside; paper §3.2). Formats, by extension (case-insensitive):
 /// - `.obj`: OBJ with `v` and `vn` per sample, `vt` per (slab, grid point) from the texture
 ///   atlas (v flipped: OBJ's v = 0 is the image's bottom row), faces `f v/vt/vn`; plus

@@ -56,7 +56,7 @@ class SlabRenderer {
   /// @param model  the model given to upload_all(), edited since.
   /// @param slab   slab id in [0, #S).
   /// @pre upload_all() ran with a model of the same slabs, grid_n and texel_density; positions
-  ///      come from the model's displacements, normals from `model.normals` (refresh them first
+  ///      come from the model's displacements, normals from `model.slab_samples` (refresh them first
   ///      with update_positions() / update_normals()).
   /// @throws InvalidInput if @p slab is out of range or the layout changed since upload_all().
   /// @note O(n² + N²); no allocation after the first call.

@@ -39,7 +39,7 @@ struct SlabGeometry {
 /// one slab's block instead of six loads from two sample-indexed arrays.
 struct SlabSample {
   float delta;  ///< displacement δ in [0,1] (copy of SlabModel::displacement)
-  float n[3];   ///< unit normal (copy of SlabModel::normals)
+  float n[3];   ///< unit normal of the displaced surface (sample_normal() reads it)
 };
 
 /// The material under the surface layer (paper §2: "the depth of various materials underneath or
@@ -68,7 +68,7 @@ constexpr double vickers_to_pa(double hv) noexcept { return hv * 9.80665e6; }
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
 /// Threading: readers may share a const model; edits (hdm/edit) mutate the stored per-sample and
-/// per-texel fields, `positions`, `normals`, `slab_samples` and `force_shading_normals` and must not run
+/// per-texel fields, `positions`, `slab_samples` and `force_shading_normals` and must not run
 /// concurrently with readers of the same samples (hdm::SlabSnapshots gives other threads
 /// consistent copies while one thread edits; docs/editing.md). Code that changes `displacement` outside the edit tools
 /// must call update_positions() and update_normals() on the changed samples and their one-ring (or rebuild_derived()),
@@ -107,7 +107,6 @@ struct SlabModel {
   SampleLayout samples;          ///< displacement samples (grid n)
   SampleLayout texels;           ///< colour texels (grid n·m), without grid triangles
   std::vector<Vec3f> positions;  ///< #samples surface points (cache of sample_position) [model units]
-  std::vector<Vec3f> normals;    ///< #samples unit normals of the displaced surface
   /// #S·samples.per_slab unit normals for force shading (the proxy, hdm::proxy_step), slab-major
   /// like `slab_samples` (slot slab·per_slab + grid index holds sample samples.ids[slot]): each
   /// sample's normal summed with those of its grid neighbours (one ring, across seams) and
@@ -115,7 +114,7 @@ struct SlabModel {
   /// fixed point (the surface point whose interpolated normal points at the hand) folds, and the
   /// force jumps, wherever penetration depth × the normal field's rate of turn exceeds 1 rad; the
   /// grid normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
-  /// update_normals() keeps it in sync with `normals` (the samples it is given and their ring).
+  /// update_normals() keeps it in sync with the normals (the samples it is given and their ring).
   std::vector<Vec3f> force_shading_normals;
   std::vector<SlabGeometry> geometry;                  ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
@@ -123,9 +122,11 @@ struct SlabModel {
   /// vertex_slabs[vertex_slab_offsets[v] .. vertex_slab_offsets[v+1]).
   std::vector<int32_t> vertex_slab_offsets, vertex_slabs;
   /// @}
-  /// #S·samples.per_slab: slab-major copy of `displacement` and `normals`, in grid::index order
-  /// within a slab (slot slab·per_slab + index holds sample samples.ids[slot]). What the query
-  /// interpolates; update_normals() keeps it in sync with `displacement` and `normals`.
+  /// #S·samples.per_slab: slab-major copy of `displacement` with each sample's unit normal, in
+  /// grid::index order within a slab (slot slab·per_slab + index holds sample samples.ids[slot]).
+  /// What the query interpolates, and the only store of the normals: every slot of a shared
+  /// sample holds the same normal (sample_normal() reads the home slot). update_normals() keeps
+  /// it in sync with `displacement` and the positions.
   std::vector<SlabSample> slab_samples;
 
   /// Number of slabs.
@@ -183,14 +184,24 @@ void projection_line(const SlabModel& model, int slab, int index, Vec3& p0, Vec3
 /// @note O(1), noexcept; evaluated in the sample's home slab, so shared samples agree exactly.
 Vec3 sample_position(const SlabModel& model, int sample) noexcept;
 
+/// @brief Unit normal of sample @p s of the displaced surface (paper §3.4), read from its home
+/// slot of `slab_samples` (every slot of the sample holds the same value).
+/// @pre rebuild_derived(model) has run; 0 <= s < model.samples.count.
+/// @note O(1) (a shift, a mask, one load), noexcept.
+inline Vec3f sample_normal(const SlabModel& model, int32_t s) noexcept {
+  const GridSlot h = model.samples.home(s);
+  const float* n = model.slab_samples[static_cast<size_t>(h.slab) * model.samples.per_slab + h.index].n;
+  return {n[0], n[1], n[2]};
+}
+
 /// @brief Refreshes the cached `positions` of @p samples from their current displacements.
 /// @note O(count); no allocation; call before update_normals() after an edit.
 void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; docs/design.md#normals), and refreshes their
-/// displacement and normal in `slab_samples` (when it is built) and `force_shading_normals` of them and
-/// their grid neighbours (when it is built).
+/// displacement and normal in `slab_samples`, and `force_shading_normals` of them and their grid
+/// neighbours (when it is built). Does nothing when `slab_samples` is not sized to the slots.
 /// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
 ///       samples sharing triangles use the FaceNormalCache overload.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;
@@ -215,10 +226,10 @@ struct FaceNormalCache {
   uint32_t current = 0;          ///< number of the current call
 };
 
-/// @brief Recomputes `force_shading_normals` of @p samples from `normals`: the normalised sum of the
-/// sample's normal and its grid neighbours' (SampleLayout::neighbours, across seams, so a sample
-/// shared by several slabs has one value). With @p with_ring, the grid neighbours of @p samples
-/// are recomputed too (what a change of their `normals` affects). Every slot of a sample gets
+/// @brief Recomputes `force_shading_normals` of @p samples from the normals (sample_normal()): the
+/// normalised sum of the sample's normal and its grid neighbours' (SampleLayout::for_each_neighbour(),
+/// across seams, so a sample shared by several slabs has one value). With @p with_ring, the grid
+/// neighbours of @p samples are recomputed too (what a change of their normals affects). Every slot of a sample gets
 /// the same value.
 /// @note O(count·valence²) with the ring, O(count·valence) without; no allocation. Does nothing
 ///       when `force_shading_normals` is not sized to the slots (samples.ids).

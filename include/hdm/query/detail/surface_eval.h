@@ -4,7 +4,7 @@
 // by the query (slab_query.cpp), the proxy, the edit kernels and the texture atlas, inline so paint
 // can skip the normal. One formula for all, so a texel's position agrees bit for bit with what
 // evaluate_surface() reports. All read the slab-major SlabModel::slab_samples (one slab's block
-// per query) rather than the sample-indexed `displacement` and `normals`, which are scattered over
+// per query) rather than the sample-indexed `displacement`, which is scattered over
 // memory at 10^4+ slabs. Published under detail/ so that no source reaches it by a ../ path.
 
 #include <hdm/query/slab_query.h>
@@ -77,7 +77,7 @@ inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT
   return p0 + delta * ray;
 }
 
-/// Interpolated (not normalised) normal over @p cell of @p slab, in float as `normals` is stored.
+/// Interpolated (not normalised) normal over @p cell of @p slab, in float as the normals are stored.
 inline Vec3f interpolated_normal(const SlabModel& model, int slab, const LocalCell& cell) noexcept {
   const SlabSample* v = slab_block(model, slab);
   using Map = Eigen::Map<const Vec3f>;
