@@ -115,7 +115,8 @@ void find_touches(const SlabModel& model, const SlabLocator& locator, const Vec3
     const double near = (q.surface_point - c).norm();
     if (!(near < kSeedReach * r)) continue;
     int at = 0;
-    while (at < seeds && !(seed[at].slab == q.slab && (seed[at].surface_point - q.surface_point).norm() < 0.5 * r)) ++at;
+    while (at < seeds && !(seed[at].slab == q.slab && (seed[at].surface_point - q.surface_point).norm() < 0.5 * r))
+      ++at;
     if (at < seeds && near < seed_distance[at]) seed[at] = q, seed_distance[at] = near;
     if (at == seeds && seeds < kMaxTouches) seed[seeds] = q, seed_distance[seeds++] = near;
   }
@@ -271,14 +272,22 @@ int solve_rounds(const SlabModel& model, const SlabLocator& locator, const Vec3&
 void remember(const Touches& t, SphereProxyState& s) noexcept {
   s.touched_count = 0;
   for (int i = 0; i < t.count && s.touched_count < static_cast<int>(s.touched.size()); ++i)
-    s.touched[s.touched_count++] = BallTouch{t.at[i].slab, static_cast<float>(t.at[i].wS), static_cast<float>(t.at[i].wT)};
+    s.touched[s.touched_count++] =
+        BallTouch{t.at[i].slab, static_cast<float>(t.at[i].wS), static_cast<float>(t.at[i].wT)};
 }
 
 // Static friction holds the ball where it was while the tangential offset of the held centre is
 // within μs times the normal one (a friction cone on the frictionless centre; Melder & Harwin
-// 2005); sliding, the centre trails the frictionless one by μd times the spring.
-void apply_friction(const Vec3& held, const Vec3& hip, const Vec3& n, double spring, const Material& m,
+// 2005); sliding, the centre trails the frictionless one by μd times the spring. On the tick the
+// ball enters contact, `held` is the sweep's last free centre, clear of the surface: friction
+// cannot hold it there (a push straight along the normal would keep the ball floating), so it
+// starts from the solved centre.
+void apply_friction(const Vec3& held, const Vec3& hip, const Vec3& n, double spring, const Material& m, bool entering,
                     SphereProxyState& s) noexcept {
+  if (entering) {
+    s.stuck = false;
+    return;
+  }
   const Vec3 hold = held - hip;
   const double hold_n = hold.dot(n);
   const double hold_t = (hold - hold_n * n).norm();
@@ -306,7 +315,8 @@ ProxyOutput sphere_proxy_step(const SlabModel& model, const SlabLocator& locator
   const double r = radius_of(model, p);
   const Vec3 hip = ws.to_model(hip_device);
   Touches touches;  // a sweep's touches seed the solve
-  if (!s.contact && !sweep_to_contact(model, locator, hip, r, p, s, touches)) {
+  const bool entering = !s.contact;
+  if (entering && !sweep_to_contact(model, locator, hip, r, p, s, touches)) {
     release(s, hip);
     return out;
   }
@@ -324,7 +334,7 @@ ProxyOutput sphere_proxy_step(const SlabModel& model, const SlabLocator& locator
   const Vec3 n = spring.normalized();
   const SurfacePoint* at = nearest >= 0 ? &touches.at[nearest] : nullptr;
   const Material m = material_at(model, p, at);
-  apply_friction(held, hip, n, spring.norm(), m, s);
+  apply_friction(held, hip, n, spring.norm(), m, entering, s);
   const Vec3 f = (m.k / ws.scale) * (s.center - hip);
   out.status = s.stuck ? ProxyStatus::Stuck : ProxyStatus::Sliding;
   out.normal_force = f.dot(n);

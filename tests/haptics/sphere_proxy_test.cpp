@@ -2,6 +2,7 @@
 // Sphere proxy tests against analytic geometry: the unit sphere, and a block with a slot whose
 // walls, floor and edges are planes (Embree's exact distance on the input mesh is the reference).
 #include "haptics/haptics_fixtures.h"
+#include "support/flat_sheet.h"
 
 #include <hdm/haptics/sphere_proxy.h>
 
@@ -83,8 +84,8 @@ TEST(SphereProxy, ReachesTheFloorOfASlotWiderThanTheBall) {
   double worst = 0;
   for (int k = 0; k <= 600; ++k) {
     const double z = 0.6 - 1.3 * std::min(1.0, k / 400.0);
-    sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(Vec3(0, 0.05, z)),
-                      Vec3::Zero(), p, st);
+    sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(Vec3(0, 0.05, z)), Vec3::Zero(),
+                      p, st);
     worst = std::max(worst, penetration(slot.baked.reference, st.center, r));
   }
   ASSERT_TRUE(st.contact);
@@ -141,8 +142,8 @@ TEST(SphereProxy, RollsOverAConvexEdgeWithAContinuousForce) {
       const double a = 0.5 * std::numbers::pi * (k - 200) / (n - 200);
       hip = edge + d * Vec3(std::sin(a), 0, std::cos(a));
     }
-    const ProxyOutput out = sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(hip),
-                                              Vec3::Zero(), p, st);
+    const ProxyOutput out =
+        sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(hip), Vec3::Zero(), p, st);
     if (k < 150) continue;
     ASSERT_TRUE(st.contact) << "tick " << k;
     worst = std::max(worst, penetration(slot.baked.reference, st.center, r));
@@ -206,7 +207,8 @@ TEST(SphereProxy, StaticFrictionHoldsTheBall) {
   SphereProxyState st;
   const Vec3 start(0.6, 0, r - 0.02);  // 0.02 deep: 2 N at k = 1000 N/m and 10 model units per metre
   auto tick = [&](const Vec3& hip) {
-    return sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(hip), Vec3::Zero(), p, st);
+    return sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(hip), Vec3::Zero(), p,
+                             st);
   };
   for (int k = 0; k < 100; ++k) tick(start + Vec3(0, 0, 0.2 * (1 - k / 99.0)));
   ASSERT_TRUE(st.contact);
@@ -228,7 +230,8 @@ TEST(SphereProxy, CatchesAFastEntry) {
   const SphereProxyParams p = ball(r);
   SphereProxyState st;
   auto tick = [&](const Vec3& hip) {
-    return sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(hip), Vec3::Zero(), p, st);
+    return sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(hip), Vec3::Zero(), p,
+                             st);
   };
   tick(Vec3(0.6, 0.05, r + 0.5));
   EXPECT_FALSE(st.contact);
@@ -237,6 +240,34 @@ TEST(SphereProxy, CatchesAFastEntry) {
   ASSERT_TRUE(st.contact);
   EXPECT_NEAR(st.center.z(), r, 0.02 * r);
   EXPECT_LT(angle_deg(out.force, Vec3::UnitZ()), 2.0);
+}
+
+// A flat sheet's normals are exactly +z (its grid lies in z = 0), so a hand pushed straight down
+// pulls the ball along the normal with no tangential part at all: static friction must not hold
+// the ball where the sweep last found it free, above the surface, or the next tick finds no touch
+// and lets it fall through. The ball rests on the sheet, r above it, from the first contact tick.
+TEST(SphereProxy, EntersAFlatSheetStraightAlongItsNormal) {
+  const SlabModel sheet = test::flat_sheet();
+  const SlabLocator locator(sheet);
+  Workspace ws;
+  ws.scale = test::kSheetUnits;
+  const double r = 2;  // [mm]
+  SphereProxyParams p = ball(r);
+  for (double mu : {0.0, 0.5}) {
+    p.proxy.friction_scale = mu > 0 ? 1 : 0;
+    SphereProxyState st;
+    auto tick = [&](const Vec3& hip) {
+      return sphere_proxy_step(sheet, locator, ws, ws.to_device(hip), Vec3::Zero(), p, st);
+    };
+    tick(Vec3(1.3, 0.7, r + 6));
+    ASSERT_FALSE(st.contact);
+    for (int k = 0; k < 10; ++k) {
+      const ProxyOutput out = tick(Vec3(1.3, 0.7, -0.5));
+      ASSERT_TRUE(st.contact) << "tick " << k << ", friction scale " << p.proxy.friction_scale;
+      EXPECT_NEAR(st.center.z(), r, 1e-6 * r) << "tick " << k;
+      EXPECT_LT(angle_deg(out.force, Vec3::UnitZ()), 1e-3) << "tick " << k;
+    }
+  }
 }
 
 TEST(SphereProxy, BadInputGivesZeroForceAndKeepsState) {
@@ -254,7 +285,8 @@ TEST(SphereProxy, BadInputGivesZeroForceAndKeepsState) {
     EXPECT_EQ(st.center, centre);
   }
   p.samples = kMaxBallSamples + 1;
-  const ProxyOutput out = sphere_proxy_step(S.model, *S.locator, S.ws, S.ws.to_device(Vec3(0, 0, 1.05)), Vec3::Zero(), p, st);
+  const ProxyOutput out =
+      sphere_proxy_step(S.model, *S.locator, S.ws, S.ws.to_device(Vec3(0, 0, 1.05)), Vec3::Zero(), p, st);
   EXPECT_EQ(out.status, ProxyStatus::BadInput);
   EXPECT_EQ(out.force, Vec3::Zero());
 }
