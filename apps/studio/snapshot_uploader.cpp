@@ -7,16 +7,16 @@
 namespace hdm::studio {
 namespace {
 
-// The arrays of a slab view, as (pointer, float count) pairs: what a slab is made of.
+// The arrays of a slab view, as (pointer, byte count) pairs: what a slab is made of.
 template <class Fn>
 void for_each_array(const SlabView& v, Fn&& fn) {
   const size_t P = static_cast<size_t>(v.per_slab), T = static_cast<size_t>(v.texels_per_slab);
-  fn(reinterpret_cast<const float*>(v.points), 4 * P);
-  fn(v.friction_static, P);
-  fn(v.friction_dynamic, P);
-  fn(v.stiffness_scale, P);
-  fn(v.layer_displacement, P);
-  fn(v.hardness, P);
+  fn(static_cast<const void*>(v.points), P * sizeof(SlabSample));
+  fn(v.friction_static, P * sizeof(float));
+  fn(v.friction_dynamic, P * sizeof(float));
+  fn(v.stiffness_scale, P * sizeof(float));
+  fn(v.layer_displacement, P * sizeof(float));
+  fn(v.hardness, P * sizeof(float));
   fn(v.texels, 4 * T);
 }
 
@@ -30,8 +30,9 @@ SnapshotUploader::SnapshotUploader(const SlabSnapshots& snapshots, SlabRenderer&
   drawn_epoch_.assign(static_cast<size_t>(S), 0);
   SnapshotReader reader(snapshots_);
   if (verify_) {
-    stride_ = 9 * static_cast<size_t>(model.samples.per_slab) + 4 * static_cast<size_t>(model.texels.per_slab);
-    mirror_.assign(stride_ * static_cast<size_t>(S), 0.0f);
+    stride_ = (sizeof(SlabSample) + 5 * sizeof(float)) * static_cast<size_t>(model.samples.per_slab) +
+              4 * static_cast<size_t>(model.texels.per_slab);
+    mirror_.assign(stride_ * static_cast<size_t>(S), 0);
   }
   for (int s = 0; s < S; ++s) {
     const SlabView v = reader.slab(s);
@@ -42,20 +43,20 @@ SnapshotUploader::SnapshotUploader(const SlabSnapshots& snapshots, SlabRenderer&
 }
 
 bool SnapshotUploader::differs(const SlabView& view, int slab) const {
-  const float* m = &mirror_[static_cast<size_t>(slab) * stride_];
+  const uint8_t* m = &mirror_[static_cast<size_t>(slab) * stride_];
   bool diff = false;
-  for_each_array(view, [&](const float* a, size_t count) {
-    diff = diff || std::memcmp(a, m, count * sizeof(float)) != 0;
-    m += count;
+  for_each_array(view, [&](const void* a, size_t bytes) {
+    diff = diff || std::memcmp(a, m, bytes) != 0;
+    m += bytes;
   });
   return diff;
 }
 
 void SnapshotUploader::remember(const SlabView& view, int slab) {
-  float* m = &mirror_[static_cast<size_t>(slab) * stride_];
-  for_each_array(view, [&](const float* a, size_t count) {
-    std::copy(a, a + count, m);
-    m += count;
+  uint8_t* m = &mirror_[static_cast<size_t>(slab) * stride_];
+  for_each_array(view, [&](const void* a, size_t bytes) {
+    std::memcpy(m, a, bytes);
+    m += bytes;
   });
 }
 

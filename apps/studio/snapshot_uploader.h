@@ -42,7 +42,7 @@ class SnapshotUploader {
   std::vector<uint64_t> drawn_epoch_;  // per slab: epoch of the version on the GPU
   bool verify_;
   size_t stride_ = 0;
-  std::vector<float> mirror_;  // verify: per slab, the data drawn
+  std::vector<uint8_t> mirror_;  // verify: per slab, the bytes drawn
   int64_t total_ = 0;
 };
 

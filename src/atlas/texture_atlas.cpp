@@ -76,13 +76,10 @@ void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, ui
   });
 }
 
-void fill_atlas_tile(const TextureAtlas& a, const float* texels, uint8_t* out, int stride) noexcept {
+void fill_atlas_tile(const TextureAtlas& a, const uint8_t* texels, uint8_t* out, int stride) noexcept {
   walk_tile(a.texel_n, out, stride, [&](int local, uint8_t* px) {
-    const float* t = texels + static_cast<size_t>(local) * 4;
-    px[0] = linear_to_srgb8(t[0]);
-    px[1] = linear_to_srgb8(t[1]);
-    px[2] = linear_to_srgb8(t[2]);
-    px[3] = unit_to_unorm8(t[3]);
+    const uint8_t* t = texels + static_cast<size_t>(local) * 4;
+    px[0] = t[0], px[1] = t[1], px[2] = t[2], px[3] = t[3];
   });
 }
 

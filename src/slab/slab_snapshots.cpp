@@ -25,7 +25,8 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
     throw InvalidInput("snapshots: reader_slots = " + std::to_string(o.reader_slots) + " outside [1, 1024]");
   per_slab_ = m.samples.per_slab;
   texels_per_slab_ = m.texels.per_slab;
-  stride_ = (static_cast<size_t>(9) * per_slab_ + 4 * static_cast<size_t>(texels_per_slab_) + 15) / 16 * 16;
+  // 9 floats per displacement sample, one 4-byte word (the stored codes) per texel; whole cache lines.
+  stride_ = (static_cast<size_t>(9) * per_slab_ + static_cast<size_t>(texels_per_slab_) + 15) / 16 * 16;
   const size_t spare = o.spare_versions < 0 ? size_t(S) : size_t(o.spare_versions);
   version_total_ = size_t(S) + spare;
   slot_count_ = size_t(o.reader_slots);
@@ -69,12 +70,12 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
     ly[k] = m.layer_displacement[id];
     hv[k] = m.hardness[id];
   }
-  float* tx = hv + P;
+  uint8_t* tx = reinterpret_cast<uint8_t*>(hv + P);
   const int32_t* tids = m.texels.ids.data() + size_t(slab) * T;
   for (size_t k = 0; k < T; ++k) {
     const int32_t id = tids[k];
-    const Vec3f c = decode_srgb8(m.colour[id]);
-    tx[4 * k] = c.x(), tx[4 * k + 1] = c.y(), tx[4 * k + 2] = c.z(), tx[4 * k + 3] = unorm8_to_unit(m.roughness[id]);
+    const Srgb8 c = m.colour[id];
+    tx[4 * k] = c.r, tx[4 * k + 1] = c.g, tx[4 * k + 2] = c.b, tx[4 * k + 3] = m.roughness[id];
   }
 }
 
@@ -102,7 +103,7 @@ SlabView SlabSnapshots::view(int32_t v) const noexcept {
   s.stiffness_scale = s.friction_dynamic + P;
   s.layer_displacement = s.stiffness_scale + P;
   s.hardness = s.layer_displacement + P;
-  s.texels = s.hardness + P;
+  s.texels = reinterpret_cast<const uint8_t*>(s.hardness + P);
   return s;
 }
 
@@ -230,9 +231,9 @@ SlabModel SnapshotReader::stored_model() const {
   m.colour.resize(size_t(T.count));
   m.roughness.resize(size_t(T.count));
   for (int32_t id = 0; id < T.count; ++id) {
-    const float* t = views[size_t(T.home(id).slab)].texels + 4 * size_t(T.home(id).index);
-    m.colour[id] = encode_srgb8(Vec3f(t[0], t[1], t[2]));  // the decoded codes: the same codes back
-    m.roughness[id] = unit_to_unorm8(t[3]);
+    const uint8_t* t = views[size_t(T.home(id).slab)].texels + 4 * size_t(T.home(id).index);
+    m.colour[id] = Srgb8{t[0], t[1], t[2]};
+    m.roughness[id] = t[3];
   }
   return m;
 }

@@ -89,15 +89,16 @@ void fill_atlas_tile(const SlabModel& model, const TextureAtlas& layout, int sla
                      AtlasContent content = AtlasContent::Surface) noexcept;
 
 /// @brief fill_atlas_tile() with AtlasContent::PaintAndRoughness from one slab's texels as a
-/// snapshot holds them (hdm::SlabView::texels): @p texels has texels_per_slab × 4 floats, linear
-/// RGB and roughness in grid::index order of the slab's texel grid. Lets a renderer thread
-/// re-upload a slab from a snapshot while another thread edits the live model.
+/// snapshot holds them (hdm::SlabView::texels): @p texels has texels_per_slab × 4 bytes, the
+/// colour's sRGB8 codes and the roughness's unorm8 code, in grid::index order of the slab's texel
+/// grid. Lets a renderer thread re-upload a slab from a snapshot while another thread edits the
+/// live model.
 /// @param layout  an atlas of the model (only its layout fields are read).
-/// @param texels  texels_per_slab × 4 floats (see above).
+/// @param texels  texels_per_slab × 4 bytes (see above).
 /// @param out     first pixel of the tile in the destination (RGBA8).
 /// @param stride  distance between destination rows [pixels].
 /// @note O(tile²) plus O(N) per padding pixel; no allocation. Same pixels as the model overload
 ///       for the same data.
-void fill_atlas_tile(const TextureAtlas& layout, const float* texels, uint8_t* out, int stride) noexcept;
+void fill_atlas_tile(const TextureAtlas& layout, const uint8_t* texels, uint8_t* out, int stride) noexcept;
 
 }  // namespace hdm

@@ -43,15 +43,18 @@ struct SlabView {
   const float* stiffness_scale = nullptr;     ///< per_slab stiffness scale
   const float* layer_displacement = nullptr;  ///< per_slab under-layer top δ
   const float* hardness = nullptr;            ///< per_slab hardness [HV] (SlabModel::hardness)
-  const float* texels = nullptr;              ///< texels_per_slab × 4: linear RGB colour and roughness
+  /// texels_per_slab × 4 bytes: the colour's 8-bit sRGB codes (r, g, b; SlabModel::colour) and the
+  /// roughness as unorm8 (SlabModel::roughness), the codes the model stores
+  const uint8_t* texels = nullptr;
 };
 
 class SnapshotReader;
 
 /// Per-slab versions of a model published in epochs for concurrent readers.
 ///
-/// Memory: (#S + spare) versions of about (36·per_slab + 16·texels_per_slab) bytes, allocated by
-/// the constructor (about 34 MB for the default bunny bake: 1,178 slabs, n = 16, m = 2).
+/// Memory: (#S + spare) versions of about (36·per_slab + 4·texels_per_slab) bytes, allocated by
+/// the constructor, each padded to 64 bytes: 17.5 MiB for the default bunny bake (1,178 slabs,
+/// n = 16, m = 2: 2,356 versions of 7,808 bytes), beside the 20.5 MiB the model takes.
 /// The model's topology, coarse vertices, grid sizes, source fields and under-layer material
 /// must not change while the snapshots exist (edits never change them); readers read those
 /// members of the live model directly.
