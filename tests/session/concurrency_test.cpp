@@ -239,6 +239,16 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   so.watchdog_ticks = 1 << 30;  // sanitizer builds run slowly; the envelope is tested elsewhere
   Hooks hooks{&p};
   const ServoStats st = run_session(session, device, so, SessionHooks{before, nullptr, &hooks});
+  // Under a loaded sanitizer run the saver may have been starved while the servo thread edited;
+  // let it save the last epochs too (each is checked below), for at most two minutes.
+  const auto wait_until = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (std::chrono::steady_clock::now() < wait_until) {
+    {
+      std::lock_guard<std::mutex> lock(saved_mutex);
+      if (saved.size() > 2) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   done = true;
   r1.join(), r2.join(), s1.join(), c1.join();
   session.finish();
