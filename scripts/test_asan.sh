@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # AddressSanitizer + UndefinedBehaviorSanitizer lane: builds the whole test suite, the hdm program
-# and the studio with the same compiler as the main build (g++), everything instrumented with ASan
-# and UBSan, in build-asan/, and runs ctest there. Any ASan report (heap or stack overflow, use
-# after free, leak) or UBSan report (overflow, misaligned or null access, out-of-bounds index,
-# invalid shift or cast: -fno-sanitize-recover=all) fails the test that made it. (The fuzzers are
-# the clang lane: scripts/fuzz.sh.)
+# and the studio with the same compiler as the main build (g++) in build-asan/, all of it with ASan
+# and the code under test with UBSan too (not the CGAL repair units nor the tests themselves), and
+# runs ctest there. Any ASan report (heap or stack overflow, use after free, leak) or UBSan report
+# (overflow, misaligned or null access, out-of-bounds index, invalid shift or cast:
+# -fno-sanitize-recover=all) fails the test that made it. (The fuzzers are the clang lane:
+# scripts/fuzz.sh.)
 # The Python module is left out (an instrumented extension needs the runtime preloaded into the
 # interpreter); the ThreadSanitizer lane is scripts/test_tsan.sh.
 set -euo pipefail
@@ -15,10 +16,11 @@ flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-po
 # -O1 everywhere (HDM_O3=OFF drops the library's -O3) and line tables only (-g1): the level the
 # sanitizers recommend, and a quicker build (an instrumented library unit 43.9 -> 32.6 s without
 # -O3; at -O2 -g the lane's build took 19 min against 11); reports still name the file and line.
-# The CGAL repair units get ASan without UBSan (HDM_REPAIR_WITHOUT_UBSAN, src/CMakeLists.txt):
-# UBSan nearly doubles their build.
+# The CGAL repair units and the test code get ASan without UBSan (HDM_REPAIR_WITHOUT_UBSAN,
+# src/CMakeLists.txt; HDM_TESTS_WITHOUT_UBSAN, tests/CMakeLists.txt): UBSan nearly doubles their
+# build, while the library, hdm and the studio, the code under test, keep it.
 cmake -S "$here" -B "$out" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="$flags" \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DHDM_O3=OFF -DHDM_REPAIR_WITHOUT_UBSAN=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DHDM_O3=OFF -DHDM_REPAIR_WITHOUT_UBSAN=ON -DHDM_TESTS_WITHOUT_UBSAN=ON \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DHDM_BUILD_APPS=ON -DHDM_BUILD_STUDIO=ON -DHDM_BUILD_TESTS=ON -DHDM_BUILD_BENCH=OFF -DHDM_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$out" -j "$(nproc)"

@@ -294,7 +294,9 @@ TEST(RepairMesh, AFillNeverCrossesTheMesh) {
     expect_clean_and_closed(out);
     EXPECT_EQ(count_self_intersections(out), 0);
     for (const Vec3& v : out.vertices)  // the fill stays near the sphere, above the ball
-      if ((v - c).norm() > 0.41 * sag) EXPECT_GT(v.norm(), 1 - 0.6 * sag);
+      if ((v - c).norm() > 0.41 * sag) {
+        EXPECT_GT(v.norm(), 1 - 0.6 * sag);
+      }
   }
   // A stick through the hole: every fill would cross it, so the hole stays open.
   {

@@ -17,7 +17,7 @@
 namespace hdm::test {
 
 std::string data_path(const std::string& name) {
-  const std::string p = std::string(HDM_DATA_DIR) + "/" + name;
+  const std::string p = (std::filesystem::path(HDM_DATA_DIR) / name).string();
   if (!std::filesystem::exists(p)) ADD_FAILURE() << p << " missing: run scripts/setup.sh";
   return p;
 }
