@@ -3,6 +3,7 @@
 // except where that would join edges the file keeps apart (keep_file_pairing); unused vertices
 // dropped, the rest numbered in file order.
 #include "weld_vertices.h"
+#include "../mesh/disjoint_sets.h"
 
 #include <algorithm>
 #include <array>
@@ -90,7 +91,8 @@ void reweld_keeping_fans(const std::vector<Tri>& triangles, std::vector<int32_t>
   // Whether classes x and y, made one, keep one fan of faces around them: no edge of more than two
   // faces (no link vertex of degree above two) and a connected link (no pinch).
   std::vector<std::array<int32_t, 2>> link;
-  std::vector<int32_t> ends, parent;
+  std::vector<int32_t> ends;
+  mesh::detail::DisjointSets<> sets;
   auto merge_keeps_manifold = [&](const std::vector<int32_t>& x, const std::vector<int32_t>& y, int32_t cx,
                                   int32_t cy) {
     link.clear();
@@ -109,20 +111,13 @@ void reweld_keeping_fans(const std::vector<Tri>& triangles, std::vector<int32_t>
     for (size_t i = 0; i + 2 < ends.size(); ++i)
       if (ends[i] == ends[i + 2]) return false;  // an edge of three or more faces
     ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-    parent.resize(ends.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    auto root = [&](int32_t i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
+    sets.reset(ends.size());
     auto index = [&](int32_t c) {
       return static_cast<int32_t>(std::lower_bound(ends.begin(), ends.end(), c) - ends.begin());
     };
     size_t parts = ends.size();
-    for (const auto& e : link) {
-      const int32_t a = root(index(e[0])), b = root(index(e[1]));
-      if (a != b) parent[a] = b, --parts;
-    }
+    for (const auto& e : link)
+      if (sets.unite(index(e[0]), index(e[1]))) --parts;
     return parts == 1;
   };
   for (const std::vector<int32_t>& g : groups) {

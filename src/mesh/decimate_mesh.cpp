@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "simplifier.h"
+#include "disjoint_sets.h"
 
 namespace hdm {
 namespace {
@@ -40,7 +41,8 @@ TriangleMesh split_pinched_vertices(const TriangleMesh& mesh, std::vector<int32_
       ++fill[v];
     }
   TriangleMesh out = mesh;
-  std::vector<int32_t> parent, faces;
+  std::vector<int32_t> faces;
+  mesh::detail::DisjointSets<> sets;
   std::vector<std::pair<int32_t, int32_t>> root_copy;
   for (size_t v = 0; v < nv; ++v) {
     auto* b = spokes.data() + 2 * offset[v];
@@ -52,19 +54,14 @@ TriangleMesh split_pinched_vertices(const TriangleMesh& mesh, std::vector<int32_
     std::sort(faces.begin(), faces.end());
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
     auto slot = [&](int32_t f) { return int32_t(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin()); };
-    parent.resize(faces.size());
-    for (size_t i = 0; i < faces.size(); ++i) parent[i] = static_cast<int32_t>(i);
-    auto find = [&](int32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    sets.reset(faces.size());
     for (auto* s = b; s + 1 != e; ++s)
-      if (s[0].first == s[1].first) parent[find(slot(s[0].second))] = find(slot(s[1].second));
+      if (s[0].first == s[1].first) sets.unite(slot(s[0].second), slot(s[1].second));
     // The fan of the first face keeps v; every other fan gets a copy.
-    const int32_t keep = find(0);
+    const int32_t keep = sets.find(0);
     root_copy.clear();
     for (size_t i = 0; i < faces.size(); ++i) {
-      const int32_t r = find(static_cast<int32_t>(i));
+      const int32_t r = sets.find(static_cast<int32_t>(i));
       if (r == keep) continue;
       auto it = std::find_if(root_copy.begin(), root_copy.end(), [&](const auto& rc) { return rc.first == r; });
       if (it == root_copy.end()) {

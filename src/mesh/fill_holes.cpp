@@ -2,6 +2,7 @@
 // Hole filling for repair_mesh(): which boundary cycles to close, a flat minimal-area fill of each,
 // refined and faired, kept only where it crosses nothing. A CGAL translation unit (heavy templates).
 #include "fill_holes.h"
+#include "disjoint_sets.h"
 
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/fair.h>
@@ -67,21 +68,16 @@ std::vector<Hole> boundary_holes(const std::vector<Point>& points, const Soup& p
   for (const auto& [p, vs] : at)
     if (vs.size() == 2) sibling[vs[0]] = vs[1], sibling[vs[1]] = vs[0];
   // Components, joined at split positions.
-  std::vector<std::size_t> parent(points.size());
-  std::iota(parent.begin(), parent.end(), std::size_t(0));
-  auto find = [&](std::size_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets<std::size_t> sets(points.size());
   for (const auto& f : polygons)
-    for (std::size_t k = 1; k < f.size(); ++k) parent[find(f[k])] = find(f[0]);
+    for (std::size_t k = 1; k < f.size(); ++k) sets.unite(f[k], f[0]);
   std::map<Point, std::size_t> first_at;
   for (std::size_t v = 0; v < points.size(); ++v) {
     const auto [it, fresh] = first_at.emplace(points[v], v);
-    if (!fresh) parent[find(v)] = find(it->second);
+    if (!fresh) sets.unite(v, it->second);
   }
   component.resize(points.size());
-  for (std::size_t v = 0; v < points.size(); ++v) component[v] = find(v);
+  for (std::size_t v = 0; v < points.size(); ++v) component[v] = sets.find(v);
 
   std::vector<Hole> holes;
   std::set<std::size_t> seen;

@@ -2,6 +2,7 @@
 #include <hdm/mesh/orient_mesh.h>
 
 #include "nearly_closed.h"
+#include "disjoint_sets.h"
 
 #include <algorithm>
 #include <numeric>
@@ -68,18 +69,13 @@ struct HalfEdges {
 std::vector<Part> mesh_parts(const TriangleMesh& mesh, const HalfEdges& he, std::vector<int32_t>& part_of_face,
                              std::vector<std::pair<int32_t, int32_t>>& boundary) {
   const size_t nf = mesh.faces.size();
-  std::vector<int32_t> parent(nf);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  mesh::detail::DisjointSets<> sets(nf);
   for (size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
       const int32_t g = he.face(b, a);
       if (g >= 0)
-        parent[find(int32_t(f))] = find(g);
+        sets.unite(int32_t(f), g);
       else
         boundary.emplace_back(a, b);
     }
@@ -87,7 +83,7 @@ std::vector<Part> mesh_parts(const TriangleMesh& mesh, const HalfEdges& he, std:
   std::vector<Part> parts;
   part_of_face.resize(nf);
   for (size_t f = 0; f < nf; ++f) {
-    const int32_t r = find(int32_t(f));
+    const int32_t r = sets.find(int32_t(f));
     auto [it, added] = part_of_root.emplace(r, int32_t(parts.size()));
     if (added) parts.emplace_back();
     part_of_face[f] = it->second;

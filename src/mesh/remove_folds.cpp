@@ -5,6 +5,7 @@
 #include <hdm/mesh/fix_empty_dual_cones.h>
 
 #include "max_min_direction.h"
+#include "disjoint_sets.h"
 
 #include <algorithm>
 #include <unordered_map>
@@ -20,11 +21,6 @@ constexpr int kRimRounds = 8;
 constexpr double kRimSeen = 0.1;  // a rim vertex of no better cone margin than this (84°) counts as empty
 constexpr double kEmptyCone =
     0.02;  // a star of no better cone margin than this has an empty dual cone (as in the decimation)
-
-int32_t root(std::vector<int32_t>& parent, int32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
 
 // The mesh's faces with removal: which are left, and which faces meet at each edge and vertex.
 class Sheet {
@@ -108,18 +104,14 @@ class Sheet {
     star_.clear();
     for (int32_t f : vertex_faces_[v])
       if (alive_[f]) star_.push_back(f);
-    parent_.resize(star_.size());
-    for (size_t i = 0; i < star_.size(); ++i) parent_[i] = int32_t(i);
+    sets_.reset(star_.size());
     int groups = int(star_.size());
     for (size_t i = 0; i < star_.size(); ++i)
       for (size_t j = i + 1; j < star_.size(); ++j) {
         int shared = 0;
         for (int32_t a : m_.faces[star_[i]])
           for (int32_t b : m_.faces[star_[j]]) shared += a == b;
-        if (shared >= 2) {
-          const int32_t ri = root(parent_, int32_t(i)), rj = root(parent_, int32_t(j));
-          if (ri != rj) parent_[ri] = rj, --groups;
-        }
+        if (shared >= 2 && sets_.unite(int32_t(i), int32_t(j))) --groups;
       }
     return groups;
   }
@@ -128,7 +120,8 @@ class Sheet {
   std::vector<char> alive_;
   std::vector<std::vector<int32_t>> vertex_faces_;
   std::unordered_map<uint64_t, std::vector<int32_t>> edge_faces_;
-  std::vector<int32_t> star_, parent_, corners_;
+  std::vector<int32_t> star_, corners_;
+  mesh::detail::DisjointSets<> sets_;
   std::vector<int> fans_before_;
 };
 
@@ -143,8 +136,7 @@ int64_t remove_rim_flaps(TriangleMesh& mesh) {
   Sheet sheet(mesh);
   std::vector<Vec3> normal(static_cast<size_t>(nf), Vec3::Zero());
   for (int32_t f = 0; f < nf; ++f) normal[f] = unit_normal(mesh, mesh.faces[f]);
-  std::vector<int32_t> group(static_cast<size_t>(nf)), part(static_cast<size_t>(nf));
-  for (int32_t f = 0; f < nf; ++f) group[f] = part[f] = f;
+  mesh::detail::DisjointSets<> group(static_cast<size_t>(nf)), part(static_cast<size_t>(nf));
   std::vector<char> on_rim(static_cast<size_t>(nf), 0);
   for (int32_t f = 0; f < nf; ++f) {
     const Tri& t = mesh.faces[f];
@@ -153,17 +145,17 @@ int64_t remove_rim_flaps(TriangleMesh& mesh) {
       const int n = sheet.live_on_edge(t[k], t[(k + 1) % 3], &g, f);
       if (n == 1) on_rim[f] = 1;
       if (g < 0 || g < f) continue;
-      part[root(part, f)] = root(part, g);
-      if (n == 2 && normal[f].dot(normal[g]) > kFlapTurn) group[root(group, f)] = root(group, g);
+      part.unite(f, g);
+      if (n == 2 && normal[f].dot(normal[g]) > kFlapTurn) group.unite(f, g);
     }
   }
   std::unordered_map<int32_t, std::vector<int32_t>> members;
   std::unordered_map<int32_t, size_t> part_size;
-  for (int32_t f = 0; f < nf; ++f) members[root(group, f)].push_back(f), ++part_size[root(part, f)];
+  for (int32_t f = 0; f < nf; ++f) members[group.find(f)].push_back(f), ++part_size[part.find(f)];
   const double limit = kMaxFlapExtent * bounds(mesh).diagonal();
   int64_t removed = 0;
   for (auto& [id, faces] : members) {
-    if (faces.size() > kMaxFlapFaces || faces.size() == part_size[root(part, faces[0])]) continue;
+    if (faces.size() > kMaxFlapFaces || faces.size() == part_size[part.find(faces[0])]) continue;
     Aabb box;
     bool rim = false;
     for (int32_t f : faces) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // T-junction seams: insert boundary vertices into the boundary edges they lie on, then weld.
 #include <hdm/mesh/stitch_seams.h>
+#include "disjoint_sets.h"
 
 #include <algorithm>
 #include <array>
@@ -73,15 +74,10 @@ TriangleMesh snap_near_vertices(const TriangleMesh& m, const std::map<EdgeKey, i
   const double cell = lengths[lengths.size() / 2];
   if (!(cell > 0)) return m;
   // Sheet of each vertex (union-find over vertices joined by a face).
-  std::vector<int32_t> parent(nv);
-  for (size_t i = 0; i < nv; ++i) parent[i] = int32_t(i);
-  auto find = [&](int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const Tri& t : m.faces) parent[find(t[1])] = find(t[0]), parent[find(t[2])] = find(t[0]);
+  mesh::detail::DisjointSets<> sets(nv);
+  for (const Tri& t : m.faces) sets.unite(t[1], t[0]), sets.unite(t[2], t[0]);
   std::vector<int32_t> sheet(nv);
-  for (size_t i = 0; i < nv; ++i) sheet[i] = find(int32_t(i));
+  for (size_t i = 0; i < nv; ++i) sheet[i] = sets.find(int32_t(i));
   // Candidate pairs from a grid of median-length cells (the snap distance is capped at one cell).
   auto key = [&](const Vec3& p) {
     const Vec3 q = (p / cell).array().floor();

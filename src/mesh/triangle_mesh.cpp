@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
 #include <hdm/mesh/triangle_mesh.h>
+#include "disjoint_sets.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -16,15 +17,6 @@ Aabb bounds(const TriangleMesh& mesh) {
   return box;
 }
 
-namespace {
-
-int find_root(std::vector<int32_t>& parent, int32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
-
-}  // namespace
-
 MeshTopology analyze_topology(const TriangleMesh& mesh) {
   MeshTopology t;
   const double area_eps = 1e-14 * std::pow(std::max(bounds(mesh).diagonal(), 1e-300), 2);
@@ -32,8 +24,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   // (a < b) in the lowest, so one parallel integer sort groups the uses of each edge.
   std::vector<uint64_t> edges;
   edges.reserve(mesh.faces.size() * 3);
-  std::vector<int32_t> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0);
+  mesh::detail::DisjointSets<> sets(mesh.vertices.size());
   for (const Tri& f : mesh.faces) {
     if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
       ++t.degenerate_faces;
@@ -45,7 +36,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
       const int32_t a = f[k], b = f[(k + 1) % 3];
       const auto [lo, hi] = std::minmax(a, b);
       edges.push_back((((uint64_t(uint32_t(lo)) << 32) | uint32_t(hi)) << 1) | uint64_t(a < b));
-      parent[find_root(parent, a)] = find_root(parent, b);
+      sets.unite(a, b);
     }
   }
   // Group by undirected edge; count uses and directions.
@@ -67,8 +58,8 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
       ++t.inconsistent_edges;
     i = j;
   }
-  for (size_t v = 0; v < parent.size(); ++v)
-    t.components += find_root(parent, static_cast<int32_t>(v)) == static_cast<int32_t>(v);
+  for (size_t v = 0; v < mesh.vertices.size(); ++v)
+    t.components += sets.find(static_cast<int32_t>(v)) == static_cast<int32_t>(v);
   return t;
 }
 
