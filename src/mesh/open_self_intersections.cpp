@@ -8,6 +8,7 @@
 #include <hdm/mesh/stitch_seams.h>
 #include <hdm/mesh/winding_number.h>
 
+#include "disjoint_sets.h"
 #include "retriangulate_tangles.h"
 #include "surface_mesh_copy.h"
 
@@ -16,6 +17,7 @@
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -41,23 +43,18 @@ constexpr double kTangleTolerance = 1e-3;
 
 // Sheets: faces joined by an edge (union-find).
 std::vector<int32_t> sheet_of_faces(const TriangleMesh& mesh, int32_t& count) {
-  std::vector<int32_t> parent(mesh.faces.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int32_t f) {
-    while (parent[f] != f) f = parent[f] = parent[parent[f]];
-    return f;
-  };
+  mesh::detail::DisjointSets<> sets(mesh.faces.size());
   std::map<std::pair<int32_t, int32_t>, int32_t> first;
   for (size_t f = 0; f < mesh.faces.size(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
       auto [it, fresh] = first.try_emplace({std::min(a, b), std::max(a, b)}, int32_t(f));
-      if (!fresh) parent[find(int32_t(f))] = find(it->second);
+      if (!fresh) sets.unite(int32_t(f), it->second);
     }
   std::vector<int32_t> label(mesh.faces.size());
   std::map<int32_t, int32_t> id;
   for (size_t f = 0; f < mesh.faces.size(); ++f)
-    label[f] = id.try_emplace(find(int32_t(f)), int32_t(id.size())).first->second;
+    label[f] = id.try_emplace(sets.find(int32_t(f)), int32_t(id.size())).first->second;
   count = int32_t(id.size());
   return label;
 }
@@ -90,15 +87,33 @@ int64_t crossing_pairs(const Mesh& sm) {
   return static_cast<int64_t>(pairs.size());
 }
 
+// CGAL's corefinement requires both meshes free of self-intersections, which includes faces of
+// zero area (PMP::corefine()'s preconditions); a corefinement can leave such faces where sheets
+// touch in one plane, and the next one then dereferences the crossing of two edge lines that do
+// not cross. Checked before every corefinement of a sheet changed since its last check.
+bool corefinable(const Mesh& m) {
+  for (Face f : m.faces())
+    if (PMP::is_degenerate_triangle_face(f, m)) return false;
+  return !PMP::does_self_intersect<CGAL::Parallel_if_available_tag>(m);
+}
+
 // Corefines every pair of sheets whose boxes overlap, marking the crossing curves in @p curve;
-// false when CGAL throws (a configuration it does not handle).
+// false when CGAL throws (a configuration it does not handle) or a sheet is not corefinable().
 bool corefine_sheets(std::vector<Mesh>& sheets, std::vector<Mesh::Property_map<Edge, bool>>& curve) {
+  std::vector<uint8_t> changed(sheets.size(), 1);
   try {
     for (size_t i = 0; i < sheets.size(); ++i)
       for (size_t j = i + 1; j < sheets.size(); ++j) {
         if (!CGAL::do_overlap(CGAL::Polygon_mesh_processing::bbox(sheets[i]), PMP::bbox(sheets[j]))) continue;
+        for (size_t k : {i, j}) {
+          if (changed[k] && !corefinable(sheets[k])) return false;
+          changed[k] = 0;
+        }
+        const auto before_i = sheets[i].number_of_faces(), before_j = sheets[j].number_of_faces();
         PMP::corefine(sheets[i], sheets[j], CGAL::parameters::edge_is_constrained_map(curve[i]),
                       CGAL::parameters::edge_is_constrained_map(curve[j]));
+        changed[i] = sheets[i].number_of_faces() != before_i;
+        changed[j] = sheets[j].number_of_faces() != before_j;
       }
   } catch (const std::exception&) {
     return false;

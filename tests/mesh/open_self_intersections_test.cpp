@@ -277,3 +277,29 @@ TEST(OpenSelfIntersections, SheetPassingThroughItselfIsKept) {
   EXPECT_EQ(out.faces.size(), in.faces.size());
   EXPECT_EQ(out.vertices, in.vertices);
 }
+
+TEST(OpenSelfIntersections, ACrossingThatRoundsToZeroAreaFacesIsNotCorefinedFurther) {
+  // Three sheets on a ground plane y = 0: a quad, a triangle that dips 7.8e-5 below it (its
+  // crossing with the quad is so short that the corefined quad's new faces round to zero area)
+  // and a decal quad lying on the quad over that crossing. Corefining the decal with the quad's
+  // zero-area faces dereferences the crossing of two edge lines that do not cross (CGAL 5.5,
+  // Intersect_coplanar_faces_3): the resolution must stop before it and keep a valid surface.
+  TriangleMesh in;
+  in.vertices = {
+      Vec3(1.0 / 150, 0, 149.0 / 150), Vec3(0.995, 0, 0.995), Vec3(149.0 / 150, 0, 1.0 / 150), Vec3(0.005, 0, 0.005),
+      // the dipping triangle, at the single-precision coordinates that round as above
+      Vec3(0.63258302211761475, 0.074843399226665497, 0.36741697788238525), Vec3(0.5, 0.074843399226665497, 0.3125),
+      Vec3(0.63258302211761475, -7.8000128269195557e-05, 0.36741697788238525), Vec3(0.55, 0, 0.3), Vec3(0.55, 0, 0.45),
+      Vec3(0.7, 0, 0.45), Vec3(0.7, 0, 0.3)};
+  in.faces = {{0, 1, 2}, {0, 2, 3}, {6, 5, 4}, {7, 8, 9}, {7, 9, 10}};
+  ASSERT_GT(count_self_intersections(in), 0);
+  SelfIntersectionReport rep;
+  const TriangleMesh out = resolve_open_self_intersections(in, &rep);
+  const MeshTopology t = analyze_topology(out);
+  EXPECT_EQ(t.non_manifold_edges, 0);
+  EXPECT_EQ(t.degenerate_faces, 0);
+  if (rep.resolved)
+    EXPECT_EQ(count_self_intersections(out), 0);
+  else
+    EXPECT_EQ(out.faces.size(), in.faces.size());
+}
