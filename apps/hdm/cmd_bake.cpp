@@ -128,7 +128,8 @@ nlohmann::json bake_json(const BakeArgs& a, const BakeInputOptions& o, const Bak
                       {"undercut_columns", r.undercut_columns},
                       {"separated", r.separated},
                       {"peak_rss_mib", peak_rss_mib()},
-                      {"fidelity", fidelity_json(rep.fidelity)}};
+                      {"fidelity", fidelity_json(rep.fidelity)},
+                      {"remeshed_faces", rep.remeshed_faces}};
   add_input_json(j, rep.input);
   if (o.bounded) j["tolerance"] = tolerance_json(o, rep);
   return j;
@@ -171,6 +172,11 @@ void print_bake(const BakeArgs& a, const BakeInputReport& rep) {
       "the fidelity measurement)\n",
       r.seconds, peak_rss_mib(), rep.seconds);
   print_input_changes(rep.input, rep.diagonal);
+  if (rep.remeshed_faces > 0)
+    std::printf(
+        "  remeshed source     %lld triangles of the same surface decimated into slabs (the input's own "
+        "triangles left slabs invalid); the rays cast on the input\n",
+        (long long)rep.remeshed_faces);
   std::printf("  invalid slabs       %d\n", r.invalid_slabs);
   std::printf("  ray misses          %lld (filled at the point of the line nearest the input)\n",
               (long long)r.ray_misses);

@@ -25,10 +25,14 @@ struct Plan {
   int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round
   double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
                                 // slab count (-1: the next round sets it)
-  // The mesh decimated into slabs: the input, or the input with its faces split (a low-poly input
+  // The mesh the rays are cast on: the input, or the input with its faces split (a low-poly input
   // whose bound asks for more slabs than it has triangles); the same surface either way.
-  const ExactMeshQuery* source = nullptr;
+  const ExactMeshQuery* target = nullptr;
   std::unique_ptr<ExactMeshQuery> split;
+  // The mesh decimated into slabs: the target's own, or BakeOptions::source (a remesh of the same
+  // surface), split in turn when it runs short.
+  const TriangleMesh* source = nullptr;
+  std::unique_ptr<TriangleMesh> split_source;
 };
 
 // A decimation cannot make more faces than it starts from. The source runs short when a global
@@ -40,7 +44,7 @@ struct Plan {
 // without invalid or overlapping slabs: faults at the input's own resolution come from faces that
 // cross or fold, which smaller slabs follow rather than remove.
 bool source_runs_short(const Plan& plan, bool local, int64_t slabs, int64_t next, int64_t max_slabs) {
-  const auto faces = static_cast<int64_t>(plan.source->mesh().faces.size());
+  const auto faces = static_cast<int64_t>(plan.source->faces.size());
   if (faces >= max_slabs) return false;
   if (local) return slabs >= faces;  // the decimation kept every face: the caps ask for finer ones
   const int64_t target = plan.options.slabs > 0 ? plan.options.slabs : default_slab_count(faces, plan.options);
@@ -81,7 +85,8 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   const int64_t faces = static_cast<int64_t>(input.mesh().faces.size());
   Plan plan;
   plan.options = options;
-  plan.source = &input;
+  plan.target = &input;
+  plan.source = options.source ? options.source : &input.mesh();
   if (tolerance.adapt_grid) {
     // The samples of the first round's target: each round's grid follows its slab count.
     const int target = options.slabs > 0 ? options.slabs : default_slab_count(faces, options);
@@ -93,7 +98,8 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   std::vector<Vec3> far;
   for (int round = 0;; ++round) {
     BakeReport r;
-    SlabModel model = bake_slabs(*plan.source, name, plan.options, &r);
+    plan.options.source = plan.source == &plan.target->mesh() ? nullptr : plan.source;
+    SlabModel model = bake_slabs(*plan.target, name, plan.options, &r);
     model.source_triangles = faces;
     if (plan.decimation_cost < 0) plan.decimation_cost = r.decimation_cost;
     ToleranceRound t;
@@ -126,7 +132,7 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     // Past the source's triangles only where it runs short, and then on its faces split.
     const double wanted = std::min<double>(tolerance.max_slabs, std::ceil(r.slabs * growth));
     const bool split = faults == 0 && source_runs_short(plan, local, r.slabs, wanted, tolerance.max_slabs);
-    const auto source_faces = static_cast<int64_t>(plan.source->mesh().faces.size());
+    const auto source_faces = static_cast<int64_t>(plan.source->faces.size());
     const int cap =
         static_cast<int>(split ? tolerance.max_slabs : std::min<int64_t>(tolerance.max_slabs, source_faces));
     const int next = static_cast<int>(std::min<double>(cap, wanted));
@@ -145,9 +151,15 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     plan.local_faults = faults;
     plan.local_max = max_ratio;
     if (split) {  // the caps carried to the new vertices (a local round's)
-      plan.split = std::make_unique<ExactMeshQuery>(
-          split_faces(plan.source->mesh(), plan.options.max_edge.empty() ? nullptr : &plan.options.max_edge));
-      plan.source = plan.split.get();
+      std::vector<double>* caps = plan.options.max_edge.empty() ? nullptr : &plan.options.max_edge;
+      if (plan.source == &plan.target->mesh()) {  // the rays' mesh is split with it: the same surface
+        plan.split = std::make_unique<ExactMeshQuery>(split_faces(plan.target->mesh(), caps));
+        plan.target = plan.split.get();
+        plan.source = &plan.target->mesh();
+      } else {
+        plan.split_source = std::make_unique<TriangleMesh>(split_faces(*plan.source, caps));
+        plan.source = plan.split_source.get();
+      }
     }
     if (local) {
       analysis::detail::tighten_edge_caps(model, *plan.source, r.overlapping_slabs, far, plan.options.max_edge);

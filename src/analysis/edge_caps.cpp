@@ -9,9 +9,8 @@
 
 namespace hdm::analysis::detail {
 
-void tighten_edge_caps(const SlabModel& model, const ExactMeshQuery& input, const std::vector<int32_t>& faulty,
+void tighten_edge_caps(const SlabModel& model, const TriangleMesh& in, const std::vector<int32_t>& faulty,
                        const std::vector<Vec3>& far_points, std::vector<double>& max_edge) {
-  const TriangleMesh& in = input.mesh();
   if (max_edge.size() != in.vertices.size()) max_edge.assign(in.vertices.size(), INFINITY);
   // The shell's mid-surface: one triangle per slab, halfway between its inner and outer corners,
   // so a point near the surface finds the slab whose columns sample it.
@@ -27,7 +26,7 @@ void tighten_edge_caps(const SlabModel& model, const ExactMeshQuery& input, cons
     const ClosestPoint c = shell.closest_point(p);
     if (c.face >= 0) flagged[c.face] = 1;
   }
-  // The flagged slabs alone, with their longest edges: every input vertex within half that
+  // The flagged slabs alone, with their longest edges: every source vertex within half that
   // length of one (its corners, and the input it samples) gets half that length as its cap.
   TriangleMesh bad;
   bad.vertices = m.vertices;

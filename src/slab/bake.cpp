@@ -114,17 +114,23 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
                const BakeOptions& given, BakeReport* report) {
   const auto start = std::chrono::steady_clock::now();
   check_options(given);
-  validate_for_bake(mesh, name);
+  // The coarse surface comes from the source: the mesh itself, or a remesh of the same surface
+  // whose triangles can carry slabs where the mesh's own cannot (BakeOptions::source).
+  const TriangleMesh& source = given.source ? *given.source : mesh;
+  if (given.source) validate_for_bake(mesh, name);
+  validate_for_bake(source, name);
   const double diag = bounds(mesh).diagonal();
-  const int target = given.slabs > 0 ? given.slabs : default_slab_count(static_cast<int64_t>(mesh.faces.size()), given);
+  const int target =
+      given.slabs > 0 ? given.slabs : default_slab_count(static_cast<int64_t>(source.faces.size()), given);
 
   progress(given, "decimate", 0);
   BakeReport rep;
   const CoarseMesh coarse =
-      coarse_surface(mesh, target, given.max_edge, given.max_decimation_cost, &rep.decimation_cost);
+      coarse_surface(source, target, given.max_edge, given.max_decimation_cost, &rep.decimation_cost);
   progress(given, "decimate", 1);
   BakeOptions o = given;  // the stages below read the grid chosen for the slabs made
   o.max_edge = {};
+  o.source = nullptr;
   o.grid_n = grid_for(given, coarse.faces.size());
   const int n = o.grid_n;
   const VertexFrame fr = vertex_frames(coarse, o.direction_smoothing);

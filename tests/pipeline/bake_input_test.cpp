@@ -84,7 +84,56 @@ void volume_and_area(const TriangleMesh& m, double& volume, double& area) {
   }
 }
 
+// A CAD export of a disk, radius 1 and height 0.1: the rim a ring of n quads, each cap a fan of
+// needles from one rim vertex (what STL exporters write for a flat face with a curved boundary).
+TriangleMesh fan_capped_disk(int n) {
+  TriangleMesh m;
+  for (double z : {0.0, 0.1})
+    for (int k = 0; k < n; ++k) m.vertices.emplace_back(std::cos(2 * M_PI * k / n), std::sin(2 * M_PI * k / n), z);
+  for (int k = 0; k < n; ++k) {
+    const int a = k, b = (k + 1) % n;
+    m.faces.push_back({a, b, n + b});
+    m.faces.push_back({a, n + b, n + a});
+  }
+  for (int k = 1; k < n - 1; ++k) {
+    m.faces.push_back({0, k + 1, k});
+    m.faces.push_back({n, n + k, n + k + 1});
+  }
+  return m;
+}
+
+// Distance to the solid cylinder x² + y² <= 1, 0 <= z <= 0.1 (its surface, both sides).
+double cylinder_distance(const Vec3& p) {
+  const double radial = std::hypot(p.x(), p.y()) - 1, axial = std::max(-p.z(), p.z() - 0.1);
+  if (radial <= 0 && axial <= 0) return -std::max(radial, axial);
+  return std::hypot(std::max(radial, 0.0), std::max(axial, 0.0));
+}
+
 }  // namespace
+
+TEST(BakeInput, NeedleFansAreBakedFromARemeshOfTheSameSurface) {
+  // The fans' needles leave slabs invalid at every slab count the input's own triangles allow
+  // (one slab per triangle at most); the same surface remeshed carries valid slabs, and the
+  // rays, still cast on the input, put the surface on the disk within the bound.
+  const int n = 256;
+  BakeInputReport report;
+  const SlabModel model = bake_input(fan_capped_disk(n), "fan disk", {}, &report);
+  const auto own = std::find_if(report.rounds.begin(), report.rounds.end(),
+                                [](const ToleranceRound& r) { return r.invalid_slabs > 0; });
+  ASSERT_NE(own, report.rounds.end()) << "the input's own triangles carried valid slabs: nothing to test";
+  EXPECT_GT(report.remeshed_faces, 0);
+  EXPECT_TRUE(report.rounds.back().met);
+  EXPECT_EQ(count_invalid_slabs(model), 0);
+  EXPECT_EQ(count_overlapping_pairs(model), 0);
+  TriangleMesh surface;
+  displaced_surface(model, surface.vertices, surface.faces);
+  const double diagonal = Vec3(2, 2, 0.1).norm();
+  double worst = 0;
+  for (const Vec3& p : surface.vertices) worst = std::max(worst, std::abs(cylinder_distance(p)));
+  // The bound is on the distance to the 256-gon the input is; the polygon's sagitta, 1 - cos(π/n),
+  // is what the analytic cylinder adds.
+  EXPECT_LE(100 * worst / diagonal, 0.2 + 100 * (1 - std::cos(M_PI / n)) / diagonal);
+}
 
 TEST(BakeInput, TwoBoxesPushedIntoEachOtherBakeToTheirUnionInTheInputsUnits) {
   const TwoBoxes boxes;

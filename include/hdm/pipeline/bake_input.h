@@ -36,14 +36,23 @@ struct BakeInputReport {
   std::vector<ToleranceRound> rounds;  ///< every bake tried (empty when not bounded)
   Fidelity fidelity;                   ///< the model returned against the prepared input, interior faces left out
   int64_t interior_faces = 0;          ///< faces of the prepared input inside the solid it bounds (interior_faces())
-  double seconds = 0;                  ///< wall time of the whole call [s]
+  /// Triangles of the remesh decimated instead of the input (remesh_isotropic(): slabs stayed
+  /// invalid on the input's own triangles, and the remesh's rounds, appended to `rounds`, ended
+  /// better); 0 when the input's own triangles were decimated.
+  int64_t remeshed_faces = 0;
+  double seconds = 0;  ///< wall time of the whole call [s]
 };
 
 /// @brief Bakes a mesh as read into a slab model: prepare_input() (scale, repair, orientation,
 /// seams, folds, crossings resolved), one Embree BVH over the prepared mesh, the faces inside
 /// the solid it bounds when it crossed itself (left out of the fidelity), then bake_to_tolerance()
 /// (or one bake_slabs() and measure_fidelity() when not bounded), and the model scaled back to the
-/// input's units (exact: a power of two). With BakeOptions::slabs = 0, the first slab count follows
+/// input's units (exact: a power of two). When bounded and slabs are still invalid where the
+/// rounds stop (the input's own triangles are needles no slab over them can follow, as in CAD
+/// fans), the rounds run again on an isotropic remesh of the prepared mesh (remesh_isotropic(),
+/// about four triangles per slab reached; the rays still on the prepared mesh), and that model is
+/// returned when it ends better (it meets the bound, or has fewer faults, or a smaller worst
+/// error). With BakeOptions::slabs = 0, the first slab count follows
 /// BakeOptions::density per triangle of @p mesh as given (or of the prepared mesh, if fewer):
 /// resolving self-intersections splits faces along the intersection curves, which adds no detail.
 /// @param mesh     triangles as read [model units].
@@ -56,8 +65,8 @@ struct BakeInputReport {
 ///         bake_to_tolerance() refuse (invalid mesh data, a mesh that cannot be repaired, invalid
 ///         options or bounds).
 /// @note Cost: prepare_input(), the BVH build (O(#F log #F)), then up to Tolerance::max_rounds
-///       bakes and fidelity measurements on it. Parallel (TBB). Reports progress through
-///       options.bake.progress.
+///       bakes and fidelity measurements on it (twice, with the remesh, where slabs stay invalid). Parallel (TBB).
+///       Reports progress through options.bake.progress.
 SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInputOptions& options = {},
                      BakeInputReport* report = nullptr);
 

@@ -38,8 +38,15 @@ struct BakeOptions {
   double miss_limit =
       0.10;  ///< when separation leaves more than this fraction of sample rays without a surface, bake again without it
   Vec3f colour{0.82f, 0.80f, 0.76f};  ///< initial surface colour, linear RGB
-  /// Local refinement (bake_to_tolerance()): optional #V per vertex of the input mesh, the longest
-  /// coarse edge allowed at it [model units] (DecimateOptions::max_edge); empty: none.
+  /// The surface decimated into slabs when it is not the mesh baked: the same surface as a
+  /// closed or open, edge-manifold, consistently oriented mesh whose triangles are better shaped
+  /// (remesh_isotropic() of it, where the mesh's own slivers leave slabs invalid at any slab
+  /// count) [model units]. The rays are still cast on the mesh baked. Null: the mesh baked is its
+  /// own source. Not owned; must outlive the bake.
+  const TriangleMesh* source = nullptr;
+  /// Local refinement (bake_to_tolerance()): optional #V per vertex of the coarse source (the mesh
+  /// baked, or #source), the longest coarse edge allowed at it [model units]
+  /// (DecimateOptions::max_edge); empty: none.
   std::vector<double> max_edge;
   /// Local refinement: the decimation stops at this quadric error as well as at the slab count
   /// (DecimateOptions::max_cost; BakeReport::decimation_cost of an earlier bake); +inf: the slab
