@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/analysis/fidelity.h>
+#include <hdm/core/error.h>
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/scale_mesh.h>
 #include <hdm/pipeline/prepare_input.h>
@@ -8,6 +9,17 @@
 
 namespace hdm {
 namespace {
+
+// Whether @p mesh is what the bake takes (validate_for_bake()): each step of the preparation must
+// hand on such a mesh, and one that does not is undone.
+bool bakeable(const TriangleMesh& mesh) {
+  try {
+    validate_for_bake(mesh, "");
+  } catch (const InvalidInput&) {
+    return false;
+  }
+  return true;
+}
 
 // Steps 4 and 5 of prepare_input(): an open mesh that crosses itself is joined at its seams, and
 // a nearly closed one that still crosses is closed. Returns whether the seams closed it.
@@ -55,8 +67,25 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
   r.orient = orient_outward(in.mesh);
   r.self_intersections = count_self_intersections(in.mesh);
   bool open = r.orient.nearly_closed + r.orient.sheets > 0;  // some part has a boundary edge
-  const bool closed_by_seams = r.self_intersections > 0 && open && close_self_intersecting_parts(in, open);
-  if (open) r.folds = remove_folds(in.mesh);
+  const bool valid = bakeable(in.mesh);
+
+  TriangleMesh before = valid ? in.mesh : TriangleMesh{};
+  bool closed_by_seams = r.self_intersections > 0 && open && close_self_intersecting_parts(in, open);
+  if (valid && !bakeable(in.mesh)) {  // the seams left edges the bake cannot take: undone
+    in.mesh = before;
+    closed_by_seams = false;
+    open = true;
+    r.seams = {};
+    r.filled_faces = 0;
+  }
+  if (open) {
+    if (valid) before = in.mesh;
+    const FoldReport folds = remove_folds(in.mesh);
+    if (valid && !bakeable(in.mesh))
+      in.mesh = std::move(before);
+    else
+      r.folds = folds;
+  }
   if (!options.resolve || r.self_intersections == 0) return in;
   {
     const ExactMeshQuery unresolved(in.mesh);  // a copy: the faces as `hdm check` measures them
@@ -69,7 +98,15 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
     r.resolved.pairs_before = r.self_intersections;
     r.resolved.pairs_after = count_self_intersections(in.mesh);
   } else {
-    in.mesh = resolve_self_intersections(in.mesh, &r.resolved);
+    SelfIntersectionReport resolved;
+    TriangleMesh out = resolve_self_intersections(in.mesh, &resolved);
+    if (bakeable(out) || !bakeable(in.mesh)) {
+      in.mesh = std::move(out);
+      r.resolved = resolved;
+    } else {  // a resolution the bake cannot take: the crossings stay as the input has them
+      r.resolved.pairs_before = r.resolved.pairs_after = r.self_intersections;
+      r.resolved.faces_before = r.resolved.faces_after = static_cast<int64_t>(in.mesh.faces.size());
+    }
     r.resolved.filled_faces = r.filled_faces;
   }
   if (r.seams.inserted + r.seams.snapped > 0) r.resolved.seam_vertices = r.seams.inserted + r.seams.snapped;

@@ -2,6 +2,7 @@
 // The one bake of every front end, judged against analytic shapes: two boxes pushed into each
 // other bake to their union (its signed distance, volume and area), in the input's own units.
 #include <hdm/core/error.h>
+#include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/pipeline/bake_input.h>
 #include <hdm/slab/scale_model.h>
 #include <hdm/slab/shell_check.h>
@@ -133,6 +134,32 @@ TEST(BakeInput, NeedleFansAreBakedFromARemeshOfTheSameSurface) {
   // The bound is on the distance to the 256-gon the input is; the polygon's sagitta, 1 - cos(π/n),
   // is what the analytic cylinder adds.
   EXPECT_LE(100 * worst / diagonal, 0.2 + 100 * (1 - std::cos(M_PI / n)) / diagonal);
+}
+
+TEST(BakeInput, AStepThatLeavesEdgesTheBakeRefusesIsUndone) {
+  // A wall of two triangles and, 0.003 in front of it, an open box of six triangles whose edges
+  // face the wall (a sign on a game asset's house): joining the box's border to the wall as
+  // seams leaves edges whose two triangles run the same way, which the bake refuses. The seams
+  // are undone and the parts baked as they are, on their own faces.
+  TriangleMesh m;
+  m.vertices = {{0.65, 0, 0.95},        {0.65, 0.35, 0.95}, {0.65, 0, 0.1},         {0.1, 0.318, 0.95},
+                {0.65, 0.318, 0.95},    {0.65, 0.318, 0.1}, {0.803, 0, 0.501},      {0.803, 0.0424, 0.501},
+                {0.803, 0.0424, 0.701}, {0.803, 0, 0.701},  {0.653, 0.0424, 0.701}, {0.653, 0, 0.701},
+                {0.653, 0.0424, 0.501}, {0.653, 0, 0.501}};
+  m.faces = {{1, 0, 2}, {3, 4, 5}, {6, 7, 8}, {10, 11, 9}, {7, 12, 10}, {7, 10, 8}, {7, 6, 13}, {7, 13, 12}};
+  BakeInputReport report;
+  SlabModel model;
+  ASSERT_NO_THROW(model = bake_input(m, "wall and sign", {}, &report));
+  EXPECT_EQ(report.input.seams.inserted + report.input.seams.snapped, 0);  // undone
+  EXPECT_EQ(count_invalid_slabs(model), 0);
+  // Every point of the model's surface on the input (Embree, the input as given).
+  TriangleMesh surface;
+  displaced_surface(model, surface.vertices, surface.faces);
+  const ExactMeshQuery input(m);
+  const double diagonal = bounds(m).diagonal();
+  double worst = 0;
+  for (const Vec3& p : surface.vertices) worst = std::max(worst, input.closest_point(p).distance);
+  EXPECT_LE(100 * worst / diagonal, 0.2);
 }
 
 TEST(BakeInput, TwoBoxesPushedIntoEachOtherBakeToTheirUnionInTheInputsUnits) {
