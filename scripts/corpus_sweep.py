@@ -5,7 +5,7 @@ docs/figures.md.
 
 A corpus is `libcgal-demo` (every file above 40 KB of Debian's libcgal-demo data archive),
 `assimp` (every OBJ, PLY, OFF and STL file of Debian's assimp-testmodels package) or a folder
-(every file in it with a mesh extension). A third of each corpus, drawn at random with the seed
+(every file in it). A third of each corpus, drawn at random with the seed
 below, is set aside: the bake is developed on the rest, and the table reports the set-aside part
 separately, so that a method tuned to the meshes it was developed on shows as a gap between the
 two parts.
@@ -61,7 +61,9 @@ def corpus_files(corpus, out):
         return corpus, sorted(paths)
     if not os.path.isdir(corpus):
         sys.exit("corpus_sweep: %s is neither libcgal-demo, assimp nor a folder" % corpus)
-    paths = [os.path.join(corpus, f) for f in os.listdir(corpus) if f.lower().endswith(MESH_EXT)]
+    # A folder: every file in it; hdm reads what assimp reads, and refuses the rest with a reason.
+    paths = [os.path.join(corpus, f) for f in os.listdir(corpus)
+             if not f.startswith(".") and os.path.isfile(os.path.join(corpus, f))]
     return os.path.basename(os.path.normpath(corpus)), sorted(paths)
 
 
