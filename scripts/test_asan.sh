@@ -34,8 +34,13 @@ export HDM_SANITIZED=1
 gl='^studio_session$|^studio_burr$|^studio_bridge$|^studio_bridge_burr$|^studio_lockstep$|^RenderPng\.|^SlabRenderer\.'
 # The corpus cases that take longest (seconds each in the main lane, minutes here; and
 # b9_mesh peaks at 1.4 GB uninstrumented) run in the main lane only; knot1, fandisk, boeing and the
-# b9.ply refusal run here too (remove_folds() has its unit tests here).
+# b9.ply refusal run here too (remove_folds() has its unit tests here). So do the five real-model
+# tests that took 16-45 s each here (the shell of bunny and armadillo at 150-5,000 slabs, the swept
+# booleans against the exact one, the cow and triceratops bakes): the same code runs here on the
+# smaller models of the other tests.
 slow='^corpus\.(cow|elephant|femur|cheese|homer|b9_mesh)\.off$'
+slow="$slow|^ShellTest\.RealModelsAreValidAndDisjointFrom150To5000Slabs$|^SweptEdit\.(CarvedGroove|AddedRidge)MatchesTheExactBoolean$"
+slow="$slow|^ClosedSelfIntersection\.(Cow|Triceratops)BakesAtDefaultSettings$"
 (cd "$out" && ctest --output-on-failure -j "$(nproc)" -E "^python\\.|$gl|$slow")
 # The tests that open OpenGL (EGL or Xvfb): Mesa's drivers are dlopen'd and unloaded, so
 # LeakSanitizer cannot name the module of their leaks, and its tracer has crashed at exit beside
