@@ -5,6 +5,8 @@
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/remesh_isotropic.h>
 
+#include "support/test_models.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,23 +16,6 @@
 using namespace hdm;
 
 namespace {
-
-// A disk, radius 1 and height 0.1, its caps fans of needles from one rim vertex.
-TriangleMesh fan_capped_disk(int n) {
-  TriangleMesh m;
-  for (double z : {0.0, 0.1})
-    for (int k = 0; k < n; ++k) m.vertices.emplace_back(std::cos(2 * M_PI * k / n), std::sin(2 * M_PI * k / n), z);
-  for (int k = 0; k < n; ++k) {
-    const int a = k, b = (k + 1) % n;
-    m.faces.push_back({a, b, n + b});
-    m.faces.push_back({a, n + b, n + a});
-  }
-  for (int k = 1; k < n - 1; ++k) {
-    m.faces.push_back({0, k + 1, k});
-    m.faces.push_back({n, n + k, n + k + 1});
-  }
-  return m;
-}
 
 // The smallest interior angle of any face [degrees].
 double smallest_angle(const TriangleMesh& m) {
@@ -43,16 +28,10 @@ double smallest_angle(const TriangleMesh& m) {
   return worst;
 }
 
-double volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  return v;
-}
-
 }  // namespace
 
 TEST(RemeshIsotropic, NeedleFansBecomeWellShapedTrianglesOfTheSameSurface) {
-  const TriangleMesh in = fan_capped_disk(128);
+  const TriangleMesh in = test::fan_capped_disk(128);
   ASSERT_LT(smallest_angle(in), 1.5);  // 180 / 128 degrees at the fans' apex
   const double length = 0.05;
   const TriangleMesh out = remesh_isotropic(in, length);
@@ -73,7 +52,7 @@ TEST(RemeshIsotropic, NeedleFansBecomeWellShapedTrianglesOfTheSameSurface) {
   for (const Vec3& p : in.vertices) in_to_out = std::max(in_to_out, remeshed.closest_point(p).distance);
   EXPECT_LT(out_to_in, 1e-9 * diagonal);
   EXPECT_LT(in_to_out, 1e-9 * diagonal);
-  EXPECT_NEAR(volume(out) / volume(in), 1.0, 1e-3);
+  EXPECT_NEAR(test::signed_volume(out) / test::signed_volume(in), 1.0, 1e-3);
   // Edges near the target: the median within a quarter of it.
   std::vector<double> lengths;
   for (const Tri& f : out.faces)
@@ -83,7 +62,7 @@ TEST(RemeshIsotropic, NeedleFansBecomeWellShapedTrianglesOfTheSameSurface) {
 }
 
 TEST(RemeshIsotropic, RefusesANonPositiveLengthAndAMeshTheBakeRefuses) {
-  EXPECT_THROW(remesh_isotropic(fan_capped_disk(16), 0.0), InvalidInput);
+  EXPECT_THROW(remesh_isotropic(test::fan_capped_disk(16), 0.0), InvalidInput);
   TriangleMesh fin;  // three triangles on one edge
   fin.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
   fin.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};

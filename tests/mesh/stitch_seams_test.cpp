@@ -4,6 +4,8 @@
 // edges, vertices merged) and against the analytic volume and area of the shape.
 #include <hdm/mesh/stitch_seams.h>
 
+#include "support/test_models.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -45,12 +47,6 @@ TriangleMesh jittered_cube(int n, double jitter) {
   return m;
 }
 
-double signed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  return v;
-}
-
 }  // namespace
 
 TEST(StitchSeams, NearlyCoincidentSeamVerticesAreMerged) {
@@ -72,7 +68,7 @@ TEST(StitchSeams, NearlyCoincidentSeamVerticesAreMerged) {
   EXPECT_EQ(out.faces.size(), in.faces.size());
   EXPECT_EQ(out.vertices.size(), 6 * size_t(n + 1) * (n + 1) - size_t(rep.snapped));
   // No vertex moves by more than the jitter: the volume is the cube's up to the jitter's effect.
-  EXPECT_NEAR(signed_volume(out), 1.0, 6 * 3 * jitter);
+  EXPECT_NEAR(test::signed_volume(out), 1.0, 6 * 3 * jitter);
 }
 
 TEST(StitchSeams, SeamsFartherThanTheMergeDistanceStayOpen) {

@@ -7,6 +7,8 @@
 #include <hdm/slab/scale_model.h>
 #include <hdm/slab/shell_check.h>
 
+#include "support/test_models.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -85,24 +87,6 @@ void volume_and_area(const TriangleMesh& m, double& volume, double& area) {
   }
 }
 
-// A CAD export of a disk, radius 1 and height 0.1: the rim a ring of n quads, each cap a fan of
-// needles from one rim vertex (what STL exporters write for a flat face with a curved boundary).
-TriangleMesh fan_capped_disk(int n) {
-  TriangleMesh m;
-  for (double z : {0.0, 0.1})
-    for (int k = 0; k < n; ++k) m.vertices.emplace_back(std::cos(2 * M_PI * k / n), std::sin(2 * M_PI * k / n), z);
-  for (int k = 0; k < n; ++k) {
-    const int a = k, b = (k + 1) % n;
-    m.faces.push_back({a, b, n + b});
-    m.faces.push_back({a, n + b, n + a});
-  }
-  for (int k = 1; k < n - 1; ++k) {
-    m.faces.push_back({0, k + 1, k});
-    m.faces.push_back({n, n + k, n + k + 1});
-  }
-  return m;
-}
-
 // Distance to the solid cylinder x² + y² <= 1, 0 <= z <= 0.1 (its surface, both sides).
 double cylinder_distance(const Vec3& p) {
   const double radial = std::hypot(p.x(), p.y()) - 1, axial = std::max(-p.z(), p.z() - 0.1);
@@ -118,7 +102,7 @@ TEST(BakeInput, NeedleFansAreBakedFromARemeshOfTheSameSurface) {
   // rays, still cast on the input, put the surface on the disk within the bound.
   const int n = 256;
   BakeInputReport report;
-  const SlabModel model = bake_input(fan_capped_disk(n), "fan disk", {}, &report);
+  const SlabModel model = bake_input(test::fan_capped_disk(n), "fan disk", {}, &report);
   const auto own = std::find_if(report.rounds.begin(), report.rounds.end(),
                                 [](const ToleranceRound& r) { return r.invalid_slabs > 0; });
   ASSERT_NE(own, report.rounds.end()) << "the input's own triangles carried valid slabs: nothing to test";

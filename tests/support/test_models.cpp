@@ -137,4 +137,26 @@ Vec3 point_from_corners(const SlabModel& m, int slab, const Vec3& w, double alph
   return p;
 }
 
+TriangleMesh fan_capped_disk(int n) {
+  TriangleMesh m;
+  for (double z : {0.0, 0.1})
+    for (int k = 0; k < n; ++k) m.vertices.emplace_back(std::cos(2 * M_PI * k / n), std::sin(2 * M_PI * k / n), z);
+  for (int k = 0; k < n; ++k) {
+    const int a = k, b = (k + 1) % n;
+    m.faces.push_back({a, b, n + b});
+    m.faces.push_back({a, n + b, n + a});
+  }
+  for (int k = 1; k < n - 1; ++k) {
+    m.faces.push_back({0, k + 1, k});
+    m.faces.push_back({n, n + k, n + k + 1});
+  }
+  return m;
+}
+
+double signed_volume(const TriangleMesh& m) {
+  double v = 0;
+  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
+  return v;
+}
+
 }  // namespace hdm::test

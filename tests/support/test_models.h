@@ -23,6 +23,13 @@ const SlabModel& baked_bunny(int slabs, int grid);
 /// counter-clockwise from outside.
 TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre = Vec3::Zero());
 
+/// The volume @p m encloses, by the divergence theorem (positive when it faces outward).
+double signed_volume(const TriangleMesh& m);
+
+/// A disk of radius 1 and height 0.1 as a CAD exporter writes it: the rim a ring of @p n quads,
+/// each cap a fan of needles from one rim vertex; closed, counter-clockwise from outside.
+TriangleMesh fan_capped_disk(int n);
+
 /// icosphere(subdivisions, 1) with a crumple at vertex 0: its ring shrunk to @p size around it and
 /// turned by @p twist_deg about its normal, so the faces from the ring to the next ring twist over
 /// each other (as where a scanned surface crumples) and the ring's vertices have empty dual cones.
