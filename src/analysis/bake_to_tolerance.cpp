@@ -51,6 +51,21 @@ bool source_runs_short(const Plan& plan, bool local, int64_t slabs, int64_t next
   return next > faces && slabs <= target + 2;
 }
 
+// Splits the faces of the mesh decimated into slabs in four (source_runs_short()), carrying a local
+// round's edge caps to the new vertices; when that mesh is the one the rays are cast on, the rays'
+// mesh is split with it (the same surface either way).
+void split_source(Plan& plan) {
+  std::vector<double>* caps = plan.options.max_edge.empty() ? nullptr : &plan.options.max_edge;
+  if (plan.source == &plan.target->mesh()) {
+    plan.split = std::make_unique<ExactMeshQuery>(split_faces(plan.target->mesh(), caps));
+    plan.target = plan.split.get();
+    plan.source = &plan.target->mesh();
+  } else {
+    plan.split_source = std::make_unique<TriangleMesh>(split_faces(*plan.source, caps));
+    plan.source = plan.split_source.get();
+  }
+}
+
 // The worst ratio of a measured error to its bound (2 with invalid or overlapping slabs).
 double worst_ratio(const ToleranceRound& t, const Tolerance& tolerance) {
   const Fidelity& f = t.fidelity;
@@ -150,17 +165,7 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     plan.was_local = local;
     plan.local_faults = faults;
     plan.local_max = max_ratio;
-    if (split) {  // the caps carried to the new vertices (a local round's)
-      std::vector<double>* caps = plan.options.max_edge.empty() ? nullptr : &plan.options.max_edge;
-      if (plan.source == &plan.target->mesh()) {  // the rays' mesh is split with it: the same surface
-        plan.split = std::make_unique<ExactMeshQuery>(split_faces(plan.target->mesh(), caps));
-        plan.target = plan.split.get();
-        plan.source = &plan.target->mesh();
-      } else {
-        plan.split_source = std::make_unique<TriangleMesh>(split_faces(*plan.source, caps));
-        plan.source = plan.split_source.get();
-      }
-    }
+    if (split) split_source(plan);
     if (local) {
       analysis::detail::tighten_edge_caps(model, *plan.source, r.overlapping_slabs, far, plan.options.max_edge);
       // The next decimation stops at the quadric error the last global round reached, so the
