@@ -5,6 +5,7 @@
 #include "output_guard.h"
 
 #include <hdm/core/error.h>
+#include <hdm/slab/bake.h>
 
 #include <CLI/CLI.hpp>
 
@@ -62,9 +63,12 @@ void guard_bake(const BakeRequest& r) {
   const uint64_t bytes = file_bytes(r.input);
   // A bake has at most as many slabs as the input has triangles (the coarse mesh decimates it).
   BakeShape shape{bytes, std::min<int64_t>(r.slabs, triangles_in_file(r.input, bytes, true)), r.grid, r.texels};
-  if (r.slabs <= 0)
-    shape.slabs = static_cast<int64_t>(
-        std::ceil(double(triangles_in_file(r.input, bytes, false)) * r.density / (double(r.grid) * r.grid)));
+  if (r.slabs <= 0) {  // the bake's own rule, on the triangles the file may hold
+    BakeOptions o;
+    o.density = r.density;
+    o.grid_n = r.grid;
+    shape.slabs = default_slab_count(triangles_in_file(r.input, bytes, false), o);
+  }
   require_memory(bake_peak_bytes(shape), bake_budget(), "hdm bake " + r.input,
                  std::to_string(shape.slabs) + (r.slabs > 0 && shape.slabs == r.slabs ? "" : " (estimated)") +
                      " slabs at --grid " +

@@ -181,8 +181,8 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
 }  // namespace
 
 int default_slab_count(int64_t triangles, const BakeOptions& o) {
-  const double target = double(triangles) * o.density / (double(o.grid_n) * o.grid_n);
-  return std::max(8, static_cast<int>(std::lround(std::min(target, 1e9))));
+  const double submesh = std::min(double(triangles) * o.density, double(kMaxDensitySubmesh));
+  return std::max(8, static_cast<int>(std::lround(submesh / (double(o.grid_n) * o.grid_n))));
 }
 
 SlabModel bake_slabs(const TriangleMesh& mesh, const std::string& name, const BakeOptions& o, BakeReport* report) {

@@ -136,3 +136,19 @@ TEST(BakeTest, BakeOnTheCallersBvhGivesTheSameModel) {
   EXPECT_EQ(a.colour, b.colour);
   EXPECT_EQ(r1.ray_misses, r2.ray_misses);
 }
+
+// The density rule: density × input triangles of submesh (slabs·n²), at least 8 slabs, and no more
+// than kMaxDensitySubmesh submesh triangles however large the input.
+TEST(BakeTest, TheDefaultSlabCountFollowsTheDensityUpToTheSubmeshCap) {
+  BakeOptions o;  // density 4, n = 16
+  EXPECT_EQ(default_slab_count(75408, o), 1178);  // 75,408 · 4 / 256 = 1,178.25
+  EXPECT_EQ(default_slab_count(10, o), 8);
+  const int64_t million = kMaxDensitySubmesh / 4;  // where the cap starts at density 4
+  EXPECT_EQ(default_slab_count(million, o), kMaxDensitySubmesh / 256);
+  EXPECT_EQ(default_slab_count(12636000, o), kMaxDensitySubmesh / 256);
+  EXPECT_EQ(default_slab_count(int64_t(1) << 40, o), kMaxDensitySubmesh / 256);
+  o.grid_n = 4;
+  EXPECT_EQ(default_slab_count(12636000, o), kMaxDensitySubmesh / 16);
+  o.density = 1;
+  EXPECT_EQ(default_slab_count(1000000, o), 62500);
+}

@@ -83,12 +83,19 @@ struct BakeReport {
   std::vector<int32_t> overlapping_slabs;
 };
 
-/// @brief The slab count a bake targets when BakeOptions::slabs is 0: @p triangles ·
-/// BakeOptions::density / n², at least 8, so that the submesh (slabs·n² triangles) has density
-/// times the input's triangles.
+/// Most submesh triangles (slabs·n²) the density rule asks for: 4,194,304, the density's 4 per
+/// input triangle up to a million input triangles. A larger input (a scan of ten million
+/// triangles, a subdivided model) starts there, about 180 MB of model, and the error-bounded bake
+/// (bake_to_tolerance()) adds slabs where its bound asks: the model follows the shape's detail, not
+/// the input's triangle count.
+inline constexpr int64_t kMaxDensitySubmesh = int64_t(1) << 22;
+
+/// @brief The slab count a bake targets when BakeOptions::slabs is 0: min(@p triangles ·
+/// BakeOptions::density, kMaxDensitySubmesh) / n², at least 8, so that the submesh (slabs·n²
+/// triangles) has density times the input's triangles, up to kMaxDensitySubmesh.
 /// @param triangles  the input's triangle count, >= 0.
 /// @param options    density in (0, 1024] and grid_n >= 1 (checked by bake_slabs(), not here).
-/// @return the target slab count, at most 10⁹. @note O(1).
+/// @return the target slab count. @note O(1).
 int default_slab_count(int64_t triangles, const BakeOptions& options);
 
 /// @brief Bakes @p mesh into a slab model.
