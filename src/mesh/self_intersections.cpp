@@ -10,6 +10,7 @@
 #include "self_intersecting_faces.h"
 #include "nearly_closed.h"
 #include "surface_mesh_copy.h"
+#include "autorefine_apart.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -84,11 +85,7 @@ double fill_holes(Mesh& sm) {
 // The union's boundary of the closed mesh @p sm (see resolve_self_intersections()), @p solid its
 // faces as a TriangleMesh; false, @p sm in any state, when that fails.
 bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport& rep) {
-  try {
-    PMP::experimental::autorefine(sm);
-  } catch (const std::exception&) {
-    return false;  // CGAL's refinement is experimental and asserts on some configurations
-  }
+  if (!mesh::detail::autorefine_apart(sm)) return false;  // CGAL's refinement could not take it
   // The generalized winding number counts how many parts cover a point, so a piece inside two
   // (or any even number of) overlapping parts is interior too, where ray parity calls it outside.
   const WindingNumber winding(solid);

@@ -90,8 +90,9 @@ TEST(SelfIntersections, AMeshThatDoesNotCrossItselfIsKept) {
 }
 
 // Three thin tetrahedra whose faces cross nearly in one plane near a shared corner point: CGAL
-// 5.5's refinement (autorefine) breaks its own assumptions on them (constraints that cross after
-// rounding); built without its checks it crashed here. With them it throws, and the input is kept.
+// 5.5's refinement (autorefine) breaks its own assumption on them (an input vertex that becomes two
+// intersection points) and, in a release build, crashed the process. It now runs in a child process:
+// the crash costs the step, and the input is kept.
 TEST(SelfIntersections, ACrossingCgalsRefinementCannotTakeKeepsTheInput) {
   TriangleMesh m;
   m.vertices = {{0, 0.50486699999999995, -0.181284},
