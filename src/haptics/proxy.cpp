@@ -57,16 +57,17 @@ bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Cont
   const Vec3 nd = nf.cast<double>();
   const double len = nd.norm();  // in double: the normal is unit to rounding, as the force bounds assume
   out.normal = len > 0 ? Vec3(nd * (1.0 / len)) : Vec3(ray.normalized());
-  out.depth = (delta - c.alpha) * std::max(ray.dot(out.normal), 0.1 * ray.norm());  // as evaluate_surface
+  // No depth: every caller sets the proxy's own (0 on the surface, the HIP's in contact_output).
   return out.surface_point.allFinite() && out.normal.allFinite();
 }
 
 // Re-projects point @p x onto the displaced surface: locate it, then take the surface point on its
-// projection line. Returns false when x is in no slab, or in a slab that faces away.
+// projection line. Returns false when x is in no slab, or in a slab that faces away. @p alpha_guess
+// (the proxy's α, x being a short step along its tangent plane) starts the α solve close to the root.
 bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x, const Vec3& n_ref, double min_cos,
-               AlphaSolver solver, QueryCache& cache, Contact& out) noexcept {
+               AlphaSolver solver, double alpha_guess, QueryCache& cache, Contact& out) noexcept {
   SlabCoordinates c;
-  const int slab = locator.find(x, cache.last_slab, solver, c);
+  const int slab = locator.find(x, cache.last_slab, solver, alpha_guess, c);
   if (slab < 0) return false;
   if (!surface_at(model, slab, c, out)) return false;
   if (out.normal.dot(n_ref) < std::max(kMinNormalAgreement, min_cos)) return false;
@@ -89,8 +90,9 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
   const double min_cos = std::cos(p.max_turn_deg * std::numbers::pi / 180);
   for (int it = 0; it < std::max(1, p.iterations); ++it) {
     Vec3 step = tangential(target - s.position, s.normal);
-    const double residual = step.norm();
-    if (residual <= tiny) break;
+    // Squared lengths: the comparisons need no square root (two per candidate on the tick's path).
+    const double residual2 = step.squaredNorm();
+    if (residual2 <= tiny * tiny) break;
     bool moved = false;
     for (int h = 0; h <= p.max_halvings; ++h, step *= 0.5) {
       Contact c;
@@ -101,8 +103,8 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
       // two positions every tick (seen on the armadillo: force flips of 3 N); the residual test
       // with halving turns it into a damped iteration. A strict descent on |target - proxy| was
       // tried and rejected: it made the proxy lag on curved parts, acting as friction.
-      if (reproject(model, locator, s.position + step, s.normal, min_cos, p.solver, s.proxy_cache, c) &&
-          tangential(target - c.surface_point, c.normal).norm() < residual) {
+      if (reproject(model, locator, s.position + step, s.normal, min_cos, p.solver, s.coords.alpha, s.proxy_cache, c) &&
+          tangential(target - c.surface_point, c.normal).squaredNorm() < residual2) {
         s.slab = c.slab;
         s.coords = c.coords;
         s.position = c.surface_point;

@@ -19,12 +19,24 @@ void evaluate_surface(const SlabModel& model, int slab, const SlabCoordinates& c
   out.coords = c;
   out.delta = delta;
   out.ray = ray;
-  const double len = nf.norm();  // one division for the three components (the tail of the query)
-  out.normal = len > 0 ? Vec3(nf.cast<double>() * (1.0 / len)) : Vec3(ray.normalized());
+  // The square root and the division end the query's chain of dependent operations: one division
+  // for the three components, and the ray's projection on the normal, (D·nf)/|nf|, dotted with the
+  // unnormalised nf beside them rather than after them.
+  const Vec3 nd = nf.cast<double>();
+  const double len = nf.norm(), along = ray.dot(nd);
+  double projection;
+  if (len > 0) {
+    const double inv = 1.0 / len;
+    out.normal = nd * inv;
+    projection = along * inv;
+  } else {
+    out.normal = ray.normalized();
+    projection = ray.dot(out.normal);
+  }
   // The paper (§3.3) measures depth along the ray; projecting on the normal gives the distance to
   // the surface's tangent plane, a first-order exact distance also where rays slant. The floor on
   // the projection keeps the sign of δ - α where the interpolated normal turns away from the ray.
-  out.depth = (delta - c.alpha) * std::max(ray.dot(out.normal), 0.1 * ray.norm());
+  out.depth = (delta - c.alpha) * std::max(projection, 0.1 * ray.norm());
 }
 
 Contact query(const SlabModel& model, const SlabLocator& locator, const Vec3& p, QueryCache& cache,

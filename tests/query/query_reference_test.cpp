@@ -4,6 +4,7 @@
 // cache kept between points) and on independent points (cache reset), the query finds a slab that
 // holds the point, or none when no slab does, and its depth equals the depth evaluated in the
 // reference's slab.
+#include "support/surface_walk.h"
 #include "support/test_models.h"
 
 #include <hdm/query/slab_query.h>
@@ -52,32 +53,15 @@ void check_point(const SlabModel& m, const SlabLocator& loc, const Vec3& p, Quer
 void check_model(const SlabModel& m, int walk_steps, int global_points) {
   const SlabLocator loc(m);
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> off(-0.03, 0.03);
-  const int per_slab = m.samples.per_slab;
-  std::uniform_int_distribution<int> grid_point(0, per_slab - 1);
-  // A point near the surface of slab s: a grid sample moved along its normal.
-  auto near_surface = [&](int s) {
-    const int32_t id = m.samples.ids[static_cast<size_t>(s) * per_slab + grid_point(rng)];
-    return Vec3(m.positions[id].cast<double>() + off(rng) * m.source_diagonal * sample_normal(m, id).cast<double>());
-  };
   // Coherent walk: straight steps of ~1e-4 of the diagonal towards a point of a neighbouring slab,
   // up to 3 % of the diagonal above or below the surface (in the shell, above it and below it).
   Tally walk;
   QueryCache cache;
-  int slab = 0;
-  Vec3 from = near_surface(slab);
-  for (int done = 0; done < walk_steps;) {
-    int count = 0;
-    const int32_t* ring = loc.neighbourhood(slab, count);
-    slab = count > 0 ? ring[rng() % count] : slab;
-    const Vec3 to = near_surface(slab);
-    const int steps = std::max(1, static_cast<int>((to - from).norm() / (1e-4 * m.source_diagonal)));
-    for (int k = 1; k <= steps && done < walk_steps; ++k, ++done) {
-      check_point(m, loc, from + (to - from) * (double(k) / steps), cache, walk);
-      if (testing::Test::HasFatalFailure()) return;
-    }
-    from = to;
-  }
+  test::surface_walk(m, loc, 0, walk_steps, 0.03, rng, [&](const Vec3& p) {
+    check_point(m, loc, p, cache, walk);
+    return !testing::Test::HasFatalFailure();
+  });
+  if (testing::Test::HasFatalFailure()) return;
   EXPECT_GT(walk.inside, walk_steps / 4);
   EXPECT_GT(walk.outside, 0);
   // Independent points, cache reset before each (the global query).
@@ -85,7 +69,7 @@ void check_model(const SlabModel& m, int walk_steps, int global_points) {
   std::uniform_int_distribution<int> any_slab(0, m.slab_count() - 1);
   for (int k = 0; k < global_points; ++k) {
     QueryCache fresh;
-    check_point(m, loc, near_surface(any_slab(rng)), fresh, global);
+    check_point(m, loc, test::near_surface_point(m, any_slab(rng), 0.03, rng), fresh, global);
     if (testing::Test::HasFatalFailure()) return;
   }
   EXPECT_GT(global.inside, global_points / 4);
