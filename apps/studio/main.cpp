@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
   app.add_option("--secret-file", o.secret_file,
                  "with --device: the bridge's shared secret, created with mode 0600 when missing (default: the "
                  "HDM_BRIDGE_SECRET environment variable)");
+  app.add_option("--watchdog-ms", o.watchdog_ms,
+                 "with --device: release the tool and ramp the force out after this silence of the driver [ms] "
+                 "(default 5; a replay driver that waits for each answer, --lockstep, may pause longer)")
+      ->check(CLI::Range(0.1, 60000.0));
   app.add_option("--ticks-per-frame", o.ticks_per_frame,
                  "with --script: run exactly this many servo ticks per frame, in lockstep with the frames, so that the "
                  "script's run is the same every time (default: the servo runs in real time beside the frames)")

@@ -58,6 +58,7 @@ Studio::Studio(Window& window, SlabModel model, const StudioOptions& o, const Wi
   if (!o.device.empty()) {
     bridge::BridgeOptions bo;
     bo.secret = bridge::load_bridge_secret(o.secret_file);
+    bo.watchdog_s = o.watchdog_ms * 1e-3;
     // The burr's torque goes out to a 6-DOF driver, clamped as the rigid tool clamps it.
     if (o.burr) bo.spec.max_torque_nm = so.rigid.max_torque;
     auto bridge = bridge::BridgeDevice::open(o.device, bo);

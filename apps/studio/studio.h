@@ -34,6 +34,9 @@ struct StudioOptions {
   std::string device;
   /// The bridge's shared secret file (bridge::load_bridge_secret(); empty: HDM_BRIDGE_SECRET).
   std::string secret_file;
+  /// With `device`: the silence after which the bridge releases the tool and ramps the force out
+  /// [ms] (bridge::BridgeOptions::watchdog_s), > 0.
+  double watchdog_ms = 5;
   /// Scripted sessions: the servo loop runs exactly this many ticks per frame, back to back, in
   /// lockstep with the frames (and edits without a time budget), so that a script's run is the same
   /// every time; 0: in real time beside the frames.

@@ -5,6 +5,9 @@
 # "end" after the driver's end packet, compared here with the row's quaternion, sign-free), and the
 # driver's forces CSV has the torque columns. A second run lowers the tilted burr onto the sphere:
 # the driver receives the burr's torque (the studio reports a 6-DOF device spec with --burr).
+# The driver waits for each answer (--lockstep), so a slow tick (an instrumented build on a loaded
+# machine answers 15-30 ms late at p99) is not a silent device: the watchdog is set to 1 s (at its
+# 5 ms default it tripped there and ramped the force out, 0 N in one run in five).
 # Skips (exit 77) only when no X server can be started.
 # Usage: studio_bridge_burr.sh HDM_STUDIO PYTHON CLIENT MESH
 set -euo pipefail
@@ -25,7 +28,7 @@ with open(sys.argv[1], "w") as f:
         f.write(f"{k * 1e-3!r},0.0,0.12,0.0,0,{math.cos(a / 2)!r},{s!r},{2 * s!r},{2 * s!r}\n")
 PY
 echo '{"steps": [{"do": "device_end"}, {"do": "probe", "name": "end"}]}' >"$tmp/script.json"
-studio_with_driver "$name" /dev/null "$mesh" --burr --device "shm:$name" --script script.json --report report.json -- \
+studio_with_driver "$name" /dev/null "$mesh" --burr --device "shm:$name" --watchdog-ms 1000 --script script.json --report report.json -- \
   "$tmp/path.csv" --lockstep --timeout 10 --forces "$tmp/forces.csv"
 "$python" - "$tmp/report.json" "$tmp/forces.csv" <<'PY'
 import json, math, sys
@@ -55,14 +58,14 @@ with open(sys.argv[1], "w") as f:
 PY
 echo '{"steps": [{"do": "device_end"}]}' >"$tmp/script2.json"
 name2="$name-press"
-studio_with_driver "$name2" "$tmp/press.json" "$mesh" --burr --device "shm:$name2" --script script2.json -- \
+studio_with_driver "$name2" "$tmp/press.json" "$mesh" --burr --device "shm:$name2" --watchdog-ms 1000 --script script2.json -- \
   "$tmp/press.csv" --lockstep --timeout 10
 "$python" - "$tmp/press.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
 print(f"pressing the tilted burr: max force {s['max_force_n']:.3f} N, max torque {s['max_torque_nm'] * 1000:.2f} mN·m")
 # Any torque at all: a 3-DOF spec sends exactly 0. (Instrumented builds miss servo ticks, and the
-# burr presses less deep there: 0.4 N and 0.09 mN·m under ASan against 3.3 N and 2.3 mN·m.)
-assert s["max_force_n"] > 0.1, s
+# burr presses less deep there: 0.05-0.4 N and 0.01-0.09 mN·m under ASan against 3.3 N and 2.3 mN·m.)
+assert s["max_force_n"] > 0.01, s
 assert s["max_torque_nm"] > 0, s
 PY
