@@ -10,7 +10,7 @@
 #include "self_intersecting_faces.h"
 #include "nearly_closed.h"
 #include "surface_mesh_copy.h"
-#include "autorefine_apart.h"
+#include "refine_crossings.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -82,10 +82,19 @@ double fill_holes(Mesh& sm) {
   return area;
 }
 
-// The union's boundary of the closed mesh @p sm (see resolve_self_intersections()), @p solid its
-// faces as a TriangleMesh; false, @p sm in any state, when that fails.
+// The boundary of the solid that the closed @p solid encloses by its generalized winding number,
+// @p sm the same faces as a halfedge mesh (see resolve_self_intersections()): the crossings
+// refined exactly (refine_crossings()), each piece kept where the winding number crosses ½
+// through it, turned to face out. False, @p sm in any state, when that leaves cracks.
 bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport& rep) {
-  if (!mesh::detail::autorefine_apart(sm)) return false;  // CGAL's refinement could not take it
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> crossing;
+  PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(crossing));
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(crossing.size());
+  for (const auto& [a, b] : crossing) pairs.emplace_back(int(a.idx()), int(b.idx()));
+  sm.collect_garbage();
+  const TriangleMesh refined =
+      mesh::detail::refine_crossings(mesh::detail::to_triangle_mesh(sm, "resolve_self_intersections"), pairs);
   // The generalized winding number counts how many parts cover a point, so a piece inside two
   // (or any even number of) overlapping parts is interior too, where ray parity calls it outside.
   const WindingNumber winding(solid);
@@ -94,37 +103,29 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
   // folds closer than 10⁻⁶ of the diagonal), a point farther out would pass the layer above and
   // keep both layers. Near faces are summed exactly, so the jump of 1 across the face is sharp.
   const double eps = 1e-9 * diagonal;
-  std::vector<Mesh::Face_index> interior;
-  for (Mesh::Face_index f : sm.faces()) {
-    std::array<Point, 3> c;
-    int k = 0;
-    for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) c[k++] = sm.point(v);
-    const Vec3 a(c[0].x(), c[0].y(), c[0].z()), b(c[1].x(), c[1].y(), c[1].z()), d(c[2].x(), c[2].y(), c[2].z());
+  // The exposed pieces are joined as a soup: stitching joins only halfedges whose vertices are shared.
+  std::vector<Point> points;
+  points.reserve(refined.vertices.size());
+  for (const Vec3& p : refined.vertices) points.emplace_back(p.x(), p.y(), p.z());
+  std::vector<std::array<std::size_t, 3>> polygons;
+  rep.interior_faces = 0;
+  for (const Tri& t : refined.faces) {
+    const Vec3 &a = refined.vertices[size_t(t[0])], &b = refined.vertices[size_t(t[1])], &d = refined.vertices[size_t(t[2])];
     const Vec3 n = (b - a).cross(d - a);
     const Vec3 g = (a + b + d) / 3;
-    if (!(n.norm() > 0) || winding.inside(g + eps * n.normalized()) || !winding.inside(g - eps * n.normalized()))
-      interior.push_back(f);
-  }
-  rep.interior_faces = static_cast<int64_t>(interior.size());
-  // The exposed pieces are joined as a soup: the refinement can leave copies of one intersection
-  // point on each face it cut, and stitching joins only halfedges whose vertices are shared.
-  {
-    std::vector<uint8_t> gone(sm.number_of_faces(), 0);
-    for (Mesh::Face_index f : interior) gone[f.idx()] = 1;
-    std::vector<Point> points(sm.points().begin(), sm.points().end());
-    std::vector<std::array<std::size_t, 3>> polygons;
-    for (Mesh::Face_index f : sm.faces()) {
-      if (gone[f.idx()]) continue;
-      std::array<std::size_t, 3> t{};
-      int k = 0;
-      for (Mesh::Vertex_index v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[k++] = v.idx();
-      polygons.push_back(t);
+    const bool front = n.norm() > 0 && winding.inside(g + eps * n.normalized());
+    const bool back = n.norm() > 0 && winding.inside(g - eps * n.normalized());
+    if (!(n.norm() > 0) || front == back) {
+      ++rep.interior_faces;
+      continue;
     }
-    PMP::repair_polygon_soup(points, polygons);
-    PMP::orient_polygon_soup(points, polygons);
-    sm.clear();
-    PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
+    if (front) polygons.push_back({size_t(t[0]), size_t(t[2]), size_t(t[1])});
+    else polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
   }
+  PMP::repair_polygon_soup(points, polygons);
+  PMP::orient_polygon_soup(points, polygons);
+  sm.clear();
+  PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
   PMP::stitch_borders(sm);
   sm.collect_garbage();
   // Where the union meets itself along an edge or a vertex (parts that touch, slivers of the
