@@ -246,18 +246,16 @@ TriangleMesh resolve_open_self_intersections(const TriangleMesh& mesh, SelfInter
   rep.seam_vertices = seams.inserted + seams.snapped;
   const TriangleMesh& work = joined ? stitched : mesh;
   if (joined && seams.boundary_edges_after == 0) {
-    // One closed surface now. What still crosses (folds inside a patch: pig.stl has three) is
-    // left as the input has it; the closed union's refinement is not tried on it (CGAL 5.5's
-    // autorefine crashes on some such surfaces).
-    rep.pairs_after = crossing_pairs(mesh::detail::to_surface_mesh<Mesh>(stitched));
-    if (rep.pairs_after >= rep.pairs_before) {
-      rep.pairs_after = rep.pairs_before;
-      return keep();
-    }
-    rep.faces_after = static_cast<int64_t>(stitched.faces.size());
-    rep.resolved = true;
-    if (report) *report = rep;
-    return stitched;
+    // One closed surface now: resolved as a closed input is, into the solid it bounds.
+    SelfIntersectionReport closed;
+    TriangleMesh out = resolve_self_intersections(stitched, &closed);
+    if (closed.pairs_before == 0) closed.resolved = true;  // the seams were all that crossed
+    if (!closed.resolved || closed.pairs_after >= rep.pairs_before) return keep();
+    closed.pairs_before = rep.pairs_before;
+    closed.faces_before = rep.faces_before;
+    closed.seam_vertices = rep.seam_vertices;
+    if (report) *report = closed;
+    return out;
   }
   int32_t count = 0;
   const std::vector<int32_t> sheet = sheet_of_faces(work, count);
@@ -265,10 +263,8 @@ TriangleMesh resolve_open_self_intersections(const TriangleMesh& mesh, SelfInter
   for (int32_t s = 0; s < count; ++s) sheets.push_back(sheet_mesh(work, sheet, s));
   for (const Mesh& m : sheets)
     if (PMP::does_self_intersect<CGAL::Parallel_if_available_tag>(m)) {
-      // A sheet that crosses itself. CGAL 5.5's autorefine() would split it along its own curves,
-      // but crashes on some real sheets (polygon_mesh.off with its holes filled): instead, its
-      // crumpled spots are triangulated again, when that resolves every crossing within the
-      // tolerance; else the input is kept.
+      // A sheet that crosses itself (a crumpled scan): its crumpled spots are triangulated
+      // again, when that resolves every crossing within the tolerance; else the input is kept.
       TriangleMesh untangled;
       if (!mesh::detail::retriangulate_tangles(work, kTangleTolerance * bounds(work).diagonal(), untangled,
                                                rep.retriangulated_faces))

@@ -2,12 +2,15 @@
 // Exact refinement of crossing faces (see refine_crossings.h); its own translation unit, as the
 // exact kernel and the constrained triangulation are heavy templates.
 #include "refine_crossings.h"
+#include "disjoint_sets.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/intersections.h>
 
 #include <array>
+#include <utility>
+#include <algorithm>
 #include <cstring>
 #include <unordered_map>
 
@@ -66,10 +69,11 @@ struct FacePlane {
   }
 };
 
-// Adds what @p t and @p u share (exact) to @p cdt as constraints in @p t's plane.
-void constrain(CDT& cdt, const FacePlane& plane, const EK::Triangle_3& t, const EK::Triangle_3& u) {
-  const auto hit = CGAL::intersection(t, u);
-  if (!hit) return;  // reported by the inexact-construction test yet apart: nothing to add
+using Hit = decltype(CGAL::intersection(std::declval<EK::Triangle_3>(), std::declval<EK::Triangle_3>()));
+
+// Adds @p hit, what a face shares with another (exact), to @p cdt as constraints in its plane.
+void constrain(CDT& cdt, const FacePlane& plane, const Hit& hit) {
+  if (!hit) return;
   if (const P3* p = boost::get<P3>(&*hit)) {
     cdt.insert(plane.project(*p));
   } else if (const EK::Segment_3* s = boost::get<EK::Segment_3>(&*hit)) {
@@ -89,12 +93,15 @@ TriangleMesh refine_crossings(const TriangleMesh& mesh, const std::vector<std::p
   RefineReport rep;
   rep.pairs = static_cast<int64_t>(pairs.size());
   const size_t nf = mesh.faces.size();
-  std::vector<std::vector<int>> partners(nf);
-  for (const auto& [a, b] : pairs) {
+  std::vector<std::vector<size_t>> partners(nf);  // ids into pairs
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    const auto [a, b] = pairs[k];
     if (a < 0 || b < 0 || size_t(a) >= nf || size_t(b) >= nf || a == b) continue;
-    partners[size_t(a)].push_back(b);
-    partners[size_t(b)].push_back(a);
+    partners[size_t(a)].push_back(k);
+    partners[size_t(b)].push_back(k);
   }
+  std::vector<Hit> hits(pairs.size());  // each pair's intersection, computed by its first face
+  std::vector<uint8_t> done(pairs.size(), 0);
   TriangleMesh out;
   out.vertices = mesh.vertices;
   std::unordered_map<Key, int, KeyHash> ids;
@@ -126,9 +133,17 @@ TriangleMesh refine_crossings(const TriangleMesh& mesh, const std::vector<std::p
     const FacePlane plane(t);
     CDT cdt;
     for (int i = 0; i < 3; ++i) cdt.insert(plane.project(t.vertex(i)));
-    for (int g : partners[f]) {
-      const EK::Triangle_3 u = exact(g);
-      if (!u.is_degenerate()) constrain(cdt, plane, t, u);
+    for (size_t k : partners[f]) {
+      if (!done[k]) {
+        const int g = pairs[k].first == int(f) ? pairs[k].second : pairs[k].first;
+        const EK::Triangle_3 u = exact(g);
+        if (!u.is_degenerate()) hits[k] = CGAL::intersection(t, u);
+        done[k] = 1;
+        constrain(cdt, plane, hits[k]);
+      } else {
+        constrain(cdt, plane, hits[k]);
+        hits[k] = Hit();  // both faces have it
+      }
     }
     if (cdt.number_of_faces() > 1) ++rep.faces_split;
     std::unordered_map<CDT::Vertex_handle, int> vid;
@@ -145,6 +160,40 @@ TriangleMesh refine_crossings(const TriangleMesh& mesh, const std::vector<std::p
   rep.faces_after = static_cast<int64_t>(out.faces.size());
   if (report) *report = rep;
   return out;
+}
+
+std::vector<int32_t> patches_between_crossings(const TriangleMesh& mesh, int32_t& count) {
+  // One record per directed edge use: (lo, hi) in the high bits, the face below, the direction in
+  // the lowest bit, so one sort groups the uses of each edge.
+  struct Use {
+    uint64_t edge;
+    int32_t face;
+    bool forward;
+  };
+  std::vector<Use> uses;
+  uses.reserve(mesh.faces.size() * 3);
+  for (size_t f = 0; f < mesh.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
+      const auto [lo, hi] = std::minmax(a, b);
+      uses.push_back({(uint64_t(uint32_t(lo)) << 32) | uint32_t(hi), int32_t(f), a < b});
+    }
+  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.edge < y.edge; });
+  DisjointSets<> sets(mesh.faces.size());
+  for (size_t i = 0; i < uses.size();) {
+    size_t j = i;
+    while (j < uses.size() && uses[j].edge == uses[i].edge) ++j;
+    if (j - i == 2 && uses[i].forward != uses[i + 1].forward) sets.unite(uses[i].face, uses[i + 1].face);
+    i = j;
+  }
+  std::vector<int32_t> patch(mesh.faces.size(), -1), id_of_root(mesh.faces.size(), -1);
+  count = 0;
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    const int32_t r = sets.find(int32_t(f));
+    if (id_of_root[size_t(r)] < 0) id_of_root[size_t(r)] = count++;
+    patch[f] = id_of_root[size_t(r)];
+  }
+  return patch;
 }
 
 }  // namespace hdm::mesh::detail

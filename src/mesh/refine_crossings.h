@@ -37,4 +37,11 @@ struct RefineReport {
 TriangleMesh refine_crossings(const TriangleMesh& mesh, const std::vector<std::pair<int, int>>& pairs,
                               RefineReport* report = nullptr);
 
+// Patches of @p mesh: faces joined across every edge that exactly two faces use, in opposite
+// directions. Where refine_crossings() cut a surface along its crossings, an edge of the
+// intersection curves has four or more uses, so a patch lies in one cell of the arrangement on
+// each side, and what holds for one of its faces (the winding number in front and behind) holds for
+// all. Returns the patch id of each face; @p count is set to the number of patches. O(#F log #F).
+std::vector<int32_t> patches_between_crossings(const TriangleMesh& mesh, int32_t& count);
+
 }  // namespace hdm::mesh::detail

@@ -23,8 +23,8 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/repair.h>
-#include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
 
 #include <array>
 #include <string>
@@ -44,6 +44,15 @@ using Mesh = CGAL::Surface_mesh<Point>;
 constexpr int kMaxCrackEdges = 12;
 constexpr int kMaxSmallCrackEdges = 64;
 constexpr double kSmallCrack = 0.01;
+// Most crossing face pairs resolve_self_intersections() refines exactly. The refinement costs about
+// 0.5 ms per pair where crossings pile up in degenerate configurations (a printer bed of stacked
+// coplanar plates: 103,289 pairs in 49 s, exact predicates on collinear points), so this bounds
+// it near 10 s; the crossings of scans and assemblies number hundreds to a few thousand
+// (mannequin-devil.off: 1,643 pairs in 0.26 s).
+constexpr int64_t kMaxRefinedPairs = 20000;
+// Most face pairs still meeting after the resolution that CGAL's `remove_self_intersections` is
+// asked to clear (see resolve_self_intersections()).
+constexpr int64_t kMaxCleanupPairs = 256;
 // Longest hole filled so (the fill costs O(h³)); mannequin-devil.off's open base has 64 edges.
 constexpr size_t kMaxFillEdges = 256;
 
@@ -89,6 +98,8 @@ double fill_holes(Mesh& sm) {
 bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport& rep) {
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> crossing;
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(crossing));
+  // The exact refinement's cost grows with the crossings (see kMaxRefinedPairs).
+  if (crossing.size() > size_t(kMaxRefinedPairs)) return false;
   std::vector<std::pair<int, int>> pairs;
   pairs.reserve(crossing.size());
   for (const auto& [a, b] : crossing) pairs.emplace_back(int(a.idx()), int(b.idx()));
@@ -107,20 +118,40 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
   std::vector<Point> points;
   points.reserve(refined.vertices.size());
   for (const Vec3& p : refined.vertices) points.emplace_back(p.x(), p.y(), p.z());
+  // Each patch between crossing curves is classified once, at its largest face (the farthest
+  // from the patch's edges, where the offset points are surest).
+  int32_t count = 0;
+  const std::vector<int32_t> patch = mesh::detail::patches_between_crossings(refined, count);
+  std::vector<double> largest(size_t(count), 0);
+  std::vector<int32_t> sample(size_t(count), -1);
+  for (size_t f = 0; f < refined.faces.size(); ++f) {
+    const Tri& t = refined.faces[f];
+    const double area = (refined.vertices[size_t(t[1])] - refined.vertices[size_t(t[0])])
+                            .cross(refined.vertices[size_t(t[2])] - refined.vertices[size_t(t[0])])
+                            .norm();
+    if (area > largest[size_t(patch[f])]) largest[size_t(patch[f])] = area, sample[size_t(patch[f])] = int32_t(f);
+  }
+  enum Side : uint8_t { kInterior, kKept, kFlipped };
+  std::vector<Side> side(size_t(count), kInterior);  // patches of zero area stay out
+  for (int32_t p = 0; p < count; ++p) {
+    if (sample[size_t(p)] < 0) continue;
+    const Tri& t = refined.faces[size_t(sample[size_t(p)])];
+    const Vec3 &a = refined.vertices[size_t(t[0])], &b = refined.vertices[size_t(t[1])], &d = refined.vertices[size_t(t[2])];
+    const Vec3 n = (b - a).cross(d - a).normalized();
+    const Vec3 g = (a + b + d) / 3;
+    const bool front = winding.inside(g + eps * n), back = winding.inside(g - eps * n);
+    side[size_t(p)] = front == back ? kInterior : front ? kFlipped : kKept;
+  }
   std::vector<std::array<std::size_t, 3>> polygons;
   rep.interior_faces = 0;
-  for (const Tri& t : refined.faces) {
-    const Vec3 &a = refined.vertices[size_t(t[0])], &b = refined.vertices[size_t(t[1])], &d = refined.vertices[size_t(t[2])];
-    const Vec3 n = (b - a).cross(d - a);
-    const Vec3 g = (a + b + d) / 3;
-    const bool front = n.norm() > 0 && winding.inside(g + eps * n.normalized());
-    const bool back = n.norm() > 0 && winding.inside(g - eps * n.normalized());
-    if (!(n.norm() > 0) || front == back) {
+  for (size_t f = 0; f < refined.faces.size(); ++f) {
+    const Tri& t = refined.faces[f];
+    const Side s = side[size_t(patch[f])];
+    const Vec3& a = refined.vertices[size_t(t[0])];
+    if (s == kInterior || !((refined.vertices[size_t(t[1])] - a).cross(refined.vertices[size_t(t[2])] - a).norm() > 0))
       ++rep.interior_faces;
-      continue;
-    }
-    if (front) polygons.push_back({size_t(t[0]), size_t(t[2]), size_t(t[1])});
-    else polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+    else if (s == kKept) polygons.push_back({size_t(t[0]), size_t(t[1]), size_t(t[2])});
+    else polygons.push_back({size_t(t[0]), size_t(t[2]), size_t(t[1])});
   }
   PMP::repair_polygon_soup(points, polygons);
   PMP::orient_polygon_soup(points, polygons);
@@ -242,11 +273,13 @@ TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersecti
   }
   if (!CGAL::is_closed(sm) || sm.number_of_faces() == 0) return give_up();
   rep.pairs_after = count(sm);
-  // The refinement rounds its intersection points (inexact constructions), so a few refined
-  // slivers may cross again where the surface passes through itself at a grazing angle: CGAL
-  // removes them with the faces around and refills the holes (`remove_self_intersections`), a
-  // change of the size of those slivers. Used only when it leaves a closed surface with fewer pairs.
-  if (rep.pairs_after > 0) {
+  // Where parts of the union touch along an edge (or the rounding of the exact intersection points
+  // leaves pieces crossing by a double's spacing), faces still meet: CGAL removes them with the
+  // faces around and refills the holes (`remove_self_intersections`), a change of the size of those
+  // faces, used only when it leaves a closed surface with fewer pairs. Its cost grows with each
+  // spot it treats, so beyond kMaxCleanupPairs (stacked coplanar plates of a CAD part: minutes)
+  // the contacts stay as they are.
+  if (rep.pairs_after > 0 && rep.pairs_after <= kMaxCleanupPairs) {
     Mesh cleaned = sm;
     bool done = false;
     try {

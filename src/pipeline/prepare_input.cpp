@@ -22,16 +22,14 @@ bool bakeable(const TriangleMesh& mesh) {
 }
 
 // Steps 4 and 5 of prepare_input(): an open mesh that crosses itself is joined at its seams, and
-// a nearly closed one that still crosses is closed. Returns whether the seams closed it.
-bool close_self_intersecting_parts(PreparedInput& in, bool& open) {
+// a nearly closed one that still crosses is closed; @p open is set to what is left.
+void close_self_intersecting_parts(PreparedInput& in, bool& open) {
   PrepareReport& r = in.report;
-  bool closed_by_seams = false;
   TriangleMesh joined = stitch_seams(in.mesh, &r.seams);
   if (r.seams.inserted + r.seams.snapped > 0) {
     orient_outward(joined);  // r.orient keeps the report of the input's own parts
     in.mesh = std::move(joined);
-    closed_by_seams = r.seams.boundary_edges_after == 0;
-    open = !closed_by_seams;
+    open = r.seams.boundary_edges_after != 0;
   }
   // A nearly closed input that crosses itself is the solid it nearly bounds: its holes are filled
   // for the bake and the check alike, so the check measures the caps the model has, and the
@@ -44,7 +42,6 @@ bool close_self_intersecting_parts(PreparedInput& in, bool& open) {
       open = false;
     }
   }
-  return closed_by_seams;
 }
 
 }  // namespace
@@ -70,10 +67,9 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
   const bool valid = bakeable(in.mesh);
 
   TriangleMesh before = valid ? in.mesh : TriangleMesh{};
-  bool closed_by_seams = r.self_intersections > 0 && open && close_self_intersecting_parts(in, open);
+  if (r.self_intersections > 0 && open) close_self_intersecting_parts(in, open);
   if (valid && !bakeable(in.mesh)) {  // the seams left edges the bake cannot take: undone
     in.mesh = before;
-    closed_by_seams = false;
     open = true;
     r.seams = {};
     r.filled_faces = 0;
@@ -92,12 +88,7 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
     const std::vector<uint8_t> interior = interior_faces(unresolved);
     in.surface_points = surface_points(unresolved, &interior);
   }
-  if (closed_by_seams) {
-    // Closed now; what still crosses (folds inside a patch) stays as the input has it: CGAL 5.5's
-    // refinement of a closed union crashes on some such surfaces.
-    r.resolved.pairs_before = r.self_intersections;
-    r.resolved.pairs_after = count_self_intersections(in.mesh);
-  } else {
+  {
     SelfIntersectionReport resolved;
     TriangleMesh out = resolve_self_intersections(in.mesh, &resolved);
     if (bakeable(out) || !bakeable(in.mesh)) {

@@ -14,6 +14,8 @@ namespace hdm {
 /// @brief The surface a user touches from outside on an open mesh whose parts (connected sheets:
 /// a body, limbs pushed into it, each open where it enters another) cross each other.
 ///
+/// Patches that meet along T-junctions are first stitched into one surface (stitch_seams()); when
+/// that closes it, it is resolved as a closed mesh (resolve_self_intersections()).
 /// Every connected component (faces joined by edges) is one sheet. When a sheet crosses itself
 /// (CGAL's `does_self_intersect`), the crossings are taken as a crumpled triangulation of one
 /// surface (faces folded over or overlapping their neighbours, as in polygon_mesh.off): the faces
@@ -23,8 +25,7 @@ namespace hdm {
 /// without new vertices (CGAL's `triangulate_hole_polyline`). The result is kept only if nothing
 /// crosses any more, no edge is doubled, every removed input vertex lies within 0.1 % of the
 /// diagonal of the new faces and every new face (corners, edge midpoints, centroid) within 0.1 %
-/// of the input; else the input is kept. (CGAL 5.5's `autorefine`, which would split the sheet
-/// along its own curves, crashes on some real sheets.) Otherwise sheets whose boxes meet are split along their
+/// of the input; else the input is kept. Otherwise sheets whose boxes meet are split along their
 /// intersection curves with CGAL's `Polygon_mesh_processing::corefine` (exact intersection points, the same rounded
 /// point in both sheets). The curves and the sheets' own boundaries cut every sheet into patches; a patch is interior,
 /// and dropped, when the generalized winding number (WindingNumber, of the whole input) just in front of its faces is

@@ -23,7 +23,7 @@ struct SelfIntersectionReport {
   int64_t pairs_after = 0;     ///< self-intersecting face pairs left (the input's count when it was kept)
   int64_t faces_before = 0;    ///< faces of the input
   int64_t faces_after = 0;     ///< faces of the result
-  int64_t interior_faces = 0;  ///< faces (after refinement) dropped as inside the union
+  int64_t interior_faces = 0;  ///< faces (after refinement) dropped as inside the union or of zero area
   int64_t closed_cracks = 0;   ///< boundary cycles of at most 12 edges left by stitching, triangulated flat
   int64_t filled_faces = 0;    ///< faces added to fill the holes of a nearly closed input (they stay)
   int64_t split_pinches = 0;   ///< vertices where parts of the union touch at a point, split in one copy per fan
@@ -47,11 +47,15 @@ struct SelfIntersectionReport {
 TriangleMesh fill_nearly_closed(const TriangleMesh& mesh);
 
 /// @brief The boundary of the solid a closed mesh that crosses itself bounds: the union of its
-/// parts. CGAL's `Polygon_mesh_processing::experimental::autorefine` splits the faces along
-/// every intersection curve; a piece stays when the generalized winding number of the input
-/// (WindingNumber, Jacobson et al. 2013) is below 1/2 just in front of it (10⁻⁹ of the diagonal
-/// off its centroid) and at least 1/2 just behind it, so pieces inside one, two or more other
-/// parts go (ray parity would keep those inside an even number). The pieces are joined as a
+/// parts. The faces are split along every intersection curve with exact constructions (CGAL's
+/// triangle-triangle `intersection` and a constrained Delaunay triangulation per face on the
+/// Epeck kernel, each point rounded once, so a point reached from two faces is one vertex;
+/// Attene 2014). The split faces form patches between the curves; each patch is classified
+/// at its largest face. It stays when the generalized winding number of the input
+/// (WindingNumber, Jacobson et al. 2013) crosses 1/2 through it, 10⁻⁹ of the diagonal off its
+/// centroid, and it is turned so that the material is behind it. So pieces inside one, two or more
+/// other parts go (ray parity would keep those inside an even number), and so do faces where
+/// parts touch face to face. The pieces are joined as a
 /// polygon soup (coincident points merged, `repair_polygon_soup`) and stitched along the curves
 /// (`stitch_borders`). Faces away from the crossings are unchanged, so the result is the input's
 /// own exposed surface, cut exactly where the parts meet. Where parts touch along an edge or a
@@ -60,10 +64,12 @@ TriangleMesh fill_nearly_closed(const TriangleMesh& mesh);
 /// Where they touch at a vertex (a pinch: its faces form several fans, cow.off), the vertex gets
 /// one copy per fan (`duplicate_non_manifold_vertices`), each moved by 1% towards the centroid of
 /// its own fan's ring: the copies no longer coincide, so each part gets a shell of its own (two
-/// coincident corners leave no room for one) and the result is a manifold surface. Refined
-/// slivers that cross again (rounded intersection points where the surface passes through itself
-/// at a grazing angle) are removed and their holes refilled by CGAL's
+/// coincident corners leave no room for one) and the result is a manifold surface. Faces that
+/// still meet (parts touching along an edge; pieces crossing by a double's spacing after the
+/// rounding), up to 256 pairs, are removed and their holes refilled by CGAL's
 /// `experimental::remove_self_intersections` when that leaves a closed surface with fewer pairs.
+/// Inputs with more than 20,000 crossing pairs are kept as they are (the exact work costs about
+/// 0.5 ms per pair where crossings pile up on collinear points).
 ///
 /// An open mesh that crosses itself is resolved the same way when it is nearly closed (holes of
 /// at most 256 edges whose fans about their centroids cover less than a quarter of its area, as
@@ -77,8 +83,7 @@ TriangleMesh fill_nearly_closed(const TriangleMesh& mesh);
 ///         refinement fails or leaves a surface that is not closed (report->resolved false).
 /// @throws InvalidInput for invalid mesh data.
 /// @note O((#F + k) log #F) for k crossings, plus O(h³) per filled hole of h edges;
-///       single-threaded refinement. CGAL 5.5's autorefine crashes (SIGSEGV) where three faces
-///       meet at a point of an edge; that case is not guarded.
+///       single-threaded refinement (mannequin-devil.off: 1,643 pairs in 0.26 s).
 TriangleMesh resolve_self_intersections(const TriangleMesh& mesh, SelfIntersectionReport* report = nullptr);
 
 }  // namespace hdm
