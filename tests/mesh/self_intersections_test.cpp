@@ -151,9 +151,9 @@ TEST(SelfIntersections, PartsSharingFacePlanesBecomeTheirUnion) {
   expect_union(m, 8 + 2);
 }
 
-// Two boxes touching face to face: the faces they share are inside the union (material on both
-// sides) and go; the union is one box.
-TEST(SelfIntersections, PartsTouchingFaceToFaceBecomeOneBox) {
+// A small box touching a unit box face to face: the square they share has material on both sides
+// and goes; what is left is the boundary of their union (volume 1 + 0.25).
+TEST(SelfIntersections, PartsTouchingFaceToFaceBecomeTheirUnion) {
   TriangleMesh m;
   add_box(m, Vec3(0, 0, 0), Vec3(1, 1, 1));
   add_box(m, Vec3(1, 0.25, 0.25), Vec3(2, 0.75, 0.75));
