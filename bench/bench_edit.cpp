@@ -30,7 +30,6 @@ void restore(SlabModel& m, const SlabModel& from) {
   m.displacement = from.displacement;
   m.positions = from.positions;
   m.slab_samples = from.slab_samples;
-  m.force_shading_normals = from.force_shading_normals;
   m.colour = from.colour;
   m.roughness = from.roughness;
 }

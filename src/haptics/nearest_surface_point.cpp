@@ -128,7 +128,7 @@ SlabNearest slab_nearest(const SlabModel& m, int slab, double wS, double wT, con
 }
 
 // The force-shading normal at @p b (and in @p facet its grid triangle's): the per-sample normals
-// (SlabModel::force_shading_normals, else the grid normals) interpolated by the point's barycentrics in its grid
+// (SlabSample::h) interpolated by the point's barycentrics in its grid
 // triangle, as the point proxy shades its force (Morgenbesser & Srinivasan 1996).
 Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& facet) noexcept {
   const int n = m.grid_n;
@@ -147,11 +147,8 @@ Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& fac
   double w2 = area > 0 ? (p1 - p0).cross(b.point - p0).dot(face) / area : 1.0 / 3;
   w1 = std::clamp(w1, 0.0, 1.0), w2 = std::clamp(w2, 0.0, 1.0 - w1);
   const double w[3] = {1 - w1 - w2, w1, w2};
-  const bool haptic = m.force_shading_normals.size() == m.slab_samples.size() && !m.force_shading_normals.empty();
-  const Vec3f* hn = haptic ? m.force_shading_normals.data() + static_cast<size_t>(slab) * m.samples.per_slab : nullptr;
   Vec3 sum = Vec3::Zero();
-  for (int k = 0; k < 3; ++k)
-    sum += w[k] * (haptic ? hn[ids[k]].cast<double>() : Vec3(v[ids[k]].n[0], v[ids[k]].n[1], v[ids[k]].n[2]));
+  for (int k = 0; k < 3; ++k) sum += w[k] * v[ids[k]].shading().cast<double>();
   const double len = sum.norm();
   return len > 0 ? Vec3(sum / len) : facet;
 }

@@ -30,26 +30,18 @@ constexpr double kRestick = 1e-3;
 double model_diagonal(const SlabModel& m) noexcept { return m.source_diagonal > 0 ? m.source_diagonal : 1.0; }
 
 // Surface sample under slab coordinates: (slab, bary) -> surface point at δ on the projection line,
-// with the force-shading normal (SlabModel::force_shading_normals) interpolated over the same grid
-// triangle with the same weights as evaluate_surface; evaluate_surface itself when that field is
-// not built. The grid normals of a scanned surface turn by more than 1 rad per penetration depth
+// with the force-shading normal (SlabSample::h) interpolated over the same grid triangle with the
+// same weights as evaluate_surface. The grid normals of a scanned surface turn by more than 1 rad per penetration depth
 // (armadillo: 5 % of grid edges at 1 mm), so the force-shading fixed point folds there: the proxy
 // stalls with a growing tangential force, then snaps across (force steps of 8 % at 10 kHz). The
 // one-ring sum turns about half as fast.
 bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Contact& out) noexcept {
-  if (model.force_shading_normals.size() != model.slab_samples.size() || model.force_shading_normals.empty()) {
-    evaluate_surface(model, slab, c, out);
-    return out.surface_point.allFinite() && out.normal.allFinite();
-  }
   const double wS = c.bary[1], wT = c.bary[2];
   const slab_query::detail::LocalCell cell = slab_query::detail::local_cell(model.grid_n, wS, wT);
   double delta;
   Vec3 ray;
   out.surface_point = slab_query::detail::surface_point(model, slab, wS, wT, cell, delta, ray);
-  const Vec3f* hn =
-      model.force_shading_normals.data() + static_cast<size_t>(slab) * model.samples.per_slab;  // slab-major
-  const Vec3f nf = static_cast<float>(cell.wa) * hn[cell.la] + static_cast<float>(cell.wb) * hn[cell.lb] +
-                   static_cast<float>(cell.wd) * hn[cell.ld];
+  const Vec3f nf = slab_query::detail::interpolated_shading(model, slab, cell);
   out.slab = slab;
   out.coords = c;
   out.delta = delta;

@@ -110,7 +110,7 @@ void export_obj(const SlabModel& m, const std::string& path) {
     out += '\n';
   }
   for (int s = 0; s < m.samples.count; ++s) {
-    const Vec3f q = sample_normal(m, s);
+    const Vec3f q = sample_normal(m, s).normalized();  // unit to float rounding, as the formats expect
     out += "vn ";
     append_number(out, q.x());
     out += ' ';
@@ -165,7 +165,7 @@ void export_ply(const SlabModel& m, const std::string& path) {
   out.reserve(out.size() + static_cast<size_t>(m.samples.count) * 27 + size_t(m.samples.triangle_count()) * 13);
   for (int s = 0; s < m.samples.count; ++s) {
     const Vec3f p = sample_position(m, s).cast<float>();
-    const Vec3f q = sample_normal(m, s);
+    const Vec3f q = sample_normal(m, s).normalized();  // unit to float rounding, as the formats expect
     const Vec3f c = sample_colour(m, s);
     for (int k = 0; k < 3; ++k) append_pod(out, p[k]);
     for (int k = 0; k < 3; ++k) append_pod(out, q[k]);
@@ -221,11 +221,11 @@ void export_glb(const SlabModel& m, const std::string& path) {
     for (int k = 0; k < per_slab; ++k) {
       const size_t v = static_cast<size_t>(s) * per_slab + k;
       const int32_t id = m.samples.ids[v];
-      const Vec3f p = sample_position(m, id).cast<float>();
+      const Vec3f p = sample_position(m, id).cast<float>(), nrm = m.slab_samples[v].normal().normalized();
       const Eigen::Vector2f t = atlas.uv(s, double(m.samples.point_i[k]) / n, double(m.samples.point_j[k]) / n);
       for (int c = 0; c < 3; ++c) {
         positions[3 * v + c] = p[c];
-        normals[3 * v + c] = m.slab_samples[v].n[c];
+        normals[3 * v + c] = nrm[c];
         lo[c] = std::min(lo[c], double(p[c]));
         hi[c] = std::max(hi[c], double(p[c]));
       }

@@ -305,7 +305,7 @@ void SlabRenderer::upload_slab(const SlabModel& model, const SlabView& view, int
   st.vertices.resize(st.per_slab);
   st.fill_vertices(model, slab, st.vertices.data(), [&view](int k, int32_t, float& delta, Vec3f& nrm, float& layer) {
     const SlabSample& p = view.points[k];
-    delta = p.delta, nrm = Vec3f(p.n[0], p.n[1], p.n[2]), layer = view.layer_displacement[k];
+    delta = p.delta, nrm = p.normal(), layer = view.layer_displacement[k];
   });
   st.tile.resize(static_cast<size_t>(st.layout.tile) * st.layout.tile * 4);
   fill_atlas_tile(st.layout, view.texels, st.tile.data(), st.layout.tile);

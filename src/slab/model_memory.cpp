@@ -31,7 +31,7 @@ ModelMemory model_memory(const SlabModel& m) noexcept {
   r.coarse = bytes(m.inner, m.outer, m.slabs);
   r.sample_layout = layout_bytes(m.samples);
   r.texel_layout = layout_bytes(m.texels);
-  r.caches = bytes(m.positions, m.force_shading_normals, m.slab_samples);
+  r.caches = bytes(m.positions, m.slab_samples);
   r.slab_constants = bytes(m.geometry, m.edge_neighbour, m.vertex_slab_offsets, m.vertex_slabs);
   r.samples = m.samples.count;
   r.texels = m.texels.count;

@@ -74,8 +74,12 @@ namespace {
 inline void store_normal(SlabModel& m, int32_t s, const Vec3f& sum) noexcept {
   const float len = sum.norm();
   const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : Vec3f(0, 0, 1);  // one division, not three
-  const SlabSample v{m.displacement[s], {n[0], n[1], n[2]}};
-  m.samples.for_each_slot(s, [&](int32_t slot) { m.slab_samples[slot] = v; });
+  const float d = m.displacement[s];
+  const int16_t c[3] = {encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])};
+  m.samples.for_each_slot(s, [&](int32_t slot) {
+    SlabSample& v = m.slab_samples[slot];  // the force-shading normal is kept
+    v.delta = d, v.n[0] = c[0], v.n[1] = c[1], v.n[2] = c[2];
+  });
 }
 
 // The power of two that brings the model's size to about 1: edges scaled by it before the cross
@@ -103,14 +107,18 @@ inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
   L.for_each_neighbour(s, [&](int32_t t) noexcept { sum += sample_normal(m, t); });
   const float len = sum.norm();
   const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : own;
-  L.for_each_slot(s, [&](int32_t slot) { m.force_shading_normals[slot] = n; });
+  const int16_t c[3] = {encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])};
+  L.for_each_slot(s, [&](int32_t slot) {
+    int16_t* h = m.slab_samples[slot].h;
+    h[0] = c[0], h[1] = c[1], h[2] = c[2];
+  });
 }
 
 }  // namespace
 
 void update_force_shading_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept {
   const SampleLayout& L = model.samples;
-  if (model.force_shading_normals.size() != L.ids.size() || model.slab_samples.size() != L.ids.size()) return;
+  if (model.slab_samples.size() != L.ids.size()) return;
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     store_force_shading_normal(model, s);
@@ -306,13 +314,11 @@ void rebuild_derived(SlabModel& m) {
   core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
     for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_positions(m, ids, k); });
   });
-  m.force_shading_normals.clear();  // filled once below, not per update_normals() ring
   std::vector<FaceNormalCache> caches(core::detail::parallel_workers(ns, block));
   core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t w) {
-    // Also fills slab_samples.
-    for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_normals(m, ids, k, caches[w]); });
+    // Also fills slab_samples; the force-shading normals once below, not per ring.
+    for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_normals(m, ids, k, caches[w], false); });
   });
-  m.force_shading_normals.resize(m.samples.ids.size());
   core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
     // Reads the finished normals.
     for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_force_shading_normals(m, ids, k, false); });

@@ -203,17 +203,17 @@ TEST(EditToolsTest, ForceShadingNormalsFollowTheEdits) {
     ref[s] = sum.normalized();
   }
   // Slab-major: every slot of a shared sample (edges, corners) holds its sample's value.
-  ASSERT_EQ(f.model.force_shading_normals.size(), L.ids.size());
+  ASSERT_EQ(f.model.slab_samples.size(), L.ids.size());
   std::vector<int64_t> first_slot(L.count, -1);
   for (size_t slot = 0; slot < L.ids.size(); ++slot) {
     const int32_t s = L.ids[slot];
-    ASSERT_LT((f.model.force_shading_normals[slot].cast<double>() - ref[s]).norm(), 3e-3) << "slot " << slot;
+    ASSERT_LT((f.model.slab_samples[slot].shading().cast<double>() - ref[s]).norm(), 3e-3) << "slot " << slot;
     // Bit for bit the same in every slab that holds the sample, so the interpolated field is the
     // same on a shared edge or corner from either side.
     if (first_slot[s] < 0)
       first_slot[s] = int64_t(slot);
     else
-      ASSERT_EQ(f.model.force_shading_normals[slot], f.model.force_shading_normals[first_slot[s]]) << "sample " << s;
+      ASSERT_EQ(f.model.slab_samples[slot].shading(), f.model.slab_samples[first_slot[s]].shading()) << "sample " << s;
   }
 }
 
@@ -228,7 +228,7 @@ TEST(EditToolsTest, SlabMajorCopyFollowsTheEdits) {
     const SlabSample& v = f.model.slab_samples[slot];
     const int32_t s = L.ids[slot];
     ASSERT_EQ(v.delta, f.model.displacement[s]) << "slot " << slot;
-    ASSERT_EQ(Vec3f(v.n[0], v.n[1], v.n[2]), sample_normal(f.model, s))
+    ASSERT_EQ(v.normal(), sample_normal(f.model, s))
         << "slot " << slot << ": every slot of a sample holds its normal";
   }
 }

@@ -78,7 +78,6 @@ std::string first_difference(const ModelState& a, const ModelState& b) {
   if (!same(a.colour, b.colour)) return "colour";
   if (!same(a.positions, b.positions)) return "positions";
   if (!same(a.normals, b.normals)) return "normals";
-  if (!same(a.force_shading_normals, b.force_shading_normals)) return "force_shading_normals";
   if (!same(a.slab_samples, b.slab_samples)) return "slab_samples";
   return "";
 }

@@ -54,12 +54,11 @@ struct ModelState {
         colour(m.colour),
         positions(m.positions),
         normals(sample_normals(m)),
-        force_shading_normals(m.force_shading_normals),
         slab_samples(m.slab_samples) {}
   std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement;
   std::vector<uint8_t> roughness;
   std::vector<Srgb8> colour;
-  std::vector<Vec3f> positions, normals, force_shading_normals;
+  std::vector<Vec3f> positions, normals;
   std::vector<SlabSample> slab_samples;
 };
 

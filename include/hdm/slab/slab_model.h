@@ -8,6 +8,9 @@
 #include <hdm/core/types.h>
 #include <hdm/slab/sample_layout.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -34,13 +37,35 @@ struct SlabGeometry {
   Aabb box;  ///< box of the six corners: contains the whole slab
 };
 
-/// One grid point of a slab as the haptic query reads it: the displacement and the unit normal of
-/// its sample, side by side (16 bytes), so a grid cell's three points are one or two cache lines of
-/// one slab's block instead of six loads from two sample-indexed arrays.
+/// @brief snorm16 code of a coordinate @p x in [-1, 1]: round(x·32767), clamped to ±32767 (a NaN
+/// gives 0), so -32768 never occurs.
+/// @note noexcept, O(1); decode_snorm16() returns it within 1/65534 (half a step).
+inline int16_t encode_snorm16(float x) noexcept {
+  const float c = std::clamp(x, -1.0f, 1.0f) * 32767.0f;  // std::clamp passes a NaN through
+  return c == c ? static_cast<int16_t>(std::lrint(c)) : int16_t(0);
+}
+
+/// @brief The coordinate a snorm16 code of encode_snorm16() stands for: @p c / 32767, in [-1, 1].
+/// @note noexcept, O(1).
+inline float decode_snorm16(int16_t c) noexcept { return float(c) * (1.0f / 32767.0f); }
+
+/// One grid point of a slab as the haptic query and the proxy read it: the unit normal, the
+/// force-shading normal and the displacement of its sample, side by side in 16 bytes, so a grid
+/// cell's three points are one or two cache lines of one slab's block. The normals are snorm16 per
+/// coordinate (encode_snorm16(); at most 2.7e-5 rad from the float normal): 14 B per slot less
+/// than float normals with a separate float array of force-shading normals. The query and the
+/// proxy interpolate the codes and normalise the sum, with no decode at all.
 struct SlabSample {
-  float delta;  ///< displacement δ in [0,1] (copy of SlabModel::displacement)
-  float n[3];   ///< unit normal of the displaced surface (sample_normal() reads it)
+  int16_t n[3];  ///< unit normal of the displaced surface, snorm16 (normal(); sample_normal() reads it)
+  int16_t h[3];  ///< force-shading normal (one-ring sum of unit normals, normalised), snorm16 (shading())
+  float delta;   ///< displacement δ in [0,1] (copy of SlabModel::displacement)
+
+  /// The unit normal (to 2.7e-5 rad), decoded.
+  Vec3f normal() const noexcept { return {decode_snorm16(n[0]), decode_snorm16(n[1]), decode_snorm16(n[2])}; }
+  /// The force-shading normal (to 2.7e-5 rad), decoded.
+  Vec3f shading() const noexcept { return {decode_snorm16(h[0]), decode_snorm16(h[1]), decode_snorm16(h[2])}; }
 };
+static_assert(sizeof(SlabSample) == 16, "four slots per cache line");
 
 /// The material under the surface layer (paper §2: "the depth of various materials underneath or
 /// above the visible surface — materials that may be exposed or added by an edit operation").
@@ -68,11 +93,11 @@ constexpr double vickers_to_pa(double hv) noexcept { return hv * 9.80665e6; }
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
 /// Threading: readers may share a const model; edits (hdm/edit) mutate the stored per-sample and
-/// per-texel fields, `positions`, `slab_samples` and `force_shading_normals` and must not run
+/// per-texel fields, `positions` and `slab_samples` and must not run
 /// concurrently with readers of the same samples (hdm::SlabSnapshots gives other threads
 /// consistent copies while one thread edits; docs/editing.md). Code that changes `displacement` outside the edit tools
 /// must call update_positions() and update_normals() on the changed samples and their one-ring (or rebuild_derived()),
-/// or the query will read stale values from `slab_samples` (and the proxy from `force_shading_normals`).
+/// or the query and the proxy will read stale values from `slab_samples`.
 struct SlabModel {
   // ---- stored ----
   int grid_n = 16;                  ///< displacement intervals per slab edge (n)
@@ -107,26 +132,22 @@ struct SlabModel {
   SampleLayout samples;          ///< displacement samples (grid n)
   SampleLayout texels;           ///< colour texels (grid n·m), without grid triangles
   std::vector<Vec3f> positions;  ///< #samples surface points (cache of sample_position) [model units]
-  /// #S·samples.per_slab unit normals for force shading (the proxy, hdm::proxy_step), slab-major
-  /// like `slab_samples` (slot slab·per_slab + grid index holds sample samples.ids[slot]): each
-  /// sample's normal summed with those of its grid neighbours (one ring, across seams) and
-  /// normalised, the same in every slot of a shared sample. The proxy's
-  /// fixed point (the surface point whose interpolated normal points at the hand) folds, and the
-  /// force jumps, wherever penetration depth × the normal field's rate of turn exceeds 1 rad; the
-  /// grid normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
-  /// update_normals() keeps it in sync with the normals (the samples it is given and their ring).
-  std::vector<Vec3f> force_shading_normals;
   std::vector<SlabGeometry> geometry;                  ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
   /// @{ CSR coarse vertex -> slabs: the slabs around vertex v are
   /// vertex_slabs[vertex_slab_offsets[v] .. vertex_slab_offsets[v+1]).
   std::vector<int32_t> vertex_slab_offsets, vertex_slabs;
   /// @}
-  /// #S·samples.per_slab: slab-major copy of `displacement` with each sample's unit normal, in
-  /// grid::index order within a slab (slot slab·per_slab + index holds sample samples.ids[slot]).
-  /// What the query interpolates, and the only store of the normals: every slot of a shared
-  /// sample holds the same normal (sample_normal() reads the home slot). update_normals() keeps
-  /// it in sync with `displacement` and the positions.
+  /// #S·samples.per_slab: slab-major copy of `displacement` with each sample's unit normal and
+  /// force-shading normal (SlabSample), in grid::index order within a slab (slot slab·per_slab +
+  /// index holds sample samples.ids[slot]). What the query and the proxy interpolate, and the only
+  /// store of the normals: every slot of a shared sample holds the same values (sample_normal()
+  /// reads the home slot). The force-shading normal (hdm::proxy_step) is the sample's normal summed
+  /// with those of its grid neighbours (one ring, across seams) and normalised: the proxy's fixed
+  /// point (the surface point whose interpolated normal points at the hand) folds, and the force
+  /// jumps, wherever penetration depth × the normal field's rate of turn exceeds 1 rad; the grid
+  /// normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
+  /// update_normals() keeps both in sync with `displacement` and the positions.
   std::vector<SlabSample> slab_samples;
 
   /// Number of slabs.
@@ -185,13 +206,13 @@ void projection_line(const SlabModel& model, int slab, int index, Vec3& p0, Vec3
 Vec3 sample_position(const SlabModel& model, int sample) noexcept;
 
 /// @brief Unit normal of sample @p s of the displaced surface (paper §3.4), read from its home
-/// slot of `slab_samples` (every slot of the sample holds the same value).
+/// slot of `slab_samples` (every slot of the sample holds the same value), as decoded from its
+/// snorm16 codes: unit to 2.7e-5, not renormalised (SlabSample).
 /// @pre rebuild_derived(model) has run; 0 <= s < model.samples.count.
 /// @note O(1) (a shift, a mask, one load), noexcept.
 inline Vec3f sample_normal(const SlabModel& model, int32_t s) noexcept {
   const GridSlot h = model.samples.home(s);
-  const float* n = model.slab_samples[static_cast<size_t>(h.slab) * model.samples.per_slab + h.index].n;
-  return {n[0], n[1], n[2]};
+  return model.slab_samples[static_cast<size_t>(h.slab) * model.samples.per_slab + h.index].normal();
 }
 
 /// @brief Refreshes the cached `positions` of @p samples from their current displacements.
@@ -200,8 +221,8 @@ void update_positions(SlabModel& model, const int32_t* samples, size_t count) no
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; docs/design.md#normals), and refreshes their
-/// displacement and normal in `slab_samples`, and `force_shading_normals` of them and their grid
-/// neighbours (when it is built). Does nothing when `slab_samples` is not sized to the slots.
+/// displacement and normal in `slab_samples`, and the force-shading normals of them and their
+/// grid neighbours. Does nothing when `slab_samples` is not sized to the slots.
 /// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
 ///       samples sharing triangles use the FaceNormalCache overload.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;
@@ -226,20 +247,20 @@ struct FaceNormalCache {
   uint32_t current = 0;          ///< number of the current call
 };
 
-/// @brief Recomputes `force_shading_normals` of @p samples from the normals (sample_normal()): the
+/// @brief Recomputes the force-shading normals (SlabSample::h) of @p samples from the normals (sample_normal()): the
 /// normalised sum of the sample's normal and its grid neighbours' (SampleLayout::for_each_neighbour(),
 /// across seams, so a sample shared by several slabs has one value). With @p with_ring, the grid
 /// neighbours of @p samples are recomputed too (what a change of their normals affects). Every slot of a sample gets
 /// the same value.
 /// @note O(count·valence²) with the ring, O(count·valence) without; no allocation. Does nothing
-///       when `force_shading_normals` is not sized to the slots (samples.ids).
+///       when `slab_samples` is not sized to the slots (samples.ids).
 void update_force_shading_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept;
 
 /// @brief update_normals() with each affected grid triangle's normal computed once: the same
 /// result bit for bit (same products, same summation order), about a third of the cross products
 /// when the samples form a patch (each triangle has three corners).
 /// With @p force_shading_ring (the default) it then calls update_force_shading_normals(samples, with_ring);
-/// without, the caller updates `force_shading_normals` itself (the edit tools list the ring's
+/// without, the caller updates the force-shading normals itself (the edit tools list the ring's
 /// neighbours once each with their visit stamps, instead of once per listing).
 /// @note O(k·valence); no allocation, noexcept: used by the edit tools in the servo tick.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache,

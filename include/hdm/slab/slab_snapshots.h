@@ -37,7 +37,7 @@ struct SlabView {
   uint64_t epoch = 0;                         ///< epoch that published this version (0: the model at construction)
   int per_slab = 0;                           ///< displacement grid points of a slab
   int texels_per_slab = 0;                    ///< texel grid points of a slab
-  const SlabSample* points = nullptr;         ///< per_slab displacement δ and unit normal
+  const SlabSample* points = nullptr;         ///< per_slab displacement δ, unit and force-shading normals
   const float* friction_static = nullptr;     ///< per_slab μs
   const float* friction_dynamic = nullptr;    ///< per_slab μd
   const float* stiffness_scale = nullptr;     ///< per_slab stiffness scale
@@ -54,7 +54,7 @@ class SnapshotReader;
 ///
 /// Memory: (#S + spare) versions of about (36·per_slab + 4·texels_per_slab) bytes, allocated by
 /// the constructor, each padded to 64 bytes: 17.5 MiB for the default bunny bake (1,178 slabs,
-/// n = 16, m = 2: 2,356 versions of 7,808 bytes), beside the 20.5 MiB the model takes.
+/// n = 16, m = 2: 2,356 versions of 7,808 bytes), beside the 18.4 MiB the model takes.
 /// The model's topology, coarse vertices, grid sizes, source fields and under-layer material
 /// must not change while the snapshots exist (edits never change them); readers read those
 /// members of the live model directly.
