@@ -119,6 +119,14 @@ py::array_t<T> copy_of(const std::vector<T>& v) {
   return py::array_t<T>(py::ssize_t(v.size()), v.data());
 }
 
+// A 16-bit field (Half16, Unorm16) decoded to float32: the values the model uses.
+template <class T>
+py::array_t<float> decoded(const std::vector<T>& v) {
+  py::array_t<float> a(py::ssize_t(v.size()));
+  for (size_t i = 0; i < v.size(); ++i) a.mutable_data()[i] = float(v[i]);
+  return a;
+}
+
 const char* falloff_name(Falloff f) {
   return f == Falloff::Constant ? "constant" : f == Falloff::Linear ? "linear" : "smooth";
 }
@@ -251,16 +259,16 @@ void bind_model_edits(py::module_& m) {
             const std::shared_lock lock(self.mutex);
             const SlabModel& s = self.model;
             if (name == "displacement") return copy_of(s.displacement);
-            if (name == "friction_static") return copy_of(s.friction_static);
-            if (name == "friction_dynamic") return copy_of(s.friction_dynamic);
-            if (name == "stiffness") return copy_of(s.stiffness_scale);
+            if (name == "friction_static") return decoded(s.friction_static);
+            if (name == "friction_dynamic") return decoded(s.friction_dynamic);
+            if (name == "stiffness") return decoded(s.stiffness_scale);
             if (name == "roughness") {  // decoded, like colour: the values a brush's `value` is compared with
               py::array_t<float> a(py::ssize_t(s.roughness.size()));
               for (size_t i = 0; i < s.roughness.size(); ++i) a.mutable_data()[i] = unorm8_to_unit(s.roughness[i]);
               return a;
             }
-            if (name == "layer_displacement") return copy_of(s.layer_displacement);
-            if (name == "hardness") return copy_of(s.hardness);
+            if (name == "layer_displacement") return decoded(s.layer_displacement);
+            if (name == "hardness") return decoded(s.hardness);
             if (name == "colour" || name == "positions" || name == "normals") {
               const bool colour = name == "colour", normals = name == "normals";
               const size_t n = colour ? s.colour.size() : s.positions.size();

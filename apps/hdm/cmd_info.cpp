@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -28,13 +29,16 @@ struct InfoOptions {
 struct FieldRange {
   double lo = 0, mean = 0, hi = 0;
 };
-FieldRange range_of(const std::vector<float>& v) {
+template <class T>
+FieldRange range_of(const std::vector<T>& v) {
   FieldRange r;
   if (v.empty()) return r;
-  const auto [a, b] = std::minmax_element(v.begin(), v.end());
-  double sum = 0;
-  for (float x : v) sum += x;
-  return {*a, sum / static_cast<double>(v.size()), *b};
+  double lo = INFINITY, hi = -INFINITY, sum = 0;
+  for (const T& t : v) {
+    const double x = float(t);
+    lo = std::min(lo, x), hi = std::max(hi, x), sum += x;
+  }
+  return {lo, sum / static_cast<double>(v.size()), hi};
 }
 
 void run_info(const InfoOptions& o) {

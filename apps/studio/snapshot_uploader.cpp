@@ -12,11 +12,11 @@ template <class Fn>
 void for_each_array(const SlabView& v, Fn&& fn) {
   const size_t P = static_cast<size_t>(v.per_slab), T = static_cast<size_t>(v.texels_per_slab);
   fn(static_cast<const void*>(v.points), P * sizeof(SlabSample));
-  fn(v.friction_static, P * sizeof(float));
-  fn(v.friction_dynamic, P * sizeof(float));
-  fn(v.stiffness_scale, P * sizeof(float));
-  fn(v.layer_displacement, P * sizeof(float));
-  fn(v.hardness, P * sizeof(float));
+  fn(v.friction_static, P * sizeof(Half16));
+  fn(v.friction_dynamic, P * sizeof(Half16));
+  fn(v.stiffness_scale, P * sizeof(Unorm16));
+  fn(v.layer_displacement, P * sizeof(Unorm16));
+  fn(v.hardness, P * sizeof(Half16));
   fn(v.texels, 4 * T);
 }
 
@@ -30,7 +30,7 @@ SnapshotUploader::SnapshotUploader(const SlabSnapshots& snapshots, SlabRenderer&
   drawn_epoch_.assign(static_cast<size_t>(S), 0);
   SnapshotReader reader(snapshots_);
   if (verify_) {
-    stride_ = (sizeof(SlabSample) + 5 * sizeof(float)) * static_cast<size_t>(model.samples.per_slab) +
+    stride_ = (sizeof(SlabSample) + 5 * sizeof(Unorm16)) * static_cast<size_t>(model.samples.per_slab) +
               4 * static_cast<size_t>(model.texels.per_slab);
     mirror_.assign(stride_ * static_cast<size_t>(S), 0);
   }

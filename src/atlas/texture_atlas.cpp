@@ -18,7 +18,7 @@ namespace {
 // evaluate_surface() interpolates δ on.
 double interpolate_layer(const SlabModel& m, int slab, double wS, double wT) noexcept {
   const slab_query::detail::GridCell c = slab_query::detail::grid_cell(m, slab, wS, wT);
-  const std::vector<float>& L = m.layer_displacement;
+  const std::vector<Unorm16>& L = m.layer_displacement;
   return c.wa * L[c.a] + c.wb * L[c.b] + c.wd * L[c.d];
 }
 

@@ -122,6 +122,12 @@ void check_brush(const Brush& b) {
   check(BrushParam::Height, b.height);
   for (int c = 0; c < 3; ++c) check(BrushParam::Colour, b.colour[c]);
   check(BrushParam::Value, b.value);
+  // Friction and hardness are stored as binary16 (SlabModel): a larger value would store infinity.
+  const bool half = b.field == BrushField::FrictionStatic || b.field == BrushField::FrictionDynamic ||
+                    b.field == BrushField::Hardness;
+  if (half && std::abs(b.value) > 65504.0)
+    throw InvalidInput("value = " + number_text(b.value) +
+                       ": friction and hardness are stored as 16-bit floats, at most 65,504 in magnitude");
   check(BrushParam::Pressure, b.pressure_force_n);
   check(BrushParam::WearCoefficient, b.wear_coefficient);
   check(BrushParam::Rpm, b.rpm);

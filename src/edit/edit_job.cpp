@@ -131,15 +131,14 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     UndoRecord& r = history_->at(rec_pos_++);
     if (r.index >= 0) {
       const int32_t id = r.index;
-      const SampleValues now = sample_values(m, id);
-      m.displacement[id] = r.v[0];
-      m.friction_static[id] = r.v[1];
-      m.friction_dynamic[id] = r.v[2];
-      m.stiffness_scale[id] = r.v[3];
-      m.layer_displacement[id] = r.v[4];
-      m.hardness[id] = r.v[5];
-      r.v[0] = now.delta, r.v[1] = now.friction_static, r.v[2] = now.friction_dynamic;
-      r.v[3] = now.stiffness_scale, r.v[4] = now.layer_displacement, r.v[5] = now.hardness;
+      const SampleValues now = sample_values(m, id), was = r.sample();
+      m.displacement[id] = was.delta;
+      m.friction_static[id] = was.friction_static;
+      m.friction_dynamic[id] = was.friction_dynamic;
+      m.stiffness_scale[id] = was.stiffness_scale;
+      m.layer_displacement[id] = was.layer_displacement;
+      m.hardness[id] = was.hardness;
+      r.set(now);
       if (m.displacement[id] != now.delta) {
         update_positions(m, &id, 1);
         list_changed(m, s, id);
@@ -149,8 +148,9 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     } else {
       const int32_t id = -(r.index + 1);
       const TexelValues now = texel_values(m, id);
-      set_texel_values(m, id, r.v[0], r.v[1], r.v[2], r.v[3]);
-      r.v[0] = now.r, r.v[1] = now.g, r.v[2] = now.b, r.v[3] = now.roughness;
+      const TexelValues was = r.texel();
+      set_texel_values(m, id, was.r, was.g, was.b, was.roughness);
+      r.set(now);
       dirty_t.mark(m.texels, id);
       ++result.changed;
     }

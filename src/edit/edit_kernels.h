@@ -143,8 +143,7 @@ inline void touch_sample(const SlabModel& m, StrokeMemory* st, int32_t id) noexc
   st->sample_base[id] = v;
   st->sample_k[id] = 0;
   if (st->history)
-    st->history->record(
-        {id, {v.delta, v.friction_static, v.friction_dynamic, v.stiffness_scale, v.layer_displacement, v.hardness}});
+    st->history->record(UndoRecord(id, v));
 }
 // A texel is recorded for undo only when its 8-bit codes first change (record_texel), so a touch
 // that rounds to the same codes leaves no record and flags no slab.
@@ -161,7 +160,7 @@ inline void record_texel(StrokeMemory* st, int32_t id, TexelCodes stored) noexce
   const TexelCodes base = st->texel_base[id];
   if (!(stored == base)) return;
   const TexelValues v = decode_texel(base);
-  st->history->record({-(id + 1), {v.r, v.g, v.b, v.roughness, 0.0f, 0.0f}});
+  st->history->record(UndoRecord(id, v));
 }
 // A sample's displacement at the start of the stroke (its current one when there is no stroke).
 inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id) noexcept {

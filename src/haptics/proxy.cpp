@@ -170,9 +170,9 @@ static inline Material material_at_proxy(const SlabModel& model, const ProxyPara
   // The surface fields share one grid cell (the same one interpolate_field would find).
   const slab_query::detail::GridCell cell =
       slab_query::detail::grid_cell(model, s.slab, s.coords.bary[1], s.coords.bary[2]);
-  auto field = [&](const std::vector<float>& f, double fallback) {
+  auto field = [&](const auto& f, double fallback) {
     if (f.empty()) return fallback;
-    const double v = cell.wa * f[cell.a] + cell.wb * f[cell.b] + cell.wd * f[cell.d];
+    const double v = cell.wa * float(f[cell.a]) + cell.wb * float(f[cell.b]) + cell.wd * float(f[cell.d]);
     return std::isfinite(v) ? v : fallback;
   };
   // Where carving went below the under-layer's top, its material is felt (paper §2).
@@ -235,13 +235,33 @@ static inline void contact_output(const Workspace& ws, const Vec3& hip, const Ve
 
 }  // namespace
 
-double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
-                         double fallback) noexcept {
+namespace {
+
+template <class T>
+double interpolate(const SlabModel& model, const std::vector<T>& field, int slab, const SlabCoordinates& c,
+                   double fallback) noexcept {
   if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
   // Same grid triangle and weights as evaluate_surface (docs/design.md#query).
   const slab_query::detail::GridCell cell = slab_query::detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
-  const double v = cell.wa * field[cell.a] + cell.wb * field[cell.b] + cell.wd * field[cell.d];
+  const double v = cell.wa * float(field[cell.a]) + cell.wb * float(field[cell.b]) + cell.wd * float(field[cell.d]);
   return std::isfinite(v) ? v : fallback;
+}
+
+}  // namespace
+
+double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
+                         double fallback) noexcept {
+  return interpolate(model, field, slab, c, fallback);
+}
+
+double interpolate_field(const SlabModel& model, const std::vector<Half16>& field, int slab, const SlabCoordinates& c,
+                         double fallback) noexcept {
+  return interpolate(model, field, slab, c, fallback);
+}
+
+double interpolate_field(const SlabModel& model, const std::vector<Unorm16>& field, int slab, const SlabCoordinates& c,
+                         double fallback) noexcept {
+  return interpolate(model, field, slab, c, fallback);
 }
 
 ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const Vec3& hip_device,

@@ -207,7 +207,7 @@ void check(bool ok, const std::string& what) {
 }
 
 template <class T>
-void fill_default(std::vector<T>& v, size_t n, T value, const char* name) {
+void fill_default(std::vector<T>& v, size_t n, typename std::vector<T>::value_type value, const char* name) {
   if (v.empty()) v.assign(n, value);
   check(v.size() == n,
         std::string(name) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));

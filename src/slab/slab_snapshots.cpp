@@ -25,8 +25,10 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
     throw InvalidInput("snapshots: reader_slots = " + std::to_string(o.reader_slots) + " outside [1, 1024]");
   per_slab_ = m.samples.per_slab;
   texels_per_slab_ = m.texels.per_slab;
-  // 9 floats per displacement sample, one 4-byte word (the stored codes) per texel; whole cache lines.
-  stride_ = (static_cast<size_t>(9) * per_slab_ + static_cast<size_t>(texels_per_slab_) + 15) / 16 * 16;
+  // A SlabSample and five 16-bit fields per displacement sample, one 4-byte word (the stored
+  // codes) per texel; whole cache lines (16 floats).
+  const size_t bytes = (sizeof(SlabSample) + 5 * sizeof(Unorm16)) * size_t(per_slab_) + 4 * size_t(texels_per_slab_);
+  stride_ = (bytes + 63) / 64 * 16;
   const size_t spare = o.spare_versions < 0 ? size_t(S) : size_t(o.spare_versions);
   version_total_ = size_t(S) + spare;
   slot_count_ = size_t(o.reader_slots);
@@ -53,14 +55,14 @@ SlabSnapshots::~SlabSnapshots() = default;
 
 void SlabSnapshots::fill(int32_t v, int slab) noexcept {
   const SlabModel& m = model_;
-  float* d = data(v);
+  auto* d = reinterpret_cast<uint8_t*>(data(v));
   const size_t P = size_t(per_slab_), T = size_t(texels_per_slab_);
   std::memcpy(d, m.slab_samples.data() + size_t(slab) * P, P * sizeof(SlabSample));
-  float* fs = d + 4 * P;
-  float* fd = fs + P;
-  float* st = fd + P;
-  float* ly = st + P;
-  float* hv = ly + P;
+  auto* fs = reinterpret_cast<Half16*>(d + P * sizeof(SlabSample));
+  Half16* fd = fs + P;
+  auto* st = reinterpret_cast<Unorm16*>(fd + P);
+  Unorm16* ly = st + P;
+  auto* hv = reinterpret_cast<Half16*>(ly + P);
   const int32_t* ids = m.samples.ids.data() + size_t(slab) * P;
   for (size_t k = 0; k < P; ++k) {
     const int32_t id = ids[k];
@@ -91,18 +93,18 @@ uint64_t SlabSnapshots::checksum(int32_t v) const noexcept {
 }
 
 SlabView SlabSnapshots::view(int32_t v) const noexcept {
-  const float* d = data(v);
+  const auto* d = reinterpret_cast<const uint8_t*>(data(v));
   const size_t P = size_t(per_slab_);
   SlabView s;
   s.epoch = versions_[v].epoch;
   s.per_slab = per_slab_;
   s.texels_per_slab = texels_per_slab_;
   s.points = reinterpret_cast<const SlabSample*>(d);
-  s.friction_static = d + 4 * P;
+  s.friction_static = reinterpret_cast<const Half16*>(d + P * sizeof(SlabSample));
   s.friction_dynamic = s.friction_static + P;
-  s.stiffness_scale = s.friction_dynamic + P;
+  s.stiffness_scale = reinterpret_cast<const Unorm16*>(s.friction_dynamic + P);
   s.layer_displacement = s.stiffness_scale + P;
-  s.hardness = s.layer_displacement + P;
+  s.hardness = reinterpret_cast<const Half16*>(s.layer_displacement + P);
   s.texels = reinterpret_cast<const uint8_t*>(s.hardness + P);
   return s;
 }

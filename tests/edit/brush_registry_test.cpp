@@ -133,6 +133,22 @@ TEST(BrushRegistry, EveryRangeCheckNamesItsParameterAndTheReason) {
   EXPECT_NE(refusal(unknown).find("tool"), std::string::npos);
 }
 
+TEST(BrushRegistry, FieldsStoredAsHalfFloatsRefuseValuesTheyCannotHold) {
+  // Friction and hardness are IEEE binary16 in the model: 65,504 is the largest finite value.
+  for (BrushField f : {BrushField::FrictionStatic, BrushField::FrictionDynamic, BrushField::Hardness}) {
+    Brush b = valid_brush();
+    b.field = f;
+    b.value = 65504;
+    EXPECT_EQ(refusal(b), "");
+    b.value = 1e5;
+    EXPECT_NE(refusal(b).find("value = 100000: friction and hardness are stored as 16-bit floats"), std::string::npos)
+        << refusal(b);
+  }
+  Brush colour = valid_brush();  // other fields keep the value's full range
+  colour.value = 1e5;
+  EXPECT_EQ(refusal(colour), "");
+}
+
 TEST(BrushRegistry, AnUnregisteredToolEditsNothing) {
   SlabModel m = test::baked_bunny(150, 16);
   EditScratch scratch(m);

@@ -148,7 +148,7 @@ TEST(Brushes, PaintBlendsOncePerStrokeWhateverTheDwell) {
   // The paper's blend k·value + (1 − k)·base with k = pressure·strength·falloff(d/r), d the distance
   // from the sample to the brush's path, once per stroke (the largest k the stroke reached): a brush
   // held still for 10 ms or 300 ms gives the same field, bit for bit.
-  std::vector<float> results[2];
+  std::vector<Half16> results[2];
   for (int run = 0; run < 2; ++run) {
     test::BunnyStrokes f;
     Vec3 n;
@@ -166,7 +166,8 @@ TEST(Brushes, PaintBlendsOncePerStrokeWhateverTheDwell) {
     for (int s = 0; s < f.model.samples.count; ++s) {
       const double k = k_max(log, f.model.positions[s].cast<double>(), paint.radius);
       const double expected = before.friction_static[s] + k * (0.9 - before.friction_static[s]);
-      ASSERT_NEAR(f.model.friction_static[s], expected, 1e-5) << "sample " << s;
+      // Stored as binary16: half a step below 1 is 2^-12 (2.4e-4), plus the blend's float rounding.
+      ASSERT_NEAR(f.model.friction_static[s], expected, 2.5e-4) << "sample " << s;
       painted += k > 0.5;
     }
     EXPECT_GT(painted, 20);

@@ -55,7 +55,9 @@ struct ModelState {
         positions(m.positions),
         normals(sample_normals(m)),
         slab_samples(m.slab_samples) {}
-  std::vector<float> displacement, friction_static, friction_dynamic, stiffness_scale, layer_displacement;
+  std::vector<float> displacement;
+  std::vector<Half16> friction_static, friction_dynamic;
+  std::vector<Unorm16> stiffness_scale, layer_displacement;
   std::vector<uint8_t> roughness;
   std::vector<Srgb8> colour;
   std::vector<Vec3f> positions, normals;

@@ -34,9 +34,10 @@ struct LegacyWriter {
     b.insert(b.end(), t, t + 4);
     bits(count);
   }
-  void floats(const char* t, const std::vector<float>& v) {
+  template <class T>
+  void floats(const char* t, const std::vector<T>& v) {
     tag(t, v.size());
-    for (float x : v) f32(x);
+    for (const T& x : v) f32(float(x));
   }
   void seal() {
     uint64_t h = 0xcbf29ce484222325ull;

@@ -99,7 +99,8 @@ std::string brush_names();
 /// (brush_param_range()), whether or not its tool reads it, and its tool is registered.
 /// @throws InvalidInput "<name> = <value>: must be ..." naming the first parameter out of range
 ///         (radius, strength, resilience, height, colour, value, pressure_force_n, wear_coefficient,
-///         rpm) and the reason.
+///         rpm) and the reason; also when a friction or hardness field's value exceeds 65,504 in
+///         magnitude (those fields are stored as binary16, SlabModel).
 /// @note O(#parameters).
 void check_brush(const Brush& brush);
 

@@ -5,17 +5,25 @@
 /// changed, recorded when the stroke first touches them, in a ring of fixed size.
 
 #include <cstddef>
+#include <hdm/core/field16.h>
+
 #include <cstdint>
+#include <cstring>
+#include <type_traits>
 #include <vector>
 
 namespace hdm {
 
 /// Every stored per-sample value an edit may change (SlabModel's displacement, friction_static,
-/// friction_dynamic, stiffness_scale, layer_displacement, hardness), in that order.
+/// friction_dynamic, stiffness_scale, layer_displacement, hardness), as the model stores them:
+/// copied without a conversion, so a restore gives back the same codes.
 struct SampleValues {
-  /// @{ The sample's SlabModel values of the same names (delta: SlabModel::displacement).
-  float delta, friction_static, friction_dynamic, stiffness_scale, layer_displacement, hardness;
-  /// @}
+  float delta;                 ///< SlabModel::displacement
+  Half16 friction_static;      ///< SlabModel::friction_static
+  Half16 friction_dynamic;     ///< SlabModel::friction_dynamic
+  Unorm16 stiffness_scale;     ///< SlabModel::stiffness_scale
+  Unorm16 layer_displacement;  ///< SlabModel::layer_displacement
+  Half16 hardness;             ///< SlabModel::hardness [HV]
 };
 
 /// Every stored per-texel value an edit may change (SlabModel's colour and roughness).
@@ -26,15 +34,39 @@ struct TexelValues {
 };
 
 /// One record: a sample's or a texel's values (before the stroke until it is undone; after the
-/// stroke once it is undone, so that redo swaps them back). 28 bytes.
+/// stroke once it is undone, so that redo swaps them back). 20 bytes.
 struct UndoRecord {
   int32_t index;  ///< >= 0: sample id; < 0: texel id -(index + 1)
-  float v[6];     ///< SampleValues or TexelValues (v[4], v[5] unused) bit for bit
+  alignas(4) unsigned char values[16];  ///< SampleValues or TexelValues, bit for bit
+
+  /// A sample's record. @note noexcept, O(1).
+  UndoRecord(int32_t sample, const SampleValues& v) noexcept : index(sample) { set(v); }
+  /// A texel's record (@p texel is the texel id). @note noexcept, O(1).
+  UndoRecord(int32_t texel, const TexelValues& v) noexcept : index(-(texel + 1)) { set(v); }
+  UndoRecord() noexcept : index(0), values{} {}
+  /// The sample's values (index >= 0). @note noexcept, O(1).
+  SampleValues sample() const noexcept { return get<SampleValues>(); }
+  /// The texel's values (index < 0). @note noexcept, O(1).
+  TexelValues texel() const noexcept { return get<TexelValues>(); }
+  /// Stores @p v (SampleValues or TexelValues). @note noexcept, O(1).
+  template <class V>
+  void set(const V& v) noexcept {
+    static_assert(sizeof(V) <= sizeof(values) && std::is_trivially_copyable_v<V>);
+    std::memcpy(values, &v, sizeof(V));
+  }
+
+ private:
+  template <class V>
+  V get() const noexcept {
+    V v;
+    std::memcpy(&v, values, sizeof(V));
+    return v;
+  }
 };
 
 /// The undo history: strokes (button down to button up) as ranges of records in one ring.
 ///
-/// Memory is fixed at construction: @p cap_bytes of records (28 bytes each) and a table of
+/// Memory is fixed at construction: @p cap_bytes of records (20 bytes each) and a table of
 /// @p max_strokes strokes. When a new record does not fit, the oldest strokes are forgotten; when
 /// the stroke being recorded alone exceeds the ring, the whole history is dropped and that stroke
 /// cannot be undone (can_undo() is then false until the next stroke). A new stroke discards the

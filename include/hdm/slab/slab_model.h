@@ -4,6 +4,7 @@
 /// The slab model: coarse slabs around a detailed surface, each holding a triangular displacement
 /// map (paper §2), plus colour texels and per-sample surface fields.
 
+#include <hdm/core/field16.h>
 #include <hdm/core/srgb.h>
 #include <hdm/core/types.h>
 #include <hdm/slab/sample_layout.h>
@@ -109,20 +110,21 @@ struct SlabModel {
   /// #texels colour as 8-bit sRGB (decode_srgb8() gives the linear RGB it stands for; writers
   /// encode linear RGB with encode_srgb8(), rounding once)
   std::vector<Srgb8> colour;
-  std::vector<float> friction_static;   ///< #samples static friction coefficient μs
-  std::vector<float> friction_dynamic;  ///< #samples dynamic friction coefficient μd
-  std::vector<float> stiffness_scale;   ///< #samples factor on the rendered stiffness, in [0,1]
+  std::vector<Half16> friction_static;    ///< #samples static friction coefficient μs (binary16)
+  std::vector<Half16> friction_dynamic;   ///< #samples dynamic friction coefficient μd (binary16)
+  std::vector<Unorm16> stiffness_scale;   ///< #samples factor on the rendered stiffness, in [0,1] (unorm16)
   /// #texels rendering roughness as unorm8 (code/255 in [0,1]; 0 glossy, 255 matte, the default;
   /// unorm8_to_unit(), unit_to_unorm8())
   std::vector<uint8_t> roughness;
   /// #samples: displacement of the top of the under-layer on each projection line, in [0,1]
   /// (default 0: no under-layer above the inner face). The surface is the under-layer where
-  /// δ < this value (exposed by carving); see UnderLayer and layer_exposure().
-  std::vector<float> layer_displacement;
-  /// #samples Vickers hardness of the surface material [HV], > 0 (float32; default
+  /// δ < this value (exposed by carving); see UnderLayer and layer_exposure(). unorm16: within
+  /// 7.7e-6 of the shell's thickness.
+  std::vector<Unorm16> layer_displacement;
+  /// #samples Vickers hardness of the surface material [HV], > 0 and at most 65,504 (binary16; default
   /// default_hardness_hv). Where δ < layer_displacement the under-layer's UnderLayer::hardness_hv
   /// applies instead (sample_hardness_hv()). Read by the drill brush (BrushTool::Drill).
-  std::vector<float> hardness;
+  std::vector<Half16> hardness;
   UnderLayer under_layer;        ///< the under-layer's material
   std::string source;            ///< name of the input mesh the model was baked from
   int64_t source_triangles = 0;  ///< triangles of that input
@@ -173,7 +175,7 @@ inline double layer_exposure(double depth_below_layer, double band) noexcept {
 /// @note noexcept, O(1); @p sample in [0, #samples) and `hardness` sized (rebuild_derived()).
 inline float sample_hardness_hv(const SlabModel& model, int32_t sample) noexcept {
   return model.displacement[sample] < model.layer_displacement[sample] ? model.under_layer.hardness_hv
-                                                                       : model.hardness[sample];
+                                                                       : float(model.hardness[sample]);
 }
 
 /// @brief Recomputes every derived member of @p model from its stored data: sample and texel

@@ -38,11 +38,11 @@ struct SlabView {
   int per_slab = 0;                           ///< displacement grid points of a slab
   int texels_per_slab = 0;                    ///< texel grid points of a slab
   const SlabSample* points = nullptr;         ///< per_slab displacement δ, unit and force-shading normals
-  const float* friction_static = nullptr;     ///< per_slab μs
-  const float* friction_dynamic = nullptr;    ///< per_slab μd
-  const float* stiffness_scale = nullptr;     ///< per_slab stiffness scale
-  const float* layer_displacement = nullptr;  ///< per_slab under-layer top δ
-  const float* hardness = nullptr;            ///< per_slab hardness [HV] (SlabModel::hardness)
+  const Half16* friction_static = nullptr;      ///< per_slab μs (SlabModel::friction_static)
+  const Half16* friction_dynamic = nullptr;     ///< per_slab μd
+  const Unorm16* stiffness_scale = nullptr;     ///< per_slab stiffness scale
+  const Unorm16* layer_displacement = nullptr;  ///< per_slab under-layer top δ
+  const Half16* hardness = nullptr;             ///< per_slab hardness [HV] (SlabModel::hardness)
   /// texels_per_slab × 4 bytes: the colour's 8-bit sRGB codes (r, g, b; SlabModel::colour) and the
   /// roughness as unorm8 (SlabModel::roughness), the codes the model stores
   const uint8_t* texels = nullptr;
@@ -52,9 +52,9 @@ class SnapshotReader;
 
 /// Per-slab versions of a model published in epochs for concurrent readers.
 ///
-/// Memory: (#S + spare) versions of about (36·per_slab + 4·texels_per_slab) bytes, allocated by
-/// the constructor, each padded to 64 bytes: 17.5 MiB for the default bunny bake (1,178 slabs,
-/// n = 16, m = 2: 2,356 versions of 7,808 bytes), beside the 18.4 MiB the model takes.
+/// Memory: (#S + spare) versions of about (26·per_slab + 4·texels_per_slab) bytes, allocated by
+/// the constructor, each padded to 64 bytes: 14.1 MiB for the default bunny bake (1,178 slabs,
+/// n = 16, m = 2: 2,356 versions of 6,272 bytes), beside the 17.0 MiB the model takes.
 /// The model's topology, coarse vertices, grid sizes, source fields and under-layer material
 /// must not change while the snapshots exist (edits never change them); readers read those
 /// members of the live model directly.
