@@ -131,16 +131,34 @@ void get_scalars(Reader& r, const char (&t)[5], std::vector<T>& v) {
   v.resize(r.section(t, sizeof(T)));
   for (T& x : v) r.get(x, t);
 }
-// A 16-bit field (Unorm16, Half16) as float32 on disk: every code is a float exactly, so a save
-// and a load give back the same codes. A value the field cannot hold (not finite, outside [0, 1]
-// for a unorm16, beyond ±65,504 for a binary16) is refused by name, never clamped.
+// A 16-bit field as its codes (version 5): 2 bytes per sample, the model's codes bit for bit.
+uint16_t code_of(Unorm16 x) { return x.code; }
+uint16_t code_of(Half16 x) { return x.bits(); }
 template <class T>
-void put_field(Writer& w, const char (&t)[5], const std::vector<T>& v) {
+void put_codes(Writer& w, const char (&t)[5], const std::vector<T>& v) {
   w.tag(t, v.size());
-  for (const T& x : v) w.put(float(x));
+  for (const T& x : v) w.put_bits(code_of(x));
 }
 template <class T>
-void get_field(Reader& r, const char (&t)[5], std::vector<T>& v, const std::string& path, const char* what) {
+void get_codes(Reader& r, const char (&t)[5], std::vector<T>& v, const std::string& path, const char* what) {
+  v.resize(r.section(t, sizeof(uint16_t)));
+  for (size_t k = 0; k < v.size(); ++k) {
+    const uint16_t c = r.get_bits<uint16_t>(t);
+    if constexpr (std::is_same_v<T, Half16>) {
+      v[k] = Half16::from_bits(c);
+      if (!std::isfinite(float(v[k])))
+        throw InvalidInput(path + ": " + what + " of sample " + std::to_string(k) + " is not finite (binary16 " +
+                           std::to_string(c) + ")");
+    } else {
+      v[k].code = c;
+    }
+  }
+}
+// A 16-bit field (Unorm16, Half16) as float32, as files before version 5 store it. A value the
+// field cannot hold (not finite, outside [0, 1] for a unorm16, beyond ±65,504 for a binary16) is
+// refused by name, never clamped.
+template <class T>
+void get_floats(Reader& r, const char (&t)[5], std::vector<T>& v, const std::string& path, const char* what) {
   v.resize(r.section(t, sizeof(float)));
   const bool unit = std::is_same_v<T, Unorm16>;
   for (size_t k = 0; k < v.size(); ++k) {
@@ -151,6 +169,15 @@ void get_field(Reader& r, const char (&t)[5], std::vector<T>& v, const std::stri
                          (unit ? ", outside [0, 1]" : ", not a finite value of at most 65,504"));
     v[k] = x;
   }
+}
+// A 16-bit field's section as @p version stores it: float32 before version 5, codes from it.
+template <class T>
+void get_field(Reader& r, const char (&t)[5], std::vector<T>& v, const std::string& path, const char* what,
+               uint32_t version) {
+  if (version >= 5)
+    get_codes(r, t, v, path, what);
+  else
+    get_floats(r, t, v, path, what);
 }
 template <class V, class Scalar>
 void get_vectors(Reader& r, const char (&t)[5], std::vector<V>& v) {
@@ -263,9 +290,9 @@ void save_model(const SlabModel& m, const std::string& path) {
   put_vectors(w, "SLAB", m.slabs);
   put_scalars(w, "DISP", m.displacement);
   put_bytes(w, "COLR", m.colour);
-  put_field(w, "FRST", m.friction_static);
-  put_field(w, "FRDY", m.friction_dynamic);
-  put_field(w, "STIF", m.stiffness_scale);
+  put_codes(w, "FRST", m.friction_static);
+  put_codes(w, "FRDY", m.friction_dynamic);
+  put_codes(w, "STIF", m.stiffness_scale);
   w.tag("SRCN", m.source.size());
   w.bytes.insert(w.bytes.end(), m.source.begin(), m.source.end());
   w.tag("SRCT", 1);
@@ -274,14 +301,14 @@ void save_model(const SlabModel& m, const std::string& path) {
   w.put(m.source_diagonal);
   // Version 2: rendering roughness, the under-layer's depth and material.
   put_bytes(w, "RUFF", m.roughness);
-  put_field(w, "LAYD", m.layer_displacement);
+  put_codes(w, "LAYD", m.layer_displacement);
   const UnderLayer& u = m.under_layer;
   w.tag("LAYM", 1);
   for (float v : {u.colour.x(), u.colour.y(), u.colour.z(), u.stiffness_scale, u.friction_static, u.friction_dynamic,
                   u.roughness})
     w.put(v);
   // Version 4: hardness per sample and the under-layer's.
-  put_field(w, "HARD", m.hardness);
+  put_codes(w, "HARD", m.hardness);
   w.tag("LAYH", 1);
   w.put(u.hardness_hv);
   w.put(fnv1a64(w.bytes.data(), w.bytes.size()));
@@ -320,9 +347,9 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
     get_bytes(r, "COLR", m.colour);
   else
     get_float_colour(r, m, path);
-  get_field(r, "FRST", m.friction_static, path, "static friction");
-  get_field(r, "FRDY", m.friction_dynamic, path, "dynamic friction");
-  get_field(r, "STIF", m.stiffness_scale, path, "stiffness scale");
+  get_field(r, "FRST", m.friction_static, path, "static friction", version);
+  get_field(r, "FRDY", m.friction_dynamic, path, "dynamic friction", version);
+  get_field(r, "STIF", m.stiffness_scale, path, "stiffness scale", version);
   const uint64_t name_bytes = r.section("SRCN", 1);
   m.source.assign(reinterpret_cast<const char*>(r.take(name_bytes)), name_bytes);
   int64_t triangles = 0;
@@ -336,14 +363,14 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
       get_bytes(r, "RUFF", m.roughness);
     else
       get_float_roughness(r, m, path);
-    get_field(r, "LAYD", m.layer_displacement, path, "under-layer top");
+    get_field(r, "LAYD", m.layer_displacement, path, "under-layer top", version);
     r.fixed_section("LAYM", 28, 1);
     float v[7];
     for (float& x : v) r.get(x, "LAYM");
     m.under_layer = UnderLayer{Vec3f(v[0], v[1], v[2]), v[3], v[4], v[5], v[6]};
   }
   if (version >= 4) {
-    get_field(r, "HARD", m.hardness, path, "hardness");
+    get_field(r, "HARD", m.hardness, path, "hardness", version);
     r.fixed_section("LAYH", 4, 1);
     r.get(m.under_layer.hardness_hv, "LAYH");
   }

@@ -129,11 +129,11 @@ TEST_F(HdmLegacyFile, Version2FileLoadsWithColoursRoundedOnce) {
   EXPECT_EQ(loaded.displacement, model.displacement);
   EXPECT_EQ(loaded.layer_displacement, model.layer_displacement);
   EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
-  // Saved again, it is a version 4 file holding the same codes.
+  // Saved again, it is a version 5 file holding the same codes.
   const std::string again = dir.file("again.hdm");
   save_model(loaded, again);
   const std::vector<uint8_t> b = test::read_bytes(again);
-  EXPECT_EQ(b[4], 4);
+  EXPECT_EQ(b[4], 5);
   const SlabModel reloaded = load_model(again);
   EXPECT_EQ(reloaded.colour, loaded.colour);
   EXPECT_EQ(reloaded.roughness, loaded.roughness);
@@ -149,11 +149,107 @@ TEST_F(HdmLegacyFile, Version1FileLoadsWithDefaults) {
   EXPECT_EQ(loaded.under_layer.colour, UnderLayer{}.colour);
 }
 
+// IEEE 754 binary16 bits -> value, from the format's definition (sign, 5-bit exponent, 10-bit
+// fraction, subnormals below exponent 1).
+double binary16_value(uint16_t h) {
+  const int e = (h >> 10) & 31, f = h & 1023;
+  const double v = e == 0 ? std::ldexp(double(f), -24) : e == 31 ? INFINITY : std::ldexp(double(1024 + f), e - 25);
+  return h >> 15 ? -v : v;
+}
+
+// The sections of a version 5 file (the table in hdm_file.h), with the five 16-bit field sections
+// rewritten as version 4's float32: @p value maps (tag, element index, stored code) to the float.
+template <class Value>
+std::vector<uint8_t> as_version4(const std::vector<uint8_t>& v5, Value value) {
+  const std::vector<std::pair<std::string, size_t>> layout = {
+      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 3},  {"FRST", 2}, {"FRDY", 2}, {"STIF", 2},
+      {"SRCN", 1}, {"SRCT", 8},  {"SRCD", 8},  {"RUFF", 1},  {"LAYD", 2}, {"LAYM", 28}, {"HARD", 2}, {"LAYH", 4}};
+  LegacyWriter w;
+  w.b.assign(v5.begin(), v5.begin() + 8);
+  w.b[4] = 4;
+  size_t pos = 8;
+  for (const auto& [tag, bytes] : layout) {
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(&v5[pos]), 4), tag);
+    uint64_t count = 0;
+    for (int k = 7; k >= 0; --k) count = (count << 8) | v5[pos + 4 + k];
+    const size_t body = pos + 12;
+    if (bytes == 2) {
+      w.tag(tag.c_str(), count);
+      for (uint64_t k = 0; k < count; ++k) w.f32(value(tag, k, uint16_t(v5[body + 2 * k] | v5[body + 2 * k + 1] << 8)));
+    } else {
+      w.b.insert(w.b.end(), v5.begin() + pos, v5.begin() + body + count * bytes);
+    }
+    pos = body + count * bytes;
+  }
+  EXPECT_EQ(pos + 8, v5.size());
+  w.seal();
+  return w.b;
+}
+
+// The float a 16-bit field's code stands for: unorm16 code/65535, binary16 by its definition.
+float code_value(const std::string& tag, uint16_t code) {
+  return tag == "STIF" || tag == "LAYD" ? float(code / 65535.0) : float(binary16_value(code));
+}
+
+// A version 4 file stores the per-sample fields as float32. Written from the model's own codes it
+// loads to the same model; written with floats between the codes, each loads rounded once to the
+// nearest code (found here by trying every code).
+TEST_F(HdmLegacyFile, Version4FileLoadsWithItsFloatFieldsRoundedOnce) {
+  for (size_t s = 0; s < model.friction_static.size(); ++s) {  // fields that differ per sample
+    model.friction_static[s] = 0.1f + 0.01f * float(s);
+    model.stiffness_scale[s] = 0.5f + 0.003f * float(s);
+    model.hardness[s] = 250.0f + float(s);
+  }
+  save_model(model, path);
+  const std::vector<uint8_t> v5 = test::read_bytes(path);
+  test::write_bytes(path, as_version4(v5, [](const std::string& t, uint64_t, uint16_t c) { return code_value(t, c); }));
+  const SlabModel same = load_model(path);
+  for (size_t s = 0; s < model.friction_static.size(); ++s) {
+    ASSERT_EQ(same.friction_static[s].bits(), model.friction_static[s].bits()) << s;
+    ASSERT_EQ(same.stiffness_scale[s].code, model.stiffness_scale[s].code) << s;
+    ASSERT_EQ(same.hardness[s].bits(), model.hardness[s].bits()) << s;
+    ASSERT_EQ(same.layer_displacement[s].code, model.layer_displacement[s].code) << s;
+  }
+  // Floats off the codes: each field's value k·0.0123457 + 0.01 (hardness ×1000), rounded on load.
+  auto written = [](const std::string& t, uint64_t k) {
+    const double x = 0.01 + 0.0123457 * double(k % 80);
+    return float(t == "HARD" ? 1000 * x + 1 : x);
+  };
+  test::write_bytes(path, as_version4(v5, [&](const std::string& t, uint64_t k, uint16_t) { return written(t, k); }));
+  const SlabModel loaded = load_model(path);
+  auto nearest = [](const std::string& t, float x) {  // the code nearest x, by trying all of them
+    float best = NAN;
+    for (int c = 0; c < 65536; ++c) {
+      const float v = code_value(t, uint16_t(c));
+      if (std::isfinite(v) && !(std::abs(v - x) >= std::abs(best - x))) best = v;
+    }
+    return best;
+  };
+  for (size_t s = 0; s < loaded.friction_static.size(); s += 7) {
+    ASSERT_EQ(float(loaded.friction_static[s]), nearest("FRST", written("FRST", s))) << s;
+    ASSERT_EQ(float(loaded.stiffness_scale[s]), nearest("STIF", written("STIF", s))) << s;
+    ASSERT_EQ(float(loaded.layer_displacement[s]), nearest("LAYD", written("LAYD", s))) << s;
+    ASSERT_EQ(float(loaded.hardness[s]), nearest("HARD", written("HARD", s))) << s;
+  }
+  // A value the 16-bit field cannot hold is refused by name.
+  test::write_bytes(path, as_version4(v5, [&](const std::string& t, uint64_t k, uint16_t c) {
+    return t == "STIF" && k == 3 ? 1.5f : code_value(t, c);
+  }));
+  try {
+    load_model(path);
+    ADD_FAILURE() << "a stiffness scale of 1.5 loaded";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": stiffness scale of sample 3 is 1.5"), std::string::npos)
+        << e.what();
+  }
+}
+
 // A version-3 file is a version-4 file without its last two sections (HARD, LAYH): it loads with
 // the default hardness, everything else as stored.
 TEST_F(HdmLegacyFile, Version3FileLoadsWithTheDefaultHardness) {
   save_model(model, path);
-  std::vector<uint8_t> b = test::read_bytes(path);
+  std::vector<uint8_t> b =
+      as_version4(test::read_bytes(path), [](const std::string& t, uint64_t, uint16_t c) { return code_value(t, c); });
   const size_t hard = b.size() - 8 - (12 + 4 * model.hardness.size()) - (12 + 4);
   ASSERT_EQ(std::string(reinterpret_cast<const char*>(&b[hard]), 4), "HARD");
   b.resize(hard);

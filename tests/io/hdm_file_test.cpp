@@ -64,8 +64,8 @@ void reseal(std::vector<uint8_t>& b) { set_u64(b, b.size() - 8, reference_fnv1a(
 std::map<std::string, size_t> section_offsets(const std::vector<uint8_t>& b) {
   const std::map<std::string, size_t> element_bytes = {
       {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 3},
-      {"FRST", 4}, {"FRDY", 4},  {"STIF", 4},  {"SRCN", 1},  {"SRCT", 8}, {"SRCD", 8},
-      {"RUFF", 1}, {"LAYD", 4},  {"LAYM", 28}, {"HARD", 4},  {"LAYH", 4}};
+      {"FRST", 2}, {"FRDY", 2},  {"STIF", 2},  {"SRCN", 1},  {"SRCT", 8}, {"SRCD", 8},
+      {"RUFF", 1}, {"LAYD", 2},  {"LAYM", 28}, {"HARD", 2},  {"LAYH", 4}};
   std::map<std::string, size_t> at;
   size_t pos = 8;
   for (const char* tag : {"GRID", "INNR", "OUTR", "SLAB", "DISP", "COLR", "FRST", "FRDY", "STIF", "SRCN", "SRCT",
@@ -144,7 +144,7 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   const std::vector<uint8_t> b = test::read_bytes(path);
   ASSERT_GT(b.size(), 16u);
   EXPECT_EQ(std::memcmp(b.data(), "HDM\0", 4), 0);
-  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 4);
+  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 5);
   EXPECT_EQ(get_u64(b, b.size() - 8), reference_fnv1a(b.data(), b.size() - 8));
   const auto at = section_offsets(b);
   EXPECT_EQ(get_u64(b, at.at("DISP")), model.displacement.size());
@@ -164,6 +164,12 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
     std::memcpy(&d, &bits, 4);
     EXPECT_EQ(d, test::sample_displacement(int(s)));
   }
+  // Stiffness scale and under-layer top as little-endian unorm16 codes, code/65535.
+  for (size_t s = 0; s < model.stiffness_scale.size(); ++s)
+    for (const auto& [tag, field] : {std::pair{"STIF", &model.stiffness_scale}, {"LAYD", &model.layer_displacement}}) {
+      const int code = b[at.at(tag) + 8 + 2 * s] | b[at.at(tag) + 9 + 2 * s] << 8;
+      ASSERT_EQ(float(code / 65535.0), float((*field)[s])) << tag << " " << s;
+    }
   // Colour as 3 bytes R, G, B per texel, roughness as 1 byte: the texel pattern's sRGB codes.
   for (size_t t = 0; t < model.colour.size(); ++t) {
     const Vec3f c = test::texel_colour(int(t));
@@ -200,7 +206,7 @@ TEST_F(HdmFile, WrongVersionFails) {
   reseal(b);
   test::write_bytes(path, b);
   const std::string msg = expect_load_error<IoError>(path);
-  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 4"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 5"), std::string::npos) << msg;
 }
 
 TEST_F(HdmFile, BadMagicFails) {

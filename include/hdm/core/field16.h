@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -40,6 +41,14 @@ struct Half16 {
   Half16(float x) noexcept : value(x) {}  // NOLINT(google-explicit-constructor): a field written as a float
   /// @brief The value, exactly. @note noexcept, O(1).
   operator float() const noexcept { return static_cast<float>(value); }  // NOLINT
+  /// @brief The binary16's 16 bits (what a `.hdm` file of version 5 stores). @note noexcept, O(1).
+  uint16_t bits() const noexcept { return std::bit_cast<uint16_t>(value); }
+  /// @brief The value whose binary16 bits are @p b. @note noexcept, O(1).
+  static Half16 from_bits(uint16_t b) noexcept {
+    Half16 h;
+    h.value = std::bit_cast<Eigen::half>(b);
+    return h;
+  }
 };
 
 static_assert(sizeof(Unorm16) == 2 && sizeof(Half16) == 2, "2 bytes per sample");
