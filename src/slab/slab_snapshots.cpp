@@ -28,11 +28,11 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
   // A SlabSample and five 16-bit fields per displacement sample, one 4-byte word (the stored
   // codes) per texel; whole cache lines (16 floats).
   const size_t bytes = (sizeof(SlabSample) + 5 * sizeof(Unorm16)) * size_t(per_slab_) + 4 * size_t(texels_per_slab_);
-  stride_ = (bytes + 63) / 64 * 16;
+  stride_ = (bytes + 63) / 64 * 64;
   const size_t spare = o.spare_versions < 0 ? size_t(S) : size_t(o.spare_versions);
   version_total_ = size_t(S) + spare;
   slot_count_ = size_t(o.reader_slots);
-  arena_.assign(version_total_ * stride_, 0.0f);
+  arena_.assign(version_total_ * stride_, 0);
   versions_ = std::make_unique<Version[]>(version_total_);
   current_ = std::make_unique<std::atomic<int32_t>[]>(size_t(S));
   slots_ = std::make_unique<std::atomic<uint64_t>[]>(slot_count_);
@@ -55,7 +55,7 @@ SlabSnapshots::~SlabSnapshots() = default;
 
 void SlabSnapshots::fill(int32_t v, int slab) noexcept {
   const SlabModel& m = model_;
-  auto* d = reinterpret_cast<uint8_t*>(data(v));
+  unsigned char* d = data(v);
   const size_t P = size_t(per_slab_), T = size_t(texels_per_slab_);
   std::memcpy(d, m.slab_samples.data() + size_t(slab) * P, P * sizeof(SlabSample));
   auto* fs = reinterpret_cast<Half16*>(d + P * sizeof(SlabSample));
@@ -82,9 +82,9 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
 }
 
 uint64_t SlabSnapshots::checksum(int32_t v) const noexcept {
-  const float* d = data(v);
+  const unsigned char* d = data(v);
   uint64_t h = 14695981039346656037ull;
-  for (size_t k = 0; k < stride_; ++k) {
+  for (size_t k = 0; k < stride_; k += 4) {
     uint32_t w;
     std::memcpy(&w, d + k, 4);
     h = (h ^ w) * 1099511628211ull;
@@ -93,7 +93,7 @@ uint64_t SlabSnapshots::checksum(int32_t v) const noexcept {
 }
 
 SlabView SlabSnapshots::view(int32_t v) const noexcept {
-  const auto* d = reinterpret_cast<const uint8_t*>(data(v));
+  const unsigned char* d = data(v);
   const size_t P = size_t(per_slab_);
   SlabView s;
   s.epoch = versions_[v].epoch;

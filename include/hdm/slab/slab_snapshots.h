@@ -98,7 +98,7 @@ class SlabSnapshots {
   /// Versions allocated (#S + spare).
   int version_count() const noexcept { return static_cast<int>(version_total_); }
   /// Bytes held by the versions.
-  size_t memory_bytes() const noexcept { return arena_.size() * sizeof(float); }
+  size_t memory_bytes() const noexcept { return arena_.size(); }
 
  private:
   friend class SnapshotReader;
@@ -110,8 +110,10 @@ class SlabSnapshots {
     int32_t slab = -1;
     uint64_t checksum = 0;
   };
-  float* data(int32_t v) noexcept { return arena_.data() + static_cast<size_t>(v) * stride_; }
-  const float* data(int32_t v) const noexcept { return arena_.data() + static_cast<size_t>(v) * stride_; }
+  // A version's bytes: storage for its SlabSample, 16-bit fields and texel codes (C++20 implicit
+  // object creation in an unsigned char array).
+  unsigned char* data(int32_t v) noexcept { return arena_.data() + static_cast<size_t>(v) * stride_; }
+  const unsigned char* data(int32_t v) const noexcept { return arena_.data() + static_cast<size_t>(v) * stride_; }
   void fill(int32_t version, int slab) noexcept;
   uint64_t checksum(int32_t version) const noexcept;
   SlabView view(int32_t version) const noexcept;
@@ -120,9 +122,9 @@ class SlabSnapshots {
   const SlabModel& model_;
   SnapshotOptions options_;
   int per_slab_ = 0, texels_per_slab_ = 0;
-  size_t stride_ = 0;  // floats per version
+  size_t stride_ = 0;  // bytes per version, a multiple of 64
   size_t version_total_ = 0, slot_count_ = 0;
-  std::vector<float> arena_;
+  std::vector<unsigned char> arena_;
   std::unique_ptr<Version[]> versions_;
   std::unique_ptr<std::atomic<int32_t>[]> current_;  // #S: newest committed version of each slab
   std::unique_ptr<std::atomic<uint64_t>[]> slots_;   // reader epochs (kFree / kClaiming / epoch)
