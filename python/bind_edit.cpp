@@ -289,7 +289,9 @@ void bind_model_edits(py::module_& m) {
           py::arg("name"),
           "A copy of a stored field as a float32 array: per displacement sample (#samples,): displacement δ in [0, "
           "1], friction_static, friction_dynamic, stiffness (scale in [0, 1]), layer_displacement (empty without "
-          "an under-layer), hardness [HV]; per sample (#samples, 3): positions [model units], normals (unit); per "
+          "an under-layer), hardness [HV] (the last five decoded from the model's 16-bit codes: binary16 for the "
+          "frictions and hardness, unorm16 for stiffness and layer_displacement); per sample (#samples, 3): "
+          "positions [model units], normals (unit to 2.7e-5, decoded from snorm16); per "
           "texel: colour "
           "(#texels, 3) linear RGB decoded from the stored 8-bit sRGB, roughness (#texels,) decoded from unorm8 (code "
           "/ "
