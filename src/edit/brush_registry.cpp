@@ -125,7 +125,7 @@ void check_brush(const Brush& b) {
   // Friction and hardness are stored as binary16 (SlabModel): a larger value would store infinity.
   const bool half = b.field == BrushField::FrictionStatic || b.field == BrushField::FrictionDynamic ||
                     b.field == BrushField::Hardness;
-  if (half && std::abs(b.value) > 65504.0)
+  if (half && std::abs(b.value) > Half16::max)
     throw InvalidInput("value = " + number_text(b.value) +
                        ": friction and hardness are stored as 16-bit floats, at most 65,504 in magnitude");
   check(BrushParam::Pressure, b.pressure_force_n);

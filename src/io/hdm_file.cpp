@@ -164,7 +164,7 @@ void get_floats(Reader& r, const char (&t)[5], std::vector<T>& v, const std::str
   for (size_t k = 0; k < v.size(); ++k) {
     float x;
     r.get(x, t);
-    if (!(std::isfinite(x) && (unit ? x >= 0.0f && x <= 1.0f : std::abs(x) <= 65504.0f)))
+    if (!(std::isfinite(x) && (unit ? x >= 0.0f && x <= 1.0f : std::abs(x) <= Half16::max)))
       throw InvalidInput(path + ": " + what + " of sample " + std::to_string(k) + " is " + std::to_string(x) +
                          (unit ? ", outside [0, 1]" : ", not a finite value of at most 65,504"));
     v[k] = x;

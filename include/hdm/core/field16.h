@@ -36,6 +36,9 @@ struct Unorm16 {
 struct Half16 {
   Eigen::half value;  ///< the stored binary16
 
+  /// The largest finite binary16, 65,504: writers of these fields refuse values beyond ±max.
+  static constexpr float max = 65504.0f;
+
   Half16() = default;
   /// @brief Rounds @p x to the nearest binary16. @note noexcept, O(1).
   Half16(float x) noexcept : value(x) {}  // NOLINT(google-explicit-constructor): a field written as a float

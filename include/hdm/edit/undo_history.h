@@ -4,9 +4,9 @@
 /// Undo / redo per stroke with bounded memory: the old values of the samples and texels a stroke
 /// changed, recorded when the stroke first touches them, in a ring of fixed size.
 
-#include <cstddef>
 #include <hdm/core/field16.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
