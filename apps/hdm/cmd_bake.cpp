@@ -102,6 +102,7 @@ nlohmann::json tolerance_json(const BakeInputOptions& o, const BakeInputReport& 
                      {"invalid_slabs", t.invalid_slabs},
                      {"overlapping_pairs", t.overlapping_pairs},
                      {"ray_misses", t.ray_misses},
+                     {"local", t.local},
                      {"met", t.met}});
   const auto bound = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   return {{"max_pct", bound(o.tolerance.max_pct)},

@@ -18,9 +18,11 @@ namespace {
 struct Plan {
   BakeOptions options;
   double budget = 0;            // submesh triangles (slabs·n²) each round aims at (adapt_grid)
-  bool was_local = false;       // the round before refined locally
-  int64_t local_faults = 0;     // its faults
+  bool refine = false;          // the next round refines locally
+  int64_t local_faults = 0;     // faults of the round before
   double local_max = 0;         // its maximum error over the bound
+  int64_t before_slabs = 0;     // its slabs
+  double before_worst = 0;      // its worst_ratio()
   int stalls = 0;               // rounds running with as many faults as the round before
   int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round
   double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
@@ -124,10 +126,10 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     t.invalid_slabs = r.invalid_slabs;
     t.overlapping_pairs = r.overlapping_pairs;
     t.ray_misses = r.ray_misses;
+    t.local = plan.refine;
     const double worst = worst_ratio(t, tolerance);
     t.met = worst <= 1;
     tried.push_back(t);
-    const bool is_stuck = stuck(plan, round, t);
     const Fidelity& f = t.fidelity;
     const double max_ratio = std::max(f.max_pct, f.max_back_pct) / tolerance.max_pct;
     const int64_t faults = int64_t(t.invalid_slabs) + t.overlapping_pairs;
@@ -136,8 +138,14 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     // or the maximum error by a tenth. Not with invalid slabs: where the input folds, a finer
     // coarse mesh follows the fold, a coarser one spans it.
     const bool spots = !r.overlapping_slabs.empty() || !far.empty();
-    const bool helped = !plan.was_local || faults < plan.local_faults || max_ratio < 0.9 * plan.local_max;
+    const bool helped = !t.local || faults < plan.local_faults || max_ratio < 0.9 * plan.local_max;
     const bool local = spots && helped && t.invalid_slabs == 0;
+    // A local round that did not help and left more faults or a larger maximum error than the round
+    // before it is undone: the next round grows that round instead, by its own ratio. Refining one
+    // place moved the decimation, and the grid the sample budget allows, everywhere else.
+    const bool worse = t.local && !local && (faults > plan.local_faults || max_ratio > plan.local_max);
+    // An undone round does not count for stuck(): the next round is compared with the one it grows.
+    const bool is_stuck = !worse && stuck(plan, round, t);
     // Otherwise more slabs everywhere: for a missed RMS bound (the coarse mesh too coarse
     // everywhere: smaller slabs at a lower grid follow the input better than larger ones at a
     // finer grid with as many samples), or for spots that refining alone did not fix.
@@ -145,13 +153,15 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     // A missed RMS bound alone grows the slabs by its ratio: the RMS falls about as fast.
     const double growth = spots || faults > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * rms, 1.2, 3.0);
     // Past the source's triangles only where it runs short, and then on its faces split.
-    const double wanted = std::min<double>(tolerance.max_slabs, std::ceil(r.slabs * growth));
+    const double base = worse ? double(plan.before_slabs) : double(r.slabs);
+    const double wanted = std::min<double>(
+        tolerance.max_slabs, std::ceil(worse ? base * std::clamp(plan.before_worst, 1.5, 3.0) : base * growth));
     const bool split = faults == 0 && source_runs_short(plan, local, r.slabs, wanted, tolerance.max_slabs);
     const auto source_faces = static_cast<int64_t>(plan.source->faces.size());
     const int cap =
         static_cast<int>(split ? tolerance.max_slabs : std::min<int64_t>(tolerance.max_slabs, source_faces));
     const int next = static_cast<int>(std::min<double>(cap, wanted));
-    const bool grows = local ? r.slabs < cap : r.slabs < cap && next > r.slabs;
+    const bool grows = local ? r.slabs < cap : r.slabs < cap && next > base;
     if (t.met || is_stuck || round + 1 >= tolerance.max_rounds || !grows) {
       tried.back().stop = t.met                               ? ToleranceStop::Met
                           : is_stuck                          ? ToleranceStop::Faults
@@ -162,9 +172,11 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
       if (report) *report = r;
       return model;
     }
-    plan.was_local = local;
+    plan.refine = local;
     plan.local_faults = faults;
     plan.local_max = max_ratio;
+    plan.before_slabs = r.slabs;
+    plan.before_worst = worst;
     if (split) split_source(plan);
     if (local) {
       analysis::detail::tighten_edge_caps(model, *plan.source, r.overlapping_slabs, far, plan.options.max_edge);

@@ -52,6 +52,7 @@ struct ToleranceRound {
   int64_t overlapping_pairs = 0;  ///< BakeReport::overlapping_pairs of the round
   int64_t ray_misses = 0;         ///< BakeReport::ray_misses of the round
   bool met = false;               ///< every bound of the Tolerance holds, and no slab is invalid or overlaps another
+  bool local = false;  ///< this round refined where the round before missed (local refinement), else every slab
   ToleranceStop stop = ToleranceStop::NotLast;  ///< why the bake stopped here (the last round), else NotLast
 };
 
@@ -73,7 +74,11 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 ///   (BakeOptions::max_edge), and the next decimation stops at the quadric error the last global
 ///   round reached (BakeOptions::max_decimation_cost): the faulty regions get smaller slabs and the
 ///   rest of the mesh the same ones. This goes on while it helps: each local round must reduce the
-///   faults or the maximum error by a tenth.
+///   faults or the maximum error by a tenth. A local round that leaves more faults or a larger
+///   maximum error than the round before it is undone: the global round that follows grows that
+///   round (its slab count times its own ratio), not the local one. Refining one place moves the
+///   decimation everywhere, and with Tolerance::adapt_grid lowers the grid of every slab; growing
+///   the worse round by its larger ratio made up to three times the slabs the bound needed.
 /// - **Global growth** otherwise: for invalid slabs (where the input folds, a finer coarse mesh
 ///   follows the fold and a coarser one spans it), for spots local refinement did not fix, and for
 ///   a missed RMS bound (measured without the far points: the coarse mesh too coarse everywhere).
