@@ -246,7 +246,7 @@ EditFidelity measure_edit_fidelity(const SlabModel& model, const ExactMeshQuery&
   std::vector<Vec3> candidates = input_candidates(in);
   const size_t n_input = candidates.size();
   add_envelope(candidates, tools, spacing, diag);
-  const ExactMeshQuery recon(surface, BvhQuality::medium);
+  const ExactMeshQuery recon(surface, BvhQuality::compact);
   const Sum back = exact_to_model(field, candidates, n_input, recon, near_radius, on_surface);
 
   f.points = fwd.n;

@@ -127,7 +127,7 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
     if (far_flags[k]) far_points->push_back(model_point(k));
   // About one query per triangle (medium quality); the surface is handed over, not copied (0.6 GB
   // at 10^5 slabs), as only the reconstruction's queries read it from here on.
-  const ExactMeshQuery recon(std::move(surface), BvhQuality::medium);
+  const ExactMeshQuery recon(std::move(surface), BvhQuality::compact);
   std::vector<Vec3> all_points;  // every vertex and centroid, unless the caller chose the points
   if (!input_points) all_points = surface_points(input, nullptr);
   const std::vector<Vec3>& back_points = input_points ? *input_points : all_points;
