@@ -19,8 +19,8 @@ struct Plan {
   BakeOptions options;
   double budget = 0;            // submesh triangles (slabs·n²) each round aims at (adapt_grid)
   bool refine = false;          // the next round refines locally
-  int64_t local_faults = 0;     // faults of the round before
-  double local_max = 0;         // its maximum error over the bound
+  int64_t before_faults = 0;    // faults of the round before
+  double before_max = 0;        // its maximum error over the bound
   int64_t before_slabs = 0;     // its slabs
   double before_worst = 0;      // its worst_ratio()
   int stalls = 0;               // rounds running with as many faults as the round before
@@ -138,12 +138,12 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     // or the maximum error by a tenth. Not with invalid slabs: where the input folds, a finer
     // coarse mesh follows the fold, a coarser one spans it.
     const bool spots = !r.overlapping_slabs.empty() || !far.empty();
-    const bool helped = !t.local || faults < plan.local_faults || max_ratio < 0.9 * plan.local_max;
+    const bool helped = !t.local || faults < plan.before_faults || max_ratio < 0.9 * plan.before_max;
     const bool local = spots && helped && t.invalid_slabs == 0;
     // A local round that did not help and left more faults or a larger maximum error than the round
     // before it is undone: the next round grows that round instead, by its own ratio. Refining one
     // place moved the decimation, and the grid the sample budget allows, everywhere else.
-    const bool worse = t.local && !local && (faults > plan.local_faults || max_ratio > plan.local_max);
+    const bool worse = t.local && !local && (faults > plan.before_faults || max_ratio > plan.before_max);
     // An undone round does not count for stuck(): the next round is compared with the one it grows.
     const bool is_stuck = !worse && stuck(plan, round, t);
     // Otherwise more slabs everywhere: for a missed RMS bound (the coarse mesh too coarse
@@ -173,8 +173,8 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
       return model;
     }
     plan.refine = local;
-    plan.local_faults = faults;
-    plan.local_max = max_ratio;
+    plan.before_faults = faults;
+    plan.before_max = max_ratio;
     plan.before_slabs = r.slabs;
     plan.before_worst = worst;
     if (split) split_source(plan);

@@ -125,8 +125,8 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
   const Sum fwd = distances(ns + nt, input, near, model_point, far, far_points ? &far_flags : nullptr);
   for (int64_t k = 0; k < static_cast<int64_t>(far_flags.size()); ++k)
     if (far_flags[k]) far_points->push_back(model_point(k));
-  // About one query per triangle (medium quality); the surface is handed over, not copied (0.6 GB
-  // at 10^5 slabs), as only the reconstruction's queries read it from here on.
+  // About one query per triangle, distances only (compact leaves); the surface is handed over,
+  // not copied (0.6 GB at 10^5 slabs), as only the reconstruction's queries read it from here on.
   const ExactMeshQuery recon(std::move(surface), BvhQuality::compact);
   std::vector<Vec3> all_points;  // every vertex and centroid, unless the caller chose the points
   if (!input_points) all_points = surface_points(input, nullptr);
