@@ -90,6 +90,115 @@ bool stuck(Plan& plan, int round, const ToleranceRound& t) {
   return s;
 }
 
+// One round's measurements against the bounds; @p local: its coarse mesh was refined locally.
+ToleranceRound measure_round(const SlabModel& model, const BakeReport& r, const ExactMeshQuery& input,
+                             const Tolerance& tolerance, bool local, std::vector<Vec3>& far) {
+  ToleranceRound t;
+  t.slabs = r.slabs;
+  t.grid_n = r.grid_n;
+  t.fidelity = measure_fidelity(model, input, tolerance.input_points, tolerance.max_pct, &far);
+  t.invalid_slabs = r.invalid_slabs;
+  t.overlapping_pairs = r.overlapping_pairs;
+  t.ray_misses = r.ray_misses;
+  t.local = local;
+  t.met = worst_ratio(t, tolerance) <= 1;
+  return t;
+}
+
+double max_ratio(const ToleranceRound& t, const Tolerance& tolerance) {
+  return std::max(t.fidelity.max_pct, t.fidelity.max_back_pct) / tolerance.max_pct;
+}
+
+int64_t faults(const ToleranceRound& t) { return int64_t(t.invalid_slabs) + t.overlapping_pairs; }
+
+// What a round that missed asks of the next one.
+struct Decision {
+  bool spots = false;  // misses with a place: overlapping slabs, points beyond the maximum error
+  bool local = false;  // the next round refines at the spots alone
+  bool stuck = false;  // faults more slabs do not reduce (stuck())
+  bool split = false;  // the source's faces are split in four first (source_runs_short())
+  bool grows = false;  // the next round would have more slabs than the one it grows
+  int cap = 0;         // most slabs the next round may have
+  int next = 0;        // slabs of the next round when it is global
+  double rms = 0;      // the RMS ratio to its bound, measured without the far points
+};
+
+Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport& r, bool far_points,
+                const Tolerance& tolerance) {
+  Decision d;
+  const double worst = worst_ratio(t, tolerance), max = max_ratio(t, tolerance);
+  const int64_t f = faults(t);
+  // Misses with a place (overlapping slabs, points beyond the maximum error) are refined there
+  // alone, as long as that helps: the round before was not a local one, or it reduced the faults
+  // or the maximum error by a tenth. Not with invalid slabs: where the input folds, a finer
+  // coarse mesh follows the fold, a coarser one spans it.
+  d.spots = !r.overlapping_slabs.empty() || far_points;
+  const bool helped = !t.local || f < plan.before_faults || max < 0.9 * plan.before_max;
+  d.local = d.spots && helped && t.invalid_slabs == 0;
+  // A local round that did not help and left more faults or a larger maximum error than the round
+  // before it is undone: the next round grows that round instead, by its own ratio. Refining one
+  // place moved the decimation, and the grid the sample budget allows, everywhere else.
+  const bool worse = t.local && !d.local && (f > plan.before_faults || max > plan.before_max);
+  // An undone round does not count for stuck(): the next round is compared with the one it grows.
+  d.stuck = !worse && stuck(plan, round, t);
+  // Otherwise more slabs everywhere: for a missed RMS bound (the coarse mesh too coarse
+  // everywhere: smaller slabs at a lower grid follow the input better than larger ones at a
+  // finer grid with as many samples), or for spots that refining alone did not fix.
+  d.rms = std::max(t.fidelity.rms_within_pct, t.fidelity.rms_back_within_pct) / tolerance.rms_pct;
+  // A missed RMS bound alone grows the slabs by its ratio: the RMS falls about as fast.
+  const double growth = d.spots || f > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * d.rms, 1.2, 3.0);
+  // Past the source's triangles only where it runs short, and then on its faces split.
+  const double base = worse ? double(plan.before_slabs) : double(r.slabs);
+  const double wanted = std::min<double>(
+      tolerance.max_slabs, std::ceil(worse ? base * std::clamp(plan.before_worst, 1.5, 3.0) : base * growth));
+  d.split = f == 0 && source_runs_short(plan, d.local, r.slabs, wanted, tolerance.max_slabs);
+  const auto source_faces = static_cast<int64_t>(plan.source->faces.size());
+  d.cap = static_cast<int>(d.split ? tolerance.max_slabs : std::min<int64_t>(tolerance.max_slabs, source_faces));
+  d.next = static_cast<int>(std::min<double>(d.cap, wanted));
+  d.grows = d.local ? r.slabs < d.cap : r.slabs < d.cap && d.next > base;
+  return d;
+}
+
+// Why the rounds stop at @p t, or NotLast.
+ToleranceStop stop_reason(const ToleranceRound& t, const Decision& d, int round, const Tolerance& tolerance) {
+  if (t.met) return ToleranceStop::Met;
+  if (d.stuck) return ToleranceStop::Faults;
+  if (round + 1 >= tolerance.max_rounds) return ToleranceStop::Rounds;
+  if (!d.grows) return d.cap == tolerance.max_slabs ? ToleranceStop::SlabCap : ToleranceStop::InputFaces;
+  return ToleranceStop::NotLast;
+}
+
+// Sets the options of the round after @p t: caps at its spots (local), or a larger slab count
+// everywhere (global).
+void plan_next_round(Plan& plan, const SlabModel& model, const BakeReport& r, const ToleranceRound& t,
+                     const Decision& d, const std::vector<Vec3>& far, const Tolerance& tolerance) {
+  plan.refine = d.local;
+  plan.before_faults = faults(t);
+  plan.before_max = max_ratio(t, tolerance);
+  plan.before_slabs = r.slabs;
+  plan.before_worst = worst_ratio(t, tolerance);
+  if (d.split) split_source(plan);
+  if (d.local) {
+    analysis::detail::tighten_edge_caps(model, *plan.source, r.overlapping_slabs, far, plan.options.max_edge);
+    // The next decimation stops at the quadric error the last global round reached, so the
+    // rest of the mesh decimates as far as before, and keeps the faulty regions at half size.
+    // A thousandth above it: collapses of equal cost (a symmetric part) all go, whatever their
+    // last bits, so the bake stays the same at any scale of the input.
+    plan.options.max_decimation_cost = plan.decimation_cost * (1 + 1e-3);
+    plan.options.slabs = 1;
+    return;
+  }
+  // A global round starts afresh: its slabs are smaller everywhere, and caps kept where the
+  // input folds would pin the coarse mesh to the fold (invalid slabs at any slab count).
+  plan.options.slabs = d.next;
+  plan.options.max_edge.clear();
+  plan.options.max_decimation_cost = INFINITY;
+  plan.decimation_cost = -1;  // the next round's decimation sets the level local refinement keeps
+  // Only a round that met the maximum and had no faults misses by sampling density as well.
+  if (!d.spots && d.rms > 1) plan.budget *= std::min(d.rms, 3.0);
+  if (tolerance.adapt_grid) plan.options.sample_budget = static_cast<int64_t>(std::ceil(plan.budget));
+}
+
 }  // namespace
 
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
@@ -119,84 +228,15 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     SlabModel model = bake_slabs(*plan.target, name, plan.options, &r);
     model.source_triangles = faces;
     if (plan.decimation_cost < 0) plan.decimation_cost = r.decimation_cost;
-    ToleranceRound t;
-    t.slabs = r.slabs;
-    t.grid_n = r.grid_n;
-    t.fidelity = measure_fidelity(model, input, tolerance.input_points, tolerance.max_pct, &far);
-    t.invalid_slabs = r.invalid_slabs;
-    t.overlapping_pairs = r.overlapping_pairs;
-    t.ray_misses = r.ray_misses;
-    t.local = plan.refine;
-    const double worst = worst_ratio(t, tolerance);
-    t.met = worst <= 1;
-    tried.push_back(t);
-    const Fidelity& f = t.fidelity;
-    const double max_ratio = std::max(f.max_pct, f.max_back_pct) / tolerance.max_pct;
-    const int64_t faults = int64_t(t.invalid_slabs) + t.overlapping_pairs;
-    // Misses with a place (overlapping slabs, points beyond the maximum error) are refined there
-    // alone, as long as that helps: the round before was not a local one, or it reduced the faults
-    // or the maximum error by a tenth. Not with invalid slabs: where the input folds, a finer
-    // coarse mesh follows the fold, a coarser one spans it.
-    const bool spots = !r.overlapping_slabs.empty() || !far.empty();
-    const bool helped = !t.local || faults < plan.before_faults || max_ratio < 0.9 * plan.before_max;
-    const bool local = spots && helped && t.invalid_slabs == 0;
-    // A local round that did not help and left more faults or a larger maximum error than the round
-    // before it is undone: the next round grows that round instead, by its own ratio. Refining one
-    // place moved the decimation, and the grid the sample budget allows, everywhere else.
-    const bool worse = t.local && !local && (faults > plan.before_faults || max_ratio > plan.before_max);
-    // An undone round does not count for stuck(): the next round is compared with the one it grows.
-    const bool is_stuck = !worse && stuck(plan, round, t);
-    // Otherwise more slabs everywhere: for a missed RMS bound (the coarse mesh too coarse
-    // everywhere: smaller slabs at a lower grid follow the input better than larger ones at a
-    // finer grid with as many samples), or for spots that refining alone did not fix.
-    const double rms = std::max(f.rms_within_pct, f.rms_back_within_pct) / tolerance.rms_pct;
-    // A missed RMS bound alone grows the slabs by its ratio: the RMS falls about as fast.
-    const double growth = spots || faults > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * rms, 1.2, 3.0);
-    // Past the source's triangles only where it runs short, and then on its faces split.
-    const double base = worse ? double(plan.before_slabs) : double(r.slabs);
-    const double wanted = std::min<double>(
-        tolerance.max_slabs, std::ceil(worse ? base * std::clamp(plan.before_worst, 1.5, 3.0) : base * growth));
-    const bool split = faults == 0 && source_runs_short(plan, local, r.slabs, wanted, tolerance.max_slabs);
-    const auto source_faces = static_cast<int64_t>(plan.source->faces.size());
-    const int cap =
-        static_cast<int>(split ? tolerance.max_slabs : std::min<int64_t>(tolerance.max_slabs, source_faces));
-    const int next = static_cast<int>(std::min<double>(cap, wanted));
-    const bool grows = local ? r.slabs < cap : r.slabs < cap && next > base;
-    if (t.met || is_stuck || round + 1 >= tolerance.max_rounds || !grows) {
-      tried.back().stop = t.met                               ? ToleranceStop::Met
-                          : is_stuck                          ? ToleranceStop::Faults
-                          : round + 1 >= tolerance.max_rounds ? ToleranceStop::Rounds
-                          : cap == tolerance.max_slabs        ? ToleranceStop::SlabCap
-                                                              : ToleranceStop::InputFaces;
+    tried.push_back(measure_round(model, r, input, tolerance, plan.refine, far));
+    const Decision d = decide(plan, round, tried.back(), r, !far.empty(), tolerance);
+    tried.back().stop = stop_reason(tried.back(), d, round, tolerance);
+    if (tried.back().stop != ToleranceStop::NotLast) {
       if (rounds) *rounds = std::move(tried);
       if (report) *report = r;
       return model;
     }
-    plan.refine = local;
-    plan.before_faults = faults;
-    plan.before_max = max_ratio;
-    plan.before_slabs = r.slabs;
-    plan.before_worst = worst;
-    if (split) split_source(plan);
-    if (local) {
-      analysis::detail::tighten_edge_caps(model, *plan.source, r.overlapping_slabs, far, plan.options.max_edge);
-      // The next decimation stops at the quadric error the last global round reached, so the
-      // rest of the mesh decimates as far as before, and keeps the faulty regions at half size.
-      // A thousandth above it: collapses of equal cost (a symmetric part) all go, whatever their
-      // last bits, so the bake stays the same at any scale of the input.
-      plan.options.max_decimation_cost = plan.decimation_cost * (1 + 1e-3);
-      plan.options.slabs = 1;
-      continue;
-    }
-    // A global round starts afresh: its slabs are smaller everywhere, and caps kept where the
-    // input folds would pin the coarse mesh to the fold (invalid slabs at any slab count).
-    plan.options.slabs = next;
-    plan.options.max_edge.clear();
-    plan.options.max_decimation_cost = INFINITY;
-    plan.decimation_cost = -1;  // the next round's decimation sets the level local refinement keeps
-    // Only a round that met the maximum and had no faults misses by sampling density as well.
-    if (!spots && rms > 1) plan.budget *= std::min(rms, 3.0);
-    if (tolerance.adapt_grid) plan.options.sample_budget = static_cast<int64_t>(std::ceil(plan.budget));
+    plan_next_round(plan, model, r, tried.back(), d, far, tolerance);
   }
 }
 
