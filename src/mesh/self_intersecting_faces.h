@@ -1,20 +1,26 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Internal: which faces of a mesh intersect another (self-intersecting faces), shared by count_self_intersections() and
-// the crumple repair of resolve_open_self_intersections() (defined in self_intersections.cpp, with CGAL).
+// the crumple repair of resolve_open_self_intersections() (defined in self_intersecting_faces.cpp, with CGAL).
 
 #include <hdm/mesh/triangle_mesh.h>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace hdm::mesh::detail {
 
-// Faces of @p mesh in intersecting face pairs, by CGAL's `Polygon_mesh_processing::self_intersections`
-// (exact predicates, parallel; sharing a vertex or an edge is not a crossing) on
-// to_surface_mesh(@p mesh), whose face k is face k of @p mesh: one flag per face (1: crosses), and
-// the number of intersecting face pairs in @p pairs when given. @p mesh is not validated (callers do).
-// O(#F log #F).
+// The intersecting face pairs of @p mesh, each (a, b) with a <= b, sorted: pairs of faces whose
+// triangles meet elsewhere than in the vertices they share by index (CGAL's box intersection and
+// exact predicates; the rule of CGAL's `Polygon_mesh_processing::self_intersections`, for which
+// faces sharing a vertex or an edge do not cross), and (f, f) for each face f whose corners are
+// collinear. @p mesh is not validated (callers do). O(#F log #F + pairs of overlapping boxes),
+// on every core (TBB).
+std::vector<std::pair<int32_t, int32_t>> self_intersecting_pairs(const TriangleMesh& mesh);
+
+// Faces of @p mesh in self_intersecting_pairs(): one flag per face (1: crosses), and the number of
+// pairs in @p pairs when given.
 std::vector<char> self_intersecting_faces(const TriangleMesh& mesh, int64_t* pairs = nullptr);
 
 }  // namespace hdm::mesh::detail

@@ -186,19 +186,6 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
 
 }  // namespace
 
-std::vector<char> mesh::detail::self_intersecting_faces(const TriangleMesh& mesh, int64_t* pairs_out) {
-  const Mesh sm = mesh::detail::to_surface_mesh<Mesh>(mesh);
-  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
-  PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, std::back_inserter(pairs));
-  std::vector<char> crossing(mesh.faces.size(), 0);
-  for (const auto& [a, b] : pairs) {
-    if (size_t(a.idx()) < crossing.size()) crossing[a.idx()] = 1;
-    if (size_t(b.idx()) < crossing.size()) crossing[b.idx()] = 1;
-  }
-  if (pairs_out) *pairs_out = static_cast<int64_t>(pairs.size());
-  return crossing;
-}
-
 int64_t count_self_intersections(const TriangleMesh& mesh) {
   validate_mesh_data(mesh, "count_self_intersections input");
   int64_t pairs = 0;
