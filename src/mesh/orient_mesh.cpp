@@ -4,6 +4,9 @@
 #include "nearly_closed.h"
 #include "disjoint_sets.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <numeric>
 #include <unordered_map>
@@ -46,38 +49,66 @@ bool inside_part(const TriangleMesh& m, const Part& part, const Vec3& p) {
 }
 
 // Half-edges (a→b) of a mesh keyed a·nv + b, sorted; a face's edge has a twin when some face has (b→a).
+// Per half-edge 3f + k (face f's vertex k to vertex k + 1): `twin` is the face across it (the
+// first face, by number, that traverses its edge the other way; -1: none, a boundary or a
+// misoriented neighbour), `first` the first face that traverses it the same way (itself, unless the
+// edge is used twice in one direction). One parallel sort of the undirected edges and a linear scan
+// (a binary search per half-edge cost 20 s at 12.6 M faces).
 struct HalfEdges {
-  uint64_t nv = 0;
-  std::vector<std::pair<uint64_t, int32_t>> half;  // (key, face)
+  std::vector<int32_t> twin, first;
 
-  explicit HalfEdges(const TriangleMesh& mesh) : nv(mesh.vertices.size()), half(3 * mesh.faces.size()) {
-    for (size_t f = 0; f < mesh.faces.size(); ++f)
-      for (int k = 0; k < 3; ++k)
-        half[3 * f + k] = {uint64_t(mesh.faces[f][k]) * nv + uint64_t(mesh.faces[f][(k + 1) % 3]), int32_t(f)};
-    std::sort(half.begin(), half.end());
-  }
-  // The face with half-edge (a→b), or -1.
-  int32_t face(int32_t a, int32_t b) const {
-    const uint64_t key = uint64_t(a) * nv + uint64_t(b);
-    const auto it = std::lower_bound(half.begin(), half.end(), std::make_pair(key, int32_t(-1)));
-    return it != half.end() && it->first == key ? it->second : -1;
+  explicit HalfEdges(const TriangleMesh& mesh) : twin(3 * mesh.faces.size(), -1), first(3 * mesh.faces.size()) {
+    struct Use {
+      uint64_t edge;  // lo << 32 | hi << 1 | (lo is the face's vertex k): vertex ids are below 2³¹
+      uint32_t half;  // 3f + k
+    };
+    const size_t nh = 3 * mesh.faces.size();
+    std::vector<Use> uses(nh);
+    tbb::parallel_for(size_t(0), mesh.faces.size(), [&](size_t f) {
+      for (int k = 0; k < 3; ++k) {
+        const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
+        const auto [lo, hi] = std::minmax(a, b);
+        uses[3 * f + k] = {(uint64_t(lo) << 32) | (uint64_t(hi) << 1) | uint64_t(a < b), uint32_t(3 * f + k)};
+      }
+    });
+    tbb::parallel_sort(uses.begin(), uses.end(),
+                       [](const Use& x, const Use& y) { return x.edge != y.edge ? x.edge < y.edge : x.half < y.half; });
+    for (size_t i = 0; i < nh;) {
+      size_t j = i;
+      int32_t by_dir[2] = {-1, -1};  // the first face of each direction
+      for (; j < nh && (uses[j].edge >> 1) == (uses[i].edge >> 1); ++j) {
+        int32_t& f = by_dir[uses[j].edge & 1];
+        if (f < 0) f = int32_t(uses[j].half / 3);
+      }
+      // (a→a) of a face with a repeated vertex is its own reverse.
+      const bool loop = (uses[i].edge >> 32) == ((uses[i].edge >> 1) & 0x7fffffffu);
+      for (size_t k = i; k < j; ++k) {
+        const int d = int(uses[k].edge & 1);
+        twin[uses[k].half] = by_dir[loop ? d : 1 - d];
+        first[uses[k].half] = by_dir[d];
+      }
+      i = j;
+    }
   }
 };
 
-// The parts of @p mesh (components through shared edges) with their faces, boxes, areas and
-// signed volumes; @p part_of_face per face; @p boundary the half-edges without a twin.
+// A half-edge without a twin: (a→b) of a face, and the first face with (a→b) (HalfEdges::first).
+struct BoundaryEdge {
+  int32_t first, second, face;
+};
+
 std::vector<Part> mesh_parts(const TriangleMesh& mesh, const HalfEdges& he, std::vector<int32_t>& part_of_face,
-                             std::vector<std::pair<int32_t, int32_t>>& boundary) {
+                             std::vector<BoundaryEdge>& boundary) {
   const size_t nf = mesh.faces.size();
   mesh::detail::DisjointSets<> sets(nf);
   for (size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
-      const int32_t g = he.face(b, a);
+      const int32_t g = he.twin[3 * f + k];
       if (g >= 0)
         sets.unite(int32_t(f), g);
       else
-        boundary.emplace_back(a, b);
+        boundary.push_back({a, b, he.first[3 * f + k]});
     }
   std::unordered_map<int32_t, int32_t> part_of_root;
   std::vector<Part> parts;
@@ -100,8 +131,7 @@ std::vector<Part> mesh_parts(const TriangleMesh& mesh, const HalfEdges& he, std:
 
 // Boundary loops: follow (a→b) to the boundary half-edge leaving b; cap each with a fan around
 // the loop's centroid, counted in its part's cap area and volume, and mark the part open.
-void cap_boundary_loops(const TriangleMesh& mesh, const HalfEdges& he,
-                        const std::vector<std::pair<int32_t, int32_t>>& boundary,
+void cap_boundary_loops(const TriangleMesh& mesh, const std::vector<BoundaryEdge>& boundary,
                         const std::vector<int32_t>& part_of_face, std::vector<Part>& parts) {
   std::unordered_multimap<int32_t, size_t> leaving;
   for (size_t k = 0; k < boundary.size(); ++k) leaving.emplace(boundary[k].first, k);
@@ -124,7 +154,7 @@ void cap_boundary_loops(const TriangleMesh& mesh, const HalfEdges& he,
     for (size_t k : loop) c += mesh.vertices[boundary[k].first];
     c /= double(loop.size());
     // The part of the loop's first edge (a→b): its face is the one with (a→b).
-    Part& part = parts[part_of_face[he.face(boundary[loop[0]].first, boundary[loop[0]].second)]];
+    Part& part = parts[part_of_face[boundary[loop[0]].face]];
     part.closed = false;
     for (size_t k : loop) {
       const Vec3 &a = mesh.vertices[boundary[k].first], &b = mesh.vertices[boundary[k].second];
@@ -172,9 +202,9 @@ OrientReport orient_outward(TriangleMesh& mesh) {
   if (mesh.faces.empty()) return rep;
   const HalfEdges he(mesh);
   std::vector<int32_t> part_of_face;
-  std::vector<std::pair<int32_t, int32_t>> boundary;  // (a, b) half-edges without a twin
+  std::vector<BoundaryEdge> boundary;
   std::vector<Part> parts = mesh_parts(mesh, he, part_of_face, boundary);
-  if (!boundary.empty()) cap_boundary_loops(mesh, he, boundary, part_of_face, parts);
+  if (!boundary.empty()) cap_boundary_loops(mesh, boundary, part_of_face, parts);
   flip_inward_solids(mesh, parts, rep);
   return rep;
 }
