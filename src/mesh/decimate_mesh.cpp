@@ -13,8 +13,9 @@
 #include <tuple>
 #include <vector>
 
-#include "simplifier.h"
+#include "decimate_parts.h"
 #include "disjoint_sets.h"
+#include "simplifier.h"
 
 namespace hdm {
 namespace {
@@ -79,6 +80,35 @@ TriangleMesh split_pinched_vertices(const TriangleMesh& mesh, std::vector<int32_
 
 }  // namespace
 
+TriangleMesh mesh::detail::decimate_pinch_free(const TriangleMesh& input, const DecimateOptions& options, bool clean,
+                                               DecimateReport* report, std::vector<int32_t>* kept,
+                                               std::vector<uint8_t> frozen) {
+  std::vector<int32_t> origin;  // input vertex of each copy split_pinched_vertices() appended
+  DecimateOptions o = options;
+  const TriangleMesh split = split_pinched_vertices(input, origin);
+  for (int32_t v : origin)
+    if (!o.max_edge.empty()) o.max_edge.push_back(options.max_edge[v]);
+  Simplifier s(split, o);
+  if (!frozen.empty()) {
+    for (int32_t v : origin) frozen.push_back(frozen[v]);
+    s.freeze(std::move(frozen));
+  }
+  s.run(options.target_faces, options.max_cost);
+  if (clean) s.clean_folds();
+  TriangleMesh out = s.result(kept);
+  if (kept)
+    for (int32_t& v : *kept)
+      if (v >= static_cast<int32_t>(input.vertices.size())) v = origin[v - input.vertices.size()];
+  if (report) {
+    report->faces = static_cast<int64_t>(out.faces.size());
+    report->vertices = static_cast<int64_t>(out.vertices.size());
+    report->feature_edges = s.feature_edges();
+    report->collapses = s.collapses();
+    report->last_cost = s.last_cost();
+  }
+  return out;
+}
+
 TriangleMesh decimate_mesh(const TriangleMesh& input, const DecimateOptions& options, DecimateReport* report) {
   validate_mesh_data(input, "decimate_mesh input");
   if (options.target_faces < 1)
@@ -91,21 +121,14 @@ TriangleMesh decimate_mesh(const TriangleMesh& input, const DecimateOptions& opt
   if (!options.max_edge.empty() && options.max_edge.size() != input.vertices.size())
     throw InvalidInput("decimate_mesh: max_edge has " + std::to_string(options.max_edge.size()) + " values for " +
                        std::to_string(input.vertices.size()) + " vertices");
-  std::vector<int32_t> origin;  // input vertex of each copy split_pinched_vertices() appended
-  DecimateOptions o = options;
-  const TriangleMesh split = split_pinched_vertices(input, origin);
-  for (int32_t v : origin)
-    if (!o.max_edge.empty()) o.max_edge.push_back(options.max_edge[v]);
-  Simplifier s(split, o);
-  s.run(options.target_faces, options.max_cost);
-  s.clean_folds();
-  TriangleMesh out = s.result();
+  if (!mesh::detail::decimate_in_parts_first(input, options))
+    return mesh::detail::decimate_pinch_free(input, options, true, report, nullptr);
+  DecimateReport parts;
+  const TriangleMesh coarser = mesh::detail::decimate_in_parts(input, options, &parts);
+  TriangleMesh out = mesh::detail::decimate_pinch_free(coarser, options, true, report, nullptr);
   if (report) {
-    report->faces = static_cast<int64_t>(out.faces.size());
-    report->vertices = static_cast<int64_t>(out.vertices.size());
-    report->feature_edges = s.feature_edges();
-    report->collapses = s.collapses();
-    report->last_cost = s.last_cost();
+    report->collapses += parts.collapses;
+    report->last_cost = std::max(report->last_cost, parts.last_cost);
   }
   return out;
 }

@@ -52,15 +52,20 @@ void Simplifier::run(int64_t target, double max_cost) {
   }
 }
 
-TriangleMesh Simplifier::result() const {
+TriangleMesh Simplifier::result(std::vector<int32_t>* kept) const {
   TriangleMesh out;
+  if (kept) kept->clear();
   std::vector<int32_t> id(pos_.size(), -1);
   for (size_t f = 0; f < faces_.size(); ++f) {
     if (!alive_face_[f]) continue;
     Tri t;
     for (int k = 0; k < 3; ++k) {
       int32_t& i = id[faces_[f][k]];
-      if (i < 0) i = static_cast<int32_t>(out.vertices.size()), out.vertices.push_back(pos_[faces_[f][k]]);
+      if (i < 0) {
+        i = static_cast<int32_t>(out.vertices.size());
+        out.vertices.push_back(pos_[faces_[f][k]]);
+        if (kept) kept->push_back(faces_[f][k]);
+      }
       t[k] = i;
     }
     out.faces.push_back(t);

@@ -117,7 +117,13 @@ class Simplifier {
   // no single edge collapse resolves (its ring twists, so every merged star's cone is empty too).
   bool remove_vertex(int32_t v);
 
-  TriangleMesh result() const;
+  // The live faces, with every vertex they use; @p kept (optional) gets, per vertex of the result,
+  // its index in the mesh the simplifier was made from.
+  TriangleMesh result(std::vector<int32_t>* kept = nullptr) const;
+
+  // Vertices no collapse may remove, move or give a new edge (1 per vertex; empty: none): where a
+  // part of a mesh decimated on its own meets the others (decimate_in_parts()).
+  void freeze(std::vector<uint8_t> frozen) { frozen_ = std::move(frozen); }
 
   int64_t feature_edges() const { return features_; }
   int64_t collapses() const { return collapses_; }
@@ -188,7 +194,7 @@ class Simplifier {
   std::vector<Vec3> pos_;
   std::vector<Tri> faces_;
   std::vector<int32_t> head_, next_;
-  std::vector<uint8_t> alive_face_, alive_, retry_;
+  std::vector<uint8_t> alive_face_, alive_, retry_, frozen_;
   std::vector<uint32_t> version_;
   std::vector<Quadric> quadric_;
   std::vector<double>

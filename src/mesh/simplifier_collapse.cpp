@@ -16,6 +16,12 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
   // the faces on edge ab; an interior edge may not join two boundary vertices; and two faces
   // (a,c,d), (b,c,d) would become one pair of duplicates.
   const bool ba = ring(a, ra_), bb = ring(b, rb_);
+  if (!frozen_.empty()) {  // nothing within one edge of a frozen vertex changes
+    const auto frozen = [&](int32_t v) { return frozen_[v] != 0; };
+    if (frozen(a) || frozen(b) || std::any_of(ra_.begin(), ra_.end(), frozen) ||
+        std::any_of(rb_.begin(), rb_.end(), frozen))
+      return false;
+  }
   shared_.clear();
   int32_t apex[2] = {-1, -1};
   int edge_faces = 0;

@@ -206,6 +206,30 @@ TEST(DecimateMeshTest, TorusKeepsGenusOrientationAndReachesTheTarget) {
   EXPECT_GT(signed_volume(out), 0.8 * signed_volume(in));  // outward, and the tube was not flattened
 }
 
+TEST(DecimateMeshTest, ALargeInputDecimatedInPartsKeepsItsGenusAndItsShape) {
+  // 1,048,576 faces, about 3,500 times the target: decimated first in eight spatial parts at once,
+  // where the parts meet left as they are, then whole. The parts must join into one closed torus,
+  // and no part may be decimated further than the whole would be: every face stays close to the
+  // analytic torus. (Where the parts meet, more faces stay than the part's share of the target:
+  // counting them in that share took the rest of the part to faces 0.23 from the torus.)
+  const double R = 1.0, r = 0.3;
+  const TriangleMesh in = torus(R, r, 1024, 512);
+  const int64_t target = 300;
+  const TriangleMesh out = check_decimation(in, target, "large torus");
+  EXPECT_LE(int64_t(out.faces.size()), target * 11 / 10);
+  const auto off_torus = [&](const Vec3& p) { return std::abs(std::hypot(std::hypot(p.x(), p.y()) - R, p.z()) - r); };
+  double worst = 0;
+  for (const Tri& t : out.faces) {
+    const Vec3 &a = out.vertices[t[0]], &b = out.vertices[t[1]], &c = out.vertices[t[2]];
+    for (const Vec3& p : {Vec3((a + b + c) / 3), Vec3((a + b) / 2), Vec3((b + c) / 2), Vec3((c + a) / 2)})
+      worst = std::max(worst, off_torus(p));
+  }
+  // An even tiling of the torus's area 4π²Rr by `target` faces has edges e, whose chords leave the
+  // surface by e²/(8r) where it curves most (1/r): 0.038.
+  const double e = std::sqrt(4 * (4 * std::numbers::pi * std::numbers::pi * R * r) / (std::sqrt(3.0) * target));
+  EXPECT_LT(worst, 3 * e * e / (8 * r));
+}
+
 TEST(DecimateMeshTest, TwoComponentsAndATubeTooThinToDecimateFar) {
   // A fat torus and a thin one: components are kept, and the thin tube (radius 1/100 of its ring)
   // stops early rather than losing its cross-section (every vertex must keep a visible star).

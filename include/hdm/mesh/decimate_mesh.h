@@ -53,7 +53,8 @@ struct DecimateOptions {
 struct DecimateReport {
   int64_t faces = 0;          ///< faces of the result
   int64_t vertices = 0;       ///< vertices of the result
-  int64_t feature_edges = 0;  ///< input edges marked as features (creases and boundary)
+  int64_t feature_edges = 0;  ///< input edges marked as features (creases and boundary; for an
+                              ///< input decimated in parts first, those of the joined parts)
   int64_t collapses = 0;      ///< edge collapses made
   double last_cost = 0;       ///< largest quadric error of a collapse the queue made (DecimateOptions::max_cost)
 };
@@ -95,8 +96,15 @@ struct DecimateReport {
 ///         target_faces faces unless the checks refuse every further collapse.
 /// @throws InvalidInput for invalid mesh data (validate_mesh_data()), non-manifold or
 ///         inconsistently oriented edges, or target_faces < 1.
-/// @note O(#F log #F), single-threaded; allocates about 150 bytes per input face (positions,
-///       quadrics, corner lists and the lazy priority queue).
+/// A large input (at least 2²⁰ faces and 64 times target_faces, without max_edge) is first
+/// decimated in spatial parts of about 2¹⁷ faces along a Morton curve, in parallel, each to its share
+/// of 16 times target_faces, with the vertices where parts meet and every edge to them left as
+/// they are; the joined parts, the same surface and topology, are then decimated as above. On
+/// armadillo subdivided to 4.2 M triangles, to 8,000 faces: 11 s instead of 35 s, the faces' largest
+/// distance to the input 0.305 % of the diagonal instead of 0.325 % (docs/performance.md).
+/// @note O(#F log #F); single-threaded below the size above, allocating about 150 bytes per input
+///       face (positions, quadrics, corner lists and the lazy priority queue); above it, that per
+///       part at once on every core (TBB), and 16 bytes per input face for the Morton order.
 TriangleMesh decimate_mesh(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report = nullptr);
 
 }  // namespace hdm

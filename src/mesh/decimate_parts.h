@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Internal to decimate_mesh(): the decimation of a pinch-free copy of a mesh, and the first pass of
+// a large input's decimation, made in spatial parts at once.
+
+#include <hdm/mesh/decimate_mesh.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace hdm::mesh::detail {
+
+// decimate_mesh() on a validated @p mesh: vertices shared by several fans split, the collapse
+// queue run, then (with @p clean) the stars no direction sees cleaned. @p kept (optional) gets,
+// per vertex of the result, the vertex of @p mesh it is (a split copy: the vertex it was split from).
+// No collapse touches a vertex with @p frozen 1 or its edges (Simplifier::freeze(); empty: none).
+TriangleMesh decimate_pinch_free(const TriangleMesh& mesh, const DecimateOptions& options, bool clean,
+                                 DecimateReport* report, std::vector<int32_t>* kept,
+                                 std::vector<uint8_t> frozen = {});
+
+// Whether decimate_mesh() decimates @p mesh in parts first (decimate_in_parts()): a large input
+// (at least kLargeFaces faces, 64 times the target or more) without per-vertex edge limits.
+bool decimate_in_parts_first(const TriangleMesh& mesh, const DecimateOptions& options);
+
+// Faces from which an input is large.
+inline constexpr int64_t kLargeFaces = 1 << 20;
+// Faces per part of decimate_in_parts(): a part's collapse queue, about 20 bytes per entry and three
+// entries per face, then fits a cache better (armadillo at 4.2 M triangles, to 8,000 faces: the
+// parts in 13.0 s at 2¹⁹ faces each, 8.4 s at 2¹⁷, 6.1 s at 2¹⁵ but with 600,000 faces left for
+// the whole to decimate instead of 385,000).
+inline constexpr int64_t kPartFaces = 1 << 17;
+
+// The first pass of a large input's decimation: the faces cut into parts of about kPartFaces faces
+// along a Morton curve of their centroids, each part decimated on its own (in parallel, TBB) to its
+// share of 16 times options.target_faces, with the vertices two parts share, and every edge to
+// them, left as they are (frozen), so the parts still join. The result has the input's topology (each
+// part's collapses keep it, and none touches where parts meet); the whole is then decimated as
+// usual. Why: one queue over millions of edges is slow and cannot be shared between threads; a
+// part's is small and its own (armadillo subdivided to 12.6 M triangles: see docs/performance.md).
+// @p report gets the parts' collapses and largest cost.
+TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report);
+
+}  // namespace hdm::mesh::detail
