@@ -53,6 +53,7 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
   validate_mesh_data(in.mesh, name);
   r.scale_exponent = scale_exponent(bounds(in.mesh).diagonal(), name);
   scale_mesh(in.mesh, r.scale_exponent);
+  bool repaired = false;
   if (!options.repair) {
     validate_for_bake(in.mesh, name);
   } else if (needs_repair(in.mesh)) {
@@ -60,11 +61,14 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
     ro.max_hole_edges = options.max_hole_edges;
     ro.max_hole_size = options.max_hole_size;
     in.mesh = repair_mesh(in.mesh, name, ro, &r.repair);
+    repaired = true;
   }
   r.orient = orient_outward(in.mesh);
   r.self_intersections = count_self_intersections(in.mesh);
   bool open = r.orient.nearly_closed + r.orient.sheets > 0;  // some part has a boundary edge
-  const bool valid = bakeable(in.mesh);
+  // A mesh that needed no repair, or passed validate_for_bake(), is bakeable: orient_outward()
+  // flips whole edge-connected parts, which keeps every edge as it was (one topology pass less).
+  const bool valid = !repaired || bakeable(in.mesh);
 
   TriangleMesh before = valid ? in.mesh : TriangleMesh{};
   if (r.self_intersections > 0 && open) close_self_intersecting_parts(in, open);
