@@ -82,7 +82,7 @@ TriangleMesh split_pinched_vertices(const TriangleMesh& mesh, std::vector<int32_
 
 TriangleMesh mesh::detail::decimate_pinch_free(const TriangleMesh& input, const DecimateOptions& options, bool clean,
                                                DecimateReport* report, std::vector<int32_t>* kept,
-                                               std::vector<uint8_t> frozen) {
+                                               std::vector<uint8_t> frozen, std::vector<double>* max_edge) {
   std::vector<int32_t> origin;  // input vertex of each copy split_pinched_vertices() appended
   DecimateOptions o = options;
   const TriangleMesh split = split_pinched_vertices(input, origin);
@@ -95,7 +95,14 @@ TriangleMesh mesh::detail::decimate_pinch_free(const TriangleMesh& input, const 
   }
   s.run(options.target_faces, options.max_cost);
   if (clean) s.clean_folds();
-  TriangleMesh out = s.result(kept);
+  std::vector<int32_t> ids;
+  TriangleMesh out = s.result(kept || max_edge ? &ids : nullptr);
+  if (max_edge) {
+    max_edge->clear();
+    if (!o.max_edge.empty())
+      for (int32_t v : ids) max_edge->push_back(s.max_edge(v));
+  }
+  if (kept) *kept = std::move(ids);
   if (kept)
     for (int32_t& v : *kept)
       if (v >= static_cast<int32_t>(input.vertices.size())) v = origin[v - input.vertices.size()];
@@ -124,8 +131,9 @@ TriangleMesh decimate_mesh(const TriangleMesh& input, const DecimateOptions& opt
   if (!mesh::detail::decimate_in_parts_first(input, options))
     return mesh::detail::decimate_pinch_free(input, options, true, report, nullptr);
   DecimateReport parts;
-  const TriangleMesh coarser = mesh::detail::decimate_in_parts(input, options, &parts);
-  TriangleMesh out = mesh::detail::decimate_pinch_free(coarser, options, true, report, nullptr);
+  DecimateOptions whole = options;
+  const TriangleMesh coarser = mesh::detail::decimate_in_parts(input, options, &parts, &whole.max_edge);
+  TriangleMesh out = mesh::detail::decimate_pinch_free(coarser, whole, true, report, nullptr);
   if (report) {
     report->collapses += parts.collapses;
     report->last_cost = std::max(report->last_cost, parts.last_cost);

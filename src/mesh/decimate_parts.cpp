@@ -7,7 +7,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <atomic>
+#include <cmath>
 #include <utility>
 
 namespace hdm::mesh::detail {
@@ -87,10 +87,11 @@ Part make_part(const TriangleMesh& mesh, const int32_t* faces, size_t count, con
 
 bool decimate_in_parts_first(const TriangleMesh& mesh, const DecimateOptions& options) {
   const auto faces = static_cast<int64_t>(mesh.faces.size());
-  return options.max_edge.empty() && faces >= kLargeFaces && faces >= 64 * options.target_faces;
+  return faces >= kLargeFaces && faces >= 64 * options.target_faces;
 }
 
-TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report) {
+TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report,
+                               std::vector<double>* max_edge) {
   const std::vector<int32_t> order = morton_order(mesh);
   const size_t nf = order.size(), parts = (nf + kPartFaces - 1) / kPartFaces;
   const auto begin = [&](size_t p) { return p * nf / parts; };
@@ -105,16 +106,21 @@ TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& 
       }
   std::vector<TriangleMesh> results(parts);
   std::vector<std::vector<int32_t>> kept(parts);
+  std::vector<std::vector<double>> caps(parts);  // per kept vertex, with options.max_edge
   std::vector<DecimateReport> reports(parts);
   const double keep = 16.0 * double(options.target_faces) / double(nf);
   tbb::parallel_for(size_t(0), parts, [&](size_t p) {
     Part part = make_part(mesh, order.data() + begin(p), begin(p + 1) - begin(p), shared);
     DecimateOptions o = options;
+    if (!options.max_edge.empty()) {
+      o.max_edge.resize(part.global.size());
+      for (size_t v = 0; v < part.global.size(); ++v) o.max_edge[v] = options.max_edge[part.global[v]];
+    }
     // Its share of the faces to keep, beside the faces where it meets other parts (a target that
     // counted those would decimate the rest of the part too far).
     const auto faces = static_cast<int64_t>(part.mesh.faces.size());
     o.target_faces = std::max<int64_t>(1, part.band + int64_t(keep * double(faces - part.band)));
-    results[p] = decimate_pinch_free(part.mesh, o, false, &reports[p], &kept[p], std::move(part.shared));
+    results[p] = decimate_pinch_free(part.mesh, o, false, &reports[p], &kept[p], std::move(part.shared), &caps[p]);
     for (int32_t& v : kept[p]) v = part.global[v];  // to the mesh's vertex ids
   });
   // The parts joined: each vertex of the mesh a part kept, once (a shared one is kept by all its
@@ -125,8 +131,13 @@ TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& 
   TriangleMesh out;
   for (size_t v = 0; v < id.size(); ++v)
     if (id[v] == 0) id[v] = int32_t(out.vertices.size()), out.vertices.push_back(mesh.vertices[v]);
+  if (max_edge) max_edge->assign(options.max_edge.empty() ? 0 : out.vertices.size(), INFINITY);
   for (size_t p = 0; p < parts; ++p) {
-    for (size_t v = 0; v < kept[p].size(); ++v) out.vertices[id[kept[p][v]]] = results[p].vertices[v];
+    for (size_t v = 0; v < kept[p].size(); ++v) {
+      out.vertices[id[kept[p][v]]] = results[p].vertices[v];
+      // A shared vertex is kept by each of its parts, unmerged: every part gives its own value.
+      if (max_edge && !caps[p].empty()) (*max_edge)[id[kept[p][v]]] = caps[p][v];
+    }
     for (const Tri& t : results[p].faces)
       out.faces.push_back({id[kept[p][t[0]]], id[kept[p][t[1]]], id[kept[p][t[2]]]});
   }

@@ -12,14 +12,16 @@ namespace hdm::mesh::detail {
 
 // decimate_mesh() on a validated @p mesh: vertices shared by several fans split, the collapse
 // queue run, then (with @p clean) the stars no direction sees cleaned. @p kept (optional) gets,
-// per vertex of the result, the vertex of @p mesh it is (a split copy: the vertex it was split from).
-// No collapse touches a vertex with @p frozen 1 or its edges (Simplifier::freeze(); empty: none).
+// per vertex of the result, the vertex of @p mesh it is (a split copy: the vertex it was split from),
+// and @p max_edge (optional, with options.max_edge) the longest edge a later collapse may make there
+// (the least max_edge of the vertices merged into it). No collapse touches a vertex with @p frozen 1
+// or its edges (Simplifier::freeze(); empty: none).
 TriangleMesh decimate_pinch_free(const TriangleMesh& mesh, const DecimateOptions& options, bool clean,
                                  DecimateReport* report, std::vector<int32_t>* kept,
-                                 std::vector<uint8_t> frozen = {});
+                                 std::vector<uint8_t> frozen = {}, std::vector<double>* max_edge = nullptr);
 
 // Whether decimate_mesh() decimates @p mesh in parts first (decimate_in_parts()): a large input
-// (at least kLargeFaces faces, 64 times the target or more) without per-vertex edge limits.
+// (at least kLargeFaces faces, 64 times the target or more).
 bool decimate_in_parts_first(const TriangleMesh& mesh, const DecimateOptions& options);
 
 // Faces from which an input is large.
@@ -37,7 +39,10 @@ inline constexpr int64_t kPartFaces = 1 << 17;
 // part's collapses keep it, and none touches where parts meet); the whole is then decimated as
 // usual. Why: one queue over millions of edges is slow and cannot be shared between threads; a
 // part's is small and its own (armadillo subdivided to 12.6 M triangles: see docs/performance.md).
-// @p report gets the parts' collapses and largest cost.
-TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report);
+// With options.max_edge, each part's collapses keep to it, and @p max_edge gets the value for each
+// vertex of the result that the whole's decimation must keep to (the least of the input vertices
+// merged into it). @p report gets the parts' collapses and largest cost.
+TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report,
+                               std::vector<double>* max_edge);
 
 }  // namespace hdm::mesh::detail

@@ -7,6 +7,7 @@
 
 #include <hdm/mesh/decimate_mesh.h>
 
+#include <cmath>
 #include <queue>
 #include <vector>
 
@@ -120,6 +121,10 @@ class Simplifier {
   // The live faces, with every vertex they use; @p kept (optional) gets, per vertex of the result,
   // its index in the mesh the simplifier was made from.
   TriangleMesh result(std::vector<int32_t>* kept = nullptr) const;
+
+  // The longest edge a collapse may make at vertex v: the least DecimateOptions::max_edge of the
+  // input vertices merged into it (+inf without max_edge).
+  double max_edge(int32_t v) const { return max_edge_.empty() ? INFINITY : max_edge_[v]; }
 
   // Vertices no collapse may remove, move or give a new edge (1 per vertex; empty: none): where a
   // part of a mesh decimated on its own meets the others (decimate_in_parts()).

@@ -296,21 +296,25 @@ TEST(DecimateMeshTest, ACrumpleIsMergedAway) {
 
 // Local refinement: edge caps on the northern cap of a sphere keep the faces there small, and the
 // quadric-error level of an uncapped run keeps the rest as coarse as that run made it.
-TEST(DecimateMeshTest, EdgeCapsRefineTheirRegionAndNothingElse) {
-  const TriangleMesh in = test::icosphere(5, 1.0);  // 20,480 faces, edges about 0.04
+namespace {
+
+// Caps the edges made at the vertices of a unit sphere's northern cap (z > 0.6) to 0.15 and
+// decimates @p sphere as far as an uncapped decimation to 400 faces went (its last cost): the cap
+// holds, the northern cap gets more vertices and the south about as many.
+void expect_caps_refine_their_region(const TriangleMesh& sphere, const std::string& what) {
   DecimateOptions free;
   free.target_faces = 400;
   DecimateReport first;
-  const TriangleMesh coarse = decimate_mesh(in, free, &first);
+  const TriangleMesh coarse = decimate_mesh(sphere, free, &first);
   ASSERT_GT(first.last_cost, 0);
   constexpr double kCap = 0.15, kNorth = 0.6;
   DecimateOptions capped;
   capped.target_faces = 1;
   capped.max_cost = first.last_cost;
-  capped.max_edge.assign(in.vertices.size(), INFINITY);
-  for (size_t v = 0; v < in.vertices.size(); ++v)
-    if (in.vertices[v].z() > kNorth) capped.max_edge[v] = kCap;
-  const TriangleMesh fine = check_decimation(in, 1, "capped sphere", capped);
+  capped.max_edge.assign(sphere.vertices.size(), INFINITY);
+  for (size_t v = 0; v < sphere.vertices.size(); ++v)
+    if (sphere.vertices[v].z() > kNorth) capped.max_edge[v] = kCap;
+  const TriangleMesh fine = check_decimation(sphere, 1, what, capped);
   // Edges made between capped vertices are at most the cap (input edges are shorter).
   double longest = 0;
   for (const Tri& t : fine.faces)
@@ -318,17 +322,29 @@ TEST(DecimateMeshTest, EdgeCapsRefineTheirRegionAndNothingElse) {
       const Vec3 &a = fine.vertices[t[k]], &b = fine.vertices[t[(k + 1) % 3]];
       if (a.z() > kNorth && b.z() > kNorth) longest = std::max(longest, (a - b).norm());
     }
-  EXPECT_LE(longest, kCap + 1e-12);
+  EXPECT_LE(longest, kCap + 1e-12) << what;
   // Counted by region: more vertices in the capped cap, about as many in the south.
   auto count = [](const TriangleMesh& m, auto in_region) {
     return std::count_if(m.vertices.begin(), m.vertices.end(), in_region);
   };
   const auto north = [&](const Vec3& p) { return p.z() > kNorth; };
   const auto south = [](const Vec3& p) { return p.z() < -0.2; };
-  EXPECT_GT(count(fine, north), 3 * count(coarse, north));
-  EXPECT_NEAR(double(count(fine, south)), double(count(coarse, south)), 0.15 * double(count(coarse, south)));
+  EXPECT_GT(count(fine, north), 3 * count(coarse, north)) << what;
+  EXPECT_NEAR(double(count(fine, south)), double(count(coarse, south)), 0.15 * double(count(coarse, south))) << what;
   // The cap's area over kCap²: at least that order of vertices are needed there.
-  EXPECT_GT(count(fine, north), 2.0 * std::numbers::pi * (1 - kNorth) / (kCap * kCap));
+  EXPECT_GT(count(fine, north), 2.0 * std::numbers::pi * (1 - kNorth) / (kCap * kCap)) << what;
+}
+
+}  // namespace
+
+TEST(DecimateMeshTest, EdgeCapsRefineTheirRegionAndNothingElse) {
+  expect_caps_refine_their_region(test::icosphere(5, 1.0), "capped sphere");  // 20,480 faces, edges about 0.04
+}
+
+TEST(DecimateMeshTest, EdgeCapsHoldThroughTheDecimationInParts) {
+  // 1,310,720 faces: decimated in spatial parts first, where each part's collapses keep to the
+  // caps and the whole then keeps to the least cap of the vertices each part merged.
+  expect_caps_refine_their_region(test::icosphere(8, 1.0), "large capped sphere");
 }
 
 TEST(DecimateMeshTest, RefusesWhatItCannotDecimate) {
