@@ -1,22 +1,21 @@
 // SPDX-License-Identifier: MIT
-// Which faces of a triangle soup cross another: CGAL's box intersection (in parallel with TBB) and
-// exact predicates, on the faces as indexed triangles. No halfedge mesh is built: converting a
-// 12.6 M-triangle input to a CGAL::Surface_mesh (soup orientation, then one Euler::add_face per
-// face) took longer than the crossing test itself.
-
-// CGAL's parallel box intersection is compiled only with this macro; every CGAL type this unit
-// instantiates templates with is local to it.
-#ifndef CGAL_LINKED_WITH_TBB
-#define CGAL_LINKED_WITH_TBB
-#endif
+// Which faces of a triangle soup cross another: candidate pairs from Embree's BVH-against-BVH
+// collision (`rtcCollide`, in parallel) over the faces' boxes, each decided with CGAL's exact
+// predicates, on the faces as indexed triangles. No halfedge mesh is built: converting a 12.6 M-
+// triangle input to a CGAL::Surface_mesh (soup orientation, then one Euler::add_face per face) took
+// longer than the crossing test itself.
 
 #include "self_intersecting_faces.h"
 
+#include <hdm/core/error.h>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/box_intersection_d.h>
+#include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <utility>
 
 namespace hdm {
@@ -26,28 +25,15 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Pairs = std::vector<std::pair<int32_t, int32_t>>;
 
-// A face's bounding box in single precision, rounded outwards (so it holds the face): half the
-// memory of a box of doubles. CGAL's box intersection gets pointers to them: it copies the
-// ranges it sorts, and copies of the boxes themselves (faster to sort, 26 s against 30 s for the
-// count at 12.6 M faces) took 2 GB more.
-struct FaceBox {
-  using NT = float;
-  using ID = std::size_t;
-  float lo[3], hi[3];
-  int32_t face;
-  static int dimension() { return 3; }
-  float min_coord(int d) const { return lo[d]; }
-  float max_coord(int d) const { return hi[d]; }
-  ID id() const { return ID(face); }
-};
-
+// x rounded to a float two steps outwards: the face's box holds it, and boxes of faces that only
+// touch overlap by more than a point, whatever Embree's overlap test does at equality.
 float down(double x) {
   const float f = static_cast<float>(x);
-  return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+  return std::nextafter(double(f) > x ? std::nextafter(f, -INFINITY) : f, -INFINITY);
 }
 float up(double x) {
   const float f = static_cast<float>(x);
-  return double(f) < x ? std::nextafter(f, INFINITY) : f;
+  return std::nextafter(double(f) < x ? std::nextafter(f, INFINITY) : f, INFINITY);
 }
 
 // Whether faces @p a and @p b cross, sharing a vertex or an edge not counting (the rule of CGAL's
@@ -88,26 +74,60 @@ bool cross(const TriangleMesh& m, const Tri& a, const Tri& b) {
 
 std::vector<std::pair<int32_t, int32_t>> mesh::detail::self_intersecting_pairs(const TriangleMesh& mesh) {
   Pairs out;
-  std::vector<FaceBox> boxes;
-  boxes.reserve(mesh.faces.size());
+  // The faces with a box: all but those whose corners are collinear, which are reported paired with
+  // themselves, as CGAL does.
+  struct Scan {
+    const TriangleMesh* mesh;
+    std::vector<int32_t> faces;
+    tbb::enumerable_thread_specific<Pairs> found;
+  } scan{&mesh, {}, {}};
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
     const Tri& t = mesh.faces[f];
-    const Vec3 &p = mesh.vertices[t[0]], &q = mesh.vertices[t[1]], &r = mesh.vertices[t[2]];
-    if (CGAL::collinear(Point(p.x(), p.y(), p.z()), Point(q.x(), q.y(), q.z()), Point(r.x(), r.y(), r.z()))) {
-      out.emplace_back(static_cast<int32_t>(f), static_cast<int32_t>(f));  // degenerate: paired with itself, as CGAL does
-      continue;
-    }
-    const Vec3 lo = p.cwiseMin(q).cwiseMin(r), hi = p.cwiseMax(q).cwiseMax(r);
-    boxes.push_back({{down(lo.x()), down(lo.y()), down(lo.z())}, {up(hi.x()), up(hi.y()), up(hi.z())}, int32_t(f)});
+    const auto point = [&](int k) {
+      const Vec3& p = mesh.vertices[t[k]];
+      return Point(p.x(), p.y(), p.z());
+    };
+    if (CGAL::collinear(point(0), point(1), point(2)))
+      out.emplace_back(static_cast<int32_t>(f), static_cast<int32_t>(f));
+    else
+      scan.faces.push_back(static_cast<int32_t>(f));
   }
-  std::vector<const FaceBox*> pointers(boxes.size());
-  for (size_t i = 0; i < boxes.size(); ++i) pointers[i] = &boxes[i];
-  tbb::enumerable_thread_specific<Pairs> found;
-  const auto test = [&](const FaceBox* a, const FaceBox* b) {
-    if (cross(mesh, mesh.faces[a->face], mesh.faces[b->face])) found.local().emplace_back(a->face, b->face);
-  };
-  CGAL::box_self_intersection_d<CGAL::Parallel_tag>(pointers.begin(), pointers.end(), test, std::ptrdiff_t(2000));
-  for (const Pairs& p : found) out.insert(out.end(), p.begin(), p.end());
+  if (!scan.faces.empty()) {
+    const std::unique_ptr<RTCDeviceTy, decltype(&rtcReleaseDevice)> device(rtcNewDevice(nullptr), rtcReleaseDevice);
+    if (!device) throw NumericalError("self-intersection test: Embree could not start");
+    const std::unique_ptr<RTCSceneTy, decltype(&rtcReleaseScene)> scene(rtcNewScene(device.get()), rtcReleaseScene);
+    RTCGeometry boxes = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(boxes, static_cast<unsigned>(scan.faces.size()));
+    rtcSetGeometryBoundsFunction(
+        boxes,
+        [](const RTCBoundsFunctionArguments* a) {
+          const Scan& s = *static_cast<const Scan*>(a->geometryUserPtr);
+          const Tri& t = s.mesh->faces[s.faces[a->primID]];
+          const Vec3 &p = s.mesh->vertices[t[0]], &q = s.mesh->vertices[t[1]], &r = s.mesh->vertices[t[2]];
+          const Vec3 lo = p.cwiseMin(q).cwiseMin(r), hi = p.cwiseMax(q).cwiseMax(r);
+          *a->bounds_o = {down(lo.x()), down(lo.y()), down(lo.z()), 0, up(hi.x()), up(hi.y()), up(hi.z()), 0};
+        },
+        nullptr);
+    rtcSetGeometryUserData(boxes, &scan);
+    rtcCommitGeometry(boxes);
+    rtcAttachGeometry(scene.get(), boxes);
+    rtcReleaseGeometry(boxes);
+    rtcCommitScene(scene.get());
+    // Each overlapping pair comes twice, (a, b) and (b, a), from the threads Embree runs on (TBB).
+    rtcCollide(
+        scene.get(), scene.get(),
+        [](void* user, RTCCollision* c, unsigned n) {
+          Scan& s = *static_cast<Scan*>(user);
+          Pairs& found = s.found.local();
+          for (unsigned i = 0; i < n; ++i) {
+            if (c[i].primID0 >= c[i].primID1) continue;
+            const int32_t a = s.faces[c[i].primID0], b = s.faces[c[i].primID1];
+            if (cross(*s.mesh, s.mesh->faces[a], s.mesh->faces[b])) found.emplace_back(a, b);
+          }
+        },
+        &scan);
+  }
+  for (const Pairs& p : scan.found) out.insert(out.end(), p.begin(), p.end());
   for (auto& [a, b] : out)
     if (a > b) std::swap(a, b);
   std::sort(out.begin(), out.end());  // the same list whatever the threads did

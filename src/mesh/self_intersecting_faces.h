@@ -12,11 +12,11 @@
 namespace hdm::mesh::detail {
 
 // The intersecting face pairs of @p mesh, each (a, b) with a <= b, sorted: pairs of faces whose
-// triangles meet elsewhere than in the vertices they share by index (CGAL's box intersection and
-// exact predicates; the rule of CGAL's `Polygon_mesh_processing::self_intersections`, for which
-// faces sharing a vertex or an edge do not cross), and (f, f) for each face f whose corners are
-// collinear. @p mesh is not validated (callers do). O(#F log #F + pairs of overlapping boxes),
-// on every core (TBB).
+// triangles meet elsewhere than in the vertices they share by index (the rule of CGAL's
+// `Polygon_mesh_processing::self_intersections`, for which faces sharing a vertex or an edge do
+// not cross; candidates from Embree's `rtcCollide` over the faces' boxes, decided with CGAL's exact
+// predicates), and (f, f) for each face f whose corners are collinear. @p mesh is not validated
+// (callers do). O(#F log #F + candidate pairs), on every core (Embree's TBB tasks).
 std::vector<std::pair<int32_t, int32_t>> self_intersecting_pairs(const TriangleMesh& mesh);
 
 // Faces of @p mesh in self_intersecting_pairs(): one flag per face (1: crosses), and the number of
