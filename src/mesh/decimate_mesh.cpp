@@ -102,10 +102,11 @@ TriangleMesh mesh::detail::decimate_pinch_free(const TriangleMesh& input, const 
     if (!o.max_edge.empty())
       for (int32_t v : ids) max_edge->push_back(s.max_edge(v));
   }
-  if (kept) *kept = std::move(ids);
-  if (kept)
-    for (int32_t& v : *kept)
+  if (kept) {  // a split copy is the vertex it was split from
+    for (int32_t& v : ids)
       if (v >= static_cast<int32_t>(input.vertices.size())) v = origin[v - input.vertices.size()];
+    *kept = std::move(ids);
+  }
   if (report) {
     report->faces = static_cast<int64_t>(out.faces.size());
     report->vertices = static_cast<int64_t>(out.vertices.size());

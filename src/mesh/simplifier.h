@@ -177,6 +177,10 @@ class Simplifier {
   // geometric checks allow it. Returns whether it did.
   bool collapse(int32_t a, int32_t b, bool reopen = false);
 
+  // Whether collapsing edge (a, b) keeps the topology (the link condition) and leaves frozen
+  // vertices and their edges as they are; fills ra_, rb_ and shared_ for the geometric checks.
+  bool link_condition(int32_t a, int32_t b);
+
   // Whether collapsing b into a at x leaves no edge (x, w) longer than the max_edge_ of a, b and w.
   bool short_edges(int32_t a, int32_t b, const Vec3& x) const;
 

@@ -11,7 +11,7 @@
 
 namespace hdm::mesh::detail {
 
-bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
+bool Simplifier::link_condition(int32_t a, int32_t b) {
   // Link condition (Dey et al. 1999): the common neighbours of a and b are exactly the apexes of
   // the faces on edge ab; an interior edge may not join two boundary vertices; and two faces
   // (a,c,d), (b,c,d) would become one pair of duplicates.
@@ -50,7 +50,11 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
     });
     if (acd && bcd) return false;
   }
+  return true;
+}
 
+bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
+  if (!link_condition(a, b)) return false;
   const Quadric q = quadric_[a] + quadric_[b];
   if (forced_) return merge(a, b, pos_[a], q, -2, std::numbers::pi), true;
   // Geometry: no face of the star turns by more than max_normal_turn or becomes a new sliver;
