@@ -3,9 +3,10 @@
 
 #include "nearly_closed.h"
 #include "disjoint_sets.h"
+#include "edge_buckets.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <numeric>
@@ -48,47 +49,40 @@ bool inside_part(const TriangleMesh& m, const Part& part, const Vec3& p) {
   return in;
 }
 
-// Half-edges (a→b) of a mesh keyed a·nv + b, sorted; a face's edge has a twin when some face has (b→a).
 // Per half-edge 3f + k (face f's vertex k to vertex k + 1): `twin` is the face across it (the
 // first face, by number, that traverses its edge the other way; -1: none, a boundary or a
 // misoriented neighbour), `first` the first face that traverses it the same way (itself, unless the
-// edge is used twice in one direction). One parallel sort of the undirected edges and a linear scan
-// (a binary search per half-edge cost 20 s at 12.6 M faces).
+// edge is used twice in one direction). From the half-edges grouped by edge (EdgeBuckets), each
+// vertex's group sorted and scanned in parallel.
 struct HalfEdges {
   std::vector<int32_t> twin, first;
 
   explicit HalfEdges(const TriangleMesh& mesh) : twin(3 * mesh.faces.size(), -1), first(3 * mesh.faces.size()) {
-    struct Use {
-      uint64_t edge;  // lo << 32 | hi << 1 | (lo is the face's vertex k): vertex ids are below 2³¹
-      uint32_t half;  // 3f + k
-    };
-    const size_t nh = 3 * mesh.faces.size();
-    std::vector<Use> uses(nh);
-    tbb::parallel_for(size_t(0), mesh.faces.size(), [&](size_t f) {
-      for (int k = 0; k < 3; ++k) {
-        const int32_t a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
-        const auto [lo, hi] = std::minmax(a, b);
-        uses[3 * f + k] = {(uint64_t(lo) << 32) | (uint64_t(hi) << 1) | uint64_t(a < b), uint32_t(3 * f + k)};
+    using mesh::detail::EdgeBuckets;
+    EdgeBuckets edges(mesh, true);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.vertices.size(), 4096), [&](const auto& range) {
+      for (size_t lo = range.begin(); lo < range.end(); ++lo) {
+        edges.sort(lo);
+        for (uint64_t i = edges.start[lo], end = edges.start[lo + 1]; i < end;) {
+          const int32_t hi = EdgeBuckets::hi(edges.uses[i]);
+          uint64_t j = i;
+          int32_t by_dir[2] = {-1, -1};  // the first face of each direction
+          for (; j < end && EdgeBuckets::hi(edges.uses[j]) == hi; ++j) {
+            int32_t& f = by_dir[EdgeBuckets::forward(edges.uses[j])];
+            if (f < 0) f = int32_t(EdgeBuckets::half(edges.uses[j]) / 3);
+          }
+          // (a→a) of a face with a repeated vertex is its own reverse.
+          const bool loop = hi == int32_t(lo);
+          for (uint64_t k = i; k < j; ++k) {
+            const int d = EdgeBuckets::forward(edges.uses[k]);
+            const uint32_t h = EdgeBuckets::half(edges.uses[k]);
+            twin[h] = by_dir[loop ? d : 1 - d];
+            first[h] = by_dir[d];
+          }
+          i = j;
+        }
       }
     });
-    tbb::parallel_sort(uses.begin(), uses.end(),
-                       [](const Use& x, const Use& y) { return x.edge != y.edge ? x.edge < y.edge : x.half < y.half; });
-    for (size_t i = 0; i < nh;) {
-      size_t j = i;
-      int32_t by_dir[2] = {-1, -1};  // the first face of each direction
-      for (; j < nh && (uses[j].edge >> 1) == (uses[i].edge >> 1); ++j) {
-        int32_t& f = by_dir[uses[j].edge & 1];
-        if (f < 0) f = int32_t(uses[j].half / 3);
-      }
-      // (a→a) of a face with a repeated vertex is its own reverse.
-      const bool loop = (uses[i].edge >> 32) == ((uses[i].edge >> 1) & 0x7fffffffu);
-      for (size_t k = i; k < j; ++k) {
-        const int d = int(uses[k].edge & 1);
-        twin[uses[k].half] = by_dir[loop ? d : 1 - d];
-        first[uses[k].half] = by_dir[d];
-      }
-      i = j;
-    }
   }
 };
 
@@ -110,15 +104,13 @@ std::vector<Part> mesh_parts(const TriangleMesh& mesh, const HalfEdges& he, std:
       else
         boundary.push_back({a, b, he.first[3 * f + k]});
     }
-  std::unordered_map<int32_t, int32_t> part_of_root;
   std::vector<Part> parts;
-  part_of_face.resize(nf);
+  part_of_face.assign(nf, -1);  // first the part of each root face, then of every face
   for (size_t f = 0; f < nf; ++f) {
-    const int32_t r = sets.find(int32_t(f));
-    auto [it, added] = part_of_root.emplace(r, int32_t(parts.size()));
-    if (added) parts.emplace_back();
-    part_of_face[f] = it->second;
-    Part& p = parts[it->second];
+    int32_t& part = part_of_face[sets.find(int32_t(f))];
+    if (part < 0) part = int32_t(parts.size()), parts.emplace_back();
+    part_of_face[f] = part;
+    Part& p = parts[part];
     p.faces.push_back(int32_t(f));
     for (int32_t v : mesh.faces[f]) p.box.extend(mesh.vertices[v]);
     const Vec3 &a = mesh.vertices[mesh.faces[f][0]], &b = mesh.vertices[mesh.faces[f][1]],

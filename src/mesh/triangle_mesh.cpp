@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include <hdm/core/error.h>
 #include <hdm/mesh/triangle_mesh.h>
+#include "../core/parallel_for.h"
 #include "disjoint_sets.h"
+#include "edge_buckets.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -17,46 +19,43 @@ Aabb bounds(const TriangleMesh& mesh) {
   return box;
 }
 
+namespace {
+
+constexpr size_t kGrain = 1 << 16;  // faces per block of the parallel area test
+
+}  // namespace
+
 MeshTopology analyze_topology(const TriangleMesh& mesh) {
   MeshTopology t;
   const double area_eps = 1e-14 * std::pow(std::max(bounds(mesh).diagonal(), 1e-300), 2);
-  // One key per directed edge: the undirected edge (lo, hi) in the high bits, the direction
-  // (a < b) in the lowest, so one parallel integer sort groups the uses of each edge.
-  std::vector<uint64_t> edges;
-  edges.reserve(mesh.faces.size() * 3);
+  std::vector<int> degenerate(core::detail::parallel_workers(mesh.faces.size(), kGrain), 0);
+  core::detail::parallel_blocks(mesh.faces.size(), kGrain, [&](size_t begin, size_t end, size_t w) {
+    for (size_t i = begin; i < end; ++i) {
+      const Tri& f = mesh.faces[i];
+      const bool repeats = f[0] == f[1] || f[1] == f[2] || f[0] == f[2];
+      degenerate[w] += repeats || (mesh.vertices[f[1]] - mesh.vertices[f[0]])
+                                          .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]])
+                                          .norm() <= area_eps;
+    }
+  });
+  t.degenerate_faces = std::accumulate(degenerate.begin(), degenerate.end(), 0);
+  mesh::detail::EdgeBuckets edges(mesh, false);
   mesh::detail::DisjointSets<> sets(mesh.vertices.size());
-  for (const Tri& f : mesh.faces) {
-    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
-      ++t.degenerate_faces;
-      continue;
+  for (size_t lo = 0; lo < mesh.vertices.size(); ++lo) {
+    // Group the uses of each edge (lo, hi); count uses and directions.
+    edges.sort(lo);
+    for (uint64_t i = edges.start[lo], end = edges.start[lo + 1]; i < end;) {
+      const int32_t hi = edges.hi(edges.uses[i]);
+      int uses = 0, forward = 0;
+      for (; i < end && edges.hi(edges.uses[i]) == hi; ++i) ++uses, forward += edges.forward(edges.uses[i]);
+      if (uses == 1)
+        ++t.boundary_edges;
+      else if (uses > 2)
+        ++t.non_manifold_edges;
+      else if (forward != 1)
+        ++t.inconsistent_edges;
+      sets.unite(int32_t(lo), hi);
     }
-    const Vec3 n = (mesh.vertices[f[1]] - mesh.vertices[f[0]]).cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
-    if (n.norm() <= area_eps) ++t.degenerate_faces;
-    for (int k = 0; k < 3; ++k) {
-      const int32_t a = f[k], b = f[(k + 1) % 3];
-      const auto [lo, hi] = std::minmax(a, b);
-      edges.push_back((((uint64_t(uint32_t(lo)) << 32) | uint32_t(hi)) << 1) | uint64_t(a < b));
-      sets.unite(a, b);
-    }
-  }
-  // Group by undirected edge; count uses and directions.
-  std::sort(edges.begin(), edges.end());
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    const uint64_t key = edges[i] >> 1;
-    int forward = 0;
-    while (j < edges.size() && (edges[j] >> 1) == key) {
-      forward += static_cast<int>(edges[j] & 1);
-      ++j;
-    }
-    const size_t uses = j - i;
-    if (uses == 1)
-      ++t.boundary_edges;
-    else if (uses > 2)
-      ++t.non_manifold_edges;
-    else if (forward != 1)
-      ++t.inconsistent_edges;
-    i = j;
   }
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
     t.components += sets.find(static_cast<int32_t>(v)) == static_cast<int32_t>(v);
