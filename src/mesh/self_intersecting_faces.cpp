@@ -12,6 +12,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -63,9 +64,16 @@ bool cross(const TriangleMesh& m, const Tri& a, const Tri& b) {
   }
   const Kernel::Triangle_3 ta(a0, a1, a2), tb(b0, b1, b2);
   if (shared == 1) {
-    const Kernel::Segment_3 sa(point(a[(ia + 1) % 3]), point(a[(ia + 2) % 3]));
-    const Kernel::Segment_3 sb(point(b[(ib + 1) % 3]), point(b[(ib + 2) % 3]));
-    return CGAL::do_intersect(ta, sb) || CGAL::do_intersect(tb, sa);
+    const Point sa0 = point(a[(ia + 1) % 3]), sa1 = point(a[(ia + 2) % 3]);
+    const Point sb0 = point(b[(ib + 1) % 3]), sb1 = point(b[(ib + 2) % 3]);
+    // Neighbours on a surface: each face's far edge lies strictly on one side of the other's plane
+    // (two orientation tests each, where do_intersect() costs several times more).
+    const auto off_plane = [](const Point& p, const Point& q, const Point& r, const Point& s, const Point& t) {
+      const CGAL::Orientation o = CGAL::orientation(p, q, r, s);
+      return o != CGAL::COPLANAR && o == CGAL::orientation(p, q, r, t);
+    };
+    if (off_plane(a0, a1, a2, sb0, sb1) && off_plane(b0, b1, b2, sa0, sa1)) return false;
+    return CGAL::do_intersect(ta, Kernel::Segment_3(sb0, sb1)) || CGAL::do_intersect(tb, Kernel::Segment_3(sa0, sa1));
   }
   return CGAL::do_intersect(ta, tb);
 }
@@ -79,8 +87,9 @@ std::vector<std::pair<int32_t, int32_t>> mesh::detail::self_intersecting_pairs(c
   struct Scan {
     const TriangleMesh* mesh;
     std::vector<int32_t> faces;
+    std::vector<RTCBounds> boxes;
     tbb::enumerable_thread_specific<Pairs> found;
-  } scan{&mesh, {}, {}};
+  } scan{&mesh, {}, {}, {}};
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
     const Tri& t = mesh.faces[f];
     const auto point = [&](int k) {
@@ -96,16 +105,23 @@ std::vector<std::pair<int32_t, int32_t>> mesh::detail::self_intersecting_pairs(c
     const std::unique_ptr<RTCDeviceTy, decltype(&rtcReleaseDevice)> device(rtcNewDevice(nullptr), rtcReleaseDevice);
     if (!device) throw NumericalError("self-intersection test: Embree could not start");
     const std::unique_ptr<RTCSceneTy, decltype(&rtcReleaseScene)> scene(rtcNewScene(device.get()), rtcReleaseScene);
+    rtcSetSceneBuildQuality(scene.get(), RTC_BUILD_QUALITY_LOW);
     RTCGeometry boxes = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryBuildQuality(boxes, RTC_BUILD_QUALITY_LOW);
     rtcSetGeometryUserPrimitiveCount(boxes, static_cast<unsigned>(scan.faces.size()));
+    // The boxes first, in parallel: Embree's builder calls the bounds function per primitive and
+    // per build pass.
+    scan.boxes.resize(scan.faces.size());
+    tbb::parallel_for(size_t(0), scan.faces.size(), [&](size_t i) {
+      const Tri& t = mesh.faces[scan.faces[i]];
+      const Vec3 &p = mesh.vertices[t[0]], &q = mesh.vertices[t[1]], &r = mesh.vertices[t[2]];
+      const Vec3 lo = p.cwiseMin(q).cwiseMin(r), hi = p.cwiseMax(q).cwiseMax(r);
+      scan.boxes[i] = {down(lo.x()), down(lo.y()), down(lo.z()), 0, up(hi.x()), up(hi.y()), up(hi.z()), 0};
+    });
     rtcSetGeometryBoundsFunction(
         boxes,
         [](const RTCBoundsFunctionArguments* a) {
-          const Scan& s = *static_cast<const Scan*>(a->geometryUserPtr);
-          const Tri& t = s.mesh->faces[s.faces[a->primID]];
-          const Vec3 &p = s.mesh->vertices[t[0]], &q = s.mesh->vertices[t[1]], &r = s.mesh->vertices[t[2]];
-          const Vec3 lo = p.cwiseMin(q).cwiseMin(r), hi = p.cwiseMax(q).cwiseMax(r);
-          *a->bounds_o = {down(lo.x()), down(lo.y()), down(lo.z()), 0, up(hi.x()), up(hi.y()), up(hi.z()), 0};
+          *a->bounds_o = static_cast<const Scan*>(a->geometryUserPtr)->boxes[a->primID];
         },
         nullptr);
     rtcSetGeometryUserData(boxes, &scan);
