@@ -2,7 +2,9 @@
 // The first pass of a large input's decimation: spatial parts decimated at once, where they meet
 // left as they are.
 #include "decimate_parts.h"
+#include "../core/morton.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -13,27 +15,14 @@
 namespace hdm::mesh::detail {
 namespace {
 
-// Interleaves the low 21 bits of x with two zero bits after each (a 63-bit Morton code's x part).
-uint64_t spread(uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-
 // The faces of @p mesh in Morton order of their centroids in the bounding box.
 std::vector<int32_t> morton_order(const TriangleMesh& mesh) {
   const Aabb box = bounds(mesh);
-  const Vec3 size = (box.max - box.min).cwiseMax(Vec3::Constant(1e-300));
   std::vector<std::pair<uint64_t, int32_t>> keyed(mesh.faces.size());
   tbb::parallel_for(size_t(0), mesh.faces.size(), [&](size_t f) {
     const Tri& t = mesh.faces[f];
     const Vec3 c = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3;
-    const Vec3 u = ((c - box.min).cwiseQuotient(size) * double((1 << 21) - 1)).cwiseMax(0.0);
-    keyed[f] = {spread(uint64_t(u.x())) | spread(uint64_t(u.y())) << 1 | spread(uint64_t(u.z())) << 2, int32_t(f)};
+    keyed[f] = {core::detail::morton_code(c, box), int32_t(f)};
   });
   tbb::parallel_sort(keyed.begin(), keyed.end());
   std::vector<int32_t> order(keyed.size());
@@ -59,20 +48,21 @@ int64_t band_faces(const Part& p) {
   return band;
 }
 
-Part make_part(const TriangleMesh& mesh, const int32_t* faces, size_t count, const std::vector<uint8_t>& shared) {
+// @p local: #V entries of -1, the scratch that maps mesh vertices to the part's (left as given).
+Part make_part(const TriangleMesh& mesh, const int32_t* faces, size_t count, const std::vector<uint8_t>& shared,
+               std::vector<int32_t>& local) {
   Part p;
   for (size_t i = 0; i < count; ++i)
-    for (int32_t v : mesh.faces[faces[i]]) p.global.push_back(v);
-  std::sort(p.global.begin(), p.global.end());
-  p.global.erase(std::unique(p.global.begin(), p.global.end()), p.global.end());
-  const auto local = [&](int32_t v) {
-    return int32_t(std::lower_bound(p.global.begin(), p.global.end(), v) - p.global.begin());
-  };
+    for (int32_t v : mesh.faces[faces[i]])
+      if (local[v] < 0) local[v] = 0, p.global.push_back(v);
+  std::sort(p.global.begin(), p.global.end());  // the part's vertices in the mesh's order
+  for (size_t v = 0; v < p.global.size(); ++v) local[p.global[v]] = int32_t(v);
   p.mesh.faces.reserve(count);
   for (size_t i = 0; i < count; ++i) {
     const Tri& t = mesh.faces[faces[i]];
-    p.mesh.faces.push_back({local(t[0]), local(t[1]), local(t[2])});
+    p.mesh.faces.push_back({local[t[0]], local[t[1]], local[t[2]]});
   }
+  for (int32_t v : p.global) local[v] = -1;
   p.mesh.vertices.reserve(p.global.size());
   p.shared.reserve(p.global.size());
   for (int32_t v : p.global) {
@@ -109,8 +99,9 @@ TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& 
   std::vector<std::vector<double>> caps(parts);  // per kept vertex, with options.max_edge
   std::vector<DecimateReport> reports(parts);
   const double keep = 16.0 * double(options.target_faces) / double(nf);
+  tbb::enumerable_thread_specific<std::vector<int32_t>> scratch(std::vector<int32_t>(mesh.vertices.size(), -1));
   tbb::parallel_for(size_t(0), parts, [&](size_t p) {
-    Part part = make_part(mesh, order.data() + begin(p), begin(p + 1) - begin(p), shared);
+    Part part = make_part(mesh, order.data() + begin(p), begin(p + 1) - begin(p), shared, scratch.local());
     DecimateOptions o = options;
     if (!options.max_edge.empty()) {
       o.max_edge.resize(part.global.size());
