@@ -2,11 +2,14 @@
 #include <hdm/analysis/fidelity.h>
 #include <hdm/mesh/winding_number.h>
 #include <hdm/query/slab_query.h>
+#include "../core/morton.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -44,6 +47,27 @@ Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt 
       },
       [](const Sum& a, const Sum& b) { return a + b; });
 }
+
+// The indices of @p points by the Morton code of each in their bounding box, in one 64-bit word a
+// point: the index in the low bits, the code's leading bits above it (8 bytes a point, not 16).
+struct MortonOrder {
+  std::vector<uint64_t> keys;
+  uint64_t mask = 0;
+  int64_t operator[](size_t k) const { return int64_t(keys[k] & mask); }
+
+  explicit MortonOrder(const std::vector<Vec3>& points) : keys(points.size()) {
+    Aabb box;
+    for (const Vec3& p : points) box.extend(p);
+    int bits = 1;
+    while ((uint64_t(1) << bits) < points.size()) ++bits;
+    mask = (uint64_t(1) << bits) - 1;
+    const int drop = std::max(0, bits - 1);  // the code has 63 bits; 64 - bits of them stay
+    tbb::parallel_for(size_t(0), points.size(), [&](size_t k) {
+      keys[k] = (core::detail::morton_code(points[k], box) >> drop) << bits | uint64_t(k);
+    });
+    tbb::parallel_sort(keys.begin(), keys.end());
+  }
+};
 
 }  // namespace
 
@@ -133,10 +157,14 @@ Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, c
   const std::vector<Vec3>& back_points = input_points ? *input_points : all_points;
   const auto nb = static_cast<int64_t>(back_points.size());
   if (far_points) far_flags.assign(nb, 0);
+  // The input's points in Morton order (the model's come slab by slab, near each other already):
+  // queries that follow each other then read the same BVH nodes and triangles; in an input's own
+  // vertex order they cost 2.6 times as much (armadillo subdivided to 12.6 M triangles).
+  const MortonOrder order(back_points);
   const Sum back = distances(
-      nb, recon, near, [&](int64_t k) { return back_points[k]; }, far, far_points ? &far_flags : nullptr);
+      nb, recon, near, [&](int64_t k) { return back_points[order[k]]; }, far, far_points ? &far_flags : nullptr);
   for (int64_t k = 0; far_points && k < nb; ++k)
-    if (far_flags[k]) far_points->push_back(back_points[k]);
+    if (far_flags[k]) far_points->push_back(back_points[order[k]]);
   f.points = ns + nt;
   f.back_points = nb;
   f.rms_pct = 100 * std::sqrt(fwd.sq / f.points) / diag;
