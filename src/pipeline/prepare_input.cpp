@@ -70,13 +70,16 @@ PreparedInput prepare_input(TriangleMesh mesh, const std::string& name, const Pr
   // flips whole edge-connected parts, which keeps every edge as it was (one topology pass less).
   const bool valid = !repaired || bakeable(in.mesh);
 
-  TriangleMesh before = valid ? in.mesh : TriangleMesh{};
-  if (r.self_intersections > 0 && open) close_self_intersecting_parts(in, open);
-  if (valid && !bakeable(in.mesh)) {  // the seams left edges the bake cannot take: undone
-    in.mesh = before;
-    open = true;
-    r.seams = {};
-    r.filled_faces = 0;
+  TriangleMesh before;
+  if (r.self_intersections > 0 && open) {
+    if (valid) before = in.mesh;
+    close_self_intersecting_parts(in, open);
+    if (valid && !bakeable(in.mesh)) {  // the seams left edges the bake cannot take: undone
+      in.mesh = before;
+      open = true;
+      r.seams = {};
+      r.filled_faces = 0;
+    }
   }
   if (open) {
     if (valid) before = in.mesh;
