@@ -131,13 +131,22 @@ TriangleMesh decimate_mesh(const TriangleMesh& input, const DecimateOptions& opt
                        std::to_string(input.vertices.size()) + " vertices");
   if (!mesh::detail::decimate_in_parts_first(input, options))
     return mesh::detail::decimate_pinch_free(input, options, true, report, nullptr);
-  DecimateReport parts;
-  DecimateOptions whole = options;
-  const TriangleMesh coarser = mesh::detail::decimate_in_parts(input, options, &parts, &whole.max_edge);
-  TriangleMesh out = mesh::detail::decimate_pinch_free(coarser, whole, true, report, nullptr);
+  DecimateOptions next = options;  // each pass keeps to the edge caps the one before it leaves
+  TriangleMesh coarser;
+  int64_t collapses = 0;
+  double last_cost = 0;
+  for (const mesh::detail::PartsPass& pass : mesh::detail::kPartsPasses) {
+    DecimateReport parts;
+    std::vector<double> caps;
+    coarser = mesh::detail::decimate_in_parts(coarser.faces.empty() ? input : coarser, next, pass, &parts, &caps);
+    next.max_edge = std::move(caps);
+    collapses += parts.collapses;
+    last_cost = std::max(last_cost, parts.last_cost);
+  }
+  TriangleMesh out = mesh::detail::decimate_pinch_free(coarser, next, true, report, nullptr);
   if (report) {
-    report->collapses += parts.collapses;
-    report->last_cost = std::max(report->last_cost, parts.last_cost);
+    report->collapses += collapses;
+    report->last_cost = std::max(report->last_cost, last_cost);
   }
   return out;
 }

@@ -80,10 +80,10 @@ bool decimate_in_parts_first(const TriangleMesh& mesh, const DecimateOptions& op
   return faces >= kLargeFaces && faces >= 64 * options.target_faces;
 }
 
-TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& options, DecimateReport* report,
-                               std::vector<double>* max_edge) {
+TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& options, const PartsPass& pass,
+                               DecimateReport* report, std::vector<double>* max_edge) {
   const std::vector<int32_t> order = morton_order(mesh);
-  const size_t nf = order.size(), parts = (nf + kPartFaces - 1) / kPartFaces;
+  const size_t nf = order.size(), parts = (nf + pass.part_faces - 1) / pass.part_faces;
   const auto begin = [&](size_t p) { return p * nf / parts; };
   // A vertex is shared when faces of two parts use it.
   std::vector<int32_t> owner(mesh.vertices.size(), -1);
@@ -98,7 +98,7 @@ TriangleMesh decimate_in_parts(const TriangleMesh& mesh, const DecimateOptions& 
   std::vector<std::vector<int32_t>> kept(parts);
   std::vector<std::vector<double>> caps(parts);  // per kept vertex, with options.max_edge
   std::vector<DecimateReport> reports(parts);
-  const double keep = 16.0 * double(options.target_faces) / double(nf);
+  const double keep = std::min(1.0, pass.keep * double(options.target_faces) / double(nf));
   tbb::enumerable_thread_specific<std::vector<int32_t>> scratch(std::vector<int32_t>(mesh.vertices.size(), -1));
   tbb::parallel_for(size_t(0), parts, [&](size_t p) {
     Part part = make_part(mesh, order.data() + begin(p), begin(p + 1) - begin(p), shared, scratch.local());
