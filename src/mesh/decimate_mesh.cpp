@@ -133,12 +133,14 @@ TriangleMesh decimate_mesh(const TriangleMesh& input, const DecimateOptions& opt
     return mesh::detail::decimate_pinch_free(input, options, true, report, nullptr);
   DecimateOptions next = options;  // each pass keeps to the edge caps the one before it leaves
   TriangleMesh coarser;
+  const TriangleMesh* from = &input;  // the input, then each pass's result
   int64_t collapses = 0;
   double last_cost = 0;
   for (const mesh::detail::PartsPass& pass : mesh::detail::kPartsPasses) {
     DecimateReport parts;
     std::vector<double> caps;
-    coarser = mesh::detail::decimate_in_parts(coarser.faces.empty() ? input : coarser, next, pass, &parts, &caps);
+    coarser = mesh::detail::decimate_in_parts(*from, next, pass, &parts, &caps);
+    from = &coarser;
     next.max_edge = std::move(caps);
     collapses += parts.collapses;
     last_cost = std::max(last_cost, parts.last_cost);

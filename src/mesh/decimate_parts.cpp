@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The first pass of a large input's decimation: spatial parts decimated at once, where they meet
-// left as they are.
+// One pass of a large input's decimation: spatial parts decimated at once, where they meet left as
+// they are.
 #include "decimate_parts.h"
 #include "../core/morton.h"
 

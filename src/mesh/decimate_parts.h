@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Internal to decimate_mesh(): the decimation of a pinch-free copy of a mesh, and the first pass of
-// a large input's decimation, made in spatial parts at once.
+// Internal to decimate_mesh(): the decimation of a pinch-free copy of a mesh, and the passes of a
+// large input's decimation made in spatial parts at once, before the whole's.
 
 #include <hdm/mesh/decimate_mesh.h>
 
