@@ -27,7 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   // What load_model() promises: the derived arrays are rebuilt to the stored sizes.
-  if (m.samples.count != static_cast<int>(m.displacement.size()) || m.slab_samples.size() != m.samples.ids.size() ||
+  if (m.samples.count != static_cast<int>(m.displacement.size()) || m.slab_samples.size() != m.samples.slot_count() ||
       m.texels.count != static_cast<int>(m.colour.size()) || m.geometry.size() != m.slabs.size())
     __builtin_trap();
   const hdm::SlabLocator locator(m);

@@ -65,7 +65,7 @@ void walk_tile(int N, uint8_t* out, int stride, Rgba&& rgba) noexcept {
 
 void fill_atlas_tile(const SlabModel& model, const TextureAtlas& a, int slab, uint8_t* out, int stride,
                      AtlasContent content) noexcept {
-  const int32_t* ids = &model.texels.ids[static_cast<size_t>(slab) * model.texels.per_slab];
+  const SlabIds ids = model.texels.slab_ids(slab);
   const bool paint = content == AtlasContent::PaintAndRoughness;
   walk_tile(a.texel_n, out, stride, [&](int local, uint8_t* px) {
     const int32_t texel = ids[local];
@@ -88,7 +88,7 @@ TextureAtlas build_texture_atlas(const SlabModel& model, AtlasContent content) {
   const int N = model.grid_n * model.texel_density;
   const SampleLayout& L = model.texels;
   if (S == 0) throw InvalidInput("build_texture_atlas: the model has no slabs");
-  if (L.n != N || L.ids.size() != static_cast<size_t>(S) * L.per_slab || model.colour.size() != size_t(L.count))
+  if (L.n != N || L.slot_count() != static_cast<size_t>(S) * L.per_slab || model.colour.size() != size_t(L.count))
     throw InvalidInput("build_texture_atlas: texel layout or colours missing (call rebuild_derived first)");
 
   TextureAtlas a;

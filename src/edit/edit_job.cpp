@@ -40,7 +40,7 @@ void cell_points(const SampleLayout& L, int slab, const Vec3& bary, int32_t out[
   const int N = L.n;
   const double hx = std::clamp(N * bary[2], 0.0, double(N)), hy = std::clamp(N * bary[1], 0.0, double(N));
   const int i = std::min(static_cast<int>(hx), N - 1), j = std::min(static_cast<int>(hy), N - 1 - i);
-  const int32_t* ids = &L.ids[static_cast<size_t>(slab) * L.per_slab];
+  const SlabIds ids = L.slab_ids(slab);
   out[0] = ids[grid::index(N, i, j)];
   out[1] = ids[grid::index(N, i + 1, j)];
   out[2] = ids[grid::index(N, i, j + 1)];

@@ -128,7 +128,7 @@ inline double line_segment_distance(const Vec3& p0, const Vec3& L, const Vec3& a
 // in the next refresh), and the sample is listed once for that refresh.
 inline void list_changed(SlabModel& m, EditScratch& s, int32_t id) noexcept {
   const float v = m.displacement[id];
-  if (m.slab_samples.size() == m.samples.ids.size())
+  if (m.slab_samples.size() == m.samples.slot_count())
     m.samples.for_each_slot(id, [&](int32_t slot) { m.slab_samples[slot].delta = v; });
   if (s.changed_mark[id] == s.changed_epoch) return;
   s.changed_mark[id] = s.changed_epoch;

@@ -172,7 +172,7 @@ void set_under_layer(SlabModel& m, double thickness, const UnderLayer& material)
     projection_line(m, L.home(id).slab, L.home(id).index, p0, p1);
     const double len = (p1 - p0).norm();
     // Thickness along the surface normal: the layer's top lies thickness / cos(ray, normal) down the ray.
-    const double cosine = len > 0 && m.slab_samples.size() == L.ids.size()
+    const double cosine = len > 0 && m.slab_samples.size() == L.slot_count()
                               ? std::max(0.2, std::abs((p1 - p0).dot(sample_normal(m, id).cast<double>())) / len)
                               : 1.0;
     const double top = len > 0 ? m.displacement[id] - std::max(thickness, 0.0) / (len * cosine) : 0.0;

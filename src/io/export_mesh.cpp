@@ -38,8 +38,8 @@ std::string with_extension(const std::string& path, const char* ext) {
 
 void check_derived(const SlabModel& m) {
   const size_t S = m.slabs.size();
-  if (S == 0 || m.samples.n != m.grid_n || m.samples.ids.size() != S * m.samples.per_slab ||
-      m.slab_samples.size() != m.samples.ids.size() || m.displacement.size() != size_t(m.samples.count))
+  if (S == 0 || m.samples.n != m.grid_n || m.samples.slot_count() != S * m.samples.per_slab ||
+      m.slab_samples.size() != m.samples.slot_count() || m.displacement.size() != size_t(m.samples.count))
     throw InvalidInput("export_mesh: the model has no slabs or no derived data (call rebuild_derived first)");
 }
 
@@ -79,7 +79,7 @@ std::vector<uint8_t> encode_atlas_png(const TextureAtlas& atlas, const std::stri
 Vec3f sample_colour(const SlabModel& m, int s) {
   const int slab = m.samples.home(s).slab, local = m.samples.home(s).index;
   const int i = m.samples.point_i[local] * m.texel_density, j = m.samples.point_j[local] * m.texel_density;
-  const int texel = m.texels.ids[static_cast<size_t>(slab) * m.texels.per_slab + grid::index(m.texels.n, i, j)];
+  const int texel = m.texels.id(slab, grid::index(m.texels.n, i, j));
   return surface_colour(m, texel);
 }
 
@@ -130,7 +130,7 @@ void export_obj(const SlabModel& m, const std::string& path) {
     }
   out += "usemtl hdm_colour\n";
   for (int s = 0; s < S; ++s) {
-    const int32_t* ids = &m.samples.ids[static_cast<size_t>(s) * per_slab];
+    const SlabIds ids = m.samples.slab_ids(s);
     const int64_t vt_base = static_cast<int64_t>(s) * per_slab + 1;
     for_each_grid_triangle(n, [&](int a, int b, int c) {
       out += 'f';
@@ -220,7 +220,7 @@ void export_glb(const SlabModel& m, const std::string& path) {
   for (int s = 0; s < S; ++s)
     for (int k = 0; k < per_slab; ++k) {
       const size_t v = static_cast<size_t>(s) * per_slab + k;
-      const int32_t id = m.samples.ids[v];
+      const int32_t id = m.samples.id(s, k);
       const Vec3f p = sample_position(m, id).cast<float>(), nrm = m.slab_samples[v].normal().normalized();
       const Eigen::Vector2f t = atlas.uv(s, double(m.samples.point_i[k]) / n, double(m.samples.point_j[k]) / n);
       for (int c = 0; c < 3; ++c) {

@@ -141,7 +141,7 @@ struct SlabRenderer::State {
   template <class At>
   void fill_vertices(const SlabModel& m, int s, Vertex* out, At&& at) const {
     const SampleLayout& L = m.samples;
-    const int32_t* ids = &L.ids[static_cast<size_t>(s) * per_slab];
+    const SlabIds ids = L.slab_ids(s);
     for (int k = 0; k < per_slab; ++k) {
       const double wT = static_cast<double>(L.point_i[k]) / n, wS = static_cast<double>(L.point_j[k]) / n;
       Vec3 p0, p1;

@@ -180,7 +180,7 @@ struct SculptSession::Impl {
 };
 
 SculptSession::SculptSession(SlabModel model, const Workspace& ws, const SessionOptions& options) {
-  if (model.slab_samples.size() != model.samples.ids.size() || model.slab_count() == 0)
+  if (model.slab_samples.size() != model.samples.slot_count() || model.slab_count() == 0)
     throw InvalidInput("sculpt session: the model's derived data are missing (call rebuild_derived first)");
   if (!(options.edit_budget_s > 0) || !(options.publish_interval_s >= 0) || options.edit_every < 1)
     throw InvalidInput("sculpt session: edit_budget_s must be > 0, publish_interval_s >= 0 and edit_every >= 1");

@@ -81,33 +81,41 @@ EdgeSamples number_edges(const std::vector<Tri>& slabs, int coarse_vertex_count,
   return E;
 }
 
-// The (i, j) grid coordinates of each local point index.
-void fill_point_coords(SampleLayout& L) {
+// The per_slab tables: grid coordinates, interior or boundary rank of each packed index, and the
+// packed index of each interior rank.
+void fill_local_tables(SampleLayout& L) {
   const int n = L.n;
   L.point_i.resize(L.per_slab);
   L.point_j.resize(L.per_slab);
+  L.local_rank.resize(L.per_slab);
+  L.interior_index.clear();
+  int32_t boundary = 0;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i + j <= n; ++i) {
-      L.point_i[grid::index(n, i, j)] = static_cast<int16_t>(i);
-      L.point_j[grid::index(n, i, j)] = static_cast<int16_t>(j);
+      const int p = grid::index(n, i, j);
+      L.point_i[p] = static_cast<int16_t>(i);
+      L.point_j[p] = static_cast<int16_t>(j);
+      const bool interior = i > 0 && j > 0 && i + j < n;
+      L.local_rank[p] = interior ? static_cast<int32_t>(L.interior_index.size()) : ~boundary++;
+      if (interior) L.interior_index.push_back(p);
     }
 }
 
-// Sample id of every slab slot (corners, shared edge samples, own interior samples) and each
-// sample's home slot (its first); every sample must have one.
-void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const EdgeSamples& E, int32_t interior_base,
-                       int32_t interior_per_slab) {
+// Sample id of every boundary slot (corners and shared edge samples) and each shared sample's
+// home slot (its first); every corner must have one. Interior ids are computed (SlabIds).
+void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const EdgeSamples& E) {
   const int n = L.n;
   const auto S = static_cast<int32_t>(slabs.size());
-  L.ids.resize(static_cast<size_t>(S) * L.per_slab);
+  L.boundary_ids.resize(static_cast<size_t>(S) * 3 * n);
   constexpr uint32_t kNone = UINT32_MAX;  // no home yet: above every packed home (slab < #S)
-  L.homes.assign(L.count, kNone);
+  L.homes.assign(L.first_interior, kNone);
   for (int32_t s = 0; s < S; ++s) {
     const int32_t R = slabs[s][0], Sv = slabs[s][1], T = slabs[s][2];
-    int32_t next_interior = interior_base + s * interior_per_slab;
-    int32_t* out = &L.ids[static_cast<size_t>(s) * L.per_slab];
+    int32_t* out = &L.boundary_ids[static_cast<size_t>(s) * 3 * n];
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i + j <= n; ++i) {
+        const int local = grid::index(n, i, j);
+        if (L.local_rank[local] >= 0) continue;  // interior
         int32_t id;
         if (i == 0 && j == 0)
           id = R;
@@ -119,16 +127,13 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
           id = E.sample(R, T, i);
         else if (i == 0)
           id = E.sample(R, Sv, j);
-        else if (i + j == n)
-          id = E.sample(Sv, T, i);
         else
-          id = next_interior++;
-        const int local = grid::index(n, i, j);
-        out[local] = id;
+          id = E.sample(Sv, T, i);
+        out[~L.local_rank[local]] = id;
         if (L.homes[id] == kNone) L.homes[id] = static_cast<uint32_t>(s) << L.home_bits | static_cast<uint32_t>(local);
       }
   }
-  for (int32_t id = 0; id < L.count; ++id)
+  for (int32_t id = 0; id < L.first_interior; ++id)
     if (L.homes[id] == kNone) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
@@ -152,8 +157,11 @@ void build_adjacency(SampleLayout& L, int32_t interior_base, bool with_neighbour
   // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
   build_csr(
       [&](auto emit) {
-        for (size_t slot = 0; slot < L.ids.size(); ++slot)
-          if (L.ids[slot] < interior_base) emit(L.ids[slot], static_cast<int32_t>(slot));
+        for (int32_t k = 0; k < L.slab_count; ++k) {
+          const int32_t* g = &L.boundary_ids[static_cast<size_t>(k) * 3 * L.n];
+          for (int32_t p = 0; p < L.per_slab; ++p)
+            if (L.local_rank[p] < 0) emit(g[~L.local_rank[p]], k * L.per_slab + p);
+        }
       },
       interior_base, L.shared_slot_offsets, L.slot_of_shared);
 }
@@ -176,10 +184,13 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   const int32_t interior_base = edges.base + static_cast<int32_t>(edges.edges.size()) * (n - 1);
   const int32_t interior_per_slab = (n - 1) * (n - 2) / 2;
   L.count = interior_base + S * interior_per_slab;
-
-  fill_point_coords(L);
-  assign_sample_ids(L, slabs, edges, interior_base, interior_per_slab);
+  L.slab_count = S;
+  L.interior_per_slab = interior_per_slab;
+  L.interior_divisor_magic = interior_per_slab > 0 ? UINT64_MAX / static_cast<uint64_t>(interior_per_slab) : 0;
   L.first_interior = interior_base;
+
+  fill_local_tables(L);
+  assign_sample_ids(L, slabs, edges);
   build_adjacency(L, interior_base, with_neighbours);
   return L;
 }
@@ -191,7 +202,7 @@ Tri SampleLayout::grid_triangle(int32_t t) const noexcept {
   while (j > 0 && row_start(j) > local) --j;
   while (j + 1 < n && row_start(j + 1) <= local) ++j;
   const int32_t r = local - row_start(j);
-  const int32_t* g = &ids[static_cast<size_t>(k) * per_slab];
+  const SlabIds g = slab_ids(k);
   return r % 2 == 0 ? up_triangle(g, r / 2, j) : down_triangle(g, r / 2, j);
 }
 

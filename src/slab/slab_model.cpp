@@ -118,7 +118,7 @@ inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
 
 void update_force_shading_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept {
   const SampleLayout& L = model.samples;
-  if (model.slab_samples.size() != L.ids.size()) return;
+  if (model.slab_samples.size() != L.slot_count()) return;
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     store_force_shading_normal(model, s);
@@ -130,7 +130,7 @@ void update_force_shading_normals(SlabModel& model, const int32_t* samples, size
 
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept {
   const SampleLayout& L = model.samples;
-  if (model.slab_samples.size() != L.ids.size()) return;
+  if (model.slab_samples.size() != L.slot_count()) return;
   const float scale = normal_scale(model);
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
@@ -162,7 +162,7 @@ void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending, fl
 void update_normals(SlabModel& model, const int32_t* samples, size_t count, FaceNormalCache& cache,
                     bool force_shading_ring) noexcept {
   const SampleLayout& L = model.samples;
-  if (model.slab_samples.size() != L.ids.size()) return;
+  if (model.slab_samples.size() != L.slot_count()) return;
   constexpr int32_t mask = FaceNormalCache::kSlots - 1;
   if (++cache.current == 0) {  // wrapped: forget every memo once every 2³² calls
     for (FaceNormalCache::Entry& e : cache.memo) e.tri = -1, e.stamp = 0;
@@ -307,7 +307,7 @@ void rebuild_derived(SlabModel& m) {
   build_adjacency(m);
 
   m.positions.resize(ns);
-  m.slab_samples.resize(m.samples.ids.size());
+  m.slab_samples.resize(m.samples.slot_count());
   // In blocks of samples, in parallel: each call writes only its own samples' position, normal and
   // slab copies, and a normal is the same sum in the same order whatever the block.
   constexpr size_t block = 16384;

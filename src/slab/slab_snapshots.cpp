@@ -17,7 +17,7 @@ constexpr uint64_t kClaiming = 0;       // reader slot being claimed: pins every
 
 SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : model_(m), options_(o) {
   const int S = m.slab_count();
-  if (S == 0 || m.slab_samples.size() != m.samples.ids.size() || m.texels.ids.size() != size_t(S) * m.texels.per_slab ||
+  if (S == 0 || m.slab_samples.size() != m.samples.slot_count() || m.texels.slot_count() != size_t(S) * m.texels.per_slab ||
       m.colour.size() != size_t(m.texels.count) || m.roughness.size() != size_t(m.texels.count) ||
       m.layer_displacement.size() != size_t(m.samples.count) || m.hardness.size() != size_t(m.samples.count))
     throw InvalidInput("snapshots: the model's derived data are missing (call rebuild_derived first)");
@@ -63,7 +63,7 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
   auto* st = reinterpret_cast<Unorm16*>(fd + P);
   Unorm16* ly = st + P;
   auto* hv = reinterpret_cast<Half16*>(ly + P);
-  const int32_t* ids = m.samples.ids.data() + size_t(slab) * P;
+  const SlabIds ids = m.samples.slab_ids(slab);
   for (size_t k = 0; k < P; ++k) {
     const int32_t id = ids[k];
     fs[k] = m.friction_static[id];
@@ -73,7 +73,7 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
     hv[k] = m.hardness[id];
   }
   uint8_t* tx = reinterpret_cast<uint8_t*>(hv + P);
-  const int32_t* tids = m.texels.ids.data() + size_t(slab) * T;
+  const SlabIds tids = m.texels.slab_ids(slab);
   for (size_t k = 0; k < T; ++k) {
     const int32_t id = tids[k];
     const Srgb8 c = m.colour[id];

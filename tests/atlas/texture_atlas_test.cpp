@@ -35,7 +35,7 @@ TEST_P(Atlas, TexelsSitAtTheirUvAndPaddingCopiesTheNearestTexel) {
 
   std::vector<int> owner(size_t(a.width) * a.height, -1);  // which slab's tile a pixel belongs to
   for (int s = 0; s < model.slab_count(); ++s) {
-    const int32_t* ids = &model.texels.ids[size_t(s) * per];
+    const SlabIds ids = model.texels.slab_ids(s);
     // Texel (i, j) is at uv(s, i/N, j/N), exactly at the centre of a pixel.
     int x0 = -1, y0 = -1;
     for (int j = 0; j <= N; ++j)

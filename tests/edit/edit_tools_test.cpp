@@ -140,13 +140,13 @@ static std::vector<Vec3> brute_force_normals(const SlabModel& m) {
   const SampleLayout& L = m.samples;
   const int n = L.n;
   std::vector<Vec3> sum(L.count, Vec3::Zero());
-  auto add = [&](const int32_t* g, int a, int b, int c) {
+  auto add = [&](const SlabIds& g, int a, int b, int c) {
     const Vec3 pa = sample_position(m, g[a]), pb = sample_position(m, g[b]), pc = sample_position(m, g[c]);
     const Vec3 f = (pb - pa).cross(pc - pa);
     sum[g[a]] += f, sum[g[b]] += f, sum[g[c]] += f;
   };
   for (int slab = 0; slab < m.slab_count(); ++slab) {
-    const int32_t* g = &L.ids[size_t(slab) * L.per_slab];
+    const SlabIds g = L.slab_ids(slab);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i + j < n; ++i) {
         add(g, grid::index(n, i, j), grid::index(n, i, j + 1), grid::index(n, i + 1, j));
@@ -203,10 +203,10 @@ TEST(EditToolsTest, ForceShadingNormalsFollowTheEdits) {
     ref[s] = sum.normalized();
   }
   // Slab-major: every slot of a shared sample (edges, corners) holds its sample's value.
-  ASSERT_EQ(f.model.slab_samples.size(), L.ids.size());
+  ASSERT_EQ(f.model.slab_samples.size(), L.slot_count());
   std::vector<int64_t> first_slot(L.count, -1);
-  for (size_t slot = 0; slot < L.ids.size(); ++slot) {
-    const int32_t s = L.ids[slot];
+  for (size_t slot = 0; slot < L.slot_count(); ++slot) {
+    const int32_t s = L.id(int32_t(slot / L.per_slab), int32_t(slot % L.per_slab));
     ASSERT_LT((f.model.slab_samples[slot].shading().cast<double>() - ref[s]).norm(), 3e-3) << "slot " << slot;
     // Bit for bit the same in every slab that holds the sample, so the interpolated field is the
     // same on a shared edge or corner from either side.
@@ -223,10 +223,10 @@ TEST(EditToolsTest, SlabMajorCopyFollowsTheEdits) {
   Fixture f;
   f.carve_and_add(5, 0.012, 0.003);
   const SampleLayout& L = f.model.samples;
-  ASSERT_EQ(f.model.slab_samples.size(), L.ids.size());
-  for (size_t slot = 0; slot < L.ids.size(); ++slot) {
+  ASSERT_EQ(f.model.slab_samples.size(), L.slot_count());
+  for (size_t slot = 0; slot < L.slot_count(); ++slot) {
     const SlabSample& v = f.model.slab_samples[slot];
-    const int32_t s = L.ids[slot];
+    const int32_t s = L.id(int32_t(slot / L.per_slab), int32_t(slot % L.per_slab));
     ASSERT_EQ(v.delta, f.model.displacement[s]) << "slot " << slot;
     ASSERT_EQ(v.normal(), sample_normal(f.model, s))
         << "slot " << slot << ": every slot of a sample holds its normal";
@@ -252,11 +252,11 @@ TEST(EditToolsTest, DirtySlabsAreTheSlabsHoldingWhatChanged) {
   for (int slab = 0; slab < f.model.slab_count(); ++slab) {
     bool changed = false;
     for (int k = 0; k < S.per_slab && !changed; ++k) {
-      const int32_t id = S.ids[size_t(slab) * S.per_slab + k];
+      const int32_t id = S.id(slab, k);
       changed = before.displacement[id] != after.displacement[id] || before.normals[id] != after.normals[id];
     }
     for (int k = 0; k < T.per_slab && !changed; ++k) {
-      const int32_t id = T.ids[size_t(slab) * T.per_slab + k];
+      const int32_t id = T.id(slab, k);
       changed = before.colour[id] != after.colour[id];
     }
     changed_slabs += changed;

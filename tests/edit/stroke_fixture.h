@@ -75,8 +75,8 @@ void for_each_sample_texel(const SlabModel& model, Fn&& fn) {
     for (int j = 0; j <= S.n; ++j)
       for (int i = 0; i + j <= S.n; ++i) {
         const int ti = i * m, tj = j * m;
-        fn(S.ids[slab * S.per_slab + (j * (S.n + 1) - j * (j - 1) / 2 + i)],
-           T.ids[slab * T.per_slab + (tj * (N + 1) - tj * (tj - 1) / 2 + ti)]);
+        fn(S.id(slab, j * (S.n + 1) - j * (j - 1) / 2 + i),
+           T.id(slab, tj * (N + 1) - tj * (tj - 1) / 2 + ti));
       }
 }
 

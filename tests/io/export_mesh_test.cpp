@@ -40,9 +40,9 @@ using test::TempDir;
 int texel_of_sample(const SlabModel& m, int s) {
   for (int slab = 0; slab < m.slab_count(); ++slab)
     for (int k = 0; k < m.samples.per_slab; ++k)
-      if (m.samples.ids[size_t(slab) * m.samples.per_slab + k] == s) {
+      if (m.samples.id(slab, k) == s) {
         const int i = m.samples.point_i[k] * m.texel_density, j = m.samples.point_j[k] * m.texel_density;
-        return m.texels.ids[size_t(slab) * m.texels.per_slab + grid::index(m.texels.n, i, j)];
+        return m.texels.id(slab, grid::index(m.texels.n, i, j));
       }
   ADD_FAILURE() << "sample " << s << " is in no slab";
   return 0;

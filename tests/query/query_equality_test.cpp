@@ -121,7 +121,7 @@ double reference_depth(const SlabModel& m, const std::vector<Vec3>& normals, int
   double delta = 0;
   Vec3 normal = Vec3::Zero();
   for (int k = 0; k < 3; ++k) {
-    const int32_t id = m.samples.ids[size_t(s) * m.samples.per_slab + grid::index(n, pts[k][0], pts[k][1])];
+    const int32_t id = m.samples.id(s, grid::index(n, pts[k][0], pts[k][1]));
     delta += w[k] * m.displacement[id];
     normal += w[k] * normals[size_t(id)];
   }

@@ -108,7 +108,7 @@ SlabModel make_model(const CoarseMesh& mesh, int n, int m) {
 void paint_slab(SlabModel& model, int slab, const Vec3f& colour) {
   const SampleLayout& L = model.texels;
   for (int k = 0; k < L.per_slab; ++k)
-    model.colour[L.ids[static_cast<size_t>(slab) * L.per_slab + k]] = encode_srgb8(colour);
+    model.colour[L.id(slab, k)] = encode_srgb8(colour);
 }
 
 Vec3 towards_eye(double az_deg, double el_deg) {
@@ -352,11 +352,12 @@ TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   // Edit: paint every third slab, push one slab's samples in, thicken the under-layer under another.
   for (int s = 0; s < model.slab_count(); s += 3) paint_slab(model, s, {0.9f, 0.2f * (s % 5), 0.1f});
   const int P = model.samples.per_slab;
-  std::vector<int32_t> moved(model.samples.ids.begin() + 5 * P, model.samples.ids.begin() + 6 * P);
+  std::vector<int32_t> moved(P);
+  for (int k = 0; k < P; ++k) moved[k] = model.samples.id(5, k);
   for (int32_t id : moved) model.displacement[id] *= 0.5f;
   update_positions(model, moved.data(), moved.size());
   update_normals(model, moved.data(), moved.size());
-  for (int k = 0; k < P; ++k) model.layer_displacement[model.samples.ids[static_cast<size_t>(7) * P + k]] = 1.0f;
+  for (int k = 0; k < P; ++k) model.layer_displacement[model.samples.id(7, k)] = 1.0f;
   ASSERT_TRUE(snapshots.publish_reserve(model.slab_count()));
   for (int s = 0; s < model.slab_count(); ++s) snapshots.publish_slab(s);
   snapshots.publish_commit();

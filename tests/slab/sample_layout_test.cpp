@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <numbers>
 #include <set>
 
@@ -29,7 +30,65 @@ SlabModel sphere_shell(int n, int texel_density) {
   return s;
 }
 
+// The id of every slot (slab-major, grid index order), read through SampleLayout::id().
+std::vector<int32_t> slot_ids(const SampleLayout& L) {
+  std::vector<int32_t> ids(L.slot_count());
+  for (int32_t k = 0; k < L.slab_count; ++k)
+    for (int32_t p = 0; p < L.per_slab; ++p) ids[size_t(k) * L.per_slab + p] = L.id(k, p);
+  return ids;
+}
+
+// The documented numbering, by brute force: corners are coarse vertex ids; the undirected edges
+// are numbered in order of first use (slab order, edges RS, ST, TR), each with n-1 ids from its
+// smaller vertex to its larger; then each slab's interior points in grid::index order.
+std::vector<int32_t> documented_ids(const std::vector<Tri>& slabs, int C, int n) {
+  std::map<std::pair<int32_t, int32_t>, int32_t> edge;
+  for (const Tri& t : slabs)
+    for (int k = 0; k < 3; ++k)
+      edge.emplace(std::minmax(t[k], t[(k + 1) % 3]), int32_t(edge.size()));
+  auto on_edge = [&](int32_t a, int32_t b, int step) {  // step-th point from a towards b
+    const int32_t e = edge.at(std::minmax(a, b));
+    return C + e * (n - 1) + (a < b ? step : n - step) - 1;
+  };
+  const int32_t interior_base = C + int32_t(edge.size()) * (n - 1);
+  std::vector<int32_t> ids(slabs.size() * grid::point_count(n));
+  int32_t next = interior_base;
+  for (size_t k = 0; k < slabs.size(); ++k) {
+    const int32_t R = slabs[k][0], S = slabs[k][1], T = slabs[k][2];
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i + j <= n; ++i) {
+        int32_t id;
+        if (i == 0 && j == 0) id = R;
+        else if (i == n) id = T;
+        else if (j == n) id = S;
+        else if (j == 0) id = on_edge(R, T, i);
+        else if (i == 0) id = on_edge(R, S, j);
+        else if (i + j == n) id = on_edge(S, T, i);
+        else id = next++;
+        ids[k * grid::point_count(n) + grid::index(n, i, j)] = id;
+      }
+  }
+  return ids;
+}
+
 }  // namespace
+
+TEST(SampleLayoutTest, IdsFollowTheDocumentedNumbering) {
+  // Interior ids are computed and boundary ids stored (SlabIds): both must give the numbering the
+  // header documents, built here from it by brute force, on a closed mesh and an open one, for the
+  // grid sizes of samples and texels.
+  const TriangleMesh closed = test::icosphere(1, 1.0);
+  std::vector<Tri> open(closed.faces.begin(), closed.faces.begin() + 30);
+  std::map<int32_t, int32_t> used;  // the open part's vertices, renumbered in order of first use
+  for (Tri& t : open)
+    for (int32_t& v : t) v = used.emplace(v, int32_t(used.size())).first->second;
+  for (const std::vector<Tri>* slabs : {&closed.faces, static_cast<const std::vector<Tri>*>(&open)})
+    for (int n : {1, 2, 3, 5, 16, 32}) {
+      const int C = slabs == &open ? int(used.size()) : int(closed.vertices.size());
+      const SampleLayout L = build_sample_layout(*slabs, C, n);
+      ASSERT_EQ(slot_ids(L), documented_ids(*slabs, C, n)) << "n = " << n << ", " << slabs->size() << " slabs";
+    }
+}
 
 TEST(SampleLayoutTest, CountsFollowEulerFormula) {
   const TriangleMesh m = test::icosphere(1, 1.0);
@@ -38,7 +97,8 @@ TEST(SampleLayoutTest, CountsFollowEulerFormula) {
     const SampleLayout L = build_sample_layout(m.faces, C, n);
     EXPECT_EQ(L.count, C + (n - 1) * E + (n - 1) * (n - 2) / 2 * S) << "n = " << n;
     EXPECT_EQ(L.triangle_count(), S * n * n);
-    std::set<int32_t> seen(L.ids.begin(), L.ids.end());
+    const std::vector<int32_t> ids = slot_ids(L);
+    std::set<int32_t> seen(ids.begin(), ids.end());
     EXPECT_EQ(int(seen.size()), L.count);  // every id used
   }
 }
@@ -49,7 +109,7 @@ TEST(SampleLayoutTest, SharedSamplesHaveIdenticalProjectionLines) {
   // Every (slab, grid point) that maps to the same id must give the same projection line.
   for (int slab = 0; slab < s.slab_count(); ++slab)
     for (int k = 0; k < L.per_slab; ++k) {
-      const int id = L.ids[slab * L.per_slab + k];
+      const int id = L.id(slab, k);
       Vec3 a0, a1, b0, b1;
       projection_line(s, slab, k, a0, a1);
       projection_line(s, L.home(id).slab, L.home(id).index, b0, b1);
@@ -82,7 +142,8 @@ TEST(SampleLayoutTest, SlotsListEveryGridPointOfASample) {
   for (int n : {1, 2, 3, 16}) {
     const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n);
     std::vector<std::vector<int32_t>> expected(L.count);
-    for (size_t slot = 0; slot < L.ids.size(); ++slot) expected[L.ids[slot]].push_back(int32_t(slot));
+    const std::vector<int32_t> ids = slot_ids(L);
+    for (size_t slot = 0; slot < ids.size(); ++slot) expected[ids[slot]].push_back(int32_t(slot));
     for (int32_t s = 0; s < L.count; ++s) {
       std::vector<int32_t> got;
       L.for_each_slot(s, [&](int32_t slot) { got.push_back(slot); });
@@ -120,7 +181,7 @@ TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
     EXPECT_TRUE(b.neighbour_offsets.empty() && b.neighbours.empty());
     // Only the shared samples have a stored row: interior ones read their home slab's grid.
     EXPECT_EQ(a.neighbour_offsets.size(), size_t(a.first_interior) + 1);
-    EXPECT_EQ(a.ids, b.ids);
+    EXPECT_EQ(slot_ids(a), slot_ids(b));
     EXPECT_EQ(a.homes, b.homes);
     EXPECT_EQ(a.shared_slot_offsets, b.shared_slot_offsets);
     EXPECT_EQ(a.slot_of_shared, b.slot_of_shared);
@@ -128,7 +189,7 @@ TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
     const std::vector<std::array<int, 3>> split = grid_split(n);
     for (size_t k = 0; k < m.faces.size(); ++k)
       for (const auto& c : split) {
-        const int32_t* g = &a.ids[k * a.per_slab];
+        const SlabIds g = a.slab_ids(int32_t(k));
         tris.push_back({g[c[0]], g[c[1]], g[c[2]]});
       }
     ASSERT_EQ(a.triangle_count(), int32_t(tris.size()));
@@ -170,10 +231,11 @@ TEST(SampleLayoutTest, PackedHomesAreEachSamplesFirstSlot) {
   const TriangleMesh m = test::icosphere(2, 1.0);
   for (int n : {1, 2, 7, 16, 32, 64}) {
     const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n, false);
-    ASSERT_EQ(L.homes.size(), size_t(L.count));
+    ASSERT_EQ(L.homes.size(), size_t(L.first_interior));  // only the shared samples store one
     std::vector<int64_t> first(L.count, -1);
-    for (size_t slot = 0; slot < L.ids.size(); ++slot)
-      if (first[L.ids[slot]] < 0) first[L.ids[slot]] = int64_t(slot);
+    const std::vector<int32_t> ids = documented_ids(m.faces, int(m.vertices.size()), n);
+    for (size_t slot = 0; slot < ids.size(); ++slot)
+      if (first[ids[slot]] < 0) first[ids[slot]] = int64_t(slot);
     for (int32_t s = 0; s < L.count; ++s) {
       const GridSlot h = L.home(s);
       ASSERT_EQ(int64_t(h.slab) * L.per_slab + h.index, first[s]) << "n = " << n << ", sample " << s;

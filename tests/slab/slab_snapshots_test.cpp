@@ -41,7 +41,7 @@ TEST(SlabSnapshots, HoldTheModelsStoredCodesBitForBit) {
   for (int s = 0; s < model->slab_count(); s += 97) {
     const SlabView v = reader.slab(s);
     for (int k = 0; k < T.per_slab; ++k) {
-      const int32_t id = T.ids[size_t(s) * T.per_slab + k];
+      const int32_t id = T.id(s, k);
       const Srgb8 c = model->colour[size_t(id)];
       ASSERT_EQ(v.texels[4 * k], c.r);
       ASSERT_EQ(v.texels[4 * k + 1], c.g);
@@ -63,9 +63,9 @@ TEST(SlabSnapshots, APinnedReaderKeepsTheSlabAsItWas) {
   // A texel interior to slab 0 (one slot only), so publishing slab 0 alone keeps every slab equal.
   int local = -1;
   for (int k = 0; k < T.per_slab && local < 0; ++k)
-    if (T.ids[size_t(k)] >= T.first_interior) local = k;
+    if (T.id(0, k) >= T.first_interior) local = k;
   ASSERT_GE(local, 0);
-  const int32_t id = T.ids[size_t(local)];
+  const int32_t id = T.id(0, local);
   const Srgb8 before = model->colour[size_t(id)], after{uint8_t(before.r ^ 0xff), before.g, uint8_t(before.b ^ 0x0f)};
 
   const SnapshotReader old(snapshots);

@@ -16,7 +16,7 @@ namespace hdm::test {
 inline Vec3 near_surface_point(const SlabModel& m, int s, double offset, std::mt19937& rng) {
   std::uniform_real_distribution<double> off(-offset, offset);
   std::uniform_int_distribution<int> grid_point(0, m.samples.per_slab - 1);
-  const int32_t id = m.samples.ids[static_cast<size_t>(s) * m.samples.per_slab + grid_point(rng)];
+  const int32_t id = m.samples.id(s, grid_point(rng));
   return m.positions[id].cast<double>() + off(rng) * m.source_diagonal * sample_normal(m, id).cast<double>();
 }
 

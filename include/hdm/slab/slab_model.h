@@ -142,7 +142,7 @@ struct SlabModel {
   /// @}
   /// #S·samples.per_slab: slab-major copy of `displacement` with each sample's unit normal and
   /// force-shading normal (SlabSample), in grid::index order within a slab (slot slab·per_slab +
-  /// index holds sample samples.ids[slot]). What the query and the proxy interpolate, and the only
+  /// index holds sample samples.id(slab, index)). What the query and the proxy interpolate, and the only
   /// store of the normals: every slot of a shared sample holds the same values (sample_normal()
   /// reads the home slot). The force-shading normal (hdm::proxy_step) is the sample's normal summed
   /// with those of its grid neighbours (one ring, across seams) and normalised: the proxy's fixed
@@ -255,7 +255,7 @@ struct FaceNormalCache {
 /// neighbours of @p samples are recomputed too (what a change of their normals affects). Every slot of a sample gets
 /// the same value.
 /// @note O(count·valence²) with the ring, O(count·valence) without; no allocation. Does nothing
-///       when `slab_samples` is not sized to the slots (samples.ids).
+///       when `slab_samples` is not sized to the slots (samples.slot_count()).
 void update_force_shading_normals(SlabModel& model, const int32_t* samples, size_t count, bool with_ring) noexcept;
 
 /// @brief update_normals() with each affected grid triangle's normal computed once: the same

@@ -54,7 +54,7 @@ class SnapshotReader;
 ///
 /// Memory: (#S + spare) versions of about (26·per_slab + 4·texels_per_slab) bytes, allocated by
 /// the constructor, each padded to 64 bytes: 14.1 MiB for the default bunny bake (1,178 slabs,
-/// n = 16, m = 2: 2,356 versions of 6,272 bytes), beside the 17.0 MiB the model takes.
+/// n = 16, m = 2: 2,356 versions of 6,272 bytes), beside the 11.8 MiB the model takes.
 /// The model's topology, coarse vertices, grid sizes, source fields and under-layer material
 /// must not change while the snapshots exist (edits never change them); readers read those
 /// members of the live model directly.

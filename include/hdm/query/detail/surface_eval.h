@@ -59,7 +59,7 @@ inline LocalCell local_cell(int n, double wS, double wT) noexcept {
 inline GridCell grid_cell(const SlabModel& model, int slab, double wS, double wT) noexcept {
   GridCell c;
   static_cast<LocalCell&>(c) = local_cell(model.grid_n, wS, wT);
-  const int32_t* ids = &model.samples.ids[static_cast<size_t>(slab) * model.samples.per_slab];
+  const SlabIds ids = model.samples.slab_ids(slab);
   c.a = ids[c.la], c.b = ids[c.lb], c.d = ids[c.ld];
   return c;
 }
