@@ -24,6 +24,15 @@ struct Sum {
   Sum operator+(const Sum& o) const { return {sq + o.sq, std::max(max, o.max), sq_within + o.sq_within}; }
 };
 
+// @p s with one more distance @p d; flags it beyond @p far.
+Sum add(Sum s, double d, double far, uint8_t* far_flag) {
+  if (far_flag && d > far) *far_flag = 1;
+  if (d <= far) s.sq_within += d * d;
+  s.sq += d * d;
+  s.max = std::max(s.max, d);
+  return s;
+}
+
 // Exact distances from `count` points to `target`. Most points lie within `near` of it, so the
 // query starts with that radius; the others are queried again without a bound (same result).
 // Points farther than `far` are flagged in `far_flags` (#count, or empty: not flagged).
@@ -37,12 +46,19 @@ Sum distances(int64_t count, const ExactMeshQuery& target, double near, PointAt 
           const Vec3 p = point_at(k);
           ClosestPoint c = target.closest_point(p, near);
           if (c.face < 0) c = target.closest_point(p);
-          const double d = c.distance;
-          if (far_flags && d > far) (*far_flags)[k] = 1;
-          if (d <= far) s.sq_within += d * d;
-          s.sq += d * d;
-          s.max = std::max(s.max, d);
+          s = add(s, c.distance, far, far_flags ? &(*far_flags)[k] : nullptr);
         }
+        return s;
+      },
+      [](const Sum& a, const Sum& b) { return a + b; });
+}
+
+// The Sum of distances() over distances already measured, with the same blocks and order.
+Sum distances(int64_t count, const std::vector<double>& measured, double far, std::vector<uint8_t>* far_flags) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<int64_t>(0, count, 1024), Sum{},
+      [&](const tbb::blocked_range<int64_t>& r, Sum s) {
+        for (int64_t k = r.begin(); k < r.end(); ++k) s = add(s, measured[k], far, far_flags ? &(*far_flags)[k] : nullptr);
         return s;
       },
       [](const Sum& a, const Sum& b) { return a + b; });
@@ -68,6 +84,91 @@ struct MortonOrder {
     tbb::parallel_sort(keys.begin(), keys.end());
   }
 };
+
+// The slabs in Morton order of their boxes' centres, cut into runs of at most @p chunk_triangles
+// grid triangles (one run when the whole surface fits). The back distances build one BVH per run,
+// in turn, so the fidelity's memory stays bounded whatever the slab count (at 100,000 slabs and
+// n = 16 the whole surface is 25.6 M triangles, 1.7 GB with its BVH).
+std::vector<std::vector<int32_t>> surface_chunks(const SlabModel& model, int64_t chunk_triangles) {
+  const int32_t S = model.slab_count();
+  const int64_t per_chunk = std::max<int64_t>(1, chunk_triangles / (int64_t(model.samples.n) * model.samples.n));
+  std::vector<int32_t> slabs(S);
+  if (S <= per_chunk) {
+    for (int32_t s = 0; s < S; ++s) slabs[s] = s;
+    return {std::move(slabs)};
+  }
+  std::vector<Vec3> centres(S);
+  for (int32_t s = 0; s < S; ++s) centres[s] = 0.5 * (model.geometry[s].box.min + model.geometry[s].box.max);
+  const MortonOrder order(centres);
+  std::vector<std::vector<int32_t>> chunks;
+  for (int64_t b = 0; b < S; b += per_chunk) {
+    std::vector<int32_t>& c = chunks.emplace_back();
+    for (int64_t k = b; k < std::min<int64_t>(S, b + per_chunk); ++k) c.push_back(int32_t(order[size_t(k)]));
+  }
+  return chunks;
+}
+
+// The displaced surface of @p slabs: their grid triangles over the samples they use, numbered in
+// order of first use, at sample_position() (as displaced_surface() gives them). @p local_of
+// (#samples, all -1) is scratch, all -1 again on return.
+TriangleMesh chunk_surface(const SlabModel& model, const std::vector<int32_t>& slabs, std::vector<int32_t>& local_of) {
+  TriangleMesh m;
+  std::vector<int32_t> global;
+  m.faces.reserve(slabs.size() * size_t(model.samples.n) * model.samples.n);
+  for (int32_t slab : slabs)
+    model.samples.for_each_slab_triangle(slab, [&](const Tri& t) {
+      Tri u;
+      for (int k = 0; k < 3; ++k) {
+        int32_t& l = local_of[t[k]];
+        if (l < 0) l = int32_t(global.size()), global.push_back(t[k]);
+        u[k] = l;
+      }
+      m.faces.push_back(u);
+    });
+  m.vertices.resize(global.size());
+  tbb::parallel_for(size_t(0), global.size(), [&](size_t v) { m.vertices[v] = sample_position(model, global[v]); });
+  for (int32_t g : global) local_of[g] = -1;
+  return m;
+}
+
+// Distance from @p p to the box @p b (0 inside).
+double box_distance(const Aabb& b, const Vec3& p) {
+  return (p.cwiseMax(b.min).cwiseMin(b.max) - p).norm();
+}
+
+// Exact distance from each point (points[order[k]], k in Morton order) to the displaced surface,
+// the least over its chunks: first within `near` of each point (where nearly every point's
+// closest point lies), then, for the points with none that close, without a bound.
+std::vector<double> back_distances(const SlabModel& model, const std::vector<Vec3>& points, const MortonOrder& order,
+                                   double near, int64_t chunk_triangles) {
+  const int64_t nb = static_cast<int64_t>(points.size());
+  std::vector<double> best(nb, INFINITY);
+  std::vector<uint8_t> unbounded(nb, 0);
+  const std::vector<std::vector<int32_t>> chunks = surface_chunks(model, chunk_triangles);
+  std::vector<int32_t> local_of(model.samples.count, -1);
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      int64_t open = 0;
+      for (int64_t k = 0; k < nb; ++k) open += unbounded[k] = best[k] == INFINITY;
+      if (open == 0) break;
+    }
+    for (const std::vector<int32_t>& chunk : chunks) {
+      const ExactMeshQuery q(chunk_surface(model, chunk, local_of), BvhQuality::compact);
+      const Aabb box = bounds(q.mesh());
+      tbb::parallel_for(tbb::blocked_range<int64_t>(0, nb, 1024), [&](const tbb::blocked_range<int64_t>& r) {
+        for (int64_t k = r.begin(); k < r.end(); ++k) {
+          if (pass == 1 && !unbounded[k]) continue;
+          const Vec3 p = points[order[size_t(k)]];
+          const double radius = pass == 0 ? std::min(best[k], near) : best[k];
+          if (box_distance(box, p) > radius) continue;
+          const ClosestPoint c = radius < INFINITY ? q.closest_point(p, radius) : q.closest_point(p);
+          if (c.face >= 0 && c.distance < best[k]) best[k] = c.distance;
+        }
+      });
+    }
+  }
+  return best;
+}
 
 }  // namespace
 
@@ -131,38 +232,34 @@ std::vector<Vec3> surface_points(const ExactMeshQuery& input, const std::vector<
 }
 
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input, const std::vector<Vec3>* input_points,
-                          double far_pct, std::vector<Vec3>* far_points) {
-  TriangleMesh surface;
-  displaced_surface(model, surface.vertices, surface.faces);
-  const TriangleMesh& in = input.mesh();
-  const double diag = bounds(in).diagonal();
+                          double far_pct, std::vector<Vec3>* far_points, int64_t chunk_triangles) {
+  const SampleLayout& L = model.samples;
+  const double diag = bounds(input.mesh()).diagonal();
   Fidelity f;
-  const int64_t ns = static_cast<int64_t>(surface.vertices.size()), nt = static_cast<int64_t>(surface.faces.size());
-  auto centroid = [](const TriangleMesh& m, int64_t t) {
-    const Tri& f = m.faces[t];
-    return Vec3((m.vertices[f[0]] + m.vertices[f[1]] + m.vertices[f[2]]) / 3.0);
+  const int64_t ns = L.count, nt = L.triangle_count();
+  // The model's points, as displaced_surface() would give them, without building it.
+  const auto model_point = [&](int64_t k) {
+    if (k < ns) return sample_position(model, int(k));
+    const Tri t = L.grid_triangle(int32_t(k - ns));
+    return Vec3((sample_position(model, t[0]) + sample_position(model, t[1]) + sample_position(model, t[2])) / 3.0);
   };
   const double near = 1e-2 * diag, far = far_pct / 100 * diag;
   std::vector<uint8_t> far_flags;
   if (far_points) far_points->clear(), far_flags.assign(ns + nt, 0);
-  const auto model_point = [&](int64_t k) { return k < ns ? surface.vertices[k] : centroid(surface, k - ns); };
   const Sum fwd = distances(ns + nt, input, near, model_point, far, far_points ? &far_flags : nullptr);
   for (int64_t k = 0; k < static_cast<int64_t>(far_flags.size()); ++k)
     if (far_flags[k]) far_points->push_back(model_point(k));
-  // About one query per triangle, distances only (compact leaves); the surface is handed over,
-  // not copied (0.6 GB at 10^5 slabs), as only the reconstruction's queries read it from here on.
-  const ExactMeshQuery recon(std::move(surface), BvhQuality::compact);
   std::vector<Vec3> all_points;  // every vertex and centroid, unless the caller chose the points
   if (!input_points) all_points = surface_points(input, nullptr);
   const std::vector<Vec3>& back_points = input_points ? *input_points : all_points;
   const auto nb = static_cast<int64_t>(back_points.size());
-  if (far_points) far_flags.assign(nb, 0);
   // The input's points in Morton order (the model's come slab by slab, near each other already):
   // queries that follow each other then read the same BVH nodes and triangles; in an input's own
   // vertex order they cost 2.6 times as much (armadillo subdivided to 12.6 M triangles).
   const MortonOrder order(back_points);
-  const Sum back = distances(
-      nb, recon, near, [&](int64_t k) { return back_points[order[k]]; }, far, far_points ? &far_flags : nullptr);
+  const std::vector<double> back_distance = back_distances(model, back_points, order, near, chunk_triangles);
+  if (far_points) far_flags.assign(nb, 0);
+  const Sum back = distances(nb, back_distance, far, far_points ? &far_flags : nullptr);
   for (int64_t k = 0; far_points && k < nb; ++k)
     if (far_flags[k]) far_points->push_back(back_points[order[k]]);
   f.points = ns + nt;

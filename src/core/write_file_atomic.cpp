@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <vector>
 
 namespace hdm {
@@ -70,8 +71,18 @@ void write_all(int fd, const void* data, size_t size, const std::string& path) {
     p += n;
     size -= static_cast<size_t>(n);
   }
-  if (::fsync(fd) != 0) throw IoError(path + ": cannot flush to disk: " + reason());
 }
+
+// The streaming form's sink: each piece goes to the temporary as it comes.
+class FdSink final : public FileSink {
+ public:
+  FdSink(int fd, const std::string& path) : fd_(fd), path_(path) {}
+  void write(const void* data, size_t size) override { write_all(fd_, data, size, path_); }
+
+ private:
+  int fd_;
+  const std::string& path_;
+};
 
 // Creates the temporary: unnamed where the file system allows, else under a fresh name.
 void create(Temp& t, int dirfd, const std::string& path) {
@@ -132,10 +143,14 @@ void write_file_atomic(const std::string& path, const void* data, size_t size) {
   write_files_atomic({&one, 1});
 }
 
-void write_files_atomic(std::span<const FileBytes> files) {
+namespace {
+
+// write_files_atomic() with each file's bytes written by @p fill(k, fd) into its temporary.
+void write_atomic(size_t count, const std::function<const std::string&(size_t)>& path_of,
+                  const std::function<void(size_t, int)>& fill) {
   Dirs dirs;
-  std::vector<Temp> temps(files.size());
-  std::vector<int> dirfd(files.size());
+  std::vector<Temp> temps(count);
+  std::vector<int> dirfd(count);
   auto cleanup = [&] {
     for (size_t k = 0; k < temps.size(); ++k) {
       if (temps[k].named) ::unlinkat(dirfd[k], temps[k].name.c_str(), 0);
@@ -144,8 +159,8 @@ void write_files_atomic(std::span<const FileBytes> files) {
     }
   };
   try {
-    for (size_t k = 0; k < files.size(); ++k) {
-      const std::string& path = files[k].path;
+    for (size_t k = 0; k < count; ++k) {
+      const std::string& path = path_of(k);
       if (path.empty() || std::filesystem::path(path).filename().empty())
         throw IoError("'" + path + "': not a file name");
       temps[k].dir = dir_of(path);
@@ -153,26 +168,44 @@ void write_files_atomic(std::span<const FileBytes> files) {
       dirfd[k] = dirs.open(temps[k].dir, path);
       remove_stale(dirfd[k], temps[k].base);
       create(temps[k], dirfd[k], path);
-      write_all(temps[k].fd, files[k].data, files[k].size, path);
+      fill(k, temps[k].fd);
+      if (::fsync(temps[k].fd) != 0) throw IoError(path + ": cannot flush to disk: " + reason());
     }
-    for (size_t k = 0; k < files.size(); ++k) name(temps[k], dirfd[k], files[k].path);
+    for (size_t k = 0; k < count; ++k) name(temps[k], dirfd[k], path_of(k));
   } catch (...) {
     cleanup();
     throw;
   }
   // Side files first, the main file last: a reader that sees the new main file sees its side files.
-  for (size_t j = files.size(); j-- > 0;) {
+  for (size_t j = count; j-- > 0;) {
     if (::renameat(dirfd[j], temps[j].name.c_str(), dirfd[j], temps[j].base.c_str()) != 0) {
       const std::string why = reason();
       cleanup();
-      throw IoError(files[j].path + ": cannot rename " + temps[j].dir + "/" + temps[j].name + " over it: " + why);
+      throw IoError(path_of(j) + ": cannot rename " + temps[j].dir + "/" + temps[j].name + " over it: " + why);
     }
     temps[j].named = false;
   }
   for (Temp& t : temps) ::close(t.fd), t.fd = -1;
   for (size_t k = 0; k < dirs.fds.size(); ++k)
     if (::fsync(dirs.fds[k]) != 0 && errno != EINVAL)  // the rename must reach the disk too
-      throw IoError(files.front().path + ": cannot flush its directory " + dirs.names[k] + ": " + reason());
+      throw IoError(path_of(0) + ": cannot flush its directory " + dirs.names[k] + ": " + reason());
+}
+
+}  // namespace
+
+void write_files_atomic(std::span<const FileBytes> files) {
+  write_atomic(
+      files.size(), [&](size_t k) -> const std::string& { return files[k].path; },
+      [&](size_t k, int fd) { write_all(fd, files[k].data, files[k].size, files[k].path); });
+}
+
+void write_file_atomic(const std::string& path, const std::function<void(FileSink&)>& produce) {
+  write_atomic(
+      1, [&](size_t) -> const std::string& { return path; },
+      [&](size_t, int fd) {
+        FdSink sink(fd, path);
+        produce(sink);
+      });
 }
 
 }  // namespace hdm

@@ -24,21 +24,48 @@ namespace {
 constexpr char kMagic[4] = {'H', 'D', 'M', '\0'};
 constexpr size_t kChecksumBytes = 8;
 
-uint64_t fnv1a64(const uint8_t* data, size_t size) {
-  uint64_t h = 14695981039346656037ull;
+constexpr uint64_t kFnvBasis = 14695981039346656037ull;
+
+uint64_t fnv1a64(const uint8_t* data, size_t size, uint64_t h = kFnvBasis) {
   for (size_t k = 0; k < size; ++k) h = (h ^ data[k]) * 1099511628211ull;
   return h;
 }
 
 // ---- writing: every value goes through put_bits, which stores little-endian ----
 
+// Bytes go to the sink in pieces of about 1 MiB, hashed on the way (the file's checksum), so a
+// save holds one piece of the file, not the whole of it.
 class Writer {
  public:
-  std::vector<uint8_t> bytes;
+  explicit Writer(FileSink& sink) : sink_(sink) { bytes.reserve(kPiece + 64); }
+  std::vector<uint8_t> bytes;  // the piece not yet written
 
   template <class U>
   void put_bits(U bits) {
     for (size_t k = 0; k < sizeof(U); ++k) bytes.push_back(static_cast<uint8_t>(bits >> (8 * k)));
+    if (bytes.size() >= kPiece) flush();
+  }
+  // Appends @p size raw bytes.
+  void put_raw(const uint8_t* p, size_t size) {
+    while (size > 0) {  // the piece is below kPiece bytes between calls
+      const size_t n = std::min(size, kPiece - bytes.size());
+      bytes.insert(bytes.end(), p, p + n);
+      p += n, size -= n;
+      if (bytes.size() >= kPiece) flush();
+    }
+  }
+  // Writes the piece, hashed.
+  void flush() {
+    hash_ = fnv1a64(bytes.data(), bytes.size(), hash_);
+    sink_.write(bytes.data(), bytes.size());
+    bytes.clear();
+  }
+  // The checksum of every byte so far (FNV-1a 64), then the end of the file.
+  void finish() {
+    flush();
+    uint8_t tail[8];
+    for (size_t k = 0; k < 8; ++k) tail[k] = static_cast<uint8_t>(hash_ >> (8 * k));
+    sink_.write(tail, 8);
   }
   void put(int32_t v) { put_bits(static_cast<uint32_t>(v)); }
   void put(uint32_t v) { put_bits(v); }
@@ -47,9 +74,14 @@ class Writer {
   void put(float v) { put_bits(std::bit_cast<uint32_t>(v)); }
   void put(double v) { put_bits(std::bit_cast<uint64_t>(v)); }
   void tag(const char (&t)[5], uint64_t count) {
-    bytes.insert(bytes.end(), t, t + 4);
+    put_raw(reinterpret_cast<const uint8_t*>(t), 4);
     put(count);
   }
+
+ private:
+  static constexpr size_t kPiece = size_t(1) << 20;
+  FileSink& sink_;
+  uint64_t hash_ = kFnvBasis;
 };
 
 // ---- reading: bounds-checked cursor over the file's bytes ----
@@ -195,8 +227,7 @@ static_assert(sizeof(Srgb8) == 3 && alignof(Srgb8) == 1);
 template <class T>
 void put_bytes(Writer& w, const char (&t)[5], const std::vector<T>& v) {
   w.tag(t, v.size());
-  const auto* p = reinterpret_cast<const uint8_t*>(v.data());
-  w.bytes.insert(w.bytes.end(), p, p + v.size() * sizeof(T));
+  w.put_raw(reinterpret_cast<const uint8_t*>(v.data()), v.size() * sizeof(T));
 }
 template <class T>
 void get_bytes(Reader& r, const char (&t)[5], std::vector<T>& v) {
@@ -276,11 +307,12 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
 
 }  // namespace
 
-void save_model(const SlabModel& m, const std::string& path) {
-  Writer w;
-  w.bytes.reserve(64 + m.inner.size() * 48 + m.slabs.size() * 12 + m.displacement.size() * 20 + m.colour.size() * 4 +
-                  m.source.size());
-  w.bytes.insert(w.bytes.end(), kMagic, kMagic + 4);
+namespace {
+
+// The file's bytes, in order, into @p sink.
+void write_model(const SlabModel& m, FileSink& sink) {
+  Writer w(sink);
+  w.put_raw(reinterpret_cast<const uint8_t*>(kMagic), 4);
   w.put(hdm_format_version);
   w.tag("GRID", 2);
   w.put(static_cast<int32_t>(m.grid_n));
@@ -294,7 +326,7 @@ void save_model(const SlabModel& m, const std::string& path) {
   put_codes(w, "FRDY", m.friction_dynamic);
   put_codes(w, "STIF", m.stiffness_scale);
   w.tag("SRCN", m.source.size());
-  w.bytes.insert(w.bytes.end(), m.source.begin(), m.source.end());
+  w.put_raw(reinterpret_cast<const uint8_t*>(m.source.data()), m.source.size());
   w.tag("SRCT", 1);
   w.put(static_cast<int64_t>(m.source_triangles));
   w.tag("SRCD", 1);
@@ -311,8 +343,13 @@ void save_model(const SlabModel& m, const std::string& path) {
   put_codes(w, "HARD", m.hardness);
   w.tag("LAYH", 1);
   w.put(u.hardness_hv);
-  w.put(fnv1a64(w.bytes.data(), w.bytes.size()));
-  write_file_atomic(path, w.bytes.data(), w.bytes.size());
+  w.finish();
+}
+
+}  // namespace
+
+void save_model(const SlabModel& m, const std::string& path) {
+  write_file_atomic(path, [&](FileSink& sink) { write_model(m, sink); });
 }
 
 SlabModel load_model(const std::string& path, const ModelLoadOptions& options) {

@@ -54,7 +54,11 @@ TEST(FidelityTest, MatchesBruteForceOnASmallMesh) {
   o.slabs = 40;
   o.grid_n = 4;
   const SlabModel m = bake_slabs(input, "ellipsoid", o);
-  const Fidelity f = measure_fidelity(m, ExactMeshQuery(input));
+  const ExactMeshQuery exact(input);
+  const Fidelity f = measure_fidelity(m, exact);
+  // One BVH per slab (chunks of 16 grid triangles): each input point's distance is the least over
+  // 40 chunks, mostly rejected by their boxes, and must be the same.
+  const Fidelity chunked = measure_fidelity(m, exact, nullptr, INFINITY, nullptr, 16);
 
   TriangleMesh recon;
   displaced_surface(m, recon.vertices, recon.faces);
@@ -78,7 +82,21 @@ TEST(FidelityTest, MatchesBruteForceOnASmallMesh) {
   EXPECT_NEAR(f.max_pct, 100 * mx / diag, 1e-6);
   EXPECT_NEAR(f.rms_back_pct, 100 * std::sqrt(sq_back / back.size()) / diag, 1e-6);
   EXPECT_NEAR(f.max_back_pct, 100 * mx_back / diag, 1e-6);
+  EXPECT_NEAR(chunked.rms_back_pct, 100 * std::sqrt(sq_back / back.size()) / diag, 1e-6);
+  EXPECT_NEAR(chunked.max_back_pct, 100 * mx_back / diag, 1e-6);
+  EXPECT_EQ(chunked.rms_pct, f.rms_pct);
   EXPECT_GT(f.max_pct, 0.0);
+  // Points farther than 1 % of the diagonal from every chunk take the unbounded second pass.
+  std::vector<Vec3> far_set = {Vec3(3, 0.5, 0.2), Vec3(-0.2, 0.1, 0.05), Vec3(0, 0, 1.4)};
+  double sq_far = 0, mx_far = 0;
+  for (const Vec3& p : far_set) {
+    const double d = brute_distance(p, recon);
+    sq_far += d * d, mx_far = std::max(mx_far, d);
+  }
+  const Fidelity far = measure_fidelity(m, exact, &far_set, INFINITY, nullptr, 16);
+  EXPECT_NEAR(far.rms_back_pct, 100 * std::sqrt(sq_far / far_set.size()) / diag, 1e-9);
+  EXPECT_NEAR(far.max_back_pct, 100 * mx_far / diag, 1e-9);
+  EXPECT_GT(mx_far, 0.5);
 }
 
 namespace {

@@ -206,5 +206,29 @@ TEST(WriteFilesAtomic, ADirectoryItMayNotWriteLeavesNothingNew) {
   fs::remove_all(d);
 }
 
+TEST(WriteFileAtomic, StreamedPiecesMakeTheFileAndAThrowingProducerLeavesTheOldOne) {
+  // The streaming form: pieces of any size, in order, give the same file as one buffer; a
+  // producer that throws half way leaves the old file and no temporary, and its exception comes out.
+  const fs::path d = scratch("stream");
+  const fs::path f = d / "m.hdm";
+  put(f, "old");
+  std::string expected;
+  for (int k = 0; k < 5000; ++k) expected += std::to_string(k * 7919) + (k % 3 ? "," : "\n");
+  write_file_atomic(f.string(), [&](FileSink& sink) {
+    for (size_t at = 0, len = 1; at < expected.size(); at += len, len = len * 2 + 1)
+      sink.write(expected.data() + at, std::min(len, expected.size() - at));
+  });
+  EXPECT_EQ(slurp(f), expected);
+  EXPECT_THROW(write_file_atomic(f.string(),
+                                 [&](FileSink& sink) {
+                                   sink.write("partial", 7);
+                                   throw IoError("producer failed");
+                                 }),
+               IoError);
+  EXPECT_EQ(slurp(f), expected);
+  EXPECT_TRUE(others(d, {"m.hdm"}).empty());
+  fs::remove_all(d);
+}
+
 }  // namespace
 }  // namespace hdm

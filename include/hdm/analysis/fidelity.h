@@ -29,8 +29,8 @@ struct Fidelity {
 
 /// @brief Fidelity of @p model against @p input: every sample and grid-triangle centroid of the
 /// reconstructed surface to the input, and every input point (@p input_points, by default every
-/// input vertex and face centroid) to the reconstructed surface (an Embree BVH over the displaced
-/// grid triangles).
+/// input vertex and face centroid) to the reconstructed surface (Embree BVHs over the displaced
+/// grid triangles, one chunk of slabs at a time; each distance is the least over the chunks).
 /// @param model   slab model with derived data (rebuild_derived()).
 /// @param input   exact queries on the mesh @p model was baked from (same frame and units).
 /// @param input_points  optional points of the input's surface that the input-to-model direction
@@ -43,10 +43,15 @@ struct Fidelity {
 /// @param[out] far_points  optional: the measured points (reconstructed points, then input points)
 ///                farther than @p far_pct from the other surface [model units]: where the
 ///                reconstruction misses a bound (bake_to_tolerance() refines there).
-/// @note Parallel (TBB); O((#samples + #points) log #F).
+/// @param chunk_triangles  grid triangles per BVH at most (whole slabs, in Morton order of their
+///                boxes; at least one slab a chunk): bounds the memory the measurement adds to the
+///                model's (about 300 MB per 2^21 triangles). The figures do not depend on it.
+/// @note Parallel (TBB); O((#samples + #points) log #F), plus a box test per input point and
+///       chunk. At 100,000 slabs (25.6 M grid triangles, 13 chunks) the bake's peak is 1.3 GB
+///       instead of 2.7 (docs/performance.md#peak-memory-of-a-100000-slab-bake).
 Fidelity measure_fidelity(const SlabModel& model, const ExactMeshQuery& input,
                           const std::vector<Vec3>* input_points = nullptr, double far_pct = INFINITY,
-                          std::vector<Vec3>* far_points = nullptr);
+                          std::vector<Vec3>* far_points = nullptr, int64_t chunk_triangles = int64_t(1) << 21);
 
 /// @brief The points of an input that measure_fidelity() measures from the input to a model:
 /// every vertex and face centroid, or with @p interior, those on the surface of the material.

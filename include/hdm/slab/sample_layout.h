@@ -181,14 +181,20 @@ struct SampleLayout {
   /// @note O(#slabs·n²), no allocation.
   template <class F>
   void for_each_triangle(F&& f) const {
-    for (int32_t k = 0; k < slab_count; ++k) {
-      const SlabIds g = slab_ids(k);
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i + j < n; ++i) {
-          f(up_triangle(g, i, j));
-          if (i + j <= n - 2) f(down_triangle(g, i, j));
-        }
-    }
+    for (int32_t k = 0; k < slab_count; ++k) for_each_slab_triangle(k, f);
+  }
+
+  /// @brief Calls @p f(corners) for the n² grid triangles of slab @p slab, in triangle index order
+  /// (for_each_triangle()), corners counter-clockwise from outside.
+  /// Precondition: 0 <= slab < slab_count. @note O(n²), no allocation.
+  template <class F>
+  void for_each_slab_triangle(int32_t slab, F&& f) const {
+    const SlabIds g = slab_ids(slab);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i + j < n; ++i) {
+        f(up_triangle(g, i, j));
+        if (i + j <= n - 2) f(down_triangle(g, i, j));
+      }
   }
 
   /// @brief Corners of grid triangle @p t (see for_each_triangle()), counter-clockwise from outside.
