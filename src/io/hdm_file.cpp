@@ -37,28 +37,27 @@ uint64_t fnv1a64(const uint8_t* data, size_t size, uint64_t h = kFnvBasis) {
 // save holds one piece of the file, not the whole of it.
 class Writer {
  public:
-  explicit Writer(FileSink& sink) : sink_(sink) { bytes.reserve(kPiece + 64); }
-  std::vector<uint8_t> bytes;  // the piece not yet written
+  explicit Writer(FileSink& sink) : sink_(sink) { bytes_.reserve(kPiece + 64); }
 
   template <class U>
   void put_bits(U bits) {
-    for (size_t k = 0; k < sizeof(U); ++k) bytes.push_back(static_cast<uint8_t>(bits >> (8 * k)));
-    if (bytes.size() >= kPiece) flush();
+    for (size_t k = 0; k < sizeof(U); ++k) bytes_.push_back(static_cast<uint8_t>(bits >> (8 * k)));
+    if (bytes_.size() >= kPiece) flush();
   }
   // Appends @p size raw bytes.
   void put_raw(const uint8_t* p, size_t size) {
     while (size > 0) {  // the piece is below kPiece bytes between calls
-      const size_t n = std::min(size, kPiece - bytes.size());
-      bytes.insert(bytes.end(), p, p + n);
+      const size_t n = std::min(size, kPiece - bytes_.size());
+      bytes_.insert(bytes_.end(), p, p + n);
       p += n, size -= n;
-      if (bytes.size() >= kPiece) flush();
+      if (bytes_.size() >= kPiece) flush();
     }
   }
   // Writes the piece, hashed.
   void flush() {
-    hash_ = fnv1a64(bytes.data(), bytes.size(), hash_);
-    sink_.write(bytes.data(), bytes.size());
-    bytes.clear();
+    hash_ = fnv1a64(bytes_.data(), bytes_.size(), hash_);
+    sink_.write(bytes_.data(), bytes_.size());
+    bytes_.clear();
   }
   // The checksum of every byte so far (FNV-1a 64), then the end of the file.
   void finish() {
@@ -80,6 +79,7 @@ class Writer {
 
  private:
   static constexpr size_t kPiece = size_t(1) << 20;
+  std::vector<uint8_t> bytes_;  // the piece not yet written
   FileSink& sink_;
   uint64_t hash_ = kFnvBasis;
 };
@@ -304,10 +304,6 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
     refuse("corrupt (COLR holds " + std::to_string(m.colour.size()) +
            " colours, but the texel grid (n·m = " + std::to_string(big_n) + ") has " + std::to_string(nt) + " texels)");
 }
-
-}  // namespace
-
-namespace {
 
 // The file's bytes, in order, into @p sink.
 void write_model(const SlabModel& m, FileSink& sink) {
