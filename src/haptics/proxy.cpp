@@ -71,6 +71,44 @@ bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x
 
 Vec3 tangential(const Vec3& v, const Vec3& n) noexcept { return v - v.dot(n) * n; }
 
+// The coordinates of x = (proxy's point) + step by one Newton step of the slab map
+// x(wS, wT, α) = R0 + wS·e1 + wT·e2 + α·(dR + wS·d1 + wT·d2) from the proxy's own (wS, wT, α = δ):
+// the 3×3 Jacobian [e1 + α·d1, e2 + α·d2, ray] solved by Cramer's rule. Its error is second order
+// in the step (the map is bilinear in the barycentrics and α), a tangential step of a few µm against
+// a slab millimetres wide, and the candidate is a surface point either way: slide_towards accepts
+// it only if the residual decreases. Returns false when the step leaves the slab (a barycentric
+// below 0) or the Jacobian is singular; the locator's search then takes over (reproject).
+bool step_in_slab(const SlabModel& model, int slab, const SlabCoordinates& c, const Vec3& step,
+                  SlabCoordinates& out) noexcept {
+  const SlabGeometry& g = model.geometry[slab];
+  const double a = c.alpha, wS = c.bary[1], wT = c.bary[2];
+  const Vec3 jS = g.e1 + a * g.d1, jT = g.e2 + a * g.d2, ray = g.dR + wS * g.d1 + wT * g.d2;
+  const Vec3 nS = jT.cross(ray);  // Cramer: det·ΔwS = step·(jT×ray), det·ΔwT = jS·(step×ray)
+  const double det = jS.dot(nS);
+  if (!(std::abs(det) > 0)) return false;
+  const double inv = 1.0 / det;
+  const double s = wS + step.dot(nS) * inv, t = wT + jS.dot(step.cross(ray)) * inv;
+  if (!(s >= 0 && t >= 0 && s + t <= 1)) return false;  // also false for a NaN
+  out.bary = Vec3(1 - s - t, s, t);
+  out.alpha = a;
+  return true;
+}
+
+// A candidate proxy position for a tangential step: in the proxy's slab by step_in_slab when the
+// step stays in it (no search), else by the locator (reproject, which crosses slab edges).
+bool candidate(const SlabModel& model, const SlabLocator& locator, const ProxyState& s, const Vec3& step,
+               double min_cos, AlphaSolver solver, QueryCache& cache, Contact& out) noexcept {
+  SlabCoordinates c;
+  if (!step_in_slab(model, s.slab, s.coords, step, c))
+    return reproject(model, locator, s.position + step, s.normal, min_cos, solver, s.coords.alpha, cache, out);
+  if (!surface_at(model, s.slab, c, out)) return false;
+  if (out.normal.dot(s.normal) < std::max(kMinNormalAgreement, min_cos)) return false;
+  cache.last_slab = s.slab;
+  out.coords.alpha = out.delta;
+  out.depth = 0;
+  return true;
+}
+
 // Moves the proxy towards target T: project T onto the proxy's tangent plane, re-project onto the
 // surface, repeat. Converges to the point whose interpolated normal points at T (force shading).
 void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec3& target, const ProxyParams& p,
@@ -95,7 +133,7 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
       // two positions every tick (seen on the armadillo: force flips of 3 N); the residual test
       // with halving turns it into a damped iteration. A strict descent on |target - proxy| was
       // tried and rejected: it made the proxy lag on curved parts, acting as friction.
-      if (reproject(model, locator, s.position + step, s.normal, min_cos, p.solver, s.coords.alpha, s.proxy_cache, c) &&
+      if (candidate(model, locator, s, step, min_cos, p.solver, s.proxy_cache, c) &&
           tangential(target - c.surface_point, c.normal).squaredNorm() < residual2) {
         s.slab = c.slab;
         s.coords = c.coords;
