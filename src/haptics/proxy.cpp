@@ -160,11 +160,36 @@ struct Material {
   double k, mu_s, mu_d;
 };
 
+// The query of a free HIP: the full contact only where it penetrates (δ > α). Above the surface
+// the proxy just follows the HIP, so the interpolated normal (its square root and division) is not
+// computed: such a contact has its slab, coordinates and δ, and depth 0.
+Contact free_query(const SlabModel& model, const SlabLocator& locator, const Vec3& x, QueryCache& cache,
+                   AlphaSolver solver) noexcept {
+  Contact out;
+  SlabCoordinates c;
+  const int slab = locator.find(x, cache.last_slab, solver, cache.last_alpha, c);
+  if (slab < 0) return out;
+  cache.last_slab = slab;
+  cache.last_alpha = c.alpha;
+  const slab_query::detail::LocalCell cell = slab_query::detail::local_cell(model.grid_n, c.bary[1], c.bary[2]);
+  const SlabSample* v = slab_query::detail::slab_block(model, slab);
+  // The same interpolation as evaluate_surface's δ, so the two agree on which points penetrate.
+  const double delta = cell.wa * v[cell.la].delta + cell.wb * v[cell.lb].delta + cell.wd * v[cell.ld].delta;
+  if (delta > c.alpha) {
+    evaluate_surface(model, slab, c, out);
+    return out;
+  }
+  out.slab = slab;
+  out.coords = c;
+  out.delta = delta;
+  return out;
+}
+
 // Free: the HIP's contact, sub-stepping a long free move (from the last HIP) so that a jump across
 // a thin part in one tick is still caught on the entry side.
 static inline Contact first_penetration(const SlabModel& model, const SlabLocator& locator, const Vec3& hip,
                                         const ProxyParams& p, ProxyState& s) noexcept {
-  Contact c = query(model, locator, hip, s.hip_cache, p.solver);
+  Contact c = free_query(model, locator, hip, s.hip_cache, p.solver);
   if (!c.penetrating() && s.has_last_hip) {
     const double step = p.tunnel_step > 0 ? p.tunnel_step : 0.002 * model_diagonal(model);
     const double len = (hip - s.last_hip).norm();
@@ -172,7 +197,7 @@ static inline Contact first_penetration(const SlabModel& model, const SlabLocato
     QueryCache sub_cache = s.hip_cache;
     for (int k = 1; k < subs; ++k) {
       const Contact ck =
-          query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache, p.solver);
+          free_query(model, locator, s.last_hip + (hip - s.last_hip) * (double(k) / subs), sub_cache, p.solver);
       if (ck.penetrating()) {
         c = ck;
         break;
