@@ -71,35 +71,52 @@ bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x
 
 Vec3 tangential(const Vec3& v, const Vec3& n) noexcept { return v - v.dot(n) * n; }
 
-// The coordinates of x = (proxy's point) + step by one Newton step of the slab map
-// x(wS, wT, α) = R0 + wS·e1 + wT·e2 + α·(dR + wS·d1 + wT·d2) from the proxy's own (wS, wT, α = δ):
-// the 3×3 Jacobian [e1 + α·d1, e2 + α·d2, ray] solved by Cramer's rule. Its error is second order
-// in the step (the map is bilinear in the barycentrics and α), a tangential step of a few µm against
-// a slab millimetres wide, and the candidate is a surface point either way: slide_towards accepts
-// it only if the residual decreases. Returns false when the step leaves the slab (a barycentric
-// below 0) or the Jacobian is singular; the locator's search then takes over (reproject).
-bool step_in_slab(const SlabModel& model, int slab, const SlabCoordinates& c, const Vec3& step,
-                  SlabCoordinates& out) noexcept {
+// The rows of the inverse Jacobian of the slab map x(wS, wT, α) = R0 + wS·e1 + wT·e2 +
+// α·(dR + wS·d1 + wT·d2) at coordinates (wS, wT, α) of one slab that give the barycentric part of a
+// step: ΔwS = step·rS, ΔwT = step·rT (the Jacobian [e1 + α·d1, e2 + α·d2, ray], Cramer's rule).
+struct SlabStep {
+  int32_t slab = -1;  // -1: not computed yet
+  Vec3 rS, rT;
+};
+
+// Computes @p j at the proxy's coordinates; false when the Jacobian is singular there.
+bool slab_step(const SlabModel& model, int slab, const SlabCoordinates& c, SlabStep& j) noexcept {
   const SlabGeometry& g = model.geometry[slab];
   const double a = c.alpha, wS = c.bary[1], wT = c.bary[2];
   const Vec3 jS = g.e1 + a * g.d1, jT = g.e2 + a * g.d2, ray = g.dR + wS * g.d1 + wT * g.d2;
-  const Vec3 nS = jT.cross(ray);  // Cramer: det·ΔwS = step·(jT×ray), det·ΔwT = jS·(step×ray)
+  const Vec3 nS = jT.cross(ray);
   const double det = jS.dot(nS);
   if (!(std::abs(det) > 0)) return false;
   const double inv = 1.0 / det;
-  const double s = wS + step.dot(nS) * inv, t = wT + jS.dot(step.cross(ray)) * inv;
+  j.slab = slab;
+  j.rS = nS * inv;
+  j.rT = ray.cross(jS) * inv;
+  return true;
+}
+
+// The coordinates of x = (proxy's point) + step by a Newton step of the slab map from the proxy's
+// own (wS, wT, α = δ), with the Jacobian of the tick's first step in that slab (a chord step: the
+// proxy moves micrometres within a tick). The error is second order in the step (the map is bilinear
+// in the barycentrics and α), a step of a few µm against a slab millimetres wide, and the candidate
+// is a surface point either way: slide_towards accepts it only if the residual decreases. Returns
+// false when the step leaves the slab (a barycentric below 0) or the Jacobian is singular; the
+// locator's search then takes over (reproject).
+bool step_in_slab(const SlabModel& model, int slab, const SlabCoordinates& c, const Vec3& step, SlabStep& j,
+                  SlabCoordinates& out) noexcept {
+  if (j.slab != slab && !slab_step(model, slab, c, j)) return false;
+  const double s = c.bary[1] + step.dot(j.rS), t = c.bary[2] + step.dot(j.rT);
   if (!(s >= 0 && t >= 0 && s + t <= 1)) return false;  // also false for a NaN
   out.bary = Vec3(1 - s - t, s, t);
-  out.alpha = a;
+  out.alpha = c.alpha;
   return true;
 }
 
 // A candidate proxy position for a tangential step: in the proxy's slab by step_in_slab when the
 // step stays in it (no search), else by the locator (reproject, which crosses slab edges).
 bool candidate(const SlabModel& model, const SlabLocator& locator, const ProxyState& s, const Vec3& step,
-               double min_cos, AlphaSolver solver, QueryCache& cache, Contact& out) noexcept {
+               double min_cos, AlphaSolver solver, SlabStep& j, QueryCache& cache, Contact& out) noexcept {
   SlabCoordinates c;
-  if (!step_in_slab(model, s.slab, s.coords, step, c))
+  if (!step_in_slab(model, s.slab, s.coords, step, j, c))
     return reproject(model, locator, s.position + step, s.normal, min_cos, solver, s.coords.alpha, cache, out);
   if (!surface_at(model, s.slab, c, out)) return false;
   if (out.normal.dot(s.normal) < std::max(kMinNormalAgreement, min_cos)) return false;
@@ -118,6 +135,7 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
   // still or slowly moving hand costs one round instead of params.iterations.
   const double tiny = 1e-7 * model_diagonal(model);
   const double min_cos = std::cos(p.max_turn_deg * std::numbers::pi / 180);
+  SlabStep j;
   for (int it = 0; it < std::max(1, p.iterations); ++it) {
     Vec3 step = tangential(target - s.position, s.normal);
     // Squared lengths: the comparisons need no square root (two per candidate on the tick's path).
@@ -133,7 +151,7 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
       // two positions every tick (seen on the armadillo: force flips of 3 N); the residual test
       // with halving turns it into a damped iteration. A strict descent on |target - proxy| was
       // tried and rejected: it made the proxy lag on curved parts, acting as friction.
-      if (candidate(model, locator, s, step, min_cos, p.solver, s.proxy_cache, c) &&
+      if (candidate(model, locator, s, step, min_cos, p.solver, j, s.proxy_cache, c) &&
           tangential(target - c.surface_point, c.normal).squaredNorm() < residual2) {
         s.slab = c.slab;
         s.coords = c.coords;
