@@ -185,14 +185,11 @@ Contact free_query(const SlabModel& model, const SlabLocator& locator, const Vec
                    AlphaSolver solver) noexcept {
   Contact out;
   SlabCoordinates c;
-  const int slab = locator.find(x, cache.last_slab, solver, cache.last_alpha, c);
+  const int slab = slab_query::detail::find_cached(locator, x, cache, solver, c);
   if (slab < 0) return out;
-  cache.last_slab = slab;
-  cache.last_alpha = c.alpha;
-  const slab_query::detail::LocalCell cell = slab_query::detail::local_cell(model.grid_n, c.bary[1], c.bary[2]);
-  const SlabSample* v = slab_query::detail::slab_block(model, slab);
   // The same interpolation as evaluate_surface's δ, so the two agree on which points penetrate.
-  const double delta = cell.wa * v[cell.la].delta + cell.wb * v[cell.lb].delta + cell.wd * v[cell.ld].delta;
+  const double delta = slab_query::detail::interpolated_delta(
+      model, slab, slab_query::detail::local_cell(model.grid_n, c.bary[1], c.bary[2]));
   if (delta > c.alpha) {
     evaluate_surface(model, slab, c, out);
     return out;

@@ -43,11 +43,8 @@ Contact query(const SlabModel& model, const SlabLocator& locator, const Vec3& p,
               AlphaSolver solver) noexcept {
   Contact out;
   SlabCoordinates c;
-  const int slab = locator.find(p, cache.last_slab, solver, cache.last_alpha, c);
-  if (slab < 0) return out;
-  cache.last_slab = slab;
-  cache.last_alpha = c.alpha;
-  evaluate_surface(model, slab, c, out);
+  const int slab = slab_query::detail::find_cached(locator, p, cache, solver, c);
+  if (slab >= 0) evaluate_surface(model, slab, c, out);
   return out;
 }
 

@@ -69,14 +69,29 @@ inline const SlabSample* slab_block(const SlabModel& model, int slab) noexcept {
   return model.slab_samples.data() + static_cast<size_t>(slab) * model.samples.per_slab;
 }
 
+/// δ over @p cell of @p slab, from the slab-major copy (SlabModel::slab_samples): the one
+/// interpolation of the displacement that the query, the proxy and the edits share.
+inline double interpolated_delta(const SlabModel& model, int slab, const LocalCell& cell) noexcept {
+  const SlabSample* v = slab_block(model, slab);
+  return cell.wa * v[cell.la].delta + cell.wb * v[cell.lb].delta + cell.wd * v[cell.ld].delta;
+}
+
+/// The slab holding @p p and its coordinates @p c, searched from @p cache's slab and α, which are
+/// updated when a slab is found (-1: none).
+inline int find_cached(const SlabLocator& locator, const Vec3& p, QueryCache& cache, AlphaSolver solver,
+                       SlabCoordinates& c) noexcept {
+  const int slab = locator.find(p, cache.last_slab, solver, cache.last_alpha, c);
+  if (slab >= 0) cache.last_slab = slab, cache.last_alpha = c.alpha;
+  return slab;
+}
+
 /// Surface point P0(w) + δ(w)·D(w) at barycentrics (·, wS, wT) of @p slab [model units]; also
 /// returns δ and D(w). Reads the slab-major copy (SlabModel::slab_samples), whose values equal
 /// `displacement`, so the result is the same as interpolating `displacement`.
 inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT, const LocalCell& cell, double& delta,
                           Vec3& ray) noexcept {
   const SlabGeometry& g = model.geometry[slab];
-  const SlabSample* v = slab_block(model, slab);
-  delta = cell.wa * v[cell.la].delta + cell.wb * v[cell.lb].delta + cell.wd * v[cell.ld].delta;
+  delta = interpolated_delta(model, slab, cell);
   ray = g.dR + wS * g.d1 + wT * g.d2;            // D(w) = Σ wV dV
   const Vec3 p0 = g.R0 + wS * g.e1 + wT * g.e2;  // P0(w) = Σ wV V0
   return p0 + delta * ray;
