@@ -108,7 +108,8 @@ double interpolate_field(const SlabModel& model, const std::vector<Unorm16>& fie
 /// rounds: within its slab by one Newton step of the slab map from the proxy's coordinates,
 /// across slab edges and corners through SlabLocator::find. A step is halved when it leaves the
 /// shell, lands on a surface facing away, turns the normal by more than max_turn_deg, or does not
-/// reduce the tangential residual. Static friction holds it while |F_t| <= μs·F_n, otherwise it slides so that |F_t| = μd·F_n. Stiffness scale and friction are the per-sample fields
+/// reduce the tangential residual. Static friction holds it while |F_t| <= μs·F_n, otherwise it
+/// slides so that |F_t| = μd·F_n. Stiffness scale and friction are the per-sample fields
 /// interpolated at the proxy, or the under-layer's (SlabModel::under_layer) where the proxy is below the layer's top
 /// (blended over ProxyParams::layer_band); they are read on every tick, so painting them is felt
 /// on the next. Contact lasts while (HIP - proxy)·n_proxy < 0, whatever the HIP's own query
