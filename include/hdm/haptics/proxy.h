@@ -128,7 +128,7 @@ double interpolate_field(const SlabModel& model, const std::vector<Unorm16>& fie
 ///         not finite or farther than params.position_limit_m from the workspace centre.
 /// @note noexcept, no allocation, no locks, no I/O. Cost: up to params.iterations surface
 ///       evaluations, each after a 3 × 3 solve (a locator find when the step leaves the slab);
-///       191 ns median on the bunny (`hdm bench`, half the ticks in contact).
+///       181-184 ns median on the bunny (`hdm bench`, half the ticks in contact).
 /// @see Zilles & Salisbury 1995; Ruspini et al. 1997 (proxy, force shading, friction);
 ///      Melder & Harwin 2005 (friction cone); docs/design.md#force-and-proxy.
 ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const Vec3& hip_device,
