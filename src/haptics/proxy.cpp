@@ -53,6 +53,18 @@ bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Cont
   return out.surface_point.allFinite() && out.normal.allFinite();
 }
 
+// The proxy's candidate at coordinates @p c of @p slab: the surface point there, refused when its
+// normal turns away from @p n_ref by more than allowed (the far side of a thin part, a fold).
+bool surface_candidate(const SlabModel& model, int slab, const SlabCoordinates& c, const Vec3& n_ref, double min_cos,
+                       QueryCache& cache, Contact& out) noexcept {
+  if (!surface_at(model, slab, c, out)) return false;
+  if (out.normal.dot(n_ref) < std::max(kMinNormalAgreement, min_cos)) return false;
+  cache.last_slab = slab;
+  out.coords.alpha = out.delta;  // the proxy sits at δ on its line: depth 0 there
+  out.depth = 0;
+  return true;
+}
+
 // Re-projects point @p x onto the displaced surface: locate it, then take the surface point on its
 // projection line. Returns false when x is in no slab, or in a slab that faces away. @p alpha_guess
 // (the proxy's α, x being a short step along its tangent plane) starts the α solve close to the root.
@@ -60,13 +72,7 @@ bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x
                AlphaSolver solver, double alpha_guess, QueryCache& cache, Contact& out) noexcept {
   SlabCoordinates c;
   const int slab = locator.find(x, cache.last_slab, solver, alpha_guess, c);
-  if (slab < 0) return false;
-  if (!surface_at(model, slab, c, out)) return false;
-  if (out.normal.dot(n_ref) < std::max(kMinNormalAgreement, min_cos)) return false;
-  cache.last_slab = slab;
-  out.coords.alpha = out.delta;  // the proxy sits at δ on its line: depth 0 there
-  out.depth = 0;
-  return true;
+  return slab >= 0 && surface_candidate(model, slab, c, n_ref, min_cos, cache, out);
 }
 
 Vec3 tangential(const Vec3& v, const Vec3& n) noexcept { return v - v.dot(n) * n; }
@@ -76,7 +82,7 @@ Vec3 tangential(const Vec3& v, const Vec3& n) noexcept { return v - v.dot(n) * n
 // step: ΔwS = step·rS, ΔwT = step·rT (the Jacobian [e1 + α·d1, e2 + α·d2, ray], Cramer's rule).
 struct SlabStep {
   int32_t slab = -1;  // -1: not computed yet
-  Vec3 rS, rT;
+  Vec3 rS = Vec3::Zero(), rT = Vec3::Zero();
 };
 
 // Computes @p j at the proxy's coordinates; false when the Jacobian is singular there.
@@ -118,12 +124,7 @@ bool candidate(const SlabModel& model, const SlabLocator& locator, const ProxySt
   SlabCoordinates c;
   if (!step_in_slab(model, s.slab, s.coords, step, j, c))
     return reproject(model, locator, s.position + step, s.normal, min_cos, solver, s.coords.alpha, cache, out);
-  if (!surface_at(model, s.slab, c, out)) return false;
-  if (out.normal.dot(s.normal) < std::max(kMinNormalAgreement, min_cos)) return false;
-  cache.last_slab = s.slab;
-  out.coords.alpha = out.delta;
-  out.depth = 0;
-  return true;
+  return surface_candidate(model, s.slab, c, s.normal, min_cos, cache, out);
 }
 
 // Moves the proxy towards target T: project T onto the proxy's tangent plane, re-project onto the
