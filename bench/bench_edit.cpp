@@ -190,21 +190,22 @@ void stamp(benchmark::State& state, BrushTool tool) {
   report(state, visited, changed);
 }
 
-// Publication for readers: copying Arg slabs into spare versions and committing them as one epoch
-// (what SculptSession does between sweeps). Counter ns_per_slab. With an edit thread instead of
-// edits in the servo tick, the proxy would need such a copy of every slab an edit touched before
-// it could feel the edit.
+// Copy on write for readers: the first write of Arg slabs after a publication copies each into a
+// spare version (SlabSnapshots::before_write), then one commit publishes them (what SculptSession
+// does between sweeps). Counter ns_per_slab. With an edit thread instead of edits in the servo
+// tick, the proxy would need such a copy of every slab an edit touched before it could feel the edit.
 void publish(benchmark::State& state) {
   const Fixture& f = fixture();
-  SlabSnapshots snaps(f.model);
+  SnapshotOptions o;
+  o.spare_versions = 128;
+  SlabSnapshots snaps(f.model, o);
   const int count = static_cast<int>(state.range(0));
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<int> pick(0, f.model.slab_count() - count);
   int64_t slabs = 0;
   for (auto _ : state) {
-    snaps.publish_reserve(count);
     const int first = pick(rng);
-    for (int s = first; s < first + count; ++s) snaps.publish_slab(s);
+    for (int s = first; s < first + count; ++s) benchmark::DoNotOptimize(snaps.before_write(s));
     benchmark::DoNotOptimize(snaps.publish_commit());
     slabs += count;
   }

@@ -4,6 +4,7 @@
 
 #include <hdm/io/hdm_file.h>
 #include <hdm/slab/model_memory.h>
+#include <hdm/slab/slab_snapshots.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -49,6 +50,10 @@ void run_info(const InfoOptions& o) {
     exposed += m.displacement[s] < m.layer_displacement[s];
   const auto file_bytes = static_cast<uintmax_t>(std::filesystem::file_size(o.model));
   const ModelMemory mem = model_memory(m);
+  // What a sculpting session's snapshots add at their default settings (copy on write: the spare
+  // versions and the per-slab state).
+  const SlabSnapshots snapshots(m);
+  const size_t snapshot_bytes = snapshots.memory_bytes();
 
   if (o.json) {
     const nlohmann::json j = {
@@ -75,7 +80,9 @@ void run_info(const InfoOptions& o) {
           {"caches", mem.caches},
           {"slab_constants", mem.slab_constants},
           {"bytes_per_sample", mem.per_sample()},
-          {"bytes_per_texel", mem.per_texel()}}},
+          {"bytes_per_texel", mem.per_texel()},
+          {"snapshot_bytes", snapshot_bytes},
+          {"snapshot_versions", snapshots.version_count()}}},
         {"file_bytes", file_bytes}};
     std::printf("%s\n", j.dump().c_str());
     return;
@@ -103,6 +110,9 @@ void run_info(const InfoOptions& o) {
       "  derived         %.1f MiB sample layout, %.1f MiB texel layout, %.1f MiB query caches, "
       "%.1f MiB slab constants\n",
       mib(mem.sample_layout), mib(mem.texel_layout), mib(mem.caches), mib(mem.slab_constants));
+  std::printf("  snapshots       %.2f MiB while sculpting (%.1f %% of the model: %d spare versions, copy on write)\n",
+              mib(int64_t(snapshot_bytes)), 100.0 * double(snapshot_bytes) / double(mem.total()),
+              snapshots.version_count());
 }
 
 }  // namespace

@@ -288,7 +288,7 @@ nlohmann::json sculpt_report(const SculptArgs& a, const std::string& script_path
           {"max_edit_ns", ss.max_edit_ns},
           {"publications", ss.publications},
           {"slabs_published", ss.slabs_published},
-          {"publish_deferred", ss.publish_deferred},
+          {"edits_refused", ss.edits_refused},
           {"autosaves", autosaves},
           {"undo_strokes", h.undo_count()},
           {"undo_records_bytes", h.records_held() * sizeof(UndoRecord)},

@@ -67,8 +67,10 @@ UploadFrame SnapshotUploader::update() {
   if (verify_) f.dirty = 0;
   const SlabModel& model = snapshots_.model();
   for (int s = 0; s < static_cast<int>(drawn_epoch_.size()); ++s) {
+    // The epoch alone decides (a slab's copy is made only to upload it, or to verify it).
+    const bool newer = reader.slab_epoch(s) > drawn_epoch_[static_cast<size_t>(s)];
+    if (!newer && !verify_) continue;
     const SlabView v = reader.slab(s);
-    const bool newer = v.epoch > drawn_epoch_[static_cast<size_t>(s)];
     if (verify_) {
       const bool changed = differs(v, s);
       f.dirty += changed;

@@ -59,7 +59,7 @@ void write_studio_report(const StudioReportContext& c, const ServoStats& st, con
         {"changed", ss.changed},
         {"publications", ss.publications},
         {"slabs_published", ss.slabs_published},
-        {"publish_deferred", ss.publish_deferred}}},
+        {"edits_refused", ss.edits_refused}}},
       {"screenshots", f.screenshot_files},
       {"workspace",
        {{"origin", {c.workspace.origin.x(), c.workspace.origin.y(), c.workspace.origin.z()}},

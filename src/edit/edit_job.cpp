@@ -119,7 +119,7 @@ bool EditJob::run_flood(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
 void EditJob::start_normals(EditScratch& s) noexcept {
   result = {};
   phase_ = s.changed_count > 0 ? Phase::Ring : Phase::Idle;
-  cursor_ = ring_count_ = 0;
+  cursor_ = ring_count_ = marked_ = 0;
   if (phase_ == Phase::Ring) stamp_ = next_stamp(s);
 }
 
@@ -128,7 +128,10 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   DirtyMarker dirty_s{s};
   while (rec_pos_ < rec_end_) {
     if (d.expired(2)) return false;
-    UndoRecord& r = history_->at(rec_pos_++);
+    UndoRecord& r = history_->at(rec_pos_);
+    // The record's slabs flagged (and granted) first; a refusal stops before the record.
+    if (r.index >= 0 ? !dirty_s.mark(m.samples, r.index) : !dirty_t.mark(m.texels, -(r.index + 1))) return false;
+    ++rec_pos_;
     if (r.index >= 0) {
       const int32_t id = r.index;
       const SampleValues now = sample_values(m, id), was = r.sample();
@@ -143,7 +146,6 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
         update_positions(m, &id, 1);
         list_changed(m, s, id);
       }
-      dirty_s.mark(m.samples, id);
       ++result.changed;
     } else {
       const int32_t id = -(r.index + 1);
@@ -151,7 +153,6 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       const TexelValues was = r.texel();
       set_texel_values(m, id, was.r, was.g, was.b, was.roughness);
       r.set(now);
-      dirty_t.mark(m.texels, id);
       ++result.changed;
     }
   }
@@ -171,14 +172,14 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   constexpr int32_t kChunk = 16;
   if (phase_ == Phase::Ring) {
     DirtyMarker dirty{s};
-    while (cursor_ < s.changed_count) {
+    for (;;) {
+      for (; marked_ < ring_count_; ++marked_)  // their normals change: flagged before written
+        if (!dirty.mark(L, s.ring[marked_])) return false;
+      if (cursor_ >= s.changed_count) break;
       if (d.expired(kChunk)) return false;
       const int32_t end = std::min(s.changed_count, cursor_ + kChunk);
-      for (; cursor_ < end; ++cursor_) {
-        const int32_t before = ring_count_;
+      for (; cursor_ < end; ++cursor_)
         ring_count_ = add_with_neighbours(L, s.changed[cursor_], s.sample_stamp, stamp_, s.ring.data(), ring_count_);
-        for (int32_t k = before; k < ring_count_; ++k) dirty.mark(L, s.ring[k]);
-      }
     }
     phase_ = Phase::Normals;
     cursor_ = 0;
@@ -191,13 +192,17 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       cursor_ += n;
     }
     phase_ = Phase::ShadingRing;
-    cursor_ = shading_count_ = 0;
+    cursor_ = shading_count_ = marked_ = 0;
     stamp_ = next_stamp(s);
   }
   if (phase_ == Phase::ShadingRing) {
     // The force-shading normals read the one-ring of normals: the ring and its neighbours change,
-    // each listed once (the flood is done, so its queue is free to hold them).
-    while (cursor_ < ring_count_) {
+    // each listed once (the flood is done, so its queue is free to hold them), and flagged.
+    DirtyMarker dirty{s};
+    for (;;) {
+      for (; marked_ < shading_count_; ++marked_)
+        if (!dirty.mark(L, s.queue[marked_])) return false;
+      if (cursor_ >= ring_count_) break;
       if (d.expired(kChunk)) return false;
       const int32_t end = std::min(ring_count_, cursor_ + kChunk);
       for (; cursor_ < end; ++cursor_)
@@ -224,6 +229,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
 }
 
 bool EditJob::run(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
+  s.write_refused = false;
   switch (phase_) {
     case Phase::Idle:
       return true;

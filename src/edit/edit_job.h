@@ -83,6 +83,7 @@ class Deadline {
 };
 
 class EditJob;
+struct DirtyMarker;
 
 // What a sweep floods: nothing (the sweep has no effect), the samples or the texels.
 enum class FloodOn : uint8_t { Nothing, Samples, Texels };
@@ -131,8 +132,10 @@ class EditJob {
   // through that element; resumable at the deadline.
   template <class Visit>
   bool flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d, Visit visit) noexcept;
-  // Stores a sample's new displacement and position, recording its first touch in the stroke.
-  void set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0, const Vec3& L) noexcept;
+  // Stores a sample's new displacement and position, recording its first touch in the stroke;
+  // false, with nothing written, when the write gate refused one of its slabs.
+  bool set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v, const Vec3& p0,
+                 const Vec3& L) noexcept;
 
  private:
   // An edit's phases, in order: the flood over the tool (Flood) or an undo record's replay
@@ -153,6 +156,7 @@ class EditJob {
   uint32_t stamp_ = 0;
   // normals state
   int32_t cursor_ = 0, ring_count_ = 0, shading_count_ = 0;
+  int32_t marked_ = 0;  // ring (shading ring) samples whose slabs are flagged, before their normals are written
   double motion2_ = 0;
 };
 

@@ -38,31 +38,33 @@ struct LineEvaluator {
   }
 };
 
-// Flags (once, with the list) the slabs that hold a sample or texel: the slab of each of its
-// slots (SampleLayout::for_each_slot). Consecutive slots mostly share a slab, so the slab's slot
-// range is remembered instead of dividing each time.
+// Flags (once, with the list) the slabs that hold a sample or texel, before it is written: the
+// slab of each of its slots (SampleLayout::for_each_slot), each asked of the write gate when first
+// flagged. Consecutive slots mostly share a slab, so the slab's slot range is remembered instead of
+// dividing each time. A refusal sets EditScratch::write_refused: the caller stops before the write
+// and comes back to it on the editor's next call.
 struct DirtyMarker {
   EditScratch& s;
   int32_t lo = 0, hi = 0;  // slot range [lo, hi) of the last slab flagged
-  void flag(int32_t slab) noexcept {
-    if (s.dirty_slabs[slab]) return;
+  bool flag(int32_t slab) noexcept {
+    if (s.dirty_slabs[slab]) return true;
+    if (s.gate.allow && !s.gate.allow(s.gate.user, slab)) {
+      s.write_refused = true;
+      return false;
+    }
     s.dirty_slabs[slab] = 1;
     s.dirty_list[s.dirty_count++] = slab;
+    return true;
   }
-  // Flags @p slab when @p changed, without a branch on it (a slab is newly flagged once per job,
-  // so the one branch left is predictable): for an interior sample, whose only slab is its home.
-  void flag_if(int32_t slab, bool changed) noexcept {
-    const bool fresh = changed & !s.dirty_slabs[slab];
-    s.dirty_slabs[slab] |= changed;
-    if (fresh) s.dirty_list[s.dirty_count++] = slab;
-  }
-  void mark(const SampleLayout& L, int32_t id) noexcept {
+  bool mark(const SampleLayout& L, int32_t id) noexcept {
+    bool ok = true;
     L.for_each_slot(id, [&](int32_t slot) noexcept {
-      if (slot >= lo && slot < hi) return;
+      if (!ok || (slot >= lo && slot < hi)) return;
       const int32_t slab = slot / L.per_slab;
-      flag(slab);
-      lo = slab * L.per_slab, hi = lo + L.per_slab;
+      ok = flag(slab);
+      if (ok) lo = slab * L.per_slab, hi = lo + L.per_slab;
     });
+    return ok;
   }
 };
 
@@ -167,9 +169,11 @@ inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id)
   return st && st->sample_mark[id] == st->id ? double(st->sample_base[id].delta) : double(m.displacement[id]);
 }
 
-// Stores a new displacement and its position (= sample_position(), same arithmetic).
-inline void EditJob::set_delta(SlabModel& m, EditScratch& s, int32_t id, float v, const Vec3& p0,
-                               const Vec3& L) noexcept {
+// Stores a new displacement and its position (= sample_position(), same arithmetic). With a write
+// gate its slabs are flagged first; false (nothing written) when the gate refused one.
+inline bool EditJob::set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v,
+                               const Vec3& p0, const Vec3& L) noexcept {
+  if (s.gate.allow && !dirty.mark(m.samples, id)) return false;
   touch_sample(m, stroke, id);
   const double step = double(v) - double(m.displacement[id]);
   motion2_ = std::max(motion2_, step * step * L.squaredNorm());
@@ -177,6 +181,7 @@ inline void EditJob::set_delta(SlabModel& m, EditScratch& s, int32_t id, float v
   m.positions[id] = (p0 + static_cast<double>(v) * L).cast<float>();
   list_changed(m, s, id);
   ++result.changed;
+  return true;
 }
 
 template <class Visit>
@@ -186,13 +191,19 @@ bool EditJob::flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScr
   size_t head = head_, tail = tail_;
   const uint32_t stamp = stamp_;
   uint32_t* mk = marks.data();
+  const bool gated = s.gate.allow != nullptr;  // only a gate refuses: no load per element without one
   while (head < tail) {
     if (d.expired()) {
       head_ = head, tail_ = tail;
       return false;
     }
     const int32_t id = q[head++];
-    if (!visit(id)) continue;
+    const bool through = visit(id);
+    if (gated && s.write_refused) {  // stopped before a write: visit this element again next time
+      head_ = head - 1, tail_ = tail;
+      return false;
+    }
+    if (!through) continue;
     // Branch-free push: whether a neighbour was already queued is a coin flip inside a patch, and
     // a mispredicted branch per neighbour costs more than the unconditional stores.
     L.for_each_neighbour(id, [&](int32_t t) {

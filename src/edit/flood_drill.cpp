@@ -48,6 +48,7 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   // Depth at weight 1 and hardness 1 Pa, in model units: K·F_n·v_s·Δt / area [m·Pa] × upm.
   const double depth_pa = b.wear_coefficient * job.sweep.normal_force_n * speed * job.sweep.dt / area_m2 * upm;
   LineEvaluator line_of{m, s.grid_weights.data()};
+  DirtyMarker dirty{s};
   while (job.kernel_cursor < job.result.visited) {
     if (d.expired()) return false;
     const int32_t id = s.queue[job.kernel_cursor++];
@@ -61,7 +62,10 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
     const double per_delta = std::max(L.dot(e) / e.norm(), 0.2 * L.norm());
     if (!(per_delta > 0)) continue;
     const float v = static_cast<float>(std::max(0.0, m.displacement[id] - depth / per_delta));
-    if (v < m.displacement[id]) job.set_delta(m, s, id, v, p0, L);
+    if (v < m.displacement[id] && !job.set_delta(m, s, dirty, id, v, p0, L)) {
+      --job.kernel_cursor;  // refused: this sample first, on the next call
+      return false;
+    }
   }
   return true;
 }

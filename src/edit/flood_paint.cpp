@@ -22,6 +22,7 @@ bool flood_paint_samples(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d
     if (!(w > 0)) return false;
     const float k = static_cast<float>(pressure * strength * w);
     if (!(k > (st && st->sample_mark[id] == st->id ? st->sample_k[id] : 0.0f))) return true;
+    if (!dirty.mark(S, id)) return true;  // refused: the flood stops before this sample
     touch_sample(m, st, id);
     const SampleValues base = st ? st->sample_base[id] : sample_values(m, id);
     if (st) st->sample_k[id] = k;
@@ -49,7 +50,6 @@ bool flood_paint_samples(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d
       }
     }
     ++job.result.changed;
-    dirty.mark(S, id);
     return true;
   });
 }
@@ -92,19 +92,23 @@ bool flood_paint_texels(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d)
       now.colour = encode_srgb8(k * b.colour + (1 - k) * decode_srgb8(base.colour));
     else
       now.roughness = unit_to_unorm8(k * b.value + (1 - k) * unorm8_to_unit(base.roughness));
-    if (st) st->texel_k[id] = k;
-    // A rise of k too small to move a code changes nothing: no undo record, no dirty slab. Whether
-    // it moved is a coin flip at the brush's rim, so the stores, the count and the flag of an
-    // interior texel's slab do not branch on it.
+    // A rise of k too small to move a code changes nothing: no undo record, no dirty slab. A store
+    // needs the texel's slabs flagged (granted by the write gate), asked only when the codes move;
+    // into a flagged interior texel's slab the same codes are stored without a branch on whether
+    // they moved (a coin flip at the brush's rim).
     const bool moved = !(now == stored);
+    if (id < T.first_interior || !s.dirty_slabs[slab]) {
+      if (!moved) {
+        if (st) st->texel_k[id] = k;
+        return true;
+      }
+      if (!(id < T.first_interior ? dirty.mark(T, id) : dirty.flag(slab))) return true;  // refused: stop before it
+    }
+    if (st) st->texel_k[id] = k;
     m.colour[id] = now.colour;
     m.roughness[id] = now.roughness;
     job.result.changed += moved;
     if (moved & (stored == base)) record_texel(st, id, stored);  // its first change this stroke
-    if (id >= T.first_interior)
-      dirty.flag_if(slab, moved);
-    else if (moved)
-      dirty.mark(T, id);
     return true;
   });
 }

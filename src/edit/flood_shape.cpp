@@ -16,6 +16,7 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
   const bool soft = job.soft;
   StrokeMemory* st = job.stroke;
   LineEvaluator line_of{m, s.grid_weights.data()};
+  DirtyMarker dirty{s};
   // Boolean with the swept sphere. A surface point inside the tool moves to the tool's entry
   // (carve) or exit (add) on its projection line; one outside stays (a tool buried under a
   // column leaves it: no cavities; a tool floating over it adds nothing: no overhangs). The
@@ -48,7 +49,7 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
       target = base + strength * falloff_weight(b.falloff, x) * (target - base);
     }
     const float v = static_cast<float>(target);
-    if (add ? v > cur : v < cur) job.set_delta(m, s, id, v, p0, L);
+    if (add ? v > cur : v < cur) job.set_delta(m, s, dirty, id, v, p0, L);
     return true;
   });
 }
@@ -72,6 +73,7 @@ bool paper_cone_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) n
   const Vec3 A = job.sweep.from;
   const double r = b.radius;
   LineEvaluator line_of{m, s.grid_weights.data()};
+  DirtyMarker dirty{s};
   return job.flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
     Vec3 p0, p1;
     line_of(id, p0, p1);
@@ -80,7 +82,7 @@ bool paper_cone_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) n
     const double dist = (p0 + double(m.displacement[id]) * L - A).norm();
     if (dist >= r || len <= 0) return false;
     const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + b.height * (1 - dist / r) / len));
-    if (raised > m.displacement[id]) job.set_delta(m, s, id, raised, p0, L);
+    if (raised > m.displacement[id]) job.set_delta(m, s, dirty, id, raised, p0, L);
     return true;
   });
 }

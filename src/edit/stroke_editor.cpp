@@ -302,6 +302,7 @@ EditWork StrokeEditor::work(SlabModel& m, int64_t deadline_ns) noexcept {
       if (!s.job.run(m, s.scratch, d)) {
         w.idle = false;
         w.deadline = true;
+        w.refused = s.scratch.write_refused;
         return w;
       }
       ++w.sweeps;

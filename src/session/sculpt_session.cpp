@@ -37,12 +37,20 @@ class CommandQueue {
   std::atomic<size_t> head_{0}, tail_{0};
 };
 
+// The editor's write gate: the snapshots preserve a slab's committed state before its first write.
+bool allow_write(void* snapshots, int32_t slab) noexcept {
+  return static_cast<SlabSnapshots*>(snapshots)->before_write(slab);
+}
+
 }  // namespace
 
 struct SculptSession::Impl {
   Impl(SlabModel m, const Workspace& w, const SessionOptions& o)
       : options(o), model(std::move(m)), locator(model), ws(w), editor(model, o.editor), commands(o.command_capacity) {
-    if (o.publish) snapshots = std::make_unique<SlabSnapshots>(model, o.snapshots);
+    if (o.publish) {
+      snapshots = std::make_unique<SlabSnapshots>(model, o.snapshots);
+      editor.scratch().gate = WriteGate{&allow_write, snapshots.get()};
+    }
     brush.radius = 0.01 * std::max(model.source_diagonal, 1e-12);
     if (o.mode == RenderMode::RigidTool) {
       if (options.tool.points.empty()) options.tool = burr_shell(brush.radius, o.tool_points);
@@ -69,8 +77,6 @@ struct SculptSession::Impl {
   QueryCache head_cache;                       // coherence of the head contact's query
   Brush brush;
   bool tool_on = false;
-  bool publishing = false;
-  int32_t publish_cursor = 0;
   double last_publish_s = -1e300;
   SessionStats stats;
   std::vector<EditLogEntry>* edit_log = nullptr;
@@ -144,38 +150,27 @@ struct SculptSession::Impl {
     editor.add_sample(model, ts);
   }
 
-  // Copies the dirty slabs (all of them, over as many ticks as needed, the editor paused so the
-  // model holds no half edit), then commits them as one epoch.
-  int32_t publish(int64_t deadline_ns, double now_s) noexcept {
-    EditScratch& s = editor.scratch();
-    if (!snapshots || s.dirty_count == 0) return 0;
-    if (!publishing) {
-      if (now_s - last_publish_s < options.publish_interval_s) return 0;
-      if (!editor.between_sweeps()) {  // due: have the editor finish its normals first
-        editor.flush();
-        return 0;
-      }
-      if (!snapshots->publish_reserve(s.dirty_count)) {  // readers hold old epochs: try later
-        ++stats.publish_deferred;
-        return 0;
-      }
-      publishing = true;
-      publish_cursor = 0;
+  // Commits the slabs written since the last publication as one epoch, between sweeps (no half
+  // edit, normals refreshed): every publish_interval_s, or sooner once the batch holds half the
+  // spare versions. A sweep that runs out of versions while its own batch holds half of them is
+  // committed in parts: only readers moving past a commit return versions.
+  int32_t publish(double now_s) noexcept {
+    if (!snapshots || snapshots->pending() == 0) return 0;
+    const bool full = 2 * snapshots->pending() >= snapshots->version_count();
+    const bool due = full || now_s - last_publish_s >= options.publish_interval_s;
+    if (!editor.between_sweeps() && !(full && snapshots->starved())) {
+      if (due) editor.flush();  // have the editor finish its normals first
+      return 0;
     }
-    int32_t copied = 0;
-    while (publish_cursor < s.dirty_count) {
-      if (copied > 0 && StrokeEditor::now_ns() >= deadline_ns) return copied;
-      snapshots->publish_slab(s.dirty_list[publish_cursor++]);
-      ++copied;
-    }
+    if (!due) return 0;
+    const int32_t slabs = snapshots->pending();
     snapshots->publish_commit();
+    clear_dirty(editor.scratch());  // the next write of any slab asks the snapshots again
     if (epoch_log && edit_log && epoch_log->size() < epoch_log->capacity()) epoch_log->push_back(edit_log->size());
     ++stats.publications;
-    stats.slabs_published += s.dirty_count;
-    clear_dirty(s);
-    publishing = false;
+    stats.slabs_published += slabs;
     last_publish_s = now_s;
-    return copied;
+    return slabs;
   }
 };
 
@@ -258,17 +253,14 @@ SessionTick SculptSession::tick(HapticDevice& device, const ServoTick& t) noexce
   // budget is always left for them, so that edits progress whatever the proxy costs.
   const int64_t budget_ns = static_cast<int64_t>(s.options.edit_budget_s * 1e9);
   const int64_t deadline = std::max(start_ns + budget_ns, StrokeEditor::now_ns() + budget_ns / 5);
-  bool carried = false;
-  if (!s.publishing) {
-    const EditWork w = s.editor.work(s.model, deadline);
-    r.sweeps = w.sweeps;
-    r.changed = w.changed;
-    s.stats.sweeps += w.sweeps;
-    s.stats.changed += w.changed;
-    carried = w.deadline;
-  }
-  r.published = s.publish(deadline, t.time_s);
-  r.edit_pending = carried || s.publishing;
+  const EditWork w = s.editor.work(s.model, deadline);
+  r.sweeps = w.sweeps;
+  r.changed = w.changed;
+  s.stats.sweeps += w.sweeps;
+  s.stats.changed += w.changed;
+  s.stats.edits_refused += w.refused;
+  r.published = s.publish(t.time_s);
+  r.edit_pending = w.deadline;
   s.stats.carried_ticks += r.edit_pending;
   s.stats.max_edit_ns = std::max(s.stats.max_edit_ns, double(StrokeEditor::now_ns() - start_ns));
   return r;
@@ -299,16 +291,14 @@ void SculptSession::finish() noexcept {
   if (s.tool_on) s.editor.end_stroke();
   s.tool_on = false;
   for (;;) {
-    if (!s.publishing) {
-      const EditWork w = s.editor.work(s.model, INT64_MAX);
-      s.stats.sweeps += w.sweeps;
-      s.stats.changed += w.changed;
-    }
+    const EditWork w = s.editor.work(s.model, INT64_MAX);
+    s.stats.sweeps += w.sweeps;
+    s.stats.changed += w.changed;
+    s.stats.edits_refused += w.refused;
     s.last_publish_s = -1e300;
-    s.publish(INT64_MAX, 0.0);
-    if (s.publishing || !s.editor.idle()) continue;
-    if (!s.snapshots || s.editor.scratch().dirty_count == 0) break;
-    std::this_thread::yield();  // readers hold the versions a publication needs: let them finish
+    s.publish(0.0);
+    if (s.editor.idle() && (!s.snapshots || s.snapshots->pending() == 0)) break;
+    if (w.refused) std::this_thread::yield();  // a reader copies a slab, or holds the spare versions
   }
 }
 

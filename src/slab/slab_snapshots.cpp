@@ -23,39 +23,48 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
     throw InvalidInput("snapshots: the model's derived data are missing (call rebuild_derived first)");
   if (o.reader_slots < 1 || o.reader_slots > 1024)
     throw InvalidInput("snapshots: reader_slots = " + std::to_string(o.reader_slots) + " outside [1, 1024]");
+  if (o.spare_versions < -1 || o.spare_versions == 0)
+    throw InvalidInput("snapshots: spare_versions = " + std::to_string(o.spare_versions) +
+                       ": must be at least 1, or -1 for the default");
   per_slab_ = m.samples.per_slab;
   texels_per_slab_ = m.texels.per_slab;
   // A SlabSample and five 16-bit fields per displacement sample, one 4-byte word (the stored
   // codes) per texel; whole cache lines (16 floats).
   const size_t bytes = (sizeof(SlabSample) + 5 * sizeof(Unorm16)) * size_t(per_slab_) + 4 * size_t(texels_per_slab_);
   stride_ = (bytes + 63) / 64 * 64;
-  const size_t spare = o.spare_versions < 0 ? size_t(S) : size_t(o.spare_versions);
-  version_total_ = size_t(S) + spare;
+  slab_total_ = size_t(S);
+  version_total_ = o.spare_versions > 0 ? size_t(o.spare_versions)
+                                        : std::min(slab_total_, std::max<size_t>(16, (slab_total_ + 19) / 20));
   slot_count_ = size_t(o.reader_slots);
   arena_.assign(version_total_ * stride_, 0);
   versions_ = std::make_unique<Version[]>(version_total_);
-  current_ = std::make_unique<std::atomic<int32_t>[]>(size_t(S));
+  head_ = std::make_unique<std::atomic<int32_t>[]>(slab_total_);
+  guard_ = std::make_unique<std::atomic<int32_t>[]>(slab_total_);
+  live_since_ = std::make_unique<std::atomic<uint64_t>[]>(slab_total_);
   slots_ = std::make_unique<std::atomic<uint64_t>[]>(slot_count_);
   for (size_t k = 0; k < slot_count_; ++k) slots_[k].store(kFree);
+  for (size_t s = 0; s < slab_total_; ++s) {
+    head_[s].store(-1, std::memory_order_relaxed);
+    guard_[s].store(0, std::memory_order_relaxed);
+    live_since_[s].store(0, std::memory_order_relaxed);
+  }
+  state_.assign(slab_total_, 0);
   free_.reserve(version_total_);
   retired_.reserve(version_total_);
-  pending_.reserve(size_t(S));
-  for (int s = 0; s < S; ++s) {
-    fill(s, s);
-    versions_[s].slab = s;
-    versions_[s].epoch = 0;
-    if (options_.checksums) versions_[s].checksum = checksum(s);
-    current_[s].store(s, std::memory_order_relaxed);
-  }
-  for (size_t v = version_total_; v-- > size_t(S);) free_.push_back(static_cast<int32_t>(v));
+  pending_.reserve(version_total_);
+  for (size_t v = version_total_; v-- > 0;) free_.push_back(static_cast<int32_t>(v));
   published_.store(0, std::memory_order_seq_cst);
 }
 
 SlabSnapshots::~SlabSnapshots() = default;
 
-void SlabSnapshots::fill(int32_t v, int slab) noexcept {
+size_t SlabSnapshots::memory_bytes() const noexcept {
+  return arena_.size() + version_total_ * sizeof(Version) + slab_total_ * (2 * sizeof(int32_t) + sizeof(uint64_t) + 1) +
+         slot_count_ * sizeof(uint64_t);
+}
+
+void SlabSnapshots::fill(unsigned char* d, int slab) const noexcept {
   const SlabModel& m = model_;
-  unsigned char* d = data(v);
   const size_t P = size_t(per_slab_), T = size_t(texels_per_slab_);
   std::memcpy(d, m.slab_samples.data() + size_t(slab) * P, P * sizeof(SlabSample));
   auto* fs = reinterpret_cast<Half16*>(d + P * sizeof(SlabSample));
@@ -81,8 +90,7 @@ void SlabSnapshots::fill(int32_t v, int slab) noexcept {
   }
 }
 
-uint64_t SlabSnapshots::checksum(int32_t v) const noexcept {
-  const unsigned char* d = data(v);
+uint64_t SlabSnapshots::checksum(const unsigned char* d) const noexcept {
   uint64_t h = 14695981039346656037ull;
   for (size_t k = 0; k < stride_; k += 4) {
     uint32_t w;
@@ -92,11 +100,10 @@ uint64_t SlabSnapshots::checksum(int32_t v) const noexcept {
   return h;
 }
 
-SlabView SlabSnapshots::view(int32_t v) const noexcept {
-  const unsigned char* d = data(v);
+SlabView SlabSnapshots::view(const unsigned char* d, uint64_t epoch) const noexcept {
   const size_t P = size_t(per_slab_);
   SlabView s;
-  s.epoch = versions_[v].epoch;
+  s.epoch = epoch;
   s.per_slab = per_slab_;
   s.texels_per_slab = texels_per_slab_;
   s.points = reinterpret_cast<const SlabSample*>(d);
@@ -109,59 +116,85 @@ SlabView SlabSnapshots::view(int32_t v) const noexcept {
   return s;
 }
 
-int32_t SlabSnapshots::version_at(int slab, uint64_t e) const noexcept {
-  int32_t v = current_[slab].load(std::memory_order_acquire);
-  // The reader's pinned epoch keeps every version it may need from being recycled, and the chain
-  // from the newest version back to it intact (reclaim() cuts it only below every reader's epoch).
-  while (versions_[v].epoch > e) v = versions_[v].prev.load(std::memory_order_acquire);
-  return v;
-}
-
-bool SlabSnapshots::publish_reserve(int n) noexcept {
-  // Epoch-based reclamation: a retired version is needed by readers pinned at an epoch in
-  // [its epoch, superseded); recycle it once every reader is pinned at or after `superseded`.
+// Epoch-based reclamation: a retired version serves readers pinned in [from, to); recycle it once
+// every reader is pinned at or after `to`. A slab's newest version is also reached from head_ by
+// readers past `to` (to learn that the live slab is current), under the slab's guard: it is
+// unlinked first and recycled once no reader holds that guard.
+void SlabSnapshots::reclaim() noexcept {
   uint64_t oldest = kFree;
   for (size_t k = 0; k < slot_count_; ++k) oldest = std::min(oldest, slots_[k].load(std::memory_order_seq_cst));
   size_t keep = 0;
   for (int32_t r : retired_) {
-    Version& v = versions_[r];
-    if (v.superseded <= oldest) {
-      if (v.next >= 0) versions_[v.next].prev.store(-1, std::memory_order_release);
-      v.next = -1;
-      v.superseded = kFree;
-      v.prev.store(-1, std::memory_order_relaxed);
+    Version& x = versions_[r];
+    bool recycle = false;
+    if (x.to.load(std::memory_order_relaxed) <= oldest) {
+      if (x.next >= 0) {  // readers past `to` stop at the newer version
+        versions_[x.next].prev.store(-1, std::memory_order_release);
+        recycle = true;
+      } else {
+        if (!x.unlinked) head_[x.slab].store(-1, std::memory_order_seq_cst);
+        x.unlinked = true;
+        recycle = guard_[x.slab].load(std::memory_order_seq_cst) == 0;
+      }
+    }
+    if (recycle) {
+      x.next = -1;
+      x.unlinked = false;
+      x.prev.store(-1, std::memory_order_relaxed);
       free_.push_back(r);
     } else {
       retired_[keep++] = r;
     }
   }
   retired_.resize(keep);
-  return free_.size() >= size_t(std::max(n, 0));
 }
 
-void SlabSnapshots::publish_slab(int slab) noexcept {
-  if (free_.empty() || slab < 0 || slab >= model_.slab_count()) return;
-  const int32_t v = free_.back();
-  free_.pop_back();
-  fill(v, slab);
-  versions_[v].slab = slab;
-  if (options_.checksums) versions_[v].checksum = checksum(v);
-  pending_.push_back(v);
+bool SlabSnapshots::before_write(int slab) noexcept {
+  if (slab < 0 || size_t(slab) >= slab_total_) return false;
+  uint8_t& st = state_[size_t(slab)];
+  if (st == 0) {  // first write since the commit: preserve the committed state
+    if (free_.empty()) reclaim();
+    if (free_.empty()) {
+      starved_ = true;
+      return false;
+    }
+    const int32_t v = free_.back();
+    free_.pop_back();
+    Version& x = versions_[v];
+    fill(data(v), slab);
+    if (options_.checksums) x.checksum = checksum(data(v));
+    x.slab = slab;
+    x.next = -1;
+    x.unlinked = false;
+    x.from.store(live_since_[slab].load(std::memory_order_relaxed), std::memory_order_relaxed);
+    x.to.store(kOpen, std::memory_order_relaxed);
+    const int32_t old = head_[slab].load(std::memory_order_relaxed);
+    x.prev.store(old, std::memory_order_relaxed);
+    if (old >= 0) versions_[old].next = v;
+    head_[slab].store(v, std::memory_order_seq_cst);  // readers from now on take the version
+    pending_.push_back(v);
+    st = 1;
+  }
+  if (st == 1) {
+    // With the version visible (seq_cst store above), a reader that raises the guard after this
+    // load sees it; one that raised it before may be copying the live slab: not yet.
+    if (guard_[slab].load(std::memory_order_seq_cst) != 0) return false;
+    st = 2;
+  }
+  return true;
 }
 
 uint64_t SlabSnapshots::publish_commit() noexcept {
   const uint64_t now = published_.load(std::memory_order_relaxed);
+  starved_ = false;
   if (pending_.empty()) return now;
   const uint64_t next = now + 1;
   for (int32_t v : pending_) {
-    Version& nv = versions_[v];
-    const int32_t old = current_[nv.slab].load(std::memory_order_relaxed);
-    nv.epoch = next;
-    nv.prev.store(old, std::memory_order_relaxed);
-    versions_[old].superseded = next;
-    versions_[old].next = v;
-    retired_.push_back(old);
-    current_[nv.slab].store(v, std::memory_order_release);  // readers pinned before `next` walk to old
+    Version& x = versions_[v];
+    x.to.store(next, std::memory_order_release);
+    live_since_[x.slab].store(next, std::memory_order_release);
+    state_[size_t(x.slab)] = 0;
+    retired_.push_back(v);
   }
   pending_.clear();
   published_.store(next, std::memory_order_seq_cst);
@@ -170,7 +203,7 @@ uint64_t SlabSnapshots::publish_commit() noexcept {
 
 int SlabSnapshots::pending() const noexcept { return static_cast<int>(pending_.size()); }
 
-SnapshotReader::SnapshotReader(const SlabSnapshots& s) : s_(s) {
+SnapshotReader::SnapshotReader(const SlabSnapshots& s) : s_(s), copy_(s.stride_, 0), check_(s.stride_, 0) {
   for (;;) {
     for (size_t k = 0; k < s.slot_count_; ++k) {
       uint64_t expected = kFree;
@@ -189,12 +222,50 @@ SnapshotReader::SnapshotReader(const SlabSnapshots& s) : s_(s) {
 
 SnapshotReader::~SnapshotReader() { s_.slots_[slot_].store(kFree, std::memory_order_seq_cst); }
 
-SlabView SnapshotReader::slab(int slab) const noexcept { return s_.view(s_.version_at(slab, epoch_)); }
+int32_t SnapshotReader::find(int slab) const noexcept {
+  const SlabSnapshots& s = s_;
+  s.guard_[slab].fetch_add(1, std::memory_order_seq_cst);
+  int32_t v = s.head_[slab].load(std::memory_order_seq_cst);
+  // From the newest version back: the pinned epoch keeps every version it needs from being
+  // recycled and the chain down to it intact (reclaim() cuts it only below every reader's epoch).
+  while (v >= 0) {
+    const SlabSnapshots::Version& x = s.versions_[v];
+    const uint64_t to = x.to.load(std::memory_order_acquire);
+    if (to != SlabSnapshots::kOpen && epoch_ >= to) {  // committed before the pin: the live slab is current
+      v = -1;
+      break;
+    }
+    if (epoch_ >= x.from.load(std::memory_order_acquire)) break;
+    v = x.prev.load(std::memory_order_acquire);
+  }
+  if (v >= 0) s.guard_[slab].fetch_sub(1, std::memory_order_release);
+  return v;
+}
+
+SlabView SnapshotReader::slab(int slab) const noexcept {
+  const int32_t v = find(slab);
+  if (v >= 0) return s_.view(s_.data(v), s_.versions_[v].from.load(std::memory_order_relaxed));
+  s_.fill(copy_.data(), slab);
+  const uint64_t since = s_.live_since_[slab].load(std::memory_order_acquire);
+  s_.guard_[slab].fetch_sub(1, std::memory_order_release);
+  return s_.view(copy_.data(), since);
+}
+
+uint64_t SnapshotReader::slab_epoch(int slab) const noexcept {
+  const int32_t v = find(slab);
+  if (v >= 0) return s_.versions_[v].from.load(std::memory_order_relaxed);
+  const uint64_t since = s_.live_since_[slab].load(std::memory_order_acquire);
+  s_.guard_[slab].fetch_sub(1, std::memory_order_release);
+  return since;
+}
 
 bool SnapshotReader::verify(int slab) const noexcept {
-  if (!s_.options_.checksums) return true;
-  const int32_t v = s_.version_at(slab, epoch_);
-  return s_.checksum(v) == s_.versions_[v].checksum;
+  const int32_t v = find(slab);
+  if (v >= 0) return !s_.options_.checksums || s_.checksum(s_.data(v)) == s_.versions_[v].checksum;
+  s_.fill(copy_.data(), slab);
+  s_.fill(check_.data(), slab);
+  s_.guard_[slab].fetch_sub(1, std::memory_order_release);
+  return std::memcmp(copy_.data(), check_.data(), s_.stride_) == 0;
 }
 
 SlabModel SnapshotReader::stored_model() const {
@@ -209,33 +280,38 @@ SlabModel SnapshotReader::stored_model() const {
   m.source_triangles = live.source_triangles;
   m.source_diagonal = live.source_diagonal;
   m.under_layer = live.under_layer;
-  const int S = live.slab_count();
-  std::vector<SlabView> views(static_cast<size_t>(S));
-  for (int s = 0; s < S; ++s) views[size_t(s)] = slab(s);
   const SampleLayout& L = live.samples;
+  const SampleLayout& T = live.texels;
   m.displacement.resize(size_t(L.count));
   m.friction_static.resize(size_t(L.count));
   m.friction_dynamic.resize(size_t(L.count));
   m.stiffness_scale.resize(size_t(L.count));
   m.layer_displacement.resize(size_t(L.count));
   m.hardness.resize(size_t(L.count));
-  for (int32_t id = 0; id < L.count; ++id) {
-    const SlabView& v = views[size_t(L.home(id).slab)];
-    const int32_t k = L.home(id).index;
-    m.displacement[id] = v.points[k].delta;
-    m.friction_static[id] = v.friction_static[k];
-    m.friction_dynamic[id] = v.friction_dynamic[k];
-    m.stiffness_scale[id] = v.stiffness_scale[k];
-    m.layer_displacement[id] = v.layer_displacement[k];
-    m.hardness[id] = v.hardness[k];
-  }
-  const SampleLayout& T = live.texels;
   m.colour.resize(size_t(T.count));
   m.roughness.resize(size_t(T.count));
-  for (int32_t id = 0; id < T.count; ++id) {
-    const uint8_t* t = views[size_t(T.home(id).slab)].texels + 4 * size_t(T.home(id).index);
-    m.colour[id] = Srgb8{t[0], t[1], t[2]};
-    m.roughness[id] = t[3];
+  // Slab by slab (a view lasts until the next slab() call), each sample and texel from its home.
+  for (int s = 0; s < live.slab_count(); ++s) {
+    const SlabView v = slab(s);
+    const SlabIds ids = L.slab_ids(s);
+    for (int k = 0; k < L.per_slab; ++k) {
+      const int32_t id = ids[k];
+      if (L.home(id).slab != s) continue;
+      m.displacement[id] = v.points[k].delta;
+      m.friction_static[id] = v.friction_static[k];
+      m.friction_dynamic[id] = v.friction_dynamic[k];
+      m.stiffness_scale[id] = v.stiffness_scale[k];
+      m.layer_displacement[id] = v.layer_displacement[k];
+      m.hardness[id] = v.hardness[k];
+    }
+    const SlabIds tids = T.slab_ids(s);
+    for (int k = 0; k < T.per_slab; ++k) {
+      const int32_t id = tids[k];
+      if (T.home(id).slab != s) continue;
+      const uint8_t* t = v.texels + 4 * size_t(k);
+      m.colour[id] = Srgb8{t[0], t[1], t[2]};
+      m.roughness[id] = t[3];
+    }
   }
   return m;
 }

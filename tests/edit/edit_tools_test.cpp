@@ -233,11 +233,13 @@ TEST(EditToolsTest, SlabMajorCopyFollowsTheEdits) {
   }
 }
 
-// The slabs an edit flags dirty (what a renderer re-uploads) are, by a scan of every slab's grid,
-// every slab holding a sample or texel the edit changed, and no other.
+// The slabs an edit flags dirty (what a renderer re-uploads, what snapshots copy before the
+// write) are, by a scan of every slab's grid, every slab holding a sample or texel the edit changed
+// (its displacement, normal or force-shading normal, colour), and no other.
 TEST(EditToolsTest, DirtySlabsAreTheSlabsHoldingWhatChanged) {
   Fixture f;
   const test::ModelState before(f.model);
+  const std::vector<SlabSample> slots_before = f.model.slab_samples;
   clear_dirty(f.scratch);
   f.carve_and_add(29, 0.012, 0.003);
   Contact c;
@@ -253,7 +255,9 @@ TEST(EditToolsTest, DirtySlabsAreTheSlabsHoldingWhatChanged) {
     bool changed = false;
     for (int k = 0; k < S.per_slab && !changed; ++k) {
       const int32_t id = S.id(slab, k);
-      changed = before.displacement[id] != after.displacement[id] || before.normals[id] != after.normals[id];
+      const size_t slot = size_t(slab) * S.per_slab + k;
+      changed = before.displacement[id] != after.displacement[id] || before.normals[id] != after.normals[id] ||
+                std::memcmp(slots_before[slot].h, f.model.slab_samples[slot].h, sizeof(SlabSample::h)) != 0;
     }
     for (int k = 0; k < T.per_slab && !changed; ++k) {
       const int32_t id = T.id(slab, k);

@@ -344,11 +344,16 @@ TEST(SlabRenderer, ReuploadingUnchangedSlabsLeavesTheImageIdentical) {
 
 TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   // The studio's render thread uploads from snapshots while the servo edits the live model: the
-  // snapshot path must give the model path's pixels, for an edit the snapshot published.
+  // snapshot path must give the model path's pixels, for an edit the snapshot published, and a
+  // reader pinned before the edit the unedited pixels.
   SlabModel model = make_model(subdivide(icosahedron()), 3, 2);
-  SlabSnapshots snapshots(model);
+  SnapshotOptions options;
+  options.spare_versions = model.slab_count();
+  SlabSnapshots snapshots(model, options);
   Scene scene(model, 160, 120, 30, 20);
   const Image unedited = scene.frame(true);
+  const SnapshotReader before(snapshots);
+  for (int s = 0; s < model.slab_count(); ++s) ASSERT_TRUE(snapshots.before_write(s));
   // Edit: paint every third slab, push one slab's samples in, thicken the under-layer under another.
   for (int s = 0; s < model.slab_count(); s += 3) paint_slab(model, s, {0.9f, 0.2f * (s % 5), 0.1f});
   const int P = model.samples.per_slab;
@@ -358,9 +363,7 @@ TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   update_positions(model, moved.data(), moved.size());
   update_normals(model, moved.data(), moved.size());
   for (int k = 0; k < P; ++k) model.layer_displacement[model.samples.id(7, k)] = 1.0f;
-  ASSERT_TRUE(snapshots.publish_reserve(model.slab_count()));
-  for (int s = 0; s < model.slab_count(); ++s) snapshots.publish_slab(s);
-  snapshots.publish_commit();
+  EXPECT_EQ(snapshots.publish_commit(), 1u);
 
   for (int s = 0; s < model.slab_count(); ++s) scene.renderer.upload_slab(model, s);
   const Image from_model = scene.frame(true);
@@ -372,6 +375,8 @@ TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   }
   const Image from_snapshot = scene.frame(true);
   EXPECT_TRUE(from_snapshot.rgb == from_model.rgb);
+  for (int s = 0; s < model.slab_count(); ++s) scene.renderer.upload_slab(model, before.slab(s), s);
+  EXPECT_TRUE(scene.frame(true).rgb == unedited.rgb) << "the reader pinned before the edit";
 
   SnapshotReader reader(snapshots);
   SlabView wrong = reader.slab(0);

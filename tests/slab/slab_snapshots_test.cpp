@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
-// SlabSnapshots against the live model it copies: a snapshot holds the model's stored codes (the
-// colour's sRGB8, the roughness's unorm8, the float fields) bit for bit, and a reader pinned
-// before a publication keeps seeing the slab as it was.
+// SlabSnapshots against the live model it shares: a snapshot holds the model's stored codes (the
+// colour's sRGB8, the roughness's unorm8, the float fields) bit for bit, unchanged slabs take no
+// copy, a reader pinned before a publication keeps seeing the slab as it was, and a writer out of
+// spare versions is refused until readers move on.
 #include "support/test_models.h"
 
+#include <hdm/core/error.h>
+#include <hdm/slab/model_memory.h>
 #include <hdm/slab/slab_snapshots.h>
 
 #include <gtest/gtest.h>
@@ -49,18 +52,47 @@ TEST(SlabSnapshots, HoldTheModelsStoredCodesBitForBit) {
       ASSERT_EQ(v.texels[4 * k + 3], model->roughness[size_t(id)]);
     }
   }
-  // Two versions per slab (epoch 0 and a spare), each at most one cache line above its content:
-  // 36 bytes per displacement slot and the 4 code bytes per texel slot.
-  const size_t S = size_t(model->slab_count()), P = size_t(model->samples.per_slab), Tn = size_t(T.per_slab);
-  EXPECT_EQ(snapshots.version_count(), 2 * model->slab_count());
-  EXPECT_LE(snapshots.memory_bytes(), 2 * S * (26 * P + 4 * Tn + 64));
+}
+
+TEST(SlabSnapshots, ShareUnchangedSlabsWithTheLiveModel) {
+  const auto model = painted_bunny();
+  SlabSnapshots snapshots(*model);
+  // Nothing is copied up front: the spare versions (5 % of the slabs) are all the memory, within
+  // a tenth of the model's own bytes.
+  const int S = model->slab_count();
+  EXPECT_EQ(snapshots.version_count(), (S + 19) / 20);
+  EXPECT_EQ(snapshots.versions_in_use(), 0);
+  EXPECT_LE(double(snapshots.memory_bytes()), 0.1 * double(model_memory(*model).total()));
+  // Three slabs edited (their interior texels, which no other slab holds) and published hold three
+  // versions (their state before the edit); the other slabs stay shared.
+  const SnapshotReader old(snapshots);
+  std::vector<uint8_t> hit(model->colour.size(), 0);
+  int expected = 0;
+  for (int s : {3, 50, 700}) {
+    ASSERT_TRUE(snapshots.before_write(s));
+    for (int k = 0; k < model->texels.per_slab; ++k) {
+      const size_t id = size_t(model->texels.id(s, k));
+      if (hit[id] || int32_t(id) < model->texels.first_interior) continue;
+      hit[id] = 1;
+      model->colour[id].r ^= 0x55;
+      ++expected;
+    }
+  }
+  EXPECT_EQ(snapshots.publish_commit(), 1u);
+  EXPECT_EQ(snapshots.versions_in_use(), 3);
+  const SnapshotReader now(snapshots);
+  const SlabModel before = old.stored_model(), after = now.stored_model();
+  int changed = 0;
+  for (size_t id = 0; id < model->colour.size(); ++id) changed += !(before.colour[id] == after.colour[id]);
+  EXPECT_EQ(changed, expected);
+  EXPECT_TRUE(after.colour == model->colour);
 }
 
 TEST(SlabSnapshots, APinnedReaderKeepsTheSlabAsItWas) {
   const auto model = painted_bunny();
   SlabSnapshots snapshots(*model);
   const SampleLayout& T = model->texels;
-  // A texel interior to slab 0 (one slot only), so publishing slab 0 alone keeps every slab equal.
+  // A texel interior to slab 0 (one slot only), so writing slab 0 alone keeps every slab equal.
   int local = -1;
   for (int k = 0; k < T.per_slab && local < 0; ++k)
     if (T.id(0, k) >= T.first_interior) local = k;
@@ -69,23 +101,49 @@ TEST(SlabSnapshots, APinnedReaderKeepsTheSlabAsItWas) {
   const Srgb8 before = model->colour[size_t(id)], after{uint8_t(before.r ^ 0xff), before.g, uint8_t(before.b ^ 0x0f)};
 
   const SnapshotReader old(snapshots);
+  ASSERT_TRUE(snapshots.before_write(0));
   model->colour[size_t(id)] = after;
   model->roughness[size_t(id)] ^= 0x80;
-  ASSERT_TRUE(snapshots.publish_reserve(1));
-  snapshots.publish_slab(0);
+  EXPECT_EQ(old.slab(0).texels[4 * local], before.r) << "an uncommitted write is not seen";
   EXPECT_EQ(snapshots.publish_commit(), 1u);
   const SnapshotReader now(snapshots);
 
-  const SlabView was = old.slab(0), is = now.slab(0);
+  const SlabView was = old.slab(0);
   EXPECT_EQ(was.epoch, 0u);
-  EXPECT_EQ(is.epoch, 1u);
   EXPECT_EQ(was.texels[4 * local], before.r);
   EXPECT_EQ(was.texels[4 * local + 2], before.b);
+  const SlabView is = now.slab(0);
+  EXPECT_EQ(is.epoch, 1u);
   EXPECT_EQ(is.texels[4 * local], after.r);
   EXPECT_EQ(is.texels[4 * local + 2], after.b);
   EXPECT_EQ(is.texels[4 * local + 3], model->roughness[size_t(id)]);
   EXPECT_EQ(old.stored_model().colour[size_t(id)], before);
   EXPECT_EQ(now.stored_model().colour[size_t(id)], after);
+  EXPECT_EQ(now.slab(1).epoch, 0u) << "an unwritten slab keeps its epoch";
+}
+
+TEST(SlabSnapshots, AWriterOutOfVersionsIsRefusedUntilReadersMoveOn) {
+  const auto model = painted_bunny();
+  SnapshotOptions o;
+  o.spare_versions = 2;
+  SlabSnapshots snapshots(*model, o);
+  auto reader = std::make_unique<SnapshotReader>(snapshots);
+  EXPECT_TRUE(snapshots.before_write(0));
+  EXPECT_TRUE(snapshots.before_write(1));
+  EXPECT_TRUE(snapshots.before_write(1)) << "granted until the commit";
+  EXPECT_FALSE(snapshots.before_write(2));
+  EXPECT_TRUE(snapshots.starved());
+  snapshots.publish_commit();
+  EXPECT_FALSE(snapshots.starved());
+  // The reader pinned at epoch 0 still needs slabs 0 and 1 as they were.
+  EXPECT_FALSE(snapshots.before_write(2));
+  reader.reset();
+  EXPECT_TRUE(snapshots.before_write(2));
+  EXPECT_EQ(snapshots.versions_in_use(), 1);
+  const SnapshotReader now(snapshots);
+  EXPECT_EQ(now.slab(0).epoch, 1u);
+  EXPECT_TRUE(now.verify(0));
+  EXPECT_THROW(SlabSnapshots(*model, SnapshotOptions{8, 0, false}), InvalidInput);
 }
 
 }  // namespace

@@ -16,6 +16,17 @@
 
 namespace hdm {
 
+/// A check the editor makes before it first writes a slab's data (displacement, normals, fields,
+/// texels) after the dirty flags were cleared: hdm::SculptSession sets SlabSnapshots::before_write()
+/// here, so that the slab's committed state is copied before the edit changes it. Unset: every slab
+/// may be written.
+struct WriteGate {
+  /// true: slab @p slab may be written until the dirty flags are cleared (clear_dirty()); false:
+  /// not yet. hdm::StrokeEditor then stops before that write and retries it on its next call.
+  bool (*allow)(void* user, int32_t slab) noexcept = nullptr;
+  void* user = nullptr;  ///< passed to `allow`
+};
+
 /// Caller-owned buffers for edits, sized once for a model so that edits never allocate (they may
 /// run in the servo loop). One per editing thread.
 struct EditScratch {
@@ -41,6 +52,11 @@ struct EditScratch {
   std::vector<uint8_t> dirty_slabs;
   std::vector<int32_t> dirty_list;  ///< #S: the flagged slabs, in the order flagged
   int32_t dirty_count = 0;          ///< entries of dirty_list in use
+  /// Asked before a slab is first flagged dirty, which is before it is written. Only
+  /// hdm::StrokeEditor honours a refusal; the one-shot edits (apply_brush(), carve(), add_material(),
+  /// paint(), refresh_normals()) need it unset.
+  WriteGate gate;
+  bool write_refused = false;  ///< the gate refused a slab in the last call: the edit stopped before writing it
   FaceNormalCache faces;            ///< per-triangle normals, each computed once per edit
   /// per_slab entries: barycentrics (wR, wS, wT) of each grid index of the displacement grid, as
   /// projection_line() computes them (same bits), so the flood fill does not divide per sample.

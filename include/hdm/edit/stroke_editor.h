@@ -67,6 +67,9 @@ struct EditWork {
   int32_t changed = 0;    ///< samples or texels changed
   bool idle = true;       ///< nothing queued and no sweep in progress after the call
   bool deadline = false;  ///< stopped at the deadline with work left (it carries over to the next call)
+  /// stopped before a slab the write gate refused (EditScratch::gate): the work carries over, and
+  /// `deadline` is set too
+  bool refused = false;
 };
 
 /// Applies strokes to one model, from the thread that owns the model, within a time budget.

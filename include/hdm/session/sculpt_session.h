@@ -110,7 +110,7 @@ struct SessionTick {
   bool tool_on = false;       ///< the tool button is held
   int32_t sweeps = 0;         ///< sweeps finished in this tick
   int32_t changed = 0;        ///< samples / texels changed in this tick
-  int32_t published = 0;      ///< slabs published in this tick
+  int32_t published = 0;      ///< slabs committed in this tick
   bool edit_pending = false;  ///< the budget ran out with work left: it carries over to the next tick
 };
 
@@ -119,9 +119,11 @@ struct SessionStats {
   /// @{ Ticks run, ticks in contact, sweeps finished, samples / texels changed.
   int64_t ticks = 0, contact_ticks = 0, sweeps = 0, changed = 0;
   /// @}
-  int64_t publications = 0;      ///< epochs committed
-  int64_t slabs_published = 0;   ///< slab versions copied
-  int64_t publish_deferred = 0;  ///< ticks a publication waited for spare versions (readers held old epochs)
+  int64_t publications = 0;     ///< epochs committed
+  int64_t slabs_published = 0;  ///< slabs committed (written since the commit before)
+  /// ticks whose edit stopped before a slab the snapshots could not grant yet (a reader copying
+  /// it, or every spare version held by readers of older epochs); it resumed on a later tick
+  int64_t edits_refused = 0;
   int64_t carried_ticks = 0;     ///< ticks whose budget ran out with work left for the next
   double max_edit_ns = 0;        ///< longest edit + publish work in one tick [ns]
 };
