@@ -289,6 +289,7 @@ nlohmann::json sculpt_report(const SculptArgs& a, const std::string& script_path
           {"publications", ss.publications},
           {"slabs_published", ss.slabs_published},
           {"edits_refused", ss.edits_refused},
+          {"publish_deferred", ss.publish_deferred},
           {"autosaves", autosaves},
           {"undo_strokes", h.undo_count()},
           {"undo_records_bytes", h.records_held() * sizeof(UndoRecord)},

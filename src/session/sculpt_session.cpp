@@ -152,17 +152,24 @@ struct SculptSession::Impl {
 
   // Commits the slabs written since the last publication as one epoch, between sweeps (no half
   // edit, normals refreshed): every publish_interval_s, or sooner once the batch holds half the
-  // spare versions. A sweep that runs out of versions while its own batch holds half of them is
-  // committed in parts: only readers moving past a commit return versions.
+  // spare versions, and only once readers have let go of the versions the commit before replaced
+  // (a reader pinned at an old epoch then holds one batch, and the rest of the pool serves new
+  // slabs). A sweep that runs out of versions while its own batch holds half of them is committed
+  // in parts: only readers moving past a commit return versions.
   int32_t publish(double now_s) noexcept {
     if (!snapshots || snapshots->pending() == 0) return 0;
     const bool full = 2 * snapshots->pending() >= snapshots->version_count();
     const bool due = full || now_s - last_publish_s >= options.publish_interval_s;
-    if (!editor.between_sweeps() && !(full && snapshots->starved())) {
-      if (due) editor.flush();  // have the editor finish its normals first
+    if (!due) return 0;
+    const bool in_parts = full && snapshots->starved();
+    if (!editor.between_sweeps() && !in_parts) {
+      editor.flush();  // have the editor finish its normals first
       return 0;
     }
-    if (!due) return 0;
+    if (!in_parts && !snapshots->readers_caught_up()) {
+      ++stats.publish_deferred;
+      return 0;
+    }
     const int32_t slabs = snapshots->pending();
     snapshots->publish_commit();
     clear_dirty(editor.scratch());  // the next write of any slab asks the snapshots again

@@ -35,6 +35,13 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
   slab_total_ = size_t(S);
   version_total_ = o.spare_versions > 0 ? size_t(o.spare_versions)
                                         : std::min(slab_total_, std::max<size_t>(16, (slab_total_ + 19) / 20));
+  // One write asks for every slab holding its sample at once (a corner sample: every slab around
+  // a coarse vertex); a pool smaller than that could never grant it, whatever was committed.
+  std::vector<int32_t> around(size_t(m.coarse_vertex_count()), 0);
+  size_t most = 2;  // an edge sample's two slabs
+  for (const Tri& t : m.slabs)
+    for (int32_t v : t) most = std::max(most, size_t(++around[size_t(v)]));
+  version_total_ = std::max(version_total_, most + 1);
   slot_count_ = size_t(o.reader_slots);
   arena_.assign(version_total_ * stride_, 0);
   versions_ = std::make_unique<Version[]>(version_total_);
@@ -202,6 +209,11 @@ uint64_t SlabSnapshots::publish_commit() noexcept {
 }
 
 int SlabSnapshots::pending() const noexcept { return static_cast<int>(pending_.size()); }
+
+bool SlabSnapshots::readers_caught_up() noexcept {
+  reclaim();
+  return retired_.empty();
+}
 
 SnapshotReader::SnapshotReader(const SlabSnapshots& s) : s_(s), copy_(s.stride_, 0), check_(s.stride_, 0) {
   for (;;) {

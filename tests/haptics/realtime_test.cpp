@@ -235,6 +235,9 @@ TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
     const long allocations = t_news - before;
     done = true;
     reader.join();
+    std::printf("%lld sweeps, %lld ticks with an edit refused, %lld publications deferred, %lld slabs published, %d snapshots read\n",
+                (long long)sweeps, (long long)session.stats().edits_refused, (long long)session.stats().publish_deferred,
+                (long long)published, snapshots.load());
     EXPECT_EQ(allocations, 0);
     EXPECT_GT(contact, 8000) << "the run must exercise contact";
     EXPECT_GT(sweeps, 5000) << "and edit on most ticks";

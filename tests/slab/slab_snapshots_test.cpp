@@ -125,20 +125,27 @@ TEST(SlabSnapshots, APinnedReaderKeepsTheSlabAsItWas) {
 TEST(SlabSnapshots, AWriterOutOfVersionsIsRefusedUntilReadersMoveOn) {
   const auto model = painted_bunny();
   SnapshotOptions o;
-  o.spare_versions = 2;
+  o.spare_versions = 2;  // raised to one more than the most slabs around a coarse vertex
   SlabSnapshots snapshots(*model, o);
+  std::vector<int> around(size_t(model->coarse_vertex_count()), 0);
+  int most = 0;
+  for (const Tri& t : model->slabs)
+    for (int32_t v : t) most = std::max(most, ++around[size_t(v)]);
+  const int V = snapshots.version_count();
+  EXPECT_EQ(V, most + 1);
   auto reader = std::make_unique<SnapshotReader>(snapshots);
-  EXPECT_TRUE(snapshots.before_write(0));
-  EXPECT_TRUE(snapshots.before_write(1));
+  for (int s = 0; s < V; ++s) EXPECT_TRUE(snapshots.before_write(s));
   EXPECT_TRUE(snapshots.before_write(1)) << "granted until the commit";
-  EXPECT_FALSE(snapshots.before_write(2));
+  EXPECT_FALSE(snapshots.before_write(V));
   EXPECT_TRUE(snapshots.starved());
   snapshots.publish_commit();
   EXPECT_FALSE(snapshots.starved());
-  // The reader pinned at epoch 0 still needs slabs 0 and 1 as they were.
-  EXPECT_FALSE(snapshots.before_write(2));
+  // The reader pinned at epoch 0 still needs the written slabs as they were.
+  EXPECT_FALSE(snapshots.readers_caught_up());
+  EXPECT_FALSE(snapshots.before_write(V));
   reader.reset();
-  EXPECT_TRUE(snapshots.before_write(2));
+  EXPECT_TRUE(snapshots.readers_caught_up());
+  EXPECT_TRUE(snapshots.before_write(V));
   EXPECT_EQ(snapshots.versions_in_use(), 1);
   const SnapshotReader now(snapshots);
   EXPECT_EQ(now.slab(0).epoch, 1u);

@@ -121,6 +121,8 @@ struct SessionStats {
   /// @}
   int64_t publications = 0;     ///< epochs committed
   int64_t slabs_published = 0;  ///< slabs committed (written since the commit before)
+  /// ticks a due publication waited for readers to let go of the versions the commit before replaced
+  int64_t publish_deferred = 0;
   /// ticks whose edit stopped before a slab the snapshots could not grant yet (a reader copying
   /// it, or every spare version held by readers of older epochs); it resumed on a later tick
   int64_t edits_refused = 0;

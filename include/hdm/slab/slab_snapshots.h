@@ -28,8 +28,10 @@ namespace hdm {
 struct SnapshotOptions {
   int reader_slots = 8;  ///< readers that may hold a snapshot at once (more wait for a slot)
   /// Spare versions: copies of edited slabs as readers pinned before the edit see them. -1: 5 % of
-  /// the slabs, at least 16 and at most #S. An edit that would need more between two publications
-  /// pauses until the servo publishes and readers move on (SculptSession does both).
+  /// the slabs, at least 16 and at most #S. Never fewer than one more than the most slabs around a
+  /// coarse vertex (a corner sample's write needs them all at once). An edit that would need more
+  /// between two publications pauses until the servo publishes and readers move on (SculptSession
+  /// does both).
   int spare_versions = -1;
   bool checksums = false;  ///< the writer stores a checksum per version and readers can verify() it (tests)
 };
@@ -95,6 +97,12 @@ class SlabSnapshots {
   uint64_t publish_commit() noexcept;
   /// Slabs granted (or being preserved) since the last commit.
   int pending() const noexcept;
+  /// @brief Recycles the versions no reader needs any more and tells whether every version an
+  /// earlier commit replaced is free again. Committing only then keeps what a reader pinned at an
+  /// old epoch holds to one batch, and leaves the rest of the pool to new slabs: a slab written again
+  /// before the next commit needs no new version.
+  /// @note noexcept, no allocation: O(readers + retired versions).
+  bool readers_caught_up() noexcept;
   /// True when the last before_write() refused for want of a spare version (cleared by a commit).
   bool starved() const noexcept { return starved_; }
   /// Spare versions holding an edited slab's older state (pending or retired), writer thread only.
