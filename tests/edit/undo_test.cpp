@@ -140,16 +140,24 @@ TEST(Undo, AStrokeLargerThanTheCapCannotBeUndone) {
   EXPECT_EQ(test::first_difference(test::ModelState(f.model), after), "");
 }
 
-TEST(Undo, ReplayingTheEditLogReproducesTheModel) {
-  test::BunnyStrokes f, copy;
+namespace {
+// The edit log of @p strokes random strokes (seed @p seed) on f's model, then an undo.
+std::vector<EditLogEntry> logged_strokes(test::BunnyStrokes& f, int strokes, unsigned seed) {
   StrokeEditor editor(f.model);
   std::vector<EditLogEntry> log;
   log.reserve(100000);
   editor.record_log(&log);
-  std::mt19937 rng(3);
-  for (int k = 0; k < 6; ++k) random_stroke(f, editor, rng);
+  std::mt19937 rng(seed);
+  for (int k = 0; k < strokes; ++k) random_stroke(f, editor, rng);
   editor.undo();
   editor.work(f.model, INT64_MAX);
+  return log;
+}
+}  // namespace
+
+TEST(Undo, ReplayingTheEditLogReproducesTheModel) {
+  test::BunnyStrokes f, copy;
+  const std::vector<EditLogEntry> log = logged_strokes(f, 6, 3);
   StrokeEditor replayer(copy.model);
   for (const EditLogEntry& e : log) {
     ASSERT_TRUE(replayer.replay(e));
@@ -158,24 +166,17 @@ TEST(Undo, ReplayingTheEditLogReproducesTheModel) {
   EXPECT_EQ(test::first_difference(test::ModelState(copy.model), test::ModelState(f.model)), "");
 }
 
-// The same log replayed through a write gate that refuses (SlabSnapshots with three spare
-// versions and a reader holding the first epoch for a while): each refused edit stops before the
+// An edit log replayed through a write gate that refuses (SlabSnapshots with its smallest pool and
+// a reader holding the first epoch for a while): each refused edit stops before the
 // write and resumes where it stopped after a commit, so the model ends bit for bit the same, and
 // a reader pinned before the edits still reads the unedited slabs.
 TEST(WriteGate, ReplayingThroughRefusalsReproducesTheModel) {
   test::BunnyStrokes f, copy;
-  StrokeEditor editor(f.model);
-  std::vector<EditLogEntry> log;
-  log.reserve(100000);
-  editor.record_log(&log);
-  std::mt19937 rng(5);
-  for (int k = 0; k < 4; ++k) random_stroke(f, editor, rng);
-  editor.undo();
-  editor.work(f.model, INT64_MAX);
+  const std::vector<EditLogEntry> log = logged_strokes(f, 4, 5);
 
   const test::ModelState unedited(copy.model);
   SnapshotOptions o;
-  o.spare_versions = 3;
+  o.spare_versions = 1;  // raised to one more than the most slabs around a coarse vertex
   SlabSnapshots snapshots(copy.model, o);
   auto pinned = std::make_unique<SnapshotReader>(snapshots);
   StrokeEditor replayer(copy.model);
