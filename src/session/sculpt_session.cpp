@@ -305,7 +305,7 @@ void SculptSession::finish() noexcept {
     s.last_publish_s = -1e300;
     s.publish(0.0);
     if (s.editor.idle() && (!s.snapshots || s.snapshots->pending() == 0)) break;
-    if (w.refused) std::this_thread::yield();  // a reader copies a slab, or holds the spare versions
+    std::this_thread::yield();  // a reader copies a slab, or holds versions the edit or commit needs
   }
 }
 

@@ -206,7 +206,8 @@ class SculptSession {
   /// on the model as it was reproduces what readers see at epoch k + 1 (tests). Before the loop.
   void record_log(std::vector<EditLogEntry>* edits, std::vector<size_t>* epochs) noexcept;
   /// @brief Ends an open stroke, finishes every queued edit and publishes: call after the loop.
-  /// @note Not real-time (no budget).
+  /// @note Not real-time (no budget): yields while a reader holds a slab or versions the edits or
+  ///       the commit need, so it returns once readers let go of their snapshots.
   void finish() noexcept;
 
  private:
