@@ -84,10 +84,10 @@ class SlabSnapshots {
   /// @return true: write the slab freely until the next publish_commit(). false: do not write it
   ///         yet; ask again later. Either no spare version is free (starved(): commit, and readers
   ///         will release the old ones), or a reader is copying the slab from the live model this
-  ///         moment (a few microseconds).
+  ///         moment (under a microsecond).
   /// @note noexcept, no allocation, no waiting: O(per_slab + texels_per_slab) the first time
-  ///       (about 2 µs at n = 16, m = 2), O(1) after; O(readers + retired versions) when it must
-  ///       recycle versions first.
+  ///       (0.8 µs at n = 16, m = 2 with the commit: `bench_edit` publish/*), O(1) after;
+  ///       O(readers + retired versions) when it must recycle versions first.
   bool before_write(int slab) noexcept;
   /// @brief Makes every write since the last commit visible as the next epoch and returns it.
   /// @pre The writer writes no slab it was not granted by before_write() (what a reader sees of a
@@ -180,8 +180,8 @@ class SnapshotReader {
   /// @brief Slab @p slab as of epoch(): its preserved version when an edit has written it since,
   /// else a copy of the live slab, made while the writer is held off that slab.
   /// @return a view valid until the next slab() or verify() call of this reader, or its end.
-  /// @note noexcept, no allocation; O(per_slab + texels_per_slab) for a live slab's copy (about
-  ///       2 µs at n = 16, m = 2), O(versions of that slab newer than epoch()) otherwise, usually O(1).
+  /// @note noexcept, no allocation; O(per_slab + texels_per_slab) for a live slab's copy (0.8 µs
+  ///       at n = 16, m = 2), O(versions of that slab newer than epoch()) otherwise, usually O(1).
   SlabView slab(int slab) const noexcept;
   /// @brief SlabView::epoch of slab(@p slab) without the copy: the epoch since which the slab holds
   /// its content at epoch(). A renderer compares it with the epoch it drew to skip unchanged slabs.
