@@ -19,7 +19,8 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
   const int S = m.slab_count();
   if (S == 0 || m.slab_samples.size() != m.samples.slot_count() || m.texels.slot_count() != size_t(S) * m.texels.per_slab ||
       m.colour.size() != size_t(m.texels.count) || m.roughness.size() != size_t(m.texels.count) ||
-      m.layer_displacement.size() != size_t(m.samples.count) || m.hardness.size() != size_t(m.samples.count))
+      m.layer_displacement.size() != size_t(m.samples.count) || m.hardness.size() != size_t(m.samples.count) ||
+      m.vertex_slab_offsets.size() != size_t(m.coarse_vertex_count()) + 1)
     throw InvalidInput("snapshots: the model's derived data are missing (call rebuild_derived first)");
   if (o.reader_slots < 1 || o.reader_slots > 1024)
     throw InvalidInput("snapshots: reader_slots = " + std::to_string(o.reader_slots) + " outside [1, 1024]");
@@ -37,10 +38,9 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
                                         : std::min(slab_total_, std::max<size_t>(16, (slab_total_ + 19) / 20));
   // One write asks for every slab holding its sample at once (a corner sample: every slab around
   // a coarse vertex); a pool smaller than that could never grant it, whatever was committed.
-  std::vector<int32_t> around(size_t(m.coarse_vertex_count()), 0);
   size_t most = 2;  // an edge sample's two slabs
-  for (const Tri& t : m.slabs)
-    for (int32_t v : t) most = std::max(most, size_t(++around[size_t(v)]));
+  for (size_t v = 0; v + 1 < m.vertex_slab_offsets.size(); ++v)
+    most = std::max(most, size_t(m.vertex_slab_offsets[v + 1] - m.vertex_slab_offsets[v]));
   version_total_ = std::max(version_total_, most + 1);
   slot_count_ = size_t(o.reader_slots);
   arena_.assign(version_total_ * stride_, 0);
