@@ -199,7 +199,9 @@ uint64_t SlabSnapshots::publish_commit() noexcept {
   for (int32_t v : pending_) {
     Version& x = versions_[v];
     x.to.store(next, std::memory_order_release);
-    live_since_[x.slab].store(next, std::memory_order_release);
+    // A slab preserved but never granted (a reader held its guard) is unchanged: its live content
+    // stays current since the epoch it had, so readers see no new epoch for it.
+    if (state_[size_t(x.slab)] == 2) live_since_[x.slab].store(next, std::memory_order_release);
     state_[size_t(x.slab)] = 0;
     retired_.push_back(v);
   }
