@@ -166,7 +166,8 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
 
 // After displacements changed (positions already refreshed): normals of the changed samples and
 // their one-ring (docs/design.md#normals), the slab-major copy, then the force-shading normals of the
-// ring and its neighbours; dirty flags of every slab holding a ring sample (its normal changed).
+// ring and its neighbours; dirty flags of every slab holding a ring sample (its normal changed) or a
+// sample whose force-shading code changed.
 bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   const SampleLayout& L = m.samples;
   constexpr int32_t kChunk = 16;
@@ -196,13 +197,9 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     stamp_ = next_stamp(s);
   }
   if (phase_ == Phase::ShadingRing) {
-    // The force-shading normals read the one-ring of normals: the ring and its neighbours change,
-    // each listed once (the flood is done, so its queue is free to hold them), and flagged.
-    DirtyMarker dirty{s};
-    for (;;) {
-      for (; marked_ < shading_count_; ++marked_)
-        if (!dirty.mark(L, s.queue[marked_])) return false;
-      if (cursor_ >= ring_count_) break;
+    // The force-shading normals read the one-ring of normals: the ring and its neighbours may
+    // change, each listed once (the flood is done, so its queue is free to hold them).
+    while (cursor_ < ring_count_) {
       if (d.expired(kChunk)) return false;
       const int32_t end = std::min(ring_count_, cursor_ + kChunk);
       for (; cursor_ < end; ++cursor_)
@@ -212,11 +209,20 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     phase_ = Phase::ForceShading;
     cursor_ = 0;
   }
+  // A sample's slabs are flagged only when its stored code changes: a slab whose data are the same
+  // keeps its epoch, so a renderer does not upload it again.
+  DirtyMarker dirty{s};
   while (cursor_ < shading_count_) {
     if (d.expired(4 * kChunk)) return false;
-    const int32_t n = std::min(kChunk * 2, shading_count_ - cursor_);
-    update_force_shading_normals(m, s.queue.data() + cursor_, static_cast<size_t>(n), false);
-    cursor_ += n;
+    const int32_t end = std::min(shading_count_, cursor_ + 2 * kChunk);
+    for (; cursor_ < end; ++cursor_) {
+      const int32_t id = s.queue[cursor_];
+      const ForceShadingCode c = force_shading_code(m, id);
+      const GridSlot h = L.home(id);
+      if (std::equal(c.begin(), c.end(), m.slab_samples[h.slab * L.per_slab + h.index].h)) continue;
+      if (!dirty.mark(L, id)) return false;
+      store_force_shading_code(m, id, c);
+    }
   }
   // The listed samples are refreshed: start a new listing.
   s.changed_count = 0;

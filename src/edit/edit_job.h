@@ -156,7 +156,7 @@ class EditJob {
   uint32_t stamp_ = 0;
   // normals state
   int32_t cursor_ = 0, ring_count_ = 0, shading_count_ = 0;
-  int32_t marked_ = 0;  // ring (shading ring) samples whose slabs are flagged, before their normals are written
+  int32_t marked_ = 0;  // ring samples whose slabs are flagged, before their normals are written
   double motion2_ = 0;
 };
 

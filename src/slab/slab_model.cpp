@@ -97,21 +97,26 @@ inline Vec3f face_normal(const SlabModel& m, const Tri& t, float scale) noexcept
 
 }  // namespace
 
-namespace {
-
-// One-ring sum of unit normals, normalised (the force-shading normal of sample s).
-inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
-  const SampleLayout& L = m.samples;
+ForceShadingCode force_shading_code(const SlabModel& m, int32_t s) noexcept {
   const Vec3f own = sample_normal(m, s);
   Vec3f sum = own;
-  L.for_each_neighbour(s, [&](int32_t t) noexcept { sum += sample_normal(m, t); });
+  m.samples.for_each_neighbour(s, [&](int32_t t) noexcept { sum += sample_normal(m, t); });
   const float len = sum.norm();
   const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : own;
-  const int16_t c[3] = {encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])};
-  L.for_each_slot(s, [&](int32_t slot) {
+  return {encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])};
+}
+
+void store_force_shading_code(SlabModel& m, int32_t s, const ForceShadingCode& c) noexcept {
+  m.samples.for_each_slot(s, [&](int32_t slot) {
     int16_t* h = m.slab_samples[slot].h;
     h[0] = c[0], h[1] = c[1], h[2] = c[2];
   });
+}
+
+namespace {
+
+inline void store_force_shading_normal(SlabModel& m, int32_t s) noexcept {
+  store_force_shading_code(m, s, force_shading_code(m, s));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <hdm/slab/sample_layout.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -248,6 +249,20 @@ struct FaceNormalCache {
   std::vector<int32_t> pending;  ///< triangles listed for evaluation (flushed when full)
   uint32_t current = 0;          ///< number of the current call
 };
+
+/// @brief A force-shading normal as stored: its three snorm16 codes (SlabSample::h).
+using ForceShadingCode = std::array<int16_t, 3>;
+
+/// @brief The force-shading normal of sample @p sample as update_force_shading_normals() would
+/// store it (the normalised sum of its normal and its grid neighbours' normals, encoded), without
+/// storing it: an editor compares it with the stored code and writes only a change.
+/// Precondition: 0 <= sample < samples.count, `slab_samples` sized to the slots.
+/// @note O(valence), noexcept, no allocation.
+ForceShadingCode force_shading_code(const SlabModel& model, int32_t sample) noexcept;
+
+/// @brief Stores @p code as the force-shading normal of every slot of sample @p sample.
+/// Preconditions as force_shading_code(). @note O(slabs holding the sample), noexcept.
+void store_force_shading_code(SlabModel& model, int32_t sample, const ForceShadingCode& code) noexcept;
 
 /// @brief Recomputes the force-shading normals (SlabSample::h) of @p samples from the normals (sample_normal()): the
 /// normalised sum of the sample's normal and its grid neighbours' (SampleLayout::for_each_neighbour(),
