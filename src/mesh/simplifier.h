@@ -81,8 +81,14 @@ class Simplifier {
   Simplifier(const TriangleMesh& mesh, const DecimateOptions& o);
 
   // Collapses the cheapest edges until at most @p target faces remain or the cheapest costs more
-  // than @p max_cost.
+  // than @p max_cost, after collapse_negligible_edges().
   void run(int64_t target, double max_cost);
+
+  // Collapses, with the usual checks, every edge no longer than negligible_move_, whatever its
+  // quadric cost: such an edge is below any slab's resolution, and the cost order would leave it
+  // to the last (a plate's flat collapses cost nothing), so that a coarse mesh kept it with the
+  // two slivers beside it.
+  void collapse_negligible_edges();
 
   // Removes vertices whose faces no direction sees (a fold of the input, or one the target left):
   // such a vertex has no valid slab direction at any thickness. Each is merged into a neighbour,
@@ -218,6 +224,9 @@ class Simplifier {
   double last_cost_ = 0;
   std::vector<double> max_edge_;  // per vertex, DecimateOptions::max_edge (empty: no limit)
   double cos_turn_ = 0, sin_min_angle_ = 0;
+  // A vertex moved by at most this is not held to the sliver test (kNegligibleMove of the mesh's
+  // bounding-box diagonal) [model units].
+  double negligible_move_ = 0;
 };
 
 }  // namespace hdm::mesh::detail

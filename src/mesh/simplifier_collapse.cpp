@@ -57,7 +57,8 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
   if (!link_condition(a, b)) return false;
   const Quadric q = quadric_[a] + quadric_[b];
   if (forced_) return merge(a, b, pos_[a], q, -2, std::numbers::pi), true;
-  // Geometry: no face of the star turns by more than max_normal_turn or becomes a new sliver;
+  // Geometry: no face of the star turns by more than max_normal_turn or becomes a new sliver
+  // (unless the collapse moves it by a negligible distance);
   // every vertex whose star changes (the new vertex and the link) stays visible. A reopening
   // collapse may turn faces as it likes, and tries several places for the new vertex.
   double min_cos = 1;  // cosine of the largest normal turn of a moved face
@@ -75,7 +76,9 @@ bool Simplifier::collapse(int32_t a, int32_t b, bool reopen) {
       if (!(la > 0) || (!reopen && lb > 0 && nb.dot(na) < cos_turn_ * lb * la)) return void(ok = false);
       if (lb > 0) min_cos = std::min(min_cos, nb.dot(na) / (lb * la));
       const double sine = smallest_angle_sine(x, p, r);
-      if (!reopen && sine < sin_min_angle_ && sine < smallest_angle_sine(pos_[v], p, r)) return void(ok = false);
+      if (!reopen && sine < sin_min_angle_ && sine < smallest_angle_sine(pos_[v], p, r) &&
+          (x - pos_[v]).squaredNorm() > negligible_move_ * negligible_move_)
+        return void(ok = false);
       after_.push_back(na / la);
     });
     return ok;

@@ -8,6 +8,7 @@
 #include <hdm/core/error.h>
 #include <hdm/io/read_mesh.h>
 #include <hdm/mesh/decimate_mesh.h>
+#include <hdm/mesh/split_faces.h>
 
 #include <gtest/gtest.h>
 
@@ -258,6 +259,73 @@ TEST(DecimateMeshTest, CubeCreasesKeepTheCorners) {
   EXPECT_EQ(corners, 8) << "feature planes keep every corner of the creases";
   // Every coarse vertex stays on a crease or a face of the cube: the coarse mesh is the cube.
   EXPECT_NEAR(signed_volume(out), 8.0, 1e-9);
+}
+
+// A CAD plate as exporters write it: 100 × 100 × 3, its corners rounded (radius 3, 16 segments),
+// every arc starting with a segment of 3e-4 (3e-6 of the diagonal) where the line meets it, at 45°
+// to the line (the exporter's rounding), the
+// caps fanned from the centre. Each tiny segment is the base of a sliver on both caps and of a
+// 3 × 3e-4 wall quad. A slab over a sliver is invalid as soon as its shell is thicker than the
+// sliver is wide, so the coarse mesh must not keep them: the tiny edges go first, whatever their
+// quadric cost (the plate's flat collapses cost nothing and would reach the target before them).
+TriangleMesh rounded_plate_with_tiny_arc_starts() {
+  const double half = 50, r = 3, tiny = 3e-4, z = 3;
+  std::vector<Vec3> outline;  // counter-clockwise seen from +z
+  const Vec3 corners[4] = {{half - r, half - r, 0}, {-half + r, half - r, 0}, {-half + r, -half + r, 0}, {half - r, -half + r, 0}};
+  for (int c = 0; c < 4; ++c) {
+    const double a0 = c * std::numbers::pi / 2;
+    const Vec3 start = corners[c] + r * Vec3(std::cos(a0), std::sin(a0), 0);
+    const Vec3 along(-std::sin(a0), std::cos(a0), 0), inward(-std::cos(a0), -std::sin(a0), 0);
+    outline.push_back(start);
+    outline.push_back(start + tiny * std::sqrt(0.5) * (along + inward));  // off the arc, as exporters round
+    for (int k = 1; k <= 16; ++k) {
+      const double a = a0 + k * std::numbers::pi / 32;
+      outline.push_back(corners[c] + r * Vec3(std::cos(a), std::sin(a), 0));
+    }
+  }
+  TriangleMesh m;
+  const int n = static_cast<int>(outline.size());
+  for (const Vec3& p : outline) m.vertices.push_back(p);
+  for (const Vec3& p : outline) m.vertices.push_back(p + Vec3(0, 0, z));
+  const int bottom = 2 * n, top = 2 * n + 1;
+  m.vertices.push_back(Vec3::Zero());
+  m.vertices.push_back(Vec3(0, 0, z));
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    m.faces.push_back({top, n + i, n + j});
+    m.faces.push_back({bottom, j, i});
+    m.faces.push_back({i, j, n + j});
+    m.faces.push_back({i, n + j, n + i});
+  }
+  return m;
+}
+
+double smallest_angle_deg(const TriangleMesh& m, const Tri& t) {
+  double smallest = 180;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 u = m.vertices[t[(k + 1) % 3]] - m.vertices[t[k]], v = m.vertices[t[(k + 2) % 3]] - m.vertices[t[k]];
+    smallest = std::min(smallest, std::atan2(u.cross(v).norm(), u.dot(v)) * 180 / std::numbers::pi);
+  }
+  return smallest;
+}
+
+TEST(DecimateMeshTest, EdgesBelowTheResolutionGoWithTheirSlivers) {
+  // Split twice 1-to-4: the same surface, with flat collapses that cost nothing, enough to reach
+  // the larger target on their own.
+  const TriangleMesh in = split_faces(split_faces(rounded_plate_with_tiny_arc_starts()));
+  int input_slivers = 0;
+  for (const Tri& t : in.faces) input_slivers += smallest_angle_deg(in, t) < 0.1;
+  ASSERT_GE(input_slivers, 16) << "slivers on the caps and the wall at each tiny segment";
+  for (const int64_t target : {100, 400}) {
+    const TriangleMesh out = check_decimation(in, target, "rounded plate");
+    double thinnest = 180, shortest = INFINITY;
+    for (const Tri& t : out.faces) {
+      thinnest = std::min(thinnest, smallest_angle_deg(out, t));
+      for (int k = 0; k < 3; ++k) shortest = std::min(shortest, (out.vertices[t[k]] - out.vertices[t[(k + 1) % 3]]).norm());
+    }
+    EXPECT_GT(shortest, 1e-3) << target << " faces: a tiny segment is still an edge";
+    EXPECT_GT(thinnest, 0.1) << target << " faces: a sliver is left";
+  }
 }
 
 TEST(DecimateMeshTest, DoubleTorusKeepsGenus2AndItsVolume) {

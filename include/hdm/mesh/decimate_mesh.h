@@ -75,10 +75,17 @@ struct DecimateReport {
 ///   become duplicates; so the result is 2-manifold with the input's genus, boundary loops,
 ///   components and orientation (faces keep their vertex order);
 /// - no face it moves turns its normal by more than DecimateOptions::max_normal_turn_deg (no
-///   fold-over) or becomes a new sliver (DecimateOptions::min_angle_deg);
+///   fold-over) or becomes a new sliver (DecimateOptions::min_angle_deg), unless it moves the
+///   face's vertex by at most 1e-5 of the mesh's bounding-box diagonal;
 /// - every vertex whose star changes keeps a direction that sees all its faces
 ///   (DecimateOptions::min_cone_margin): thin parts, tubes and tips stop the decimation early
 ///   instead of giving vertices no valid slab direction, so the face count follows the shape.
+///
+/// Edges no longer than 1e-5 of the diagonal (two vertices of a CAD export a few micrometres
+/// apart, where an arc meets a line) are collapsed first, with the same checks, whatever their
+/// quadric cost: in cost order a plate's flat collapses, which cost nothing, reach the target
+/// before them, and the coarse mesh kept each with the slivers beside it, invalid slabs at any
+/// slab count.
 ///
 /// Stars of the input that no direction sees (an empty dual cone: a crumple of a scanned surface) are collapsed
 /// first; those left at the end are merged into a neighbour, or the vertex removed and its ring
