@@ -218,8 +218,7 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     for (; cursor_ < end; ++cursor_) {
       const int32_t id = s.queue[cursor_];
       const ForceShadingCode c = force_shading_code(m, id);
-      const GridSlot h = L.home(id);
-      if (std::equal(c.begin(), c.end(), m.slab_samples[h.slab * L.per_slab + h.index].h)) continue;
+      if (std::equal(c.begin(), c.end(), home_slab_sample(m, id).h)) continue;
       if (!dirty.mark(L, id)) return false;
       store_force_shading_code(m, id, c);
     }

@@ -43,9 +43,7 @@ Simplifier::Simplifier(const TriangleMesh& mesh, const DecimateOptions& o) : o_(
   faces_left_ = static_cast<int64_t>(nf);
   cos_turn_ = std::cos(o.max_normal_turn_deg * std::numbers::pi / 180);
   sin_min_angle_ = std::sin(o.min_angle_deg * std::numbers::pi / 180);
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-  for (const Vec3& p : pos_) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  negligible_move_ = nv > 0 ? kNegligibleMove * (hi - lo).norm() : 0;
+  negligible_move_ = nv > 0 ? kNegligibleMove * bounds(mesh).diagonal() : 0;
   init_quadrics();
   empty_cone_.assign(nv, 0);
   for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) empty_cone_[v] = vertex_cone_margin(v) <= kEmptyCone;

@@ -208,14 +208,21 @@ void projection_line(const SlabModel& model, int slab, int index, Vec3& p0, Vec3
 /// @note O(1), noexcept; evaluated in the sample's home slab, so shared samples agree exactly.
 Vec3 sample_position(const SlabModel& model, int sample) noexcept;
 
+/// @brief The slab-major record of sample @p s in its home slot (SampleLayout::home()); every
+/// slot of a shared sample holds the same normal and force-shading normal.
+/// Precondition: 0 <= s < samples.count, `slab_samples` sized to the slots. @note O(1), noexcept.
+inline const SlabSample& home_slab_sample(const SlabModel& model, int32_t s) noexcept {
+  const GridSlot h = model.samples.home(s);
+  return model.slab_samples[static_cast<size_t>(h.slab) * model.samples.per_slab + h.index];
+}
+
 /// @brief Unit normal of sample @p s of the displaced surface (paper §3.4), read from its home
 /// slot of `slab_samples` (every slot of the sample holds the same value), as decoded from its
 /// snorm16 codes: unit to 2.7e-5, not renormalised (SlabSample).
 /// @pre rebuild_derived(model) has run; 0 <= s < model.samples.count.
 /// @note O(1) (a shift, a mask, one load), noexcept.
 inline Vec3f sample_normal(const SlabModel& model, int32_t s) noexcept {
-  const GridSlot h = model.samples.home(s);
-  return model.slab_samples[static_cast<size_t>(h.slab) * model.samples.per_slab + h.index].normal();
+  return home_slab_sample(model, s).normal();
 }
 
 /// @brief Refreshes the cached `positions` of @p samples from their current displacements.
