@@ -222,13 +222,9 @@ void collect_hit(const RTCFilterFunctionNArguments* args) {
 
 }  // namespace
 
-void ExactMeshQuery::segment_hits(const Vec3& a, const Vec3& b, std::vector<SegmentHit>& hits) const {
-  hits.clear();
-  // One traversal collects every hit, sorted by (t, face); then the hits are read as successive
-  // nearest-hit queries would, each from just past the last (a relative epsilon in t keeps
-  // adjacent triangles from repeating), 1024 steps at most. A traversal per hit cost as many
-  // descents as hits: an edge of a slab's boundary, cast against the shells of its neighbours,
-  // meets dozens of faces at its ends.
+// Every hit of the segment a -> b in one traversal, sorted by (t, face): a thread's own buffer,
+// valid until its next call.
+const std::vector<std::pair<float, int32_t>>& ExactMeshQuery::sorted_hits(const Vec3& a, const Vec3& b) const {
   thread_local std::vector<std::pair<float, int32_t>> raw;
   raw.clear();
   AllHitsContext c;
@@ -238,9 +234,18 @@ void ExactMeshQuery::segment_hits(const Vec3& a, const Vec3& b, std::vector<Segm
   RTCRayHit rh = make_ray(a, b - a, 0.0f, 1.0f);
   rtcIntersect1(impl_->scene, &c.context, &rh);
   std::sort(raw.begin(), raw.end());
+  return raw;
+}
+
+void ExactMeshQuery::segment_hits(const Vec3& a, const Vec3& b, std::vector<SegmentHit>& hits) const {
+  hits.clear();
+  // One traversal collects every hit; then the hits are read as successive nearest-hit queries
+  // would, each from just past the last (a relative epsilon in t keeps adjacent triangles from
+  // repeating), 1024 steps at most. A traversal per hit cost as many descents as hits: an edge of
+  // a slab's boundary, cast against the shells of its neighbours, meets dozens of faces at its ends.
   float tnear = 0;
   int steps = 0;
-  for (const auto& [t, face] : raw) {
+  for (const auto& [t, face] : sorted_hits(a, b)) {
     if (!(t >= tnear)) continue;
     if (hits.empty() || hits.back().face != face) hits.push_back({t, face});
     tnear = std::nextafter(t, 2.0f) + 1e-7f;
@@ -257,21 +262,38 @@ SegmentHit ExactMeshQuery::first_hit(const Vec3& a, const Vec3& b) const {
   return {rh.ray.tfar, static_cast<int32_t>(rh.hit.primID)};
 }
 
+// The winding number along the segment a -> b of a closed mesh: the hits are read in order of t,
+// and the faces met at one crossing (equal t within the same relative epsilon as segment_hits())
+// count once, by the sign of their sum. A ray through an edge or a vertex of one surface meets
+// every face there with the same sign (one crossing); coincident faces of opposite orientation
+// (two parts stacked on a shared face plane, as CAD exports put them) add up to zero, as the
+// winding number is zero just above both; a ray grazing a silhouette edge meets a front and a
+// back face and does not cross. Reading one face per crossing, as successive nearest hits do,
+// dropped one of two coincident faces and put the space above stacked parts inside them.
+int ExactMeshQuery::winding_along(const Vec3& a, const Vec3& b) const {
+  const std::vector<std::pair<float, int32_t>>& raw = sorted_hits(a, b);
+  const Vec3 d = b - a;
+  int winding = 0;
+  for (size_t k = 0; k < raw.size();) {
+    const float end = std::nextafter(raw[k].first, 2.0f) + 1e-7f;
+    int sum = 0;
+    for (; k < raw.size() && raw[k].first < end; ++k) {
+      const double s = face_normal(raw[k].second).dot(d);
+      sum += s > 0 ? 1 : s < 0 ? -1 : 0;
+    }
+    winding += sum > 0 ? 1 : sum < 0 ? -1 : 0;
+  }
+  return winding;
+}
+
 bool ExactMeshQuery::inside(const Vec3& p) const {
   if (!p.allFinite()) return false;
   if (!sides().closed) return behind(p);
   static const Vec3 dirs[3] = {Vec3(0.5773, 0.5774, 0.5771).normalized(), Vec3(-0.3141, 0.8523, -0.4182).normalized(),
                                Vec3(0.7071, -0.1234, -0.6963).normalized()};
   const double far = 4.0 * std::max(impl_->diagonal, 1e-30) + (p - mesh_.vertices[0]).norm();
-  std::vector<SegmentHit> hits;
   int votes = 0;
-  for (const Vec3& d : dirs) {
-    segment_hits(p, p + far * d, hits);
-    // Winding number along the ray: +1 for each face left through its front, -1 through its back.
-    int winding = 0;
-    for (const SegmentHit& h : hits) winding += face_normal(h.face).dot(d) > 0 ? 1 : -1;
-    votes += winding != 0;
-  }
+  for (const Vec3& d : dirs) votes += winding_along(p, p + far * d) != 0;
   return votes >= 2;
 }
 

@@ -167,3 +167,52 @@ TEST(ExactMeshQueryTest, SegmentHitsMatchBruteForceInOrder) {
   EXPECT_GT(compared, 350);
   EXPECT_GT(crossings, 1000);  // most segments cross several spheres
 }
+
+namespace {
+
+// A closed, outward axis-aligned box [lo, hi] as 12 triangles, appended to @p m.
+void append_box(TriangleMesh& m, const Vec3& lo, const Vec3& hi) {
+  const auto base = static_cast<int32_t>(m.vertices.size());
+  for (int k = 0; k < 8; ++k) m.vertices.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    m.faces.push_back({base + q[0], base + q[1], base + q[2]});
+    m.faces.push_back({base + q[0], base + q[2], base + q[3]});
+  }
+}
+
+}  // namespace
+
+// Two closed parts stacked on a shared face plane, as CAD exports put them: along a ray, the top
+// of the lower part and the bottom of the upper one are met at the same point with opposite
+// orientations, and cancel. The reference is the union of the two boxes.
+TEST(ExactMeshQueryTest, InsideStackedPartsIsTheirUnion) {
+  TriangleMesh m;
+  const Vec3 lo1(0, 0, 0), hi1(2, 2, 1), lo2(0, 0.25, 1), hi2(2, 1.75, 2);
+  append_box(m, lo1, hi1);
+  append_box(m, lo2, hi2);
+  ASSERT_GT(test::signed_volume(m), 0);
+  const ExactMeshQuery q(m);
+  auto in_box = [](const Vec3& p, const Vec3& lo, const Vec3& hi) {
+    return (p.array() > lo.array()).all() && (p.array() < hi.array()).all();
+  };
+  auto near_plane = [](const Vec3& p) {
+    for (int a = 0; a < 3; ++a)
+      for (double c : {0.0, 0.25, 1.0, 1.75, 2.0})
+        if (std::abs(p[a] - c) < 1e-3) return true;
+    return false;
+  };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 3);
+  int tested = 0, above_both = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    if (near_plane(p)) continue;
+    const bool expected = in_box(p, lo1, hi1) || in_box(p, lo2, hi2);
+    EXPECT_EQ(q.inside(p), expected) << p.transpose();
+    ++tested;
+    above_both += !expected && p.x() > 0 && p.x() < 2 && p.y() > 0.25 && p.y() < 1.75 && p.z() > 2;
+  }
+  EXPECT_GT(tested, 1800);
+  EXPECT_GT(above_both, 20);  // points whose rays cross the shared plane inside both parts' faces
+}

@@ -8,6 +8,7 @@
 #include <hdm/mesh/triangle_mesh.h>
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace hdm {
@@ -80,7 +81,9 @@ class ExactMeshQuery {
   ///
   /// Closed mesh: the winding number along a ray (faces left through their front count +1,
   /// through their back -1) is not zero, the majority over three fixed skew directions (a ray
-  /// grazing an edge cannot flip the answer). This is ray parity for a mesh that does not cross
+  /// grazing an edge cannot flip the answer). Faces met at one point of the ray count once, by the
+  /// sign of their sum: an edge of one surface crosses once, and coincident faces of opposite
+  /// orientation (parts stacked on a shared face plane) cancel. This is ray parity for a mesh that does not cross
   /// itself, and the union of the parts for one that does (a leg pushed into a body is inside
   /// once, not twice). Open mesh: behind() (the side of the surface; rays can leave through the
   /// openings, so parity means nothing there).
@@ -126,6 +129,8 @@ class ExactMeshQuery {
  private:
   struct Impl;
   const Impl& sides() const;  // closedness and pseudonormals, computed once on first use
+  const std::vector<std::pair<float, int32_t>>& sorted_hits(const Vec3& a, const Vec3& b) const;
+  int winding_along(const Vec3& a, const Vec3& b) const;  // closed mesh: crossings of a -> b, signed
   std::unique_ptr<Impl> impl_;
   TriangleMesh mesh_;
 };
