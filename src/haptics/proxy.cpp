@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 namespace hdm {
@@ -35,9 +36,10 @@ double model_diagonal(const SlabModel& m) noexcept { return m.source_diagonal > 
 // (armadillo: 5 % of grid edges at 1 mm), so the force-shading fixed point folds there: the proxy
 // stalls with a growing tangential force, then snaps across (force steps of 8 % at 10 kHz). The
 // one-ring sum turns about half as fast.
-bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Contact& out) noexcept {
+// @p cell is the grid triangle under c (local_cell()).
+bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, const slab_query::detail::LocalCell& cell,
+                Contact& out) noexcept {
   const double wS = c.bary[1], wT = c.bary[2];
-  const slab_query::detail::LocalCell cell = slab_query::detail::local_cell(model.grid_n, wS, wT);
   double delta;
   Vec3 ray;
   out.surface_point = slab_query::detail::surface_point(model, slab, wS, wT, cell, delta, ray);
@@ -53,11 +55,30 @@ bool surface_at(const SlabModel& model, int slab, const SlabCoordinates& c, Cont
   return out.surface_point.allFinite() && out.normal.allFinite();
 }
 
+// The three grid records under a surface point, as surface_at() read them: while they are
+// unchanged, so is the surface point and its force-shading normal.
+void keep_records(const SlabModel& model, int slab, const slab_query::detail::LocalCell& cell, ProxyState& s) noexcept {
+  const SlabSample* v = slab_query::detail::slab_block(model, slab);
+  s.surface_slab = slab;
+  s.surface_records = {v[cell.la], v[cell.lb], v[cell.ld]};
+}
+
+bool records_unchanged(const SlabModel& model, int slab, const slab_query::detail::LocalCell& cell,
+                       const ProxyState& s) noexcept {
+  if (s.surface_slab != slab) return false;
+  const SlabSample* v = slab_query::detail::slab_block(model, slab);
+  return std::memcmp(&v[cell.la], &s.surface_records[0], sizeof(SlabSample)) == 0 &&
+         std::memcmp(&v[cell.lb], &s.surface_records[1], sizeof(SlabSample)) == 0 &&
+         std::memcmp(&v[cell.ld], &s.surface_records[2], sizeof(SlabSample)) == 0;
+}
+
 // The proxy's candidate at coordinates @p c of @p slab: the surface point there, refused when its
 // normal turns away from @p n_ref by more than allowed (the far side of a thin part, a fold).
+// @p cell receives the grid triangle under it.
 bool surface_candidate(const SlabModel& model, int slab, const SlabCoordinates& c, const Vec3& n_ref, double min_cos,
-                       QueryCache& cache, Contact& out) noexcept {
-  if (!surface_at(model, slab, c, out)) return false;
+                       QueryCache& cache, Contact& out, slab_query::detail::LocalCell& cell) noexcept {
+  cell = slab_query::detail::local_cell(model.grid_n, c.bary[1], c.bary[2]);
+  if (!surface_at(model, slab, c, cell, out)) return false;
   if (out.normal.dot(n_ref) < std::max(kMinNormalAgreement, min_cos)) return false;
   cache.last_slab = slab;
   out.coords.alpha = out.delta;  // the proxy sits at δ on its line: depth 0 there
@@ -69,10 +90,11 @@ bool surface_candidate(const SlabModel& model, int slab, const SlabCoordinates& 
 // projection line. Returns false when x is in no slab, or in a slab that faces away. @p alpha_guess
 // (the proxy's α, x being a short step along its tangent plane) starts the α solve close to the root.
 bool reproject(const SlabModel& model, const SlabLocator& locator, const Vec3& x, const Vec3& n_ref, double min_cos,
-               AlphaSolver solver, double alpha_guess, QueryCache& cache, Contact& out) noexcept {
+               AlphaSolver solver, double alpha_guess, QueryCache& cache, Contact& out,
+               slab_query::detail::LocalCell& cell) noexcept {
   SlabCoordinates c;
   const int slab = locator.find(x, cache.last_slab, solver, alpha_guess, c);
-  return slab >= 0 && surface_candidate(model, slab, c, n_ref, min_cos, cache, out);
+  return slab >= 0 && surface_candidate(model, slab, c, n_ref, min_cos, cache, out, cell);
 }
 
 Vec3 tangential(const Vec3& v, const Vec3& n) noexcept { return v - v.dot(n) * n; }
@@ -120,11 +142,12 @@ bool step_in_slab(const SlabModel& model, int slab, const SlabCoordinates& c, co
 // A candidate proxy position for a tangential step: in the proxy's slab by step_in_slab when the
 // step stays in it (no search), else by the locator (reproject, which crosses slab edges).
 bool candidate(const SlabModel& model, const SlabLocator& locator, const ProxyState& s, const Vec3& step,
-               double min_cos, AlphaSolver solver, SlabStep& j, QueryCache& cache, Contact& out) noexcept {
+               double min_cos, AlphaSolver solver, SlabStep& j, QueryCache& cache, Contact& out,
+               slab_query::detail::LocalCell& cell) noexcept {
   SlabCoordinates c;
   if (!step_in_slab(model, s.slab, s.coords, step, j, c))
-    return reproject(model, locator, s.position + step, s.normal, min_cos, solver, s.coords.alpha, cache, out);
-  return surface_candidate(model, s.slab, c, s.normal, min_cos, cache, out);
+    return reproject(model, locator, s.position + step, s.normal, min_cos, solver, s.coords.alpha, cache, out, cell);
+  return surface_candidate(model, s.slab, c, s.normal, min_cos, cache, out, cell);
 }
 
 // Moves the proxy towards target T: project T onto the proxy's tangent plane, re-project onto the
@@ -145,6 +168,7 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
     bool moved = false;
     for (int h = 0; h <= p.max_halvings; ++h, step *= 0.5) {
       Contact c;
+      slab_query::detail::LocalCell cell;
       // A move is accepted when the normal turns by less than max_turn_deg and the tangential
       // residual |P_n(target - proxy)| (zero at the force-shading fixed point) decreases. Where the
       // penetration depth times the curvature of the normal field exceeds about 1 (fine relief,
@@ -152,8 +176,9 @@ void slide_towards(const SlabModel& model, const SlabLocator& locator, const Vec
       // two positions every tick (seen on the armadillo: force flips of 3 N); the residual test
       // with halving turns it into a damped iteration. A strict descent on |target - proxy| was
       // tried and rejected: it made the proxy lag on curved parts, acting as friction.
-      if (candidate(model, locator, s, step, min_cos, p.solver, j, s.proxy_cache, c) &&
+      if (candidate(model, locator, s, step, min_cos, p.solver, j, s.proxy_cache, c, cell) &&
           tangential(target - c.surface_point, c.normal).squaredNorm() < residual2) {
+        keep_records(model, c.slab, cell, s);
         s.slab = c.slab;
         s.coords = c.coords;
         s.position = c.surface_point;
@@ -233,22 +258,36 @@ static inline void enter_contact(ProxyState& s, const Contact& c) noexcept {
   s.position = c.surface_point;
   s.normal = c.normal;
   s.proxy_cache.last_slab = c.slab;
+  s.surface_slab = -1;  // the entry point carries the surface normal, not the force-shading one
 }
 
-// Follow edits under the proxy: re-evaluate the surface at its coordinates.
-static inline void follow_surface(const SlabModel& model, ProxyState& s, Contact& at) noexcept {
-  if (surface_at(model, s.slab, s.coords, at)) {
+// Follow edits under the proxy: re-evaluate the surface at its coordinates (grid triangle @p cell),
+// unless the grid records it reads are the ones its point and normal came from (no edit since):
+// the evaluation would then give them again, bit for bit.
+static inline void follow_surface(const SlabModel& model, const slab_query::detail::LocalCell& cell, ProxyState& s,
+                                  Contact& at) noexcept {
+  if (records_unchanged(model, s.slab, cell, s)) {
+    const SlabGeometry& g = model.geometry[s.slab];
+    at.slab = s.slab;
+    at.coords = s.coords;
+    at.delta = s.coords.alpha;
+    at.surface_point = s.position;
+    at.normal = s.normal;
+    at.ray = g.dR + s.coords.bary[1] * g.d1 + s.coords.bary[2] * g.d2;
+    return;
+  }
+  if (surface_at(model, s.slab, s.coords, cell, at)) {
     s.position = at.surface_point;
     s.normal = at.normal;
     s.coords.alpha = at.delta;
+    keep_records(model, s.slab, cell, s);
   }
 }
 
 // Stiffness and friction under the proxy, blended towards the under-layer's where it is exposed.
-static inline Material material_at_proxy(const SlabModel& model, const ProxyParams& p, const ProxyState& s) noexcept {
-  // The surface fields share one grid cell (the same one interpolate_field would find).
-  const slab_query::detail::GridCell cell =
-      slab_query::detail::grid_cell(model, s.slab, s.coords.bary[1], s.coords.bary[2]);
+// @p cell: the grid triangle under the proxy (the same one interpolate_field would find).
+static inline Material material_at_proxy(const SlabModel& model, const ProxyParams& p, const ProxyState& s,
+                                         const slab_query::detail::GridCell& cell) noexcept {
   auto field = [&](const auto& f, double fallback) {
     if (f.empty()) return fallback;
     const double v = cell.wa * float(f[cell.a]) + cell.wb * float(f[cell.b]) + cell.wd * float(f[cell.d]);
@@ -367,8 +406,11 @@ ProxyOutput proxy_step(const SlabModel& model, const SlabLocator& locator, const
   s.has_last_hip = true;
 
   Contact at;
-  follow_surface(model, s, at);
-  const Material m = material_at_proxy(model, p, s);
+  // One grid triangle for following edits and for the material: both read it at the proxy's coordinates.
+  const slab_query::detail::GridCell cell =
+      slab_query::detail::grid_cell(model, s.slab, s.coords.bary[1], s.coords.bary[2]);
+  follow_surface(model, cell, s, at);
+  const Material m = material_at_proxy(model, p, s, cell);
   out.mu_static = m.mu_s;
   out.mu_dynamic = m.mu_d;
 

@@ -219,6 +219,39 @@ TEST(Proxy, FrictionSticksBelowMuStaticAndSlidesAtMuDynamic) {
   EXPECT_LT((st.position - held).norm(), 1e-9);
 }
 
+// A proxy held still by friction lies on the surface as edited since the last tick: lower every
+// displacement under a resting proxy and the next tick puts it on the lowered surface, judged by
+// the query at its position (locator and α solve, not the proxy's own evaluation).
+TEST(Proxy, ARestingProxyFollowsAnEditUnderIt) {
+  const auto& S = sphere();
+  SlabModel model = S.model;
+  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
+  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  const SlabLocator locator(model);
+  const ProxyParams p = sphere_params(true);
+  ProxyState st;
+  const Vec3 pole = Vec3(0.2, 0.3, 1).normalized();
+  for (int k = 0; k <= 100; ++k)
+    proxy_step(model, locator, S.ws, dev(pole * (1.01 - 0.02 * k / 100.0)), Vec3::Zero(), p, st);
+  ASSERT_TRUE(st.contact);
+  const Vec3 hip = pole * 0.99;
+  ProxyOutput o;
+  for (int k = 0; k < 5; ++k) o = proxy_step(model, locator, S.ws, dev(hip), Vec3::Zero(), p, st);
+  ASSERT_EQ(o.status, ProxyStatus::Stuck);
+  const Vec3 before = st.position;
+  QueryCache cache;
+  EXPECT_LT(std::abs(query(model, locator, before, cache).depth), 1e-9 * S.diag);
+  const float drop = float(0.003 / o.contact.ray.norm());  // 0.3 mm at the device, in δ
+  ASSERT_LT(drop, 0.5f);
+  for (float& d : model.displacement) d = std::max(0.0f, d - drop);
+  rebuild_derived(model);
+  o = proxy_step(model, locator, S.ws, dev(hip), Vec3::Zero(), p, st);
+  ASSERT_TRUE(st.contact);
+  EXPECT_LT(std::abs(query(model, locator, st.position, cache).depth), 1e-9 * S.diag) << "on the edited surface";
+  EXPECT_LT(st.position.norm(), before.norm() - 0.002) << "the surface went down under the proxy";
+  EXPECT_LT((o.contact.surface_point - st.position).norm(), 1e-12);
+}
+
 // NaN, infinite and huge device positions or velocities: zero force, BadInput, state kept.
 TEST(Proxy, BadInputGivesZeroForceAndKeepsState) {
   const auto& S = sphere();

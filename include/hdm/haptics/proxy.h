@@ -10,6 +10,9 @@
 /// returned in newtons in the device frame.
 
 #include <hdm/haptics/force.h>
+#include <hdm/slab/slab_model.h>
+
+#include <array>
 
 namespace hdm {
 
@@ -67,6 +70,11 @@ struct ProxyState {
   bool has_last_hip = false;     ///< last_hip is valid
   QueryCache hip_cache;          ///< coherence cache of the HIP queries (free motion)
   QueryCache proxy_cache;        ///< coherence cache of the proxy re-projections
+  /// Slab of `surface_records` (-1: none). With them, what the proxy's surface point and normal
+  /// were evaluated from: a tick whose grid records under the proxy are unchanged (no edit touched
+  /// them) reuses the point and normal instead of evaluating them again (the same values).
+  int32_t surface_slab = -1;
+  std::array<SlabSample, 3> surface_records{};  ///< the grid triangle's three records (SlabSample) as read
 };
 
 /// Output of one tick.
