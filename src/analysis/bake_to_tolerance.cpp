@@ -25,6 +25,10 @@ struct Plan {
   double before_worst = 0;      // its worst_ratio()
   int stalls = 0;               // rounds running with as many faults as the round before
   int64_t previous_faults = 0;  // invalid slabs + overlapping pairs of the previous round
+  // The last global round: its slabs, grid, faults and source (see stuck()).
+  int64_t global_slabs = -1, global_faults = -1;
+  int global_grid = 0;
+  const TriangleMesh* global_source = nullptr;
   double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
                                 // slab count (-1: the next round sets it)
   // The mesh the rays are cast on: the input, or the input with its faces split (a low-poly input
@@ -80,12 +84,23 @@ double worst_ratio(const ToleranceRound& t, const Tolerance& tolerance) {
 // Invalid or overlapping slabs that grew in number, or stayed as many over two rounds running,
 // come from the input itself (faces that cross or fold at any resolution), not from a coarse mesh
 // too coarse for a part: further rounds only cost time. One round with as many is not enough: a
-// sliver of a resolved union needs slabs smaller than it.
+// sliver of a resolved union needs slabs smaller than it. Unless a global round made as many
+// slabs, on the same grid and source, with as many faults, as the last global round before it: it
+// asked for a count the decimation cannot make of the source (the edges below the resolution go
+// whatever the target), baked the same coarse mesh again, and the rounds after it would repeat
+// the same pair (a global round, then a local one that does not help).
 bool stuck(Plan& plan, int round, const ToleranceRound& t) {
   const int64_t faults = int64_t(t.invalid_slabs) + t.overlapping_pairs;
   const bool counted = round > 0 && plan.previous_faults > 0;
   plan.stalls = counted && faults == plan.previous_faults ? plan.stalls + 1 : 0;
-  const bool s = counted && (faults > plan.previous_faults || plan.stalls >= 2);
+  bool repeated = false;
+  if (!t.local) {
+    repeated = faults > 0 && faults == plan.global_faults && t.slabs == plan.global_slabs &&
+               t.grid_n == plan.global_grid && plan.source == plan.global_source;
+    plan.global_slabs = t.slabs, plan.global_faults = faults, plan.global_grid = t.grid_n;
+    plan.global_source = plan.source;
+  }
+  const bool s = (counted && (faults > plan.previous_faults || plan.stalls >= 2)) || repeated;
   plan.previous_faults = faults;
   return s;
 }

@@ -183,45 +183,85 @@ TEST(BakeToToleranceTest, AddsNoSamplesForAnRmsMissedWithTheMaximum) {
   }
 }
 
-// Two open sheets crossing each other (a T of plates modelled apart, as in CAD exports): slabs on
-// both sides of the crossing line overlap at every resolution, so refining cannot remove the
-// fault. The loop stops at the first round that does not reduce it instead of running to the cap.
-TEST(BakeToToleranceTest, StopsWhenMoreSlabsDoNotReduceTheFaults) {
+// Appends an (m + 1) × (m + 1) grid of vertices point(i, j) and its 2·m² triangles to @p mesh.
+template <class Point>
+void append_grid(TriangleMesh& mesh, int m, Point point) {
+  const auto base = static_cast<int32_t>(mesh.vertices.size());
+  for (int i = 0; i <= m; ++i)
+    for (int j = 0; j <= m; ++j) mesh.vertices.push_back(point(i, j));
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const int32_t a = base + i * (m + 1) + j, b = a + m + 1;
+      mesh.faces.push_back({a, b, b + 1});
+      mesh.faces.push_back({a, b + 1, a + 1});
+    }
+}
+
+// Two open sheets crossing each other (x = 0.013 and z = 0.017, 2·k² triangles each; a T of
+// plates modelled apart, as in CAD exports): slabs on both sides of the crossing line overlap at
+// every resolution, so refining cannot remove the fault.
+TriangleMesh crossing_sheets(int k) {
   TriangleMesh sheets;
-  constexpr int k = 16;
-  for (int plane = 0; plane < 2; ++plane) {
-    const auto base = static_cast<int32_t>(sheets.vertices.size());
-    for (int i = 0; i <= k; ++i)
-      for (int j = 0; j <= k; ++j) {
-        const double u = -1 + 2.0 * i / k, w = -1 + 2.0 * j / k;
-        sheets.vertices.push_back(plane ? Vec3(0.013, u, w) : Vec3(u, w, 0.017));  // x = c crosses z = c
-      }
-    for (int i = 0; i < k; ++i)
-      for (int j = 0; j < k; ++j) {
-        const int32_t a = base + i * (k + 1) + j, b = a + k + 1;
-        sheets.faces.push_back({a, b, b + 1});
-        sheets.faces.push_back({a, b + 1, a + 1});
-      }
-  }
-  const ExactMeshQuery exact(sheets);
+  for (int plane = 0; plane < 2; ++plane)
+    append_grid(sheets, k, [&](int i, int j) {
+      const double u = -1 + 2.0 * i / k, w = -1 + 2.0 * j / k;
+      return plane ? Vec3(0.013, u, w) : Vec3(u, w, 0.017);
+    });
+  return sheets;
+}
+
+// The error-bounded rounds from @p slabs on a 4-grid, bound 0.2 %, at most @p max_rounds.
+SlabModel bake_rounds(const TriangleMesh& mesh, int slabs, int max_rounds, std::vector<ToleranceRound>& rounds) {
+  const ExactMeshQuery exact(mesh);
   BakeOptions o;
-  o.slabs = 32;
+  o.slabs = slabs;
   o.grid_n = 4;
   Tolerance t;
   t.max_pct = 0.2;
-  t.max_rounds = 6;
+  t.max_rounds = max_rounds;
+  return bake_to_tolerance(exact, "sheets", o, t, &rounds);
+}
+
+// The loop stops at the first round that does not reduce the faults instead of running to the cap.
+TEST(BakeToToleranceTest, StopsWhenMoreSlabsDoNotReduceTheFaults) {
+  constexpr int max_rounds = 6;
   std::vector<ToleranceRound> rounds;
-  const SlabModel m = bake_to_tolerance(exact, "sheets", o, t, &rounds);
+  const SlabModel m = bake_rounds(crossing_sheets(16), 32, max_rounds, rounds);
   // Independent of the bake's own report: the exact boundary test of the shell check.
   const int64_t faults = count_overlapping_pairs(m) + count_invalid_slabs(m);
   EXPECT_GT(faults, 0);
   ASSERT_GE(rounds.size(), 2u);
-  EXPECT_LT(int(rounds.size()), t.max_rounds);
+  EXPECT_LT(int(rounds.size()), max_rounds);
   const ToleranceRound &last = rounds.back(), &before = rounds[grown_round(rounds, rounds.size() - 1)];
   EXPECT_FALSE(last.met);
   EXPECT_GE(last.invalid_slabs + last.overlapping_pairs, before.invalid_slabs + before.overlapping_pairs);
   EXPECT_GT(before.invalid_slabs + before.overlapping_pairs, 0);
   EXPECT_EQ(last.overlapping_pairs + last.invalid_slabs, faults);
+}
+
+// The crossing sheets with a patch of 200 triangles a millionth of the diagonal wide: the decimation
+// collapses the patch's edges whatever its target, so it never makes as many slabs as the input has
+// triangles. A global round that asks for more than it can make bakes the coarse mesh of the last
+// global round again, with its faults (the local rounds between did not help): the rounds stop at
+// the first such repeat instead of alternating until the faults have stalled twice.
+TEST(BakeToToleranceTest, StopsAtTheFirstRoundThatRepeatsTheOneBefore) {
+  TriangleMesh mesh = crossing_sheets(16);
+  append_grid(mesh, 10, [](int i, int j) { return Vec3(0.5 + 1e-7 * i, 0.5 + 1e-7 * j, -0.5); });
+  std::vector<ToleranceRound> rounds;
+  const SlabModel model = bake_rounds(mesh, 4000, 8, rounds);
+  ASSERT_GE(rounds.size(), 2u);
+  const ToleranceRound& last = rounds.back();
+  auto faults = [](const ToleranceRound& r) { return r.invalid_slabs + r.overlapping_pairs; };
+  EXPECT_EQ(last.stop, ToleranceStop::Faults);
+  EXPECT_FALSE(last.local);
+  EXPECT_LT(last.slabs, int(mesh.faces.size())) << "the patch's edges go whatever the target";
+  int same = 0;  // global rounds with the last one's slabs, grid and faults
+  for (const ToleranceRound& r : rounds)
+    same += !r.local && r.slabs == last.slabs && r.grid_n == last.grid_n && faults(r) == faults(last);
+  EXPECT_EQ(same, 2) << "the first repeat of a global round ends the rounds";
+  // The model kept has the faults the last round reports, by the shell check's own count.
+  EXPECT_EQ(count_overlapping_pairs(model) + count_invalid_slabs(model), last.invalid_slabs + last.overlapping_pairs);
+  EXPECT_GT(last.invalid_slabs + last.overlapping_pairs, 0);
 }
 
 // Local refinement: a sphere smooth everywhere but a patch of fine ripples near its north pole.
