@@ -111,7 +111,7 @@ struct SlabStep {
 bool slab_step(const SlabModel& model, int slab, const SlabCoordinates& c, SlabStep& j) noexcept {
   const SlabGeometry& g = model.geometry[slab];
   const double a = c.alpha, wS = c.bary[1], wT = c.bary[2];
-  const Vec3 jS = g.e1 + a * g.d1, jT = g.e2 + a * g.d2, ray = g.dR + wS * g.d1 + wT * g.d2;
+  const Vec3 jS = g.e1 + a * g.d1, jT = g.e2 + a * g.d2, ray = slab_query::detail::ray_at(g, wS, wT);
   const Vec3 nS = jT.cross(ray);
   const double det = jS.dot(nS);
   if (!(std::abs(det) > 0)) return false;
@@ -267,13 +267,12 @@ static inline void enter_contact(ProxyState& s, const Contact& c) noexcept {
 static inline void follow_surface(const SlabModel& model, const slab_query::detail::LocalCell& cell, ProxyState& s,
                                   Contact& at) noexcept {
   if (records_unchanged(model, s.slab, cell, s)) {
-    const SlabGeometry& g = model.geometry[s.slab];
     at.slab = s.slab;
     at.coords = s.coords;
     at.delta = s.coords.alpha;
     at.surface_point = s.position;
     at.normal = s.normal;
-    at.ray = g.dR + s.coords.bary[1] * g.d1 + s.coords.bary[2] * g.d2;
+    at.ray = slab_query::detail::ray_at(model.geometry[s.slab], s.coords.bary[1], s.coords.bary[2]);
     return;
   }
   if (surface_at(model, s.slab, s.coords, cell, at)) {
@@ -297,7 +296,7 @@ static inline Material material_at_proxy(const SlabModel& model, const ProxyPara
   double exposure = 0;
   if (!model.layer_displacement.empty()) {
     const SlabGeometry& g = model.geometry[s.slab];
-    const double ray = (g.dR + s.coords.bary[1] * g.d1 + s.coords.bary[2] * g.d2).norm();
+    const double ray = slab_query::detail::ray_at(g, s.coords.bary[1], s.coords.bary[2]).norm();
     const double band = p.layer_band > 0 ? p.layer_band : 5e-4 * model_diagonal(model);
     exposure = layer_exposure((field(model.layer_displacement, 0.0) - s.coords.alpha) * ray, band);
   }

@@ -212,6 +212,10 @@ struct AllHitsContext {
   std::vector<std::pair<float, int32_t>>* hits;
 };
 
+// The parameter just past a hit at @p t: hits before it are at the same point of the segment
+// (adjacent triangles met at their shared edge, coincident faces).
+float past(float t) { return std::nextafter(t, 2.0f) + 1e-7f; }
+
 void collect_hit(const RTCFilterFunctionNArguments* args) {
   if (!args->valid[0]) return;
   auto* c = reinterpret_cast<const AllHitsContext*>(args->context);
@@ -248,7 +252,7 @@ void ExactMeshQuery::segment_hits(const Vec3& a, const Vec3& b, std::vector<Segm
   for (const auto& [t, face] : sorted_hits(a, b)) {
     if (!(t >= tnear)) continue;
     if (hits.empty() || hits.back().face != face) hits.push_back({t, face});
-    tnear = std::nextafter(t, 2.0f) + 1e-7f;
+    tnear = past(t);
     if (++steps == 1024) break;
   }
 }
@@ -275,7 +279,7 @@ int ExactMeshQuery::winding_along(const Vec3& a, const Vec3& b) const {
   const Vec3 d = b - a;
   int winding = 0;
   for (size_t k = 0; k < raw.size();) {
-    const float end = std::nextafter(raw[k].first, 2.0f) + 1e-7f;
+    const float end = past(raw[k].first);
     int sum = 0;
     for (; k < raw.size() && raw[k].first < end; ++k) {
       const double s = face_normal(raw[k].second).dot(d);

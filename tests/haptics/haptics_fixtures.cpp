@@ -5,6 +5,8 @@
 
 #include <hdm/slab/bake.h>
 
+#include <algorithm>
+
 namespace hdm::test {
 
 const SphereFixture& sphere() {
@@ -48,6 +50,13 @@ ProxyParams sphere_params(bool friction) {
   p.force.max_force = 3.3;
   p.friction_scale = friction ? 1.0 : 0.0;
   return p;
+}
+
+SlabModel sphere_with_friction() {
+  SlabModel model = sphere().model;
+  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
+  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  return model;
 }
 
 }  // namespace hdm::test

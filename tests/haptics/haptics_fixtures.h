@@ -30,6 +30,9 @@ const SphereFixture& sphere();
 /// Params for the sphere: k = 1000 N/m, b = 0, max 3.3 N, frictionless unless @p friction.
 ProxyParams sphere_params(bool friction = false);
 
+/// A copy of the sphere's model with static friction 0.5 and dynamic friction 0.3 at every sample.
+SlabModel sphere_with_friction();
+
 /// bunny00.off baked at the paper's configuration (150 slabs, n = 16, test::baked_bunny), its
 /// locator, and exact queries on the input (the scenarios' reference).
 struct BunnyFixture {

@@ -152,9 +152,7 @@ TEST(Proxy, HoldsPastTheInnerFaceWherePenaltyPopsThrough) {
 // finger pressed into a real surface does.
 TEST(Proxy, NeverFlipsSideWhenPushedThrough) {
   const auto& S = sphere();
-  SlabModel model = S.model;
-  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
-  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  SlabModel model = test::sphere_with_friction();
   const SlabLocator locator(model);
   const ProxyParams p = sphere_params(true);
   const Vec3 d = Vec3(-0.6, 0.2, 0.4).normalized();
@@ -173,9 +171,7 @@ TEST(Proxy, NeverFlipsSideWhenPushedThrough) {
 // |Ft| = μd·Fn. Forces are decomposed with the analytic normal.
 TEST(Proxy, FrictionSticksBelowMuStaticAndSlidesAtMuDynamic) {
   const auto& S = sphere();
-  SlabModel model = S.model;  // own copy with friction fields
-  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
-  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  SlabModel model = test::sphere_with_friction();  // own copy with friction fields
   const SlabLocator locator(model);
   const ProxyParams p = sphere_params(true);
   ProxyState st;
@@ -224,9 +220,7 @@ TEST(Proxy, FrictionSticksBelowMuStaticAndSlidesAtMuDynamic) {
 // the query at its position (locator and α solve, not the proxy's own evaluation).
 TEST(Proxy, ARestingProxyFollowsAnEditUnderIt) {
   const auto& S = sphere();
-  SlabModel model = S.model;
-  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
-  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  SlabModel model = test::sphere_with_friction();
   const SlabLocator locator(model);
   const ProxyParams p = sphere_params(true);
   ProxyState st;

@@ -71,9 +71,7 @@ using test::sphere_params;
 // zero global allocations.
 TEST(Realtime, ProxyTickDoesNotAllocate) {
   const auto& S = sphere();
-  SlabModel model = S.model;
-  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
-  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  SlabModel model = test::sphere_with_friction();
   const SlabLocator locator(model);
   const int n = 20000;
   std::vector<Vec3> targets(n);
@@ -106,9 +104,7 @@ TEST(Realtime, ProxyTickDoesNotAllocate) {
 // The sphere proxy's tick on the same path, with friction: zero global allocations.
 TEST(Realtime, SphereProxyTickDoesNotAllocate) {
   const auto& S = sphere();
-  SlabModel model = S.model;
-  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
-  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  SlabModel model = test::sphere_with_friction();
   const SlabLocator locator(model);
   SphereProxyParams p;
   p.proxy = sphere_params(true);

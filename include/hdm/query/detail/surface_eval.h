@@ -85,6 +85,10 @@ inline int find_cached(const SlabLocator& locator, const Vec3& p, QueryCache& ca
   return slab;
 }
 
+/// Projection-line direction D(w) = Σ wV dV at barycentrics (·, wS, wT) of a slab [model units]:
+/// the one formula for every reader, so a direction recomputed later agrees bit for bit.
+inline Vec3 ray_at(const SlabGeometry& g, double wS, double wT) noexcept { return g.dR + wS * g.d1 + wT * g.d2; }
+
 /// Surface point P0(w) + δ(w)·D(w) at barycentrics (·, wS, wT) of @p slab [model units]; also
 /// returns δ and D(w). Reads the slab-major copy (SlabModel::slab_samples), whose values equal
 /// `displacement`, so the result is the same as interpolating `displacement`.
@@ -92,7 +96,7 @@ inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT
                           Vec3& ray) noexcept {
   const SlabGeometry& g = model.geometry[slab];
   delta = interpolated_delta(model, slab, cell);
-  ray = g.dR + wS * g.d1 + wT * g.d2;            // D(w) = Σ wV dV
+  ray = ray_at(g, wS, wT);
   const Vec3 p0 = g.R0 + wS * g.e1 + wT * g.e2;  // P0(w) = Σ wV V0
   return p0 + delta * ray;
 }
