@@ -7,7 +7,7 @@
 //   radius in thousandths of the diagonal.
 // - stamp (cold): single edits at 1024 random places (what a 10 Hz edit meets), restored after.
 // Counters: ns_per_visited (the benchmark's target: 30 ns), ns_per_changed, visited and changed
-// per op. Edits include positions, normals of the changed samples' rings, force-shading normals,
+// per op. Edits include the slab-major copies, normals of the changed samples' rings, force-shading normals,
 // dirty-slab marking and (strokes) undo recording.
 #include "bench_common.h"
 #include "workloads.h"
@@ -28,7 +28,6 @@ namespace {
 // Restores the edited members from the fixture's model (paused: not timed).
 void restore(SlabModel& m, const SlabModel& from) {
   m.displacement = from.displacement;
-  m.positions = from.positions;
   m.slab_samples = from.slab_samples;
   m.colour = from.colour;
   m.roughness = from.roughness;
@@ -159,7 +158,8 @@ void stamp(benchmark::State& state, BrushTool tool) {
   std::vector<Contact> contacts;
   while (contacts.size() < kOps) {
     const int32_t s = pick(rng);
-    const Vec3 hip = m.positions[s].cast<double>() - 0.2 * radius * sample_normal(m, s).cast<double>();
+    const Vec3 hip =
+        sample_position(m, s).cast<float>().cast<double>() - 0.2 * radius * sample_normal(m, s).cast<double>();
     QueryCache qc;
     const Contact c = query(m, *f.locator, hip, qc);
     if (c.in_shell()) hips.push_back(hip), contacts.push_back(c);

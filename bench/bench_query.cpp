@@ -69,8 +69,7 @@ void coherent_find(benchmark::State& state) { find_only(state, fixture().path_po
 // to three re-projections per tick in contact.
 void proxy_tick(benchmark::State& state) {
   const Fixture& f = fixture();
-  Aabb box;
-  for (const Vec3f& p : f.model.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(f.model);
   const Workspace ws = fit_workspace(box, 0.16);
   const std::vector<Vec3> velocity = path_velocity(f.path_points, ws);
   std::vector<Vec3> device(f.path_points.size());

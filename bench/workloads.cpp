@@ -61,20 +61,22 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
   const double fine = step / 8;
   double carry = 0;  // arc length already walked into the current segment
   Vec3 prev = Vec3::Constant(NAN);
+  // Surface points rounded to float, as the walk has always been laid out.
+  auto point = [&](int32_t s) -> Vec3f { return sample_position(m, s).cast<float>(); };
   while (static_cast<int>(path.size()) < ticks) {
     // Next sample: the neighbour closest to the target, if it gets closer.
-    const Vec3f goal = m.positions[target];
+    const Vec3f goal = point(target);
     int32_t next = -1;
-    float best = (m.positions[at] - goal).squaredNorm();
+    float best = (point(at) - goal).squaredNorm();
     L.for_each_neighbour(at, [&](int32_t t) {
-      const float d = (m.positions[t] - goal).squaredNorm();
+      const float d = (point(t) - goal).squaredNorm();
       if (d < best) best = d, next = t;
     });
     if (next < 0) {  // reached the target or a local minimum: pick another target
       target = pick(rng);
       continue;
     }
-    const Vec3 a = m.positions[at].cast<double>(), b = m.positions[next].cast<double>();
+    const Vec3 a = point(at).cast<double>(), b = point(next).cast<double>();
     const Vec3 na = sample_normal(m, at).cast<double>(), nb = sample_normal(m, next).cast<double>();
     const double len = (b - a).norm();
     for (; carry < len && static_cast<int>(path.size()) < ticks; carry += fine) {
@@ -104,8 +106,10 @@ std::vector<Vec3> global_points(const SlabModel& m, int count, double dist, std:
     const Tri t = L.grid_triangle(tri(rng));
     double a = u01(rng), b = u01(rng);
     if (a + b > 1) a = 1 - a, b = 1 - b;
-    const Vec3 p0 = m.positions[t[0]].cast<double>(), p1 = m.positions[t[1]].cast<double>(),
-               p2 = m.positions[t[2]].cast<double>();
+    // Corners rounded to float, as the points have always been drawn.
+    const Vec3 p0 = sample_position(m, t[0]).cast<float>().cast<double>(),
+               p1 = sample_position(m, t[1]).cast<float>().cast<double>(),
+               p2 = sample_position(m, t[2]).cast<float>().cast<double>();
     const Vec3 n = (p1 - p0).cross(p2 - p0).normalized();
     pts.push_back(p0 + a * (p1 - p0) + b * (p2 - p0) + off(rng) * n);
   }
@@ -284,7 +288,8 @@ std::vector<EditRow> cold_stamps(SlabModel& model, const SlabLocator& locator, d
       for (int k = 0; k < ops; ++k) {
         const int32_t s = pick(rng);
         // A hip 0.2·radius below the surface at sample s: the carve sphere then cuts into it.
-        const Vec3 hip = model.positions[s].cast<double>() - 0.2 * radius * sample_normal(model, s).cast<double>();
+        const Vec3 hip = sample_position(model, s).cast<float>().cast<double>() -
+                         0.2 * radius * sample_normal(model, s).cast<double>();
         QueryCache qc;
         const Contact c = query(model, locator, hip, qc);
         if (!c.in_shell()) continue;

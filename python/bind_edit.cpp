@@ -271,13 +271,13 @@ void bind_model_edits(py::module_& m) {
             if (name == "hardness") return decoded(s.hardness);
             if (name == "colour" || name == "positions" || name == "normals") {
               const bool colour = name == "colour", normals = name == "normals";
-              const size_t n = colour ? s.colour.size() : s.positions.size();
+              const size_t n = colour ? s.colour.size() : size_t(s.samples.count);
               py::array_t<float> a({py::ssize_t(n), py::ssize_t(3)});
               float* d = a.mutable_data();
               for (size_t i = 0; i < n; ++i) {
                 const Vec3f c = colour    ? decode_srgb8(s.colour[i])
                                 : normals ? sample_normal(s, static_cast<int32_t>(i))
-                                          : s.positions[i];
+                                          : Vec3f(sample_position(s, static_cast<int>(i)).cast<float>());
                 for (int k = 0; k < 3; ++k) d[3 * i + k] = c[k];
               }
               return a;

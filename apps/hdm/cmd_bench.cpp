@@ -229,8 +229,7 @@ void run_bench(const BenchArgs& a) {
 
   // ---- points: device scale maps the diagonal onto a 16 cm workspace ----
   std::mt19937_64 rng(a.seed);
-  Aabb box;
-  for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(model);
   const Workspace ws = fit_workspace(box, 0.16);
   const double step = 1e-4 * ws.scale;  // <= 0.1 mm of device motion per 1 ms tick (0.1 m/s)
   const std::vector<Vec3> path_pts = coherent_path(model, a.ticks, step, 0.005 * diag, rng);

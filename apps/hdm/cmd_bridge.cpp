@@ -50,8 +50,7 @@ void run_bridge(const BridgeArgs& a) {
   check_outputs({a.output}, {a.model});
   check_model_output(a.output);
   SlabModel model = load_model(a.model, {a.limit.bytes()});
-  Aabb box;
-  for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(model);
   const Workspace ws = fit_workspace(box, a.workspace_m);
   SessionOptions so;
   so.proxy.force.stiffness = a.stiffness;

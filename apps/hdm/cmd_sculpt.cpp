@@ -348,8 +348,7 @@ void run_sculpt(const SculptArgs& a) {
   SlabModel model = load_model(a.model, {a.limit.bytes()});
   const std::string script_path = a.script.empty() ? HDM_DEFAULT_SCRIPT : a.script;
   const Script script = read_script(script_path, a.limit.bytes());
-  Aabb box;
-  for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(model);
   const Workspace ws = fit_workspace(box, script.workspace_m);
   const double mm = ws.scale / 1000;  // model units per device millimetre
   apply_script_surface(model, script, mm);

@@ -279,8 +279,7 @@ namespace {
 template <class Move, class Command>
 void walk_trajectory(const Script& script, const SlabModel& m, const SlabLocator& loc, const Workspace& ws,
                      const Vec3& start, Move&& move, Command&& command) {
-  Aabb box;
-  for (const Vec3f& p : m.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(m);
   Vec3 here = start;
   for (size_t k = 0; k < script.strokes.size(); ++k) {
     const Stroke& st = script.strokes[k];
@@ -319,8 +318,7 @@ void walk_trajectory(const Script& script, const SlabModel& m, const SlabLocator
 }
 
 Vec3 start_point(const SlabModel& m, const Workspace& ws) {
-  Aabb box;
-  for (const Vec3f& p : m.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(m);
   return ws.to_device(box.max + 0.1 * (box.max - box.min));  // start above the model
 }
 

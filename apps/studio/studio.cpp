@@ -31,8 +31,7 @@ Studio::Studio(Window& window, SlabModel model, const StudioOptions& o, const Wi
     : o_(o), window_(window) {
   if (bake) bake_ = *bake;
   if (!o.script.empty()) player_.emplace(read_studio_script(o.script));
-  Aabb box;
-  for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(model);
   const Workspace ws = fit_workspace(box, DeviceSpec{}.workspace_m);
   mm_ = ws.scale / 1000;
   SessionOptions so;

@@ -142,10 +142,7 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       m.layer_displacement[id] = was.layer_displacement;
       m.hardness[id] = was.hardness;
       r.set(now);
-      if (m.displacement[id] != now.delta) {
-        update_positions(m, &id, 1);
-        list_changed(m, s, id);
-      }
+      if (m.displacement[id] != now.delta) list_changed(m, s, id);  // also its slab-major copies
       ++result.changed;
     } else {
       const int32_t id = -(r.index + 1);
@@ -164,9 +161,9 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   return true;
 }
 
-// After displacements changed (positions already refreshed): normals of the changed samples and
-// their one-ring (docs/design.md#normals), the slab-major copy, then the force-shading normals of the
-// ring and its neighbours; dirty flags of every slab holding a ring sample (its normal changed) or a
+// After displacements changed (their slab-major copies already refreshed): normals of the changed
+// samples and their one-ring (docs/design.md#normals), the slab-major copy, then the force-shading
+// normals of the ring and its neighbours; dirty flags of every slab holding a ring sample (its normal changed) or a
 // sample whose force-shading code changed.
 bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
   const SampleLayout& L = m.samples;

@@ -2,7 +2,7 @@
 #pragma once
 // Internal: the resumable edit job shared by the one-shot tools (edit_tools.cpp) and the stroke
 // editor (stroke_editor.cpp). A job is one sweep of a brush, or one undo / redo step; it runs in
-// phases (flood fill, then positions → normals → force-shading normals of the changed samples'
+// phases (flood fill, then normals → force-shading normals of the changed samples'
 // rings), each of which can stop at a deadline and resume on the next call with the same result
 // bit for bit: the flood visits the same samples in the same order however it is cut.
 
@@ -132,10 +132,10 @@ class EditJob {
   // through that element; resumable at the deadline.
   template <class Visit>
   bool flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d, Visit visit) noexcept;
-  // Stores a sample's new displacement and position, recording its first touch in the stroke;
-  // false, with nothing written, when the write gate refused one of its slabs.
-  bool set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v, const Vec3& p0,
-                 const Vec3& L) noexcept;
+  // Stores a sample's new displacement on its projection line of direction L (its motion, for the
+  // snapshot's bound), recording its first touch in the stroke; false, with nothing written, when
+  // the write gate refused one of its slabs.
+  bool set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v, const Vec3& L) noexcept;
 
  private:
   // An edit's phases, in order: the flood over the tool (Flood) or an undo record's replay

@@ -38,6 +38,21 @@ struct LineEvaluator {
   }
 };
 
+// A sample's surface point at its current displacement, from its home slab's constants:
+// R0 + wS·e1 + wT·e2 + δ·(dR + wS·d1 + wT·d2), sample_position() to rounding with half its
+// arithmetic. The floods' point test (brush distance and falloff) runs it on every visited sample;
+// the model keeps no cache of surface points (12 B per sample).
+struct PointEvaluator {
+  const SlabModel& m;
+  const std::array<double, 3>* weights;  // EditScratch::grid_weights: (wR, wS, wT) per grid index
+  Vec3 operator()(int32_t id) const noexcept {
+    const GridSlot h = m.samples.home(id);
+    const SlabGeometry& g = m.geometry[h.slab];
+    const double wS = weights[h.index][1], wT = weights[h.index][2], d = m.displacement[id];
+    return g.R0 + wS * g.e1 + wT * g.e2 + d * (g.dR + wS * g.d1 + wT * g.d2);
+  }
+};
+
 // Flags (once, with the list) the slabs that hold a sample or texel, before it is written: the
 // slab of each of its slots (SampleLayout::for_each_slot), each asked of the write gate when first
 // flagged. Consecutive slots mostly share a slab, so the slab's slot range is remembered instead of
@@ -144,8 +159,7 @@ inline void touch_sample(const SlabModel& m, StrokeMemory* st, int32_t id) noexc
   const SampleValues v = sample_values(m, id);
   st->sample_base[id] = v;
   st->sample_k[id] = 0;
-  if (st->history)
-    st->history->record(UndoRecord(id, v));
+  if (st->history) st->history->record(UndoRecord(id, v));
 }
 // A texel is recorded for undo only when its 8-bit codes first change (record_texel), so a touch
 // that rounds to the same codes leaves no record and flags no slab.
@@ -169,16 +183,15 @@ inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id)
   return st && st->sample_mark[id] == st->id ? double(st->sample_base[id].delta) : double(m.displacement[id]);
 }
 
-// Stores a new displacement and its position (= sample_position(), same arithmetic). With a write
-// gate its slabs are flagged first; false (nothing written) when the gate refused one.
+// Stores a new displacement on a projection line of direction L. With a write gate its slabs are
+// flagged first; false (nothing written) when the gate refused one.
 inline bool EditJob::set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v,
-                               const Vec3& p0, const Vec3& L) noexcept {
+                               const Vec3& L) noexcept {
   if (s.gate.allow && !dirty.mark(m.samples, id)) return false;
   touch_sample(m, stroke, id);
   const double step = double(v) - double(m.displacement[id]);
   motion2_ = std::max(motion2_, step * step * L.squaredNorm());
   m.displacement[id] = v;
-  m.positions[id] = (p0 + static_cast<double>(v) * L).cast<float>();
   list_changed(m, s, id);
   ++result.changed;
   return true;

@@ -38,11 +38,15 @@ EditScratch::EditScratch(const SlabModel& m)
   }
   double sum = 0;
   int64_t edges = 0;
-  for (int32_t a = 0; a < L.count && a < static_cast<int32_t>(m.positions.size()); ++a)
+  // Each grid edge once (from its smaller id: the neighbour relation is symmetric).
+  for (int32_t a = 0; a < L.count && a < static_cast<int32_t>(m.displacement.size()); ++a) {
+    const Vec3 pa = sample_position(m, a);
     L.for_each_neighbour(a, [&](int32_t t) {
-      sum += (m.positions[t] - m.positions[a]).norm();
+      if (t < a) return;
+      sum += (sample_position(m, t) - pa).norm();
       ++edges;
     });
+  }
   sample_spacing = edges > 0 ? sum / double(edges) : 0.0;
 }
 

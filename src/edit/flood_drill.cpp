@@ -26,9 +26,9 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   const Brush& b = job.sweep.brush;
   const Segment path(job.sweep.from, job.u);
   const double inv_r2 = 1 / job.r2;
-  auto weight = [&](int32_t id) noexcept {
-    return falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
-  };
+  LineEvaluator line_of{m, s.grid_weights.data()};
+  const PointEvaluator point_of{m, s.grid_weights.data()};
+  auto weight = [&](int32_t id) noexcept { return falloff_at(b.falloff, path.distance2(point_of(id)), inv_r2); };
   if (!job.kernel_second) {
     const bool done = job.flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
       const double w = weight(id);
@@ -47,7 +47,6 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   const double speed = std::clamp(b.strength, 0.0, 1.0) * 2 * std::numbers::pi * b.rpm / 60 * (b.radius / upm);
   // Depth at weight 1 and hardness 1 Pa, in model units: K·F_n·v_s·Δt / area [m·Pa] × upm.
   const double depth_pa = b.wear_coefficient * job.sweep.normal_force_n * speed * job.sweep.dt / area_m2 * upm;
-  LineEvaluator line_of{m, s.grid_weights.data()};
   DirtyMarker dirty{s};
   while (job.kernel_cursor < job.result.visited) {
     if (d.expired()) return false;
@@ -62,7 +61,7 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
     const double per_delta = std::max(L.dot(e) / e.norm(), 0.2 * L.norm());
     if (!(per_delta > 0)) continue;
     const float v = static_cast<float>(std::max(0.0, m.displacement[id] - depth / per_delta));
-    if (v < m.displacement[id] && !job.set_delta(m, s, dirty, id, v, p0, L)) {
+    if (v < m.displacement[id] && !job.set_delta(m, s, dirty, id, v, L)) {
       --job.kernel_cursor;  // refused: this sample first, on the next call
       return false;
     }

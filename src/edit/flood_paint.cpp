@@ -15,10 +15,11 @@ bool flood_paint_samples(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d
   const double pressure = std::clamp(job.sweep.pressure, 0.0, 1.0);
   StrokeMemory* st = job.stroke;
   LineEvaluator line_of{m, s.grid_weights.data()};
+  const PointEvaluator point_of{m, s.grid_weights.data()};
   const SampleLayout& S = m.samples;
   DirtyMarker dirty{s};
   return job.flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-    const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
+    const double w = falloff_at(b.falloff, path.distance2(point_of(id)), inv_r2);
     if (!(w > 0)) return false;
     const float k = static_cast<float>(pressure * strength * w);
     if (!(k > (st && st->sample_mark[id] == st->id ? st->sample_k[id] : 0.0f))) return true;

@@ -13,13 +13,14 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   const Segment path(job.sweep.from, job.u);
   const double inv_r2 = 1 / job.r2, coef = job.coef;
   LineEvaluator line_of{m, s.grid_weights.data()};
+  const PointEvaluator point_of{m, s.grid_weights.data()};
   const SampleLayout& S = m.samples;
   const Vec3 q = job.sweep.plane_point, n = job.sweep.plane_normal;
   DirtyMarker dirty{s};
   static constexpr double kInverse[] = {0,      1,       1 / 2.,  1 / 3.,  1 / 4.,  1 / 5.,  1 / 6.,  1 / 7., 1 / 8.,
                                         1 / 9., 1 / 10., 1 / 11., 1 / 12., 1 / 13., 1 / 14., 1 / 15., 1 / 16.};
   return job.flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-    const double w = falloff_at(b.falloff, path.distance2(m.positions[id].cast<double>()), inv_r2);
+    const double w = falloff_at(b.falloff, path.distance2(point_of(id)), inv_r2);
     if (!(w > 0)) return false;
     const double e = coef * w;
     // 1 - exp(-e): its series while e is small (per tick e ~ 0.01; error < e⁴/24), else exp.
@@ -43,7 +44,7 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
       target = std::clamp((q - p0).dot(n) / ln, 0.0, 1.0);
     }
     const float v = static_cast<float>(cur + lambda * (target - cur));
-    if (v != cur) job.set_delta(m, s, dirty, id, v, p0, p1 - p0);
+    if (v != cur) job.set_delta(m, s, dirty, id, v, p1 - p0);
     return true;
   });
 }

@@ -16,6 +16,7 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
   const bool soft = job.soft;
   StrokeMemory* st = job.stroke;
   LineEvaluator line_of{m, s.grid_weights.data()};
+  const PointEvaluator point_of{m, s.grid_weights.data()};
   DirtyMarker dirty{s};
   // Boolean with the swept sphere. A surface point inside the tool moves to the tool's entry
   // (carve) or exit (add) on its projection line; one outside stays (a tool buried under a
@@ -27,7 +28,7 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
   const Vec3 B = job.sweep.to;
   const double inv_uu = uu > 0 ? 1 / uu : 0.0;
   return job.flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-    const Vec3 w = m.positions[id].cast<double>() - A;
+    const Vec3 w = point_of(id) - A;
     const double t = std::clamp(w.dot(u) * inv_uu, 0.0, 1.0);
     const double dist2 = (w - t * u).squaredNorm();
     if (dist2 > reach2) return false;
@@ -41,7 +42,7 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
     if (!line_capsule(p0, L, A, B, r, t0, t1)) return true;
     const float cur = m.displacement[id];
     const double delta = cur;
-    if (add ? !(t0 <= delta && delta < t1) : !(t0 < delta && delta <= t1)) return true;  // float position vs exact line
+    if (add ? !(t0 <= delta && delta < t1) : !(t0 < delta && delta <= t1)) return true;  // point test vs exact line
     double target = add ? std::min(t1, 1.0) : std::max(t0, 0.0);
     if (soft) {
       const double base = base_delta(m, st, id);
@@ -49,7 +50,7 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
       target = base + strength * falloff_weight(b.falloff, x) * (target - base);
     }
     const float v = static_cast<float>(target);
-    if (add ? v > cur : v < cur) job.set_delta(m, s, dirty, id, v, p0, L);
+    if (add ? v > cur : v < cur) job.set_delta(m, s, dirty, id, v, L);
     return true;
   });
 }
@@ -82,7 +83,7 @@ bool paper_cone_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) n
     const double dist = (p0 + double(m.displacement[id]) * L - A).norm();
     if (dist >= r || len <= 0) return false;
     const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + b.height * (1 - dist / r) / len));
-    if (raised > m.displacement[id]) job.set_delta(m, s, dirty, id, raised, p0, L);
+    if (raised > m.displacement[id]) job.set_delta(m, s, dirty, id, raised, L);
     return true;
   });
 }

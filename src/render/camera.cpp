@@ -111,7 +111,7 @@ RenderCamera zoom_camera(const RenderCamera& f, const Vec3& target, double zoom)
 
 RenderCamera fit_camera(const SlabModel& model, int width, int height, double azimuth_deg, double elevation_deg) {
   render_detail::check_renderable(model);
-  // The points drawn (sample_position), not the `positions` cache, which an editor may not have refreshed.
+  // The points drawn (sample_position()).
   std::vector<Vec3f> points(model.samples.count);
   for (int s = 0; s < model.samples.count; ++s) points[s] = sample_position(model, s).cast<float>();
   return fit_camera(points, width, height, azimuth_deg, elevation_deg);

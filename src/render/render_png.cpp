@@ -23,8 +23,7 @@ void render_png(const SlabModel& model, const std::string& path, const RenderOpt
   // Camera first: it validates the view without touching EGL.
   RenderCamera camera = fit_camera(model, opt.width, opt.height, opt.azimuth_deg, opt.elevation_deg);
   if (opt.zoom != 1 || opt.focus != Vec3::Constant(0.5)) {
-    Aabb box;
-    for (int s = 0; s < model.samples.count; ++s) box.extend(sample_position(model, s));
+    const Aabb box = surface_box(model);
     camera = zoom_camera(camera, box.min + opt.focus.cwiseProduct(box.max - box.min), opt.zoom);
   }
 

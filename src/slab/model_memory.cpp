@@ -17,8 +17,8 @@ int64_t bytes(const V&... v) noexcept {
 }
 
 int64_t layout_bytes(const SampleLayout& l) noexcept {
-  return bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.neighbour_offsets, l.neighbours, l.shared_slot_offsets,
-               l.slot_of_shared);
+  return bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.neighbour_offsets,
+               l.neighbours, l.shared_slot_offsets, l.slot_of_shared);
 }
 
 }  // namespace
@@ -31,7 +31,7 @@ ModelMemory model_memory(const SlabModel& m) noexcept {
   r.coarse = bytes(m.inner, m.outer, m.slabs);
   r.sample_layout = layout_bytes(m.samples);
   r.texel_layout = layout_bytes(m.texels);
-  r.caches = bytes(m.positions, m.slab_samples);
+  r.caches = bytes(m.slab_samples);
   r.slab_constants = bytes(m.geometry, m.edge_neighbour, m.vertex_slab_offsets, m.vertex_slabs);
   r.samples = m.samples.count;
   r.texels = m.texels.count;

@@ -195,15 +195,20 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   return L;
 }
 
-Tri SampleLayout::grid_triangle(int32_t t) const noexcept {
+GridCellRef SampleLayout::grid_cell(int32_t t) const noexcept {
   const int32_t k = t / (n * n), local = t - k * n * n;
   // Row j is the largest with row_start(j) = n² - (n - j)² <= local.
   int j = static_cast<int>(n - std::sqrt(static_cast<double>(n) * n - local));
   while (j > 0 && row_start(j) > local) --j;
   while (j + 1 < n && row_start(j + 1) <= local) ++j;
   const int32_t r = local - row_start(j);
-  const SlabIds g = slab_ids(k);
-  return r % 2 == 0 ? up_triangle(g, r / 2, j) : down_triangle(g, r / 2, j);
+  return {k, r / 2, j, r % 2 != 0};
+}
+
+Tri SampleLayout::grid_triangle(int32_t t) const noexcept {
+  const GridCellRef c = grid_cell(t);
+  const SlabIds g = slab_ids(c.slab);
+  return c.down ? down_triangle(g, c.i, c.j) : up_triangle(g, c.i, c.j);
 }
 
 }  // namespace hdm

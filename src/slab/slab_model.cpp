@@ -63,8 +63,19 @@ Vec3 sample_position(const SlabModel& model, int sample) noexcept {
   return p0 + static_cast<double>(model.displacement[sample]) * (p1 - p0);
 }
 
-void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept {
-  for (size_t k = 0; k < count; ++k) model.positions[samples[k]] = sample_position(model, samples[k]).cast<float>();
+void update_displacements(SlabModel& model, const int32_t* samples, size_t count) noexcept {
+  if (model.slab_samples.size() != model.samples.slot_count()) return;
+  for (size_t k = 0; k < count; ++k) {
+    const float d = model.displacement[samples[k]];
+    model.samples.for_each_slot(samples[k], [&](int32_t slot) { model.slab_samples[slot].delta = d; });
+  }
+}
+
+Aabb surface_box(const SlabModel& model) noexcept {
+  Aabb box;
+  if (model.displacement.size() != size_t(model.samples.count)) return box;
+  for (int s = 0; s < model.samples.count; ++s) box.extend(sample_position(model, s));
+  return box;
 }
 
 namespace {
@@ -90,9 +101,25 @@ inline float normal_scale(const SlabModel& m) noexcept {
   return d > 0 && std::isfinite(d) ? std::ldexp(1.0f, -std::ilogb(d)) : 1.0f;
 }
 
-inline Vec3f face_normal(const SlabModel& m, const Tri& t, float scale) noexcept {
-  const Vec3f& a = m.positions[t[0]];
-  return ((m.positions[t[1]] - a) * scale).cross((m.positions[t[2]] - a) * scale);  // area-weighted
+// Area-weighted normal of grid triangle f (times scale²), from its slab's constants and its
+// slab-major displacements: grid point (i, j) at displacement δ lies at R0 + q, with
+// q = wS·e1 + wT·e2 + δ·(dR + wS·d1 + wT·d2), wS = j/n, wT = i/n (projection_line()). The edges
+// are differences of q in double: exact to rounding at any distance from the origin, with no
+// cache of surface points (12 B per sample) to keep in sync.
+inline Vec3f face_normal(const SlabModel& m, int32_t f, float scale) noexcept {
+  const SampleLayout& L = m.samples;
+  const GridCellRef c = L.grid_cell(f);
+  const SlabGeometry& g = m.geometry[c.slab];
+  const SlabSample* slots = m.slab_samples.data() + static_cast<size_t>(c.slab) * L.per_slab;
+  const double inv_n = 1.0 / L.n;
+  auto q = [&](int i, int j) noexcept {
+    const double wS = j * inv_n, wT = i * inv_n, d = slots[grid::index(L.n, i, j)].delta;
+    return Vec3(wS * g.e1 + wT * g.e2 + d * (g.dR + wS * g.d1 + wT * g.d2));
+  };
+  const int i = c.i, j = c.j;
+  const Vec3 a = c.down ? q(i + 1, j) : q(i, j), b = q(i, j + 1), e = c.down ? q(i + 1, j + 1) : q(i + 1, j);
+  const double s2 = double(scale) * scale;
+  return ((b - a).cross(e - a) * s2).cast<float>();
 }
 
 }  // namespace
@@ -140,7 +167,7 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count) noex
   for (size_t k = 0; k < count; ++k) {
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
-    L.for_each_incident_triangle(s, [&](int32_t, const Tri& t) { sum += face_normal(model, t, scale); });
+    L.for_each_incident_triangle(s, [&](int32_t f, const Tri&) { sum += face_normal(model, f, scale); });
     store_normal(model, s, sum);
   }
   update_force_shading_normals(model, samples, count, true);
@@ -157,7 +184,7 @@ void flush_faces(const SlabModel& m, FaceNormalCache& cache, size_t& pending, fl
   for (size_t k = 0; k < pending; ++k) {
     const int32_t f = cache.pending[k];
     FaceNormalCache::Entry& e = cache.memo[f & mask];
-    if (e.tri == f) e.face = face_normal(m, m.samples.grid_triangle(f), scale);
+    if (e.tri == f) e.face = face_normal(m, f, scale);
   }
   pending = 0;
 }
@@ -196,9 +223,9 @@ void update_normals(SlabModel& model, const int32_t* samples, size_t count, Face
     const int32_t s = samples[k];
     Vec3f sum = Vec3f::Zero();
     // Same triangles in the same order as the overload above: the same sum, bit for bit.
-    L.for_each_incident_triangle(s, [&](int32_t f, const Tri& t) {
+    L.for_each_incident_triangle(s, [&](int32_t f, const Tri&) {
       const FaceNormalCache::Entry& m = cache.memo[f & mask];
-      sum += m.tri == f ? m.face : face_normal(model, t, scale);  // recompute if evicted
+      sum += m.tri == f ? m.face : face_normal(model, f, scale);  // recompute if evicted
     });
     store_normal(model, s, sum);
   }
@@ -311,13 +338,13 @@ void rebuild_derived(SlabModel& m) {
   }
   build_adjacency(m);
 
-  m.positions.resize(ns);
   m.slab_samples.resize(m.samples.slot_count());
-  // In blocks of samples, in parallel: each call writes only its own samples' position, normal and
-  // slab copies, and a normal is the same sum in the same order whatever the block.
+  // In blocks of samples, in parallel: each call writes only its own samples' slab copies, and a
+  // normal is the same sum in the same order whatever the block. The displacements first: the
+  // face normals read them from every slot.
   constexpr size_t block = 16384;
   core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t) {
-    for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_positions(m, ids, k); });
+    for_id_chunks(b, e, [&](const int32_t* ids, size_t k) { update_displacements(m, ids, k); });
   });
   std::vector<FaceNormalCache> caches(core::detail::parallel_workers(ns, block));
   core::detail::parallel_blocks(ns, block, [&](size_t b, size_t e, size_t w) {

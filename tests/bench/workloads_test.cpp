@@ -108,8 +108,7 @@ TEST(Workloads, WarmStrokesEditAndLeaveTheModelAsItWas) {
   const SlabLocator locator(model);
   const std::vector<float> before = model.displacement;
   const std::vector<Srgb8> colour = model.colour;
-  Aabb box;
-  for (const Vec3f& p : model.positions) box.extend(p.cast<double>());
+  const Aabb box = surface_box(model);
   const Workspace ws = fit_workspace(box, 0.16);
   std::mt19937_64 rng(1);
   const double diag = box.diagonal();

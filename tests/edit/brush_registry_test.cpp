@@ -158,7 +158,7 @@ TEST(BrushRegistry, AnUnregisteredToolEditsNothing) {
   sw.brush.radius = 0.05 * m.source_diagonal;
   sw.seed_slab = 0;
   sw.seed_bary = Vec3(1 / 3.0, 1 / 3.0, 1 / 3.0);
-  sw.from = sw.to = m.positions[m.samples.id(0, 0)].cast<double>();
+  sw.from = sw.to = sample_position(m, m.samples.id(0, 0));
   const EditResult r = apply_brush(m, scratch, sw);
   EXPECT_EQ(r.visited, 0);
   EXPECT_EQ(r.changed, 0);

@@ -76,7 +76,7 @@ void expect_in_shell_and_untouched_outside(const SlabModel& after, const SlabMod
                                            double radius) {
   for (int s = 0; s < after.samples.count; ++s) {
     ASSERT_TRUE(after.displacement[s] >= 0.0f && after.displacement[s] <= 1.0f) << s;
-    if ((before.positions[s].cast<double>() - centre).norm() > radius * 1.5) {
+    if ((sample_position(before, s) - centre).norm() > radius * 1.5) {
       ASSERT_EQ(after.displacement[s], before.displacement[s]) << "sample " << s << " outside the brush moved";
     }
   }
@@ -164,7 +164,7 @@ TEST(Brushes, PaintBlendsOncePerStrokeWhateverTheDwell) {
     const SlabModel& before = test::baked_bunny(0, 16);
     int painted = 0;
     for (int s = 0; s < f.model.samples.count; ++s) {
-      const double k = k_max(log, f.model.positions[s].cast<double>(), paint.radius);
+      const double k = k_max(log, sample_position(f.model, s), paint.radius);
       const double expected = before.friction_static[s] + k * (0.9 - before.friction_static[s]);
       // Stored as binary16: half a step below 1 is 2^-12 (2.4e-4), plus the blend's float rounding.
       ASSERT_NEAR(f.model.friction_static[s], expected, 2.5e-4) << "sample " << s;
@@ -197,7 +197,7 @@ TEST(Brushes, PaintOf8BitTexelsDoesNotDriftOverManyTicks) {
     const SlabModel& before = test::baked_bunny(0, 16);
     int checked = 0;
     test::for_each_sample_texel(f.model, [&](int s, int t) {
-      const double k = k_max(log, f.model.positions[s].cast<double>(), paint.radius);
+      const double k = k_max(log, sample_position(f.model, s), paint.radius);
       if (field == BrushField::Roughness) {
         const double base = before.roughness[t] / 255.0;
         ASSERT_LE(std::abs(f.model.roughness[t] - 255 * (base + k * (paint.value - base))), 1.0) << t;
@@ -233,7 +233,7 @@ TEST(Brushes, StrengthScalesTheCut) {
     depth[run] = 0;
     for (int s = 0; s < f.model.samples.count; ++s)
       depth[run] =
-          std::max(depth[run], (test::baked_bunny(0, 16).positions[s] - f.model.positions[s]).cast<double>().dot(n));
+          std::max(depth[run], (sample_position(test::baked_bunny(0, 16), s) - sample_position(f.model, s)).dot(n));
     std::printf("strength %.1f: cut %.3f mm\n", carve.strength, depth[run] / f.mm);
   }
   EXPECT_NEAR(depth[0], 1.0 * test::BunnyStrokes().mm,
@@ -262,7 +262,7 @@ TEST(Layers, CarvingExposesTheUnderLayerAtItsDepth) {
     }
     // Depth of the cut along the surface normal (independent of the layer's representation).
     const double cut =
-        (before.positions[s] - f.model.positions[s]).cast<double>().dot(sample_normal(before, s).cast<double>());
+        (sample_position(before, s) - sample_position(f.model, s)).dot(sample_normal(before, s).cast<double>());
     const bool is_exposed = f.model.displacement[s] < f.model.layer_displacement[s];
     if (std::abs(cut - t) < 0.05 * t) continue;  // at the layer's top itself: either
     EXPECT_EQ(is_exposed, cut > t) << "sample " << s << " cut " << cut / f.mm << " mm";

@@ -76,7 +76,6 @@ std::string first_difference(const ModelState& a, const ModelState& b) {
   if (!same(a.layer_displacement, b.layer_displacement)) return "layer_displacement";
   if (!same(a.roughness, b.roughness)) return "roughness";
   if (!same(a.colour, b.colour)) return "colour";
-  if (!same(a.positions, b.positions)) return "positions";
   if (!same(a.normals, b.normals)) return "normals";
   if (!same(a.slab_samples, b.slab_samples)) return "slab_samples";
   return "";

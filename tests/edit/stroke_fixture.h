@@ -52,7 +52,6 @@ struct ModelState {
         layer_displacement(m.layer_displacement),
         roughness(m.roughness),
         colour(m.colour),
-        positions(m.positions),
         normals(sample_normals(m)),
         slab_samples(m.slab_samples) {}
   std::vector<float> displacement;
@@ -60,7 +59,7 @@ struct ModelState {
   std::vector<Unorm16> stiffness_scale, layer_displacement;
   std::vector<uint8_t> roughness;
   std::vector<Srgb8> colour;
-  std::vector<Vec3f> positions, normals;
+  std::vector<Vec3f> normals;
   std::vector<SlabSample> slab_samples;
 };
 
@@ -75,8 +74,7 @@ void for_each_sample_texel(const SlabModel& model, Fn&& fn) {
     for (int j = 0; j <= S.n; ++j)
       for (int i = 0; i + j <= S.n; ++i) {
         const int ti = i * m, tj = j * m;
-        fn(S.id(slab, j * (S.n + 1) - j * (j - 1) / 2 + i),
-           T.id(slab, tj * (N + 1) - tj * (tj - 1) / 2 + ti));
+        fn(S.id(slab, j * (S.n + 1) - j * (j - 1) / 2 + i), T.id(slab, tj * (N + 1) - tj * (tj - 1) / 2 + ti));
       }
 }
 

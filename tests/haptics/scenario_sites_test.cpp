@@ -177,7 +177,7 @@ TEST(ScenarioSites, EdgesSpiralAvoidsACornerTheBakeMisses) {
   SlabModel m = b.model;
   int flattened = 0;
   for (int s = 0; s < m.samples.count; ++s)
-    if ((m.positions[s].cast<double>() - centre).norm() < 1.2 * radius) m.displacement[s] = 0.0f, ++flattened;
+    if ((sample_position(m, s) - centre).norm() < 1.2 * radius) m.displacement[s] = 0.0f, ++flattened;
   ASSERT_GT(flattened, 50);
   rebuild_derived(m);
   const SlabLocator locator(m);

@@ -28,7 +28,7 @@ void check_against_brute_force(const SlabModel& m, int points) {
   int inside = 0, outside = 0;
   for (int k = 0; k < points; ++k) {
     const int32_t s = pick(rng);
-    const Vec3 p = m.positions[s].cast<double>() + off(rng) * m.source_diagonal * sample_normal(m, s).cast<double>();
+    const Vec3 p = sample_position(m, s) + off(rng) * m.source_diagonal * sample_normal(m, s).cast<double>();
     std::vector<int> holders;
     SlabCoordinates c;
     for (int t = 0; t < m.slab_count(); ++t)

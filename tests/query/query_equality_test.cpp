@@ -84,8 +84,7 @@ bool reference_locate(const SlabModel& m, int s, const Vec3& p, double tol, Hit&
 std::vector<Vec3> reference_normals(const SlabModel& m) {
   std::vector<Vec3> sum(size_t(m.samples.count), Vec3::Zero());
   m.samples.for_each_triangle([&](const Tri& t) {
-    const Vec3 a = m.positions[t[0]].cast<double>(), b = m.positions[t[1]].cast<double>(),
-               c = m.positions[t[2]].cast<double>();
+    const Vec3 a = sample_position(m, t[0]), b = sample_position(m, t[1]), c = sample_position(m, t[2]);
     const Vec3 n = (b - a).cross(c - a);
     for (int32_t v : t) sum[size_t(v)] += n;
   });
@@ -158,8 +157,7 @@ void check(const SlabModel& m, const std::vector<Vec3>& normals, const Boxes& bo
   Hit hit;
   if (got.slab >= 0) {
     ASSERT_TRUE(reference_locate(m, got.slab, p, 1e-7, hit)) << "slab " << got.slab;
-    ASSERT_NEAR(got.depth, reference_depth(m, normals, got.slab, hit), 1e-6 * m.source_diagonal)
-        << "slab " << got.slab;
+    ASSERT_NEAR(got.depth, reference_depth(m, normals, got.slab, hit), 1e-6 * m.source_diagonal) << "slab " << got.slab;
     ++t.inside;
     return;
   }

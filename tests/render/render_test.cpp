@@ -107,8 +107,7 @@ SlabModel make_model(const CoarseMesh& mesh, int n, int m) {
 
 void paint_slab(SlabModel& model, int slab, const Vec3f& colour) {
   const SampleLayout& L = model.texels;
-  for (int k = 0; k < L.per_slab; ++k)
-    model.colour[L.id(slab, k)] = encode_srgb8(colour);
+  for (int k = 0; k < L.per_slab; ++k) model.colour[L.id(slab, k)] = encode_srgb8(colour);
 }
 
 Vec3 towards_eye(double az_deg, double el_deg) {
@@ -360,7 +359,7 @@ TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   std::vector<int32_t> moved(P);
   for (int k = 0; k < P; ++k) moved[k] = model.samples.id(5, k);
   for (int32_t id : moved) model.displacement[id] *= 0.5f;
-  update_positions(model, moved.data(), moved.size());
+  update_displacements(model, moved.data(), moved.size());
   update_normals(model, moved.data(), moved.size());
   for (int k = 0; k < P; ++k) model.layer_displacement[model.samples.id(7, k)] = 1.0f;
   EXPECT_EQ(snapshots.publish_commit(), 1u);

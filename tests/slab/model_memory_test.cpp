@@ -31,7 +31,7 @@ TEST(ModelMemory, CountsEveryArrayTheModelAllocates) {
   const int64_t taken = heap_in_use() - before;
   const ModelMemory m = model_memory(*copy);
   ASSERT_GT(taken, 0);
-  // Per block: up to 16 bytes of header and alignment, or a page for an mmapped one; 37 arrays
+  // Per block: up to 16 bytes of header and alignment, or a page for an mmapped one; 36 arrays
   // and the source string, so 48 pages bound the overhead. A per-sample float array the
   // accounting forgot is 4 bytes × ~150k samples, above that bound.
   // mallinfo2 counts the blocks glibc's per-thread cache (tcache) holds as in use: a small array

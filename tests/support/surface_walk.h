@@ -17,7 +17,7 @@ inline Vec3 near_surface_point(const SlabModel& m, int s, double offset, std::mt
   std::uniform_real_distribution<double> off(-offset, offset);
   std::uniform_int_distribution<int> grid_point(0, m.samples.per_slab - 1);
   const int32_t id = m.samples.id(s, grid_point(rng));
-  return m.positions[id].cast<double>() + off(rng) * m.source_diagonal * sample_normal(m, id).cast<double>();
+  return sample_position(m, id) + off(rng) * m.source_diagonal * sample_normal(m, id).cast<double>();
 }
 
 /// Calls @p visit(p) on @p steps points of a coherent walk from slab @p start: straight steps of

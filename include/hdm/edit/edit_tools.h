@@ -57,7 +57,7 @@ struct EditScratch {
   /// paint(), refresh_normals()) need it unset.
   WriteGate gate;
   bool write_refused = false;  ///< the gate refused a slab in the last call: the edit stopped before writing it
-  FaceNormalCache faces;            ///< per-triangle normals, each computed once per edit
+  FaceNormalCache faces;       ///< per-triangle normals, each computed once per edit
   /// per_slab entries: barycentrics (wR, wS, wT) of each grid index of the displacement grid, as
   /// projection_line() computes them (same bits), so the flood fill does not divide per sample.
   std::vector<std::array<double, 3>> grid_weights;
@@ -111,7 +111,7 @@ struct BrushSweep {
 /// @brief Applies @p sweep to @p model at once (every sample it reaches, then the normals), as
 /// a stroke of its own: the stroke's starting values are the model's current ones.
 /// @return samples (texels for Colour and Roughness) visited and changed.
-/// @note noexcept; no allocation; refreshes positions, normals, the slab-major copy and the
+/// @note noexcept; no allocation; refreshes normals, the slab-major copy and the
 ///       force-shading normals of the changed samples and their rings, and flags dirty slabs.
 ///       Cost O(visited·valence). For a bounded cost per servo tick use hdm::StrokeEditor.
 EditResult apply_brush(SlabModel& model, EditScratch& scratch, const BrushSweep& sweep) noexcept;
@@ -127,7 +127,7 @@ EditResult apply_brush(SlabModel& model, EditScratch& scratch, const BrushSweep&
 /// @note No allocation. Displacement of a sample whose projection line enters the sphere below its
 ///       surface is lowered to the sphere's entry point; a sphere buried below the surface leaves
 ///       the column unchanged (no cavities); δ stays in [0,1]. Never raises a sample. Updates the
-///       positions and normals of the changed samples and their one-ring, marks dirty slabs.
+///       slab-major copies and normals of the changed samples and their one-ring, marks dirty slabs.
 ///       Cost O(visited·valence). apply_brush() with BrushTool::Carve and from = to.
 EditResult carve(SlabModel& model, EditScratch& scratch, const Contact& contact, const Vec3& hip, double radius,
                  double resilience) noexcept;

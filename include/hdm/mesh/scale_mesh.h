@@ -13,7 +13,7 @@
 namespace hdm {
 
 /// Smallest bounding-box diagonal accepted [model units]: below it the model's single-precision
-/// caches (sample positions, 1e-4 of the diagonal apart) would leave float's normal range.
+/// caches (the normals' area-weighted sums, over edges 1e-4 of the diagonal long) would leave float's normal range.
 inline constexpr double kMinDiagonal = 1e-30;
 /// Largest bounding-box diagonal accepted [model units] (float's range, with room for the shell).
 inline constexpr double kMaxDiagonal = 1e30;

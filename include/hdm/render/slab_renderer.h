@@ -57,7 +57,7 @@ class SlabRenderer {
   /// @param slab   slab id in [0, #S).
   /// @pre upload_all() ran with a model of the same slabs, grid_n and texel_density; positions
   ///      come from the model's displacements, normals from `model.slab_samples` (refresh them first
-  ///      with update_positions() / update_normals()).
+  ///      with update_displacements() / update_normals()).
   /// @throws InvalidInput if @p slab is out of range or the layout changed since upload_all().
   /// @note O(n² + N²); no allocation after the first call.
   void upload_slab(const SlabModel& model, int slab);

@@ -18,8 +18,8 @@ struct ModelMemory {
   int64_t coarse = 0;         ///< stored per coarse vertex and slab: inner, outer, slabs
   int64_t sample_layout = 0;  ///< derived: the samples' SampleLayout (ids, neighbours, homes, shared slots)
   int64_t texel_layout = 0;   ///< derived: the texels' SampleLayout
-  /// Derived caches of the query and proxy: positions, normals, force-shading normals and the
-  /// slab-major copy `slab_samples`.
+  /// Derived cache of the query, the proxy and the edits: the slab-major copy `slab_samples`
+  /// (displacement, normal and force-shading normal per slot). Surface points are not cached.
   int64_t caches = 0;
   int64_t slab_constants = 0;  ///< derived per slab and coarse vertex: geometry, edge neighbours, vertex -> slabs
   int64_t samples = 0;         ///< distinct displacement samples (SampleLayout::count)

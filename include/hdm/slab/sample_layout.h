@@ -19,6 +19,14 @@ struct GridSlot {
   int32_t index = 0;  ///< packed grid index in [0, SampleLayout::per_slab)
 };
 
+/// A grid triangle's place in its slab (SampleLayout::grid_cell()).
+struct GridCellRef {
+  int32_t slab = 0;   ///< slab id in [0, #S)
+  int i = 0;          ///< i of the cell's lowest grid point (i, j), i + j < n
+  int j = 0;          ///< j of the cell's lowest grid point
+  bool down = false;  ///< the cell's "down" triangle (i+1,j) (i,j+1) (i+1,j+1), else its "up" one
+};
+
 /// The global sample ids of one slab's grid points, read through operator[] as if they were an
 /// array indexed by packed grid index (SampleLayout::slab_ids()): an interior point's id is
 /// computed, a corner or edge point's is read from the slab's stored boundary ids.
@@ -200,6 +208,13 @@ struct SampleLayout {
   /// @brief Corners of grid triangle @p t (see for_each_triangle()), counter-clockwise from outside.
   /// Precondition: 0 <= t < triangle_count(). @note O(1) (a square root), noexcept.
   Tri grid_triangle(int32_t t) const noexcept;
+
+  /// @brief Where grid triangle @p t lies: its slab, its cell (i, j) and whether it is the cell's
+  /// "down" triangle (GridCellRef). Its corners, counter-clockwise from outside, are the grid
+  /// points (i, j), (i, j+1), (i+1, j) for an "up" triangle and (i+1, j), (i, j+1), (i+1, j+1)
+  /// for a "down" one: grid_triangle() gives their sample ids.
+  /// Precondition: 0 <= t < triangle_count(). @note O(1) (a square root), noexcept.
+  GridCellRef grid_cell(int32_t t) const noexcept;
 
   /// @brief Calls @p f(t, corners) for every grid triangle t with sample @p s as a corner, in
   /// increasing t (the order of a sorted incidence list: sums over them are the same bit for bit

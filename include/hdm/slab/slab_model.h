@@ -95,11 +95,12 @@ constexpr double vickers_to_pa(double hv) noexcept { return hv * 9.80665e6; }
 ///
 /// Stored data (what a `.hdm` file holds) and derived data (rebuilt by rebuild_derived()).
 /// Threading: readers may share a const model; edits (hdm/edit) mutate the stored per-sample and
-/// per-texel fields, `positions` and `slab_samples` and must not run
+/// per-texel fields and `slab_samples` and must not run
 /// concurrently with readers of the same samples (hdm::SlabSnapshots gives other threads
 /// consistent copies while one thread edits; docs/editing.md). Code that changes `displacement` outside the edit tools
-/// must call update_positions() and update_normals() on the changed samples and their one-ring (or rebuild_derived()),
-/// or the query and the proxy will read stale values from `slab_samples`.
+/// must call update_displacements() on the changed samples and update_normals() on them and their one-ring (or
+/// rebuild_derived()), or the query and the proxy will read stale values from `slab_samples`.
+/// Surface points are not cached: sample_position() evaluates one in O(1) (docs/performance.md#model-memory-by-part).
 struct SlabModel {
   // ---- stored ----
   int grid_n = 16;                  ///< displacement intervals per slab edge (n)
@@ -111,9 +112,9 @@ struct SlabModel {
   /// #texels colour as 8-bit sRGB (decode_srgb8() gives the linear RGB it stands for; writers
   /// encode linear RGB with encode_srgb8(), rounding once)
   std::vector<Srgb8> colour;
-  std::vector<Half16> friction_static;    ///< #samples static friction coefficient μs (binary16)
-  std::vector<Half16> friction_dynamic;   ///< #samples dynamic friction coefficient μd (binary16)
-  std::vector<Unorm16> stiffness_scale;   ///< #samples factor on the rendered stiffness, in [0,1] (unorm16)
+  std::vector<Half16> friction_static;   ///< #samples static friction coefficient μs (binary16)
+  std::vector<Half16> friction_dynamic;  ///< #samples dynamic friction coefficient μd (binary16)
+  std::vector<Unorm16> stiffness_scale;  ///< #samples factor on the rendered stiffness, in [0,1] (unorm16)
   /// #texels rendering roughness as unorm8 (code/255 in [0,1]; 0 glossy, 255 matte, the default;
   /// unorm8_to_unit(), unit_to_unorm8())
   std::vector<uint8_t> roughness;
@@ -132,9 +133,8 @@ struct SlabModel {
   double source_diagonal = 0;    ///< bounding-box diagonal of that input [model units]
 
   // ---- derived (rebuild_derived) ----
-  SampleLayout samples;          ///< displacement samples (grid n)
-  SampleLayout texels;           ///< colour texels (grid n·m), without grid triangles
-  std::vector<Vec3f> positions;  ///< #samples surface points (cache of sample_position) [model units]
+  SampleLayout samples;                                ///< displacement samples (grid n)
+  SampleLayout texels;                                 ///< colour texels (grid n·m), without grid triangles
   std::vector<SlabGeometry> geometry;                  ///< #S slab constants
   std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
   /// @{ CSR coarse vertex -> slabs: the slabs around vertex v are
@@ -150,7 +150,7 @@ struct SlabModel {
   /// point (the surface point whose interpolated normal points at the hand) folds, and the force
   /// jumps, wherever penetration depth × the normal field's rate of turn exceeds 1 rad; the grid
   /// normals of a scanned surface turn that fast at about 1 mm of depth (docs/haptics.md).
-  /// update_normals() keeps both in sync with `displacement` and the positions.
+  /// update_displacements() and update_normals() keep them in sync with `displacement`.
   std::vector<SlabSample> slab_samples;
 
   /// Number of slabs.
@@ -187,7 +187,7 @@ inline float sample_hardness_hv(const SlabModel& model, int32_t sample) noexcept
 ///         displacements or layer displacements outside [0,1], the under-layer's roughness outside [0,1],
 ///         a hardness (per sample or the under-layer's) not > 0,
 ///         grid_n < 1 or texel_density < 1), naming the member.
-/// @note O(#S·n²·m²); allocates; positions, normals and the layouts' CSR rows in parallel (std::thread).
+/// @note O(#S·n²·m²); allocates; normals and the layouts' CSR rows in parallel (std::thread).
 void rebuild_derived(SlabModel& model);
 
 /// @brief Slab constants of the slab with corners (R0,S0,T0) and (R1,S1,T1) [model units].
@@ -221,18 +221,26 @@ inline const SlabSample& home_slab_sample(const SlabModel& model, int32_t s) noe
 /// snorm16 codes: unit to 2.7e-5, not renormalised (SlabSample).
 /// @pre rebuild_derived(model) has run; 0 <= s < model.samples.count.
 /// @note O(1) (a shift, a mask, one load), noexcept.
-inline Vec3f sample_normal(const SlabModel& model, int32_t s) noexcept {
-  return home_slab_sample(model, s).normal();
-}
+inline Vec3f sample_normal(const SlabModel& model, int32_t s) noexcept { return home_slab_sample(model, s).normal(); }
 
-/// @brief Refreshes the cached `positions` of @p samples from their current displacements.
-/// @note O(count); no allocation; call before update_normals() after an edit.
-void update_positions(SlabModel& model, const int32_t* samples, size_t count) noexcept;
+/// @brief Copies the stored `displacement` of @p samples into every slot of theirs in
+/// `slab_samples` (the copy the query, the proxy and the normals read).
+/// @note O(count × the slabs holding each sample); no allocation; noexcept. Call it after changing
+///       `displacement` outside the edit tools, before update_normals() on the samples and their
+///       one-ring. Does nothing when `slab_samples` is not sized to the slots.
+void update_displacements(SlabModel& model, const int32_t* samples, size_t count) noexcept;
+
+/// @brief Bounding box of the displaced surface: every sample's surface point (sample_position())
+/// [model units, model frame].
+/// @note O(#samples), noexcept; empty for a model without derived data.
+Aabb surface_box(const SlabModel& model) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; docs/design.md#normals), and refreshes their
 /// displacement and normal in `slab_samples`, and the force-shading normals of them and their
-/// grid neighbours. Does nothing when `slab_samples` is not sized to the slots.
+/// grid neighbours. The triangles' corners are read from `slab_samples`: after changing
+/// `displacement`, call update_displacements() on the changed samples first. Does nothing when
+/// `slab_samples` is not sized to the slots.
 /// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
 ///       samples sharing triangles use the FaceNormalCache overload.
 void update_normals(SlabModel& model, const int32_t* samples, size_t count) noexcept;

@@ -60,7 +60,7 @@ class SnapshotReader;
 ///
 /// Memory: the spare versions, about (26·per_slab + 4·texels_per_slab) bytes each, padded to 64
 /// bytes and allocated by the constructor, and 20 bytes per slab: 0.39 MiB for the default bunny
-/// bake (1,178 slabs, n = 16, m = 2: 59 versions of 6,272 bytes), 3.3 % of the 11.8 MiB the model
+/// bake (1,178 slabs, n = 16, m = 2: 59 versions of 6,272 bytes), 3.9 % of the 10.1 MiB the model
 /// takes (`hdm bench` prints both). A reader holds one more slab's copy.
 /// The model's topology, coarse vertices, grid sizes, source fields and under-layer material
 /// must not change while the snapshots exist (edits never change them); readers read those
