@@ -27,7 +27,7 @@ constexpr double kMiB = 1024.0 * 1024.0;
 // every measured peak, by at most a half (twice on tiny models, where the base dominates).
 constexpr double kBase = 32 * kMiB;           // the program, its libraries, Embree's and TBB's arenas
 constexpr double kPerInputByte = 8;           // the mesh, its repair, orientation, BVH and fidelity
-constexpr double kPerSample = 380;            // displacements, fields, positions, normals, slots, bake rays
+constexpr double kPerSample = 380;            // displacements, fields, normals, slots, bake rays
 constexpr double kPerTexel = 135;             // colour, roughness, texel slots and rays, the saved bytes
 constexpr double kPerModelByte = 10;          // a loaded .hdm: its bytes and the layouts rebuilt from them
 constexpr double kPerContactPoint = 32;       // points, exact and slab answers of hdm check (measured 24)
