@@ -21,8 +21,7 @@ int main(int argc, char** argv) {
   try {
     const hdm::SlabModel model = hdm::load_model(argv[1]);  // derived data built
     const hdm::SlabLocator locator(model);
-    hdm::Aabb box;
-    for (const hdm::Vec3f& p : model.positions) box.extend(p.cast<double>());
+    const hdm::Aabb box = hdm::surface_box(model);  // the displaced surface's box
     const hdm::Workspace ws = hdm::fit_workspace(box, 0.16);  // the box's diagonal spans 16 cm
 
     // Start 1 cm above the top of the box, over its centre; move down 2 cm/s for 1 s (1 cm into the model).
