@@ -26,6 +26,7 @@
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -102,7 +103,10 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
   if (crossing.size() > size_t(kMaxRefinedPairs)) return false;
   std::vector<std::pair<int, int>> pairs;
   pairs.reserve(crossing.size());
-  for (const auto& [a, b] : crossing) pairs.emplace_back(int(a.idx()), int(b.idx()));
+  for (const auto& [a, b] : crossing) pairs.emplace_back(std::minmax(int(a.idx()), int(b.idx())));
+  // CGAL's parallel search lists the pairs in the order its threads found them: sorted, the
+  // refinement (and so the bake) is the same from run to run.
+  std::sort(pairs.begin(), pairs.end());
   sm.collect_garbage();
   const TriangleMesh refined =
       mesh::detail::refine_crossings(mesh::detail::to_triangle_mesh(sm, "resolve_self_intersections"), pairs);
@@ -176,8 +180,12 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
       if (edges > kMaxCrackEdges && !(edges <= kMaxSmallCrackEdges && box.diagonal() <= kSmallCrack * diagonal))
         return false;
     }
+    // Liepa's search over every triangulation of the crack, not CGAL's default search within a 3D
+    // Delaunay triangulation of its corners, which gave another triangulation of the same crack from
+    // one run of hdm to the next (a 19-edge crack of a CAD bed: 2 runs in 12).
     for (Mesh::Halfedge_index h : cycles)
-      if (sm.is_border(h)) PMP::triangulate_hole(sm, h, CGAL::Emptyset_iterator());
+      if (sm.is_border(h))
+        PMP::triangulate_hole(sm, h, CGAL::Emptyset_iterator(), CGAL::parameters::use_delaunay_triangulation(false));
     sm.collect_garbage();
     rep.closed_cracks = static_cast<int64_t>(cycles.size());
   }
