@@ -80,16 +80,17 @@ Aabb surface_box(const SlabModel& model) noexcept {
 
 namespace {
 
-// Stores the unit normal of sample s from its area-weighted sum in every slab copy of the sample
-// (with its current displacement): `slab_samples` is the only store of the normals.
+// Stores the unit normal of sample s from its area-weighted sum in every slab copy of the sample:
+// `slab_samples` is the only store of the normals. The copies' displacement is not written here
+// (update_displacements() did): the face normals of other samples, computed in parallel by
+// rebuild_derived(), read it from these slots.
 inline void store_normal(SlabModel& m, int32_t s, const Vec3f& sum) noexcept {
   const float len = sum.norm();
   const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : Vec3f(0, 0, 1);  // one division, not three
-  const float d = m.displacement[s];
   const int16_t c[3] = {encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])};
   m.samples.for_each_slot(s, [&](int32_t slot) {
-    SlabSample& v = m.slab_samples[slot];  // the force-shading normal is kept
-    v.delta = d, v.n[0] = c[0], v.n[1] = c[1], v.n[2] = c[2];
+    int16_t* v = m.slab_samples[slot].n;  // the displacement and force-shading normal are kept
+    v[0] = c[0], v[1] = c[1], v[2] = c[2];
   });
 }
 

@@ -237,8 +237,8 @@ Aabb surface_box(const SlabModel& model) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; docs/design.md#normals), and refreshes their
-/// displacement and normal in `slab_samples`, and the force-shading normals of them and their
-/// grid neighbours. The triangles' corners are read from `slab_samples`: after changing
+/// normal in `slab_samples`, and the force-shading normals of them and their grid neighbours. The
+/// triangles' corners are read from the displacements in `slab_samples`: after changing
 /// `displacement`, call update_displacements() on the changed samples first. Does nothing when
 /// `slab_samples` is not sized to the slots.
 /// @note O(k·valence); no allocation. Evaluates each incident triangle once per sample; for many
