@@ -158,8 +158,7 @@ void stamp(benchmark::State& state, BrushTool tool) {
   std::vector<Contact> contacts;
   while (contacts.size() < kOps) {
     const int32_t s = pick(rng);
-    const Vec3 hip =
-        sample_position(m, s).cast<float>().cast<double>() - 0.2 * radius * sample_normal(m, s).cast<double>();
+    const Vec3 hip = float_point(m, s) - 0.2 * radius * sample_normal(m, s).cast<double>();
     QueryCache qc;
     const Contact c = query(m, *f.locator, hip, qc);
     if (c.in_shell()) hips.push_back(hip), contacts.push_back(c);

@@ -61,8 +61,7 @@ std::vector<Vec3> coherent_path(const SlabModel& m, int ticks, double step, doub
   const double fine = step / 8;
   double carry = 0;  // arc length already walked into the current segment
   Vec3 prev = Vec3::Constant(NAN);
-  // Surface points rounded to float, as the walk has always been laid out.
-  auto point = [&](int32_t s) -> Vec3f { return sample_position(m, s).cast<float>(); };
+  auto point = [&](int32_t s) -> Vec3f { return float_point(m, s).cast<float>(); };
   while (static_cast<int>(path.size()) < ticks) {
     // Next sample: the neighbour closest to the target, if it gets closer.
     const Vec3f goal = point(target);
@@ -106,10 +105,7 @@ std::vector<Vec3> global_points(const SlabModel& m, int count, double dist, std:
     const Tri t = L.grid_triangle(tri(rng));
     double a = u01(rng), b = u01(rng);
     if (a + b > 1) a = 1 - a, b = 1 - b;
-    // Corners rounded to float, as the points have always been drawn.
-    const Vec3 p0 = sample_position(m, t[0]).cast<float>().cast<double>(),
-               p1 = sample_position(m, t[1]).cast<float>().cast<double>(),
-               p2 = sample_position(m, t[2]).cast<float>().cast<double>();
+    const Vec3 p0 = float_point(m, t[0]), p1 = float_point(m, t[1]), p2 = float_point(m, t[2]);
     const Vec3 n = (p1 - p0).cross(p2 - p0).normalized();
     pts.push_back(p0 + a * (p1 - p0) + b * (p2 - p0) + off(rng) * n);
   }
@@ -288,8 +284,7 @@ std::vector<EditRow> cold_stamps(SlabModel& model, const SlabLocator& locator, d
       for (int k = 0; k < ops; ++k) {
         const int32_t s = pick(rng);
         // A hip 0.2·radius below the surface at sample s: the carve sphere then cuts into it.
-        const Vec3 hip = sample_position(model, s).cast<float>().cast<double>() -
-                         0.2 * radius * sample_normal(model, s).cast<double>();
+        const Vec3 hip = float_point(model, s) - 0.2 * radius * sample_normal(model, s).cast<double>();
         QueryCache qc;
         const Contact c = query(model, locator, hip, qc);
         if (!c.in_shell()) continue;

@@ -70,6 +70,10 @@ Stats time_batches(size_t n, Body&& body, size_t batch = kBatch) {
   return stats_of(std::move(per_query));
 }
 
+/// Surface point of sample @p s rounded to float [model units]: the points every workload is laid
+/// out from, as when the model cached them in float, so the paths and points stay the same.
+inline Vec3 float_point(const SlabModel& m, int32_t s) { return sample_position(m, s).cast<float>().cast<double>(); }
+
 /// A 1 kHz device path over the surface of @p m [model units]: a greedy walk over the sample graph
 /// towards random target samples, offset along the interpolated normal by depth·sin(2π·tick/1000)
 /// (a period of one second), so the point slides along and into the surface. The curve is traced
