@@ -114,11 +114,6 @@ Brush make_brush(const std::string& tool, double radius, double strength, const 
   return b;
 }
 
-template <class T>
-py::array_t<T> copy_of(const std::vector<T>& v) {
-  return py::array_t<T>(py::ssize_t(v.size()), v.data());
-}
-
 // A 16-bit field (Half16, Unorm16) decoded to float32: the values the model uses.
 template <class T>
 py::array_t<float> decoded(const std::vector<T>& v) {
@@ -258,7 +253,7 @@ void bind_model_edits(py::module_& m) {
           [](Model& self, const std::string& name) -> py::array {
             const std::shared_lock lock(self.mutex);
             const SlabModel& s = self.model;
-            if (name == "displacement") return copy_of(s.displacement);
+            if (name == "displacement") return decoded(s.displacement);
             if (name == "friction_static") return decoded(s.friction_static);
             if (name == "friction_dynamic") return decoded(s.friction_dynamic);
             if (name == "stiffness") return decoded(s.stiffness_scale);

@@ -112,25 +112,28 @@ nlohmann::json tolerance_json(const BakeInputOptions& o, const BakeInputReport& 
           {"rounds", tried}};
 }
 
-nlohmann::json bake_json(const BakeArgs& a, const BakeInputOptions& o, const BakeInputReport& rep) {
+nlohmann::json bake_json(const BakeArgs& a, const BakeInputOptions& o, const BakeInputReport& rep,
+                         const SlabModel& model) {
   const BakeReport& r = rep.bake;
-  nlohmann::json j = {{"input", a.input},
-                      {"output", a.output},
-                      {"slabs", r.slabs},
-                      {"grid", r.grid_n},
-                      {"samples", r.samples},
-                      {"input_triangles", r.input_triangles},
-                      {"submesh_triangles", r.submesh_triangles},
-                      {"bake_seconds", r.seconds},
-                      {"total_seconds", rep.seconds},
-                      {"invalid_slabs", r.invalid_slabs},
-                      {"ray_misses", r.ray_misses},
-                      {"overlapping_pairs", r.overlapping_pairs},
-                      {"undercut_columns", r.undercut_columns},
-                      {"separated", r.separated},
-                      {"peak_rss_mib", peak_rss_mib()},
-                      {"fidelity", fidelity_json(rep.fidelity)},
-                      {"remeshed_faces", rep.remeshed_faces}};
+  nlohmann::json j = {
+      {"input", a.input},
+      {"output", a.output},
+      {"slabs", r.slabs},
+      {"grid", r.grid_n},
+      {"samples", r.samples},
+      {"input_triangles", r.input_triangles},
+      {"submesh_triangles", r.submesh_triangles},
+      {"bake_seconds", r.seconds},
+      {"total_seconds", rep.seconds},
+      {"invalid_slabs", r.invalid_slabs},
+      {"ray_misses", r.ray_misses},
+      {"overlapping_pairs", r.overlapping_pairs},
+      {"undercut_columns", r.undercut_columns},
+      {"separated", r.separated},
+      {"peak_rss_mib", peak_rss_mib()},
+      {"fidelity", fidelity_json(rep.fidelity)},
+      {"remeshed_faces", rep.remeshed_faces},
+      {"displacement_quantisation_pct", 100 * displacement_quantisation(model) / model.source_diagonal}};
   add_input_json(j, rep.input);
   if (o.bounded) j["tolerance"] = tolerance_json(o, rep);
   return j;
@@ -162,7 +165,7 @@ void print_input_changes(const PrepareReport& in, double diagonal) {
                 (long long)in.orient.flipped_faces);
 }
 
-void print_bake(const BakeArgs& a, const BakeInputReport& rep) {
+void print_bake(const BakeArgs& a, const BakeInputReport& rep, const SlabModel& model) {
   const BakeReport& r = rep.bake;
   std::printf("baked %s -> %s\n", a.input.c_str(), a.output.c_str());
   std::printf("  slabs               %d (grid n = %d, %lld samples)\n", r.slabs, r.grid_n, (long long)r.samples);
@@ -195,6 +198,8 @@ void print_bake(const BakeArgs& a, const BakeInputReport& rep) {
   std::printf("  fidelity (%% of bounding-box diagonal)\n");
   std::printf("    model -> input    RMS %.4f%%  max %.4f%%\n", f.rms_pct, f.max_pct);
   std::printf("    input -> model    RMS %.4f%%  max %.4f%%\n", f.rms_back_pct, f.max_back_pct);
+  std::printf("    of which stored   at most %.2g%% (displacements as unorm16)\n",
+              100 * displacement_quantisation(model) / model.source_diagonal);
 }
 
 void run_bake(const BakeArgs& a) {
@@ -215,9 +220,9 @@ void run_bake(const BakeArgs& a) {
                  a.input.c_str(), rep.bake.slabs,
                  describe_stop(rep.rounds.back(), o.tolerance, rep.bake.input_triangles).c_str());
   if (a.json)
-    std::printf("%s\n", bake_json(a, o, rep).dump(2).c_str());
+    std::printf("%s\n", bake_json(a, o, rep, model).dump(2).c_str());
   else
-    print_bake(a, rep);
+    print_bake(a, rep, model);
 }
 
 }  // namespace

@@ -50,6 +50,8 @@ void run_info(const InfoOptions& o) {
     exposed += m.displacement[s] < m.layer_displacement[s];
   const auto file_bytes = static_cast<uintmax_t>(std::filesystem::file_size(o.model));
   const ModelMemory mem = model_memory(m);
+  const double step = displacement_quantisation(m);  // [model units]
+  const double step_pct = m.source_diagonal > 0 ? 100 * step / m.source_diagonal : NAN;
   // What a sculpting session's snapshots add at their default settings (copy on write: the spare
   // versions and the per-slab state).
   const SlabSnapshots snapshots(m);
@@ -65,7 +67,12 @@ void run_info(const InfoOptions& o) {
         {"texels", m.texels.count},
         {"source", m.source},
         {"source_triangles", m.source_triangles},
-        {"displacement", {{"min", disp.lo}, {"mean", disp.mean}, {"max", disp.hi}}},
+        {"displacement",
+         {{"min", disp.lo},
+          {"mean", disp.mean},
+          {"max", disp.hi},
+          {"quantisation", step},
+          {"quantisation_pct", std::isfinite(step_pct) ? nlohmann::json(step_pct) : nlohmann::json(nullptr)}}},
         {"hardness_hv",
          {{"min", hard.lo}, {"mean", hard.mean}, {"max", hard.hi}, {"under_layer", m.under_layer.hardness_hv}}},
         {"under_layer_exposed_samples", exposed},
@@ -97,6 +104,10 @@ void run_info(const InfoOptions& o) {
   std::printf("source            %s\n", m.source.empty() ? "(unknown)" : m.source.c_str());
   std::printf("source triangles  %lld\n", static_cast<long long>(m.source_triangles));
   std::printf("displacement      min %.6g  mean %.6g  max %.6g\n", disp.lo, disp.mean, disp.hi);
+  std::printf(
+      "  stored as        unorm16: surface points within %.3g model units of the values written (%.2g %% of "
+      "the source's diagonal)\n",
+      step, step_pct);
   std::printf("hardness [HV]     min %.6g  mean %.6g  max %.6g\n", hard.lo, hard.mean, hard.hi);
   std::printf("under-layer       exposed at %lld samples, hardness %.6g HV\n", static_cast<long long>(exposed),
               double(m.under_layer.hardness_hv));

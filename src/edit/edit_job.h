@@ -113,6 +113,8 @@ class EditJob {
   bool active() const noexcept { return phase_ != Phase::Idle; }
   /// The largest squared distance a sample moved in this job [model units²].
   double motion2() const noexcept { return motion2_; }
+  /// The flood's stamp, new for each sweep: a seed for the sweep's rounding draws.
+  uint32_t stamp() const noexcept { return stamp_; }
   EditResult result;
 
   // What the kernels read: the sweep being run and its constants, derived once per sweep.
@@ -132,10 +134,11 @@ class EditJob {
   // through that element; resumable at the deadline.
   template <class Visit>
   bool flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScratch& s, Deadline& d, Visit visit) noexcept;
-  // Stores a sample's new displacement on its projection line of direction L (its motion, for the
-  // snapshot's bound), recording its first touch in the stroke; false, with nothing written, when
-  // the write gate refused one of its slabs.
-  bool set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v, const Vec3& L) noexcept;
+  // Stores a sample's new displacement (rounded to its unorm16 code; nothing when that is the code
+  // it has) on its projection line of squared length line2 (its motion, for the snapshot's bound),
+  // recording its first touch in the stroke; false, with nothing written, when the write gate
+  // refused one of its slabs.
+  bool set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v, double line2) noexcept;
 
  private:
   // An edit's phases, in order: the flood over the tool (Flood) or an undo record's replay

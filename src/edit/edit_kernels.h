@@ -48,7 +48,7 @@ struct PointEvaluator {
   Vec3 operator()(int32_t id) const noexcept {
     const GridSlot h = m.samples.home(id);
     const SlabGeometry& g = m.geometry[h.slab];
-    const double wS = weights[h.index][1], wT = weights[h.index][2], d = m.displacement[id];
+    const double wS = weights[h.index][1], wT = weights[h.index][2], d = m.displacement[id].value();
     return g.R0 + wS * g.e1 + wT * g.e2 + d * (g.dR + wS * g.d1 + wT * g.d2);
   }
 };
@@ -144,7 +144,7 @@ inline double line_segment_distance(const Vec3& p0, const Vec3& L, const Vec3& a
 // A sample's displacement changed: the query reads the slab-major copy at once (the normals follow
 // in the next refresh), and the sample is listed once for that refresh.
 inline void list_changed(SlabModel& m, EditScratch& s, int32_t id) noexcept {
-  const float v = m.displacement[id];
+  const Unorm16 v = m.displacement[id];
   if (m.slab_samples.size() == m.samples.slot_count())
     m.samples.for_each_slot(id, [&](int32_t slot) { m.slab_samples[slot].delta = v; });
   if (s.changed_mark[id] == s.changed_epoch) return;
@@ -183,15 +183,17 @@ inline double base_delta(const SlabModel& m, const StrokeMemory* st, int32_t id)
   return st && st->sample_mark[id] == st->id ? double(st->sample_base[id].delta) : double(m.displacement[id]);
 }
 
-// Stores a new displacement on a projection line of direction L. With a write gate its slabs are
-// flagged first; false (nothing written) when the gate refused one.
+// Stores a new displacement on a projection line of squared length line2. With a write gate its
+// slabs are flagged first; false (nothing written) when the gate refused one.
 inline bool EditJob::set_delta(SlabModel& m, EditScratch& s, DirtyMarker& dirty, int32_t id, float v,
-                               const Vec3& L) noexcept {
+                               double line2) noexcept {
+  const Unorm16 q = v;
+  if (q.code == m.displacement[id].code) return true;  // rounds to the code it has: nothing to store
   if (s.gate.allow && !dirty.mark(m.samples, id)) return false;
   touch_sample(m, stroke, id);
-  const double step = double(v) - double(m.displacement[id]);
-  motion2_ = std::max(motion2_, step * step * L.squaredNorm());
-  m.displacement[id] = v;
+  const double step = double(float(q)) - double(m.displacement[id]);
+  motion2_ = std::max(motion2_, step * step * line2);
+  m.displacement[id] = q;
   list_changed(m, s, id);
   ++result.changed;
   return true;

@@ -9,12 +9,20 @@ namespace hdm::edit::detail {
 
 namespace {
 
+// A draw in [0, 1) for a sample and a sweep's stamp: a Weyl sequence in each (the fractional parts
+// of id·φ and stamp·c, mod 2^32), evenly spread over the samples of a sweep and over the sweeps of
+// a sample, and fixed, so a stroke replays to the same model.
+float uniform_draw(uint32_t id, uint32_t stamp) noexcept {
+  const uint32_t h = id * 0x9E3779B9u + stamp * 0x632BE5ABu;
+  return float(h >> 8) * (1.0f / 16777216.0f);
+}
+
 // The surface element of a sample: the cross product of its home slab's alpha-triangle edges at
 // the sample's displacement, over n² (so its norm is two grid triangles' area [model units²], the
 // area a sample stands for on a regular grid, and its direction the alpha-plane's normal).
 Vec3 sample_element(const SlabModel& m, int32_t id) noexcept {
   const SlabGeometry& g = m.geometry[m.samples.home(id).slab];
-  const double a = m.displacement[id], n = m.grid_n;
+  const double a = m.displacement[id].value(), n = m.grid_n;
   return (g.e1 + a * g.d1).cross(g.e2 + a * g.d2) / (n * n);
 }
 
@@ -60,8 +68,11 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
     // Model units along the normal per unit of δ: L·n̂, at least 0.2·|L| (a line at a grazing angle).
     const double per_delta = std::max(L.dot(e) / e.norm(), 0.2 * L.norm());
     if (!(per_delta > 0)) continue;
-    const float v = static_cast<float>(std::max(0.0, m.displacement[id] - depth / per_delta));
-    if (v < m.displacement[id] && !job.set_delta(m, s, dirty, id, v, L)) {
+    // A tick's removal is often far below a code step of δ (unorm16): rounded to nearest it would
+    // vanish, so it is rounded up or down at random with the odds that keep its expected volume.
+    const float v = Unorm16::dithered(float(std::max(0.0, m.displacement[id] - depth / per_delta)),
+                                      uniform_draw(uint32_t(id), job.stamp()));
+    if (v < m.displacement[id] && !job.set_delta(m, s, dirty, id, v, L.squaredNorm())) {
       --job.kernel_cursor;  // refused: this sample first, on the next call
       return false;
     }

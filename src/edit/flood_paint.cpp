@@ -78,7 +78,7 @@ bool flood_paint_texels(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d)
     // The texel on the displaced surface: surface_point() with the cell from the table.
     const std::array<double, 5>& w = s.texel_weights[local];
     const std::array<int32_t, 3>& c = s.texel_points[local];
-    const double delta = w[2] * v[c[0]].delta + w[3] * v[c[1]].delta + w[4] * v[c[2]].delta;
+    const double delta = w[2] * v[c[0]].delta.value() + w[3] * v[c[1]].delta.value() + w[4] * v[c[2]].delta.value();
     const Vec3 p = g->R0 + w[0] * g->e1 + w[1] * g->e2 + delta * (g->dR + w[0] * g->d1 + w[1] * g->d2);
     const double fw = falloff_at(b.falloff, path.distance2(p), inv_r2);
     if (!(fw > 0)) return false;

@@ -31,10 +31,11 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
     if (smooth) {  // mean of the grid neighbours' displacements (across seams)
       double sum = 0;
       int32_t valence = 0;
-      S.for_each_neighbour(id, [&](int32_t t) noexcept { sum += m.displacement[t], ++valence; });
+      S.for_each_neighbour(id, [&](int32_t t) noexcept { sum += m.displacement[t].value(), ++valence; });
       if (valence == 0) return true;
       target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
-      if (static_cast<float>(cur + lambda * (target - cur)) == cur) return true;
+      // A change below half a code step of δ (unorm16) stores nothing: skip the line and the write.
+      if (Unorm16(static_cast<float>(cur + lambda * (target - cur))).code == m.displacement[id].code) return true;
       line_of(id, p0, p1);
     } else {  // where the projection line meets the tool's plane
       line_of(id, p0, p1);
@@ -44,7 +45,7 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
       target = std::clamp((q - p0).dot(n) / ln, 0.0, 1.0);
     }
     const float v = static_cast<float>(cur + lambda * (target - cur));
-    if (v != cur) job.set_delta(m, s, dirty, id, v, p1 - p0);
+    if (v != cur) job.set_delta(m, s, dirty, id, v, (p1 - p0).squaredNorm());
     return true;
   });
 }

@@ -50,7 +50,7 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
       target = base + strength * falloff_weight(b.falloff, x) * (target - base);
     }
     const float v = static_cast<float>(target);
-    if (add ? v > cur : v < cur) job.set_delta(m, s, dirty, id, v, L);
+    if (add ? v > cur : v < cur) job.set_delta(m, s, dirty, id, v, L.squaredNorm());
     return true;
   });
 }
@@ -83,7 +83,7 @@ bool paper_cone_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) n
     const double dist = (p0 + double(m.displacement[id]) * L - A).norm();
     if (dist >= r || len <= 0) return false;
     const float raised = static_cast<float>(std::min(1.0, m.displacement[id] + b.height * (1 - dist / r) / len));
-    if (raised > m.displacement[id]) job.set_delta(m, s, dirty, id, raised, L);
+    if (raised > m.displacement[id]) job.set_delta(m, s, dirty, id, raised, L.squaredNorm());
     return true;
   });
 }

@@ -316,7 +316,7 @@ void write_model(const SlabModel& m, FileSink& sink) {
   put_vectors(w, "INNR", m.inner);
   put_vectors(w, "OUTR", m.outer);
   put_vectors(w, "SLAB", m.slabs);
-  put_scalars(w, "DISP", m.displacement);
+  put_codes(w, "DISP", m.displacement);  // version 6: unorm16 codes, as the model holds them
   put_bytes(w, "COLR", m.colour);
   put_codes(w, "FRST", m.friction_static);
   put_codes(w, "FRDY", m.friction_dynamic);
@@ -372,7 +372,10 @@ SlabModel read_stored(std::span<const uint8_t> bytes, const std::string& path, c
   get_vectors<Vec3, double>(r, "INNR", m.inner);
   get_vectors<Vec3, double>(r, "OUTR", m.outer);
   get_vectors<Tri, int32_t>(r, "SLAB", m.slabs);
-  get_scalars(r, "DISP", m.displacement);
+  if (version >= 6)
+    get_codes(r, "DISP", m.displacement, path, "displacement");
+  else
+    get_floats(r, "DISP", m.displacement, path, "displacement");
   if (version >= 3)
     get_bytes(r, "COLR", m.colour);
   else

@@ -78,6 +78,13 @@ Aabb surface_box(const SlabModel& model) noexcept {
   return box;
 }
 
+double displacement_quantisation(const SlabModel& model) noexcept {
+  double longest = 0;
+  for (size_t v = 0; v < model.inner.size() && v < model.outer.size(); ++v)
+    longest = std::max(longest, (model.outer[v] - model.inner[v]).norm());
+  return 0.5 / 65535.0 * longest;
+}
+
 namespace {
 
 // Stores the unit normal of sample s from its area-weighted sum in every slab copy of the sample:

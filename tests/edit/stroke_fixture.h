@@ -54,7 +54,7 @@ struct ModelState {
         colour(m.colour),
         normals(sample_normals(m)),
         slab_samples(m.slab_samples) {}
-  std::vector<float> displacement;
+  std::vector<Unorm16> displacement;
   std::vector<Half16> friction_static, friction_dynamic;
   std::vector<Unorm16> stiffness_scale, layer_displacement;
   std::vector<uint8_t> roughness;

@@ -242,7 +242,7 @@ TEST(Proxy, ARestingProxyFollowsAnEditUnderIt) {
   EXPECT_LT(std::abs(query(model, locator, before, cache).depth), 1e-9 * S.diag);
   const float drop = float(0.003 / o.contact.ray.norm());  // 0.3 mm at the device, in δ
   ASSERT_LT(drop, 0.5f);
-  for (float& d : model.displacement) d = std::max(0.0f, d - drop);
+  for (Unorm16& d : model.displacement) d = std::max(0.0f, d - drop);
   rebuild_derived(model);
   o = proxy_step(model, locator, S.ws, dev(hip), Vec3::Zero(), p, st);
   ASSERT_TRUE(st.contact);

@@ -2,8 +2,10 @@
 // .hdm files of format versions 1 and 2 (float colour and roughness) still load: written here
 // section by section from the table in hdm_file.h, loaded, and their texels compared with the IEC
 // 61966-2-1 and unorm8 encodings of the written floats. Version 3 files (no hardness) load with
-// the default hardness.
+// the default hardness; versions 4 and 5 (float per-sample fields, float displacements) load with
+// each value rounded once to its code.
 #include "io/io_test_util.h"
+#include "support/test_models.h"
 
 #include <hdm/core/error.h>
 #include <hdm/io/hdm_file.h>
@@ -126,14 +128,14 @@ TEST_F(HdmLegacyFile, Version2FileLoadsWithColoursRoundedOnce) {
   test::write_bytes(path, legacy_file(model, colour, roughness, 2));
   const SlabModel loaded = load_model(path);
   expect_quantised(loaded, true);
-  EXPECT_EQ(loaded.displacement, model.displacement);
-  EXPECT_EQ(loaded.layer_displacement, model.layer_displacement);
+  EXPECT_EQ(test::values(loaded.displacement), test::values(model.displacement));
+  EXPECT_EQ(test::values(loaded.layer_displacement), test::values(model.layer_displacement));
   EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
-  // Saved again, it is a version 5 file holding the same codes.
+  // Saved again, it is a version 6 file holding the same codes.
   const std::string again = dir.file("again.hdm");
   save_model(loaded, again);
   const std::vector<uint8_t> b = test::read_bytes(again);
-  EXPECT_EQ(b[4], 5);
+  EXPECT_EQ(b[4], 6);
   const SlabModel reloaded = load_model(again);
   EXPECT_EQ(reloaded.colour, loaded.colour);
   EXPECT_EQ(reloaded.roughness, loaded.roughness);
@@ -157,38 +159,44 @@ double binary16_value(uint16_t h) {
   return h >> 15 ? -v : v;
 }
 
-// The sections of a version 5 file (the table in hdm_file.h), with the five 16-bit field sections
-// rewritten as version 4's float32: @p value maps (tag, element index, stored code) to the float.
+// The sections of a version 6 file (the table in hdm_file.h) as an older @p version stores them:
+// the displacements (DISP) as float32 before version 6, and the other five 16-bit field sections
+// too before version 5. @p value maps (tag, element index, stored code) to the float.
 template <class Value>
-std::vector<uint8_t> as_version4(const std::vector<uint8_t>& v5, Value value) {
+std::vector<uint8_t> as_version(const std::vector<uint8_t>& v6, uint8_t version, Value value) {
   const std::vector<std::pair<std::string, size_t>> layout = {
-      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 3},  {"FRST", 2}, {"FRDY", 2}, {"STIF", 2},
-      {"SRCN", 1}, {"SRCT", 8},  {"SRCD", 8},  {"RUFF", 1},  {"LAYD", 2}, {"LAYM", 28}, {"HARD", 2}, {"LAYH", 4}};
+      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 2}, {"COLR", 3},
+      {"FRST", 2}, {"FRDY", 2},  {"STIF", 2},  {"SRCN", 1},  {"SRCT", 8}, {"SRCD", 8},
+      {"RUFF", 1}, {"LAYD", 2},  {"LAYM", 28}, {"HARD", 2},  {"LAYH", 4}};
   LegacyWriter w;
-  w.b.assign(v5.begin(), v5.begin() + 8);
-  w.b[4] = 4;
+  w.b.assign(v6.begin(), v6.begin() + 8);
+  w.b[4] = version;
   size_t pos = 8;
   for (const auto& [tag, bytes] : layout) {
-    EXPECT_EQ(std::string(reinterpret_cast<const char*>(&v5[pos]), 4), tag);
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(&v6[pos]), 4), tag);
     uint64_t count = 0;
-    for (int k = 7; k >= 0; --k) count = (count << 8) | v5[pos + 4 + k];
+    for (int k = 7; k >= 0; --k) count = (count << 8) | v6[pos + 4 + k];
     const size_t body = pos + 12;
-    if (bytes == 2) {
+    if (bytes == 2 && (version <= 4 || tag == "DISP")) {
       w.tag(tag.c_str(), count);
-      for (uint64_t k = 0; k < count; ++k) w.f32(value(tag, k, uint16_t(v5[body + 2 * k] | v5[body + 2 * k + 1] << 8)));
+      for (uint64_t k = 0; k < count; ++k) w.f32(value(tag, k, uint16_t(v6[body + 2 * k] | v6[body + 2 * k + 1] << 8)));
     } else {
-      w.b.insert(w.b.end(), v5.begin() + pos, v5.begin() + body + count * bytes);
+      w.b.insert(w.b.end(), v6.begin() + pos, v6.begin() + body + count * bytes);
     }
     pos = body + count * bytes;
   }
-  EXPECT_EQ(pos + 8, v5.size());
+  EXPECT_EQ(pos + 8, v6.size());
   w.seal();
   return w.b;
+}
+template <class Value>
+std::vector<uint8_t> as_version4(const std::vector<uint8_t>& v6, Value value) {
+  return as_version(v6, 4, value);
 }
 
 // The float a 16-bit field's code stands for: unorm16 code/65535, binary16 by its definition.
 float code_value(const std::string& tag, uint16_t code) {
-  return tag == "STIF" || tag == "LAYD" ? float(code / 65535.0) : float(binary16_value(code));
+  return tag == "STIF" || tag == "LAYD" || tag == "DISP" ? float(code / 65535.0) : float(binary16_value(code));
 }
 
 // A version 4 file stores the per-sample fields as float32. Written from the model's own codes it
@@ -233,14 +241,44 @@ TEST_F(HdmLegacyFile, Version4FileLoadsWithItsFloatFieldsRoundedOnce) {
   }
   // A value the 16-bit field cannot hold is refused by name.
   test::write_bytes(path, as_version4(v5, [&](const std::string& t, uint64_t k, uint16_t c) {
-    return t == "STIF" && k == 3 ? 1.5f : code_value(t, c);
-  }));
+                      return t == "STIF" && k == 3 ? 1.5f : code_value(t, c);
+                    }));
   try {
     load_model(path);
     ADD_FAILURE() << "a stiffness scale of 1.5 loaded";
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find(path + ": stiffness scale of sample 3 is 1.5"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(path + ": stiffness scale of sample 3 is 1.5"), std::string::npos) << e.what();
+  }
+}
+
+// A version 5 file stores the displacements as float32 and the other 16-bit fields as codes.
+// Written from the model's own codes it loads to the same model; written with floats between the
+// codes, each displacement loads as the code nearest it; one outside [0, 1] is refused by name.
+TEST_F(HdmLegacyFile, Version5FileLoadsWithItsFloatDisplacementsRoundedOnce) {
+  save_model(model, path);
+  const std::vector<uint8_t> v6 = test::read_bytes(path);
+  test::write_bytes(path,
+                    as_version(v6, 5, [](const std::string& t, uint64_t, uint16_t c) { return code_value(t, c); }));
+  const SlabModel same = load_model(path);
+  for (size_t s = 0; s < model.displacement.size(); ++s)
+    ASSERT_EQ(same.displacement[s].code, model.displacement[s].code) << s;
+  EXPECT_EQ(test::values(same.friction_static), test::values(model.friction_static));
+  auto written = [](uint64_t k) { return float(0.01 + 0.0123457 * double(k % 80)); };
+  test::write_bytes(path, as_version(v6, 5, [&](const std::string&, uint64_t k, uint16_t) { return written(k); }));
+  const SlabModel loaded = load_model(path);
+  for (size_t s = 0; s < loaded.displacement.size(); ++s) {
+    const int c = loaded.displacement[s].code;  // no code is nearer the written float
+    for (int other : {c - 1, c + 1})
+      ASSERT_LE(std::abs(c / 65535.0 - written(s)), std::abs(other / 65535.0 - written(s)) + 1e-9) << s;
+  }
+  test::write_bytes(path, as_version(v6, 5, [&](const std::string&, uint64_t k, uint16_t c) {
+                      return k == 3 ? 1.5f : code_value("DISP", c);
+                    }));
+  try {
+    load_model(path);
+    ADD_FAILURE() << "a displacement of 1.5 loaded";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": displacement of sample 3 is 1.5"), std::string::npos) << e.what();
   }
 }
 
@@ -250,7 +288,7 @@ TEST_F(HdmLegacyFile, Version3FileLoadsWithTheDefaultHardness) {
   save_model(model, path);
   std::vector<uint8_t> b =
       as_version4(test::read_bytes(path), [](const std::string& t, uint64_t, uint16_t c) { return code_value(t, c); });
-  const size_t hard = b.size() - 8 - (12 + 4 * model.hardness.size()) - (12 + 4);
+  const size_t hard = b.size() - 8 - (12 + 4 * model.hardness.size()) - (12 + 4);  // HARD as float32
   ASSERT_EQ(std::string(reinterpret_cast<const char*>(&b[hard]), 4), "HARD");
   b.resize(hard);
   b[4] = 3;
@@ -262,9 +300,9 @@ TEST_F(HdmLegacyFile, Version3FileLoadsWithTheDefaultHardness) {
   ASSERT_EQ(loaded.hardness.size(), model.displacement.size());
   for (float h : loaded.hardness) ASSERT_EQ(h, default_hardness_hv);
   EXPECT_EQ(loaded.under_layer.hardness_hv, UnderLayer{}.hardness_hv);
-  EXPECT_EQ(loaded.displacement, model.displacement);
+  EXPECT_EQ(test::values(loaded.displacement), test::values(model.displacement));
   EXPECT_EQ(loaded.colour, model.colour);
-  EXPECT_EQ(loaded.layer_displacement, model.layer_displacement);
+  EXPECT_EQ(test::values(loaded.layer_displacement), test::values(model.layer_displacement));
   EXPECT_EQ(loaded.under_layer.roughness, model.under_layer.roughness);
 }
 

@@ -63,7 +63,7 @@ void reseal(std::vector<uint8_t>& b) { set_u64(b, b.size() - 8, reference_fnv1a(
 // Section tag -> offset of its count field, walking the layout the format spec in hdm_file.h gives.
 std::map<std::string, size_t> section_offsets(const std::vector<uint8_t>& b) {
   const std::map<std::string, size_t> element_bytes = {
-      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 4}, {"COLR", 3},
+      {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 2}, {"COLR", 3},
       {"FRST", 2}, {"FRDY", 2},  {"STIF", 2},  {"SRCN", 1},  {"SRCT", 8}, {"SRCD", 8},
       {"RUFF", 1}, {"LAYD", 2},  {"LAYM", 28}, {"HARD", 2},  {"LAYH", 4}};
   std::map<std::string, size_t> at;
@@ -144,7 +144,7 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   const std::vector<uint8_t> b = test::read_bytes(path);
   ASSERT_GT(b.size(), 16u);
   EXPECT_EQ(std::memcmp(b.data(), "HDM\0", 4), 0);
-  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 5);
+  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 6);
   EXPECT_EQ(get_u64(b, b.size() - 8), reference_fnv1a(b.data(), b.size() - 8));
   const auto at = section_offsets(b);
   EXPECT_EQ(get_u64(b, at.at("DISP")), model.displacement.size());
@@ -156,13 +156,10 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   EXPECT_EQ(get_u64(b, at.at("LAYM")), 1u);
   EXPECT_EQ(get_u64(b, at.at("HARD")), model.hardness.size());
   EXPECT_EQ(get_u64(b, at.at("LAYH")), 1u);
-  // Displacements as little-endian float32, inner positions as float64.
+  // Displacements as little-endian unorm16 codes, each within half a step of the pattern's value.
   for (size_t s = 0; s < model.displacement.size(); ++s) {
-    uint32_t bits = 0;
-    for (int k = 3; k >= 0; --k) bits = (bits << 8) | b[at.at("DISP") + 8 + 4 * s + k];
-    float d;
-    std::memcpy(&d, &bits, 4);
-    EXPECT_EQ(d, test::sample_displacement(int(s)));
+    const int code = b[at.at("DISP") + 8 + 2 * s] | b[at.at("DISP") + 9 + 2 * s] << 8;
+    ASSERT_LE(std::abs(code - 65535.0 * test::sample_displacement(int(s))), 0.5 + 1e-3) << s;  // half a step
   }
   // Stiffness scale and under-layer top as little-endian unorm16 codes, code/65535.
   for (size_t s = 0; s < model.stiffness_scale.size(); ++s)
@@ -206,7 +203,7 @@ TEST_F(HdmFile, WrongVersionFails) {
   reseal(b);
   test::write_bytes(path, b);
   const std::string msg = expect_load_error<IoError>(path);
-  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 5"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 6"), std::string::npos) << msg;
 }
 
 TEST_F(HdmFile, BadMagicFails) {

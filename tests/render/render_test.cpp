@@ -195,8 +195,10 @@ TEST(RenderCamera, FramesTheBoundingSphereAsDocumented) {
   const SlabModel model = make_model(icosahedron(), 4, 2);
   const RenderCamera cam = fit_camera(model, 320, 240, 30, 20);
   const double half = kRenderFovYDeg / 2 * kDeg;  // the vertical field is the smaller one at 4:3
-  const double D = 1.0 / std::sin(std::atan(kRenderFill * std::tan(half)));
-  EXPECT_NEAR(cam.radius, 1.0, 1e-6);
+  // The vertices at 0.8 + 0.4·δ of the unit icosahedron's, δ = 0.5 as stored (its unorm16 code).
+  const double radius = 0.8 + 0.4 * double(float(Unorm16(0.5f)));
+  const double D = radius / std::sin(std::atan(kRenderFill * std::tan(half)));
+  EXPECT_NEAR(cam.radius, radius, 1e-6);
   EXPECT_NEAR((cam.eye - cam.target).norm(), D, 1e-6);
   EXPECT_NEAR((cam.eye - cam.target).normalized().dot(towards_eye(30, 20)), 1.0, 1e-9);
   const Eigen::Vector2d centre = cam.project(cam.target);
@@ -358,7 +360,7 @@ TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   const int P = model.samples.per_slab;
   std::vector<int32_t> moved(P);
   for (int k = 0; k < P; ++k) moved[k] = model.samples.id(5, k);
-  for (int32_t id : moved) model.displacement[id] *= 0.5f;
+  for (int32_t id : moved) model.displacement[id] = 0.5f * model.displacement[id];
   update_displacements(model, moved.data(), moved.size());
   update_normals(model, moved.data(), moved.size());
   for (int k = 0; k < P; ++k) model.layer_displacement[model.samples.id(7, k)] = 1.0f;

@@ -132,7 +132,7 @@ TEST(BakeTest, BakeOnTheCallersBvhGivesTheSameModel) {
   EXPECT_EQ(a.slabs, b.slabs);
   EXPECT_EQ(a.inner, b.inner);
   EXPECT_EQ(a.outer, b.outer);
-  EXPECT_EQ(a.displacement, b.displacement);
+  EXPECT_EQ(test::values(a.displacement), test::values(b.displacement));
   EXPECT_EQ(a.colour, b.colour);
   EXPECT_EQ(r1.ray_misses, r2.ray_misses);
 }
@@ -140,7 +140,7 @@ TEST(BakeTest, BakeOnTheCallersBvhGivesTheSameModel) {
 // The density rule: density × input triangles of submesh (slabs·n²), at least 8 slabs, and no more
 // than kMaxDensitySubmesh submesh triangles however large the input.
 TEST(BakeTest, TheDefaultSlabCountFollowsTheDensityUpToTheSubmeshCap) {
-  BakeOptions o;  // density 4, n = 16
+  BakeOptions o;                                  // density 4, n = 16
   EXPECT_EQ(default_slab_count(75408, o), 1178);  // 75,408 · 4 / 256 = 1,178.25
   EXPECT_EQ(default_slab_count(10, o), 8);
   const int64_t million = kMaxDensitySubmesh / 4;  // where the cap starts at density 4

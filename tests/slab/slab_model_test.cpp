@@ -21,14 +21,15 @@ float delta_at_height(double z) { return static_cast<float>((z + 1) / 2); }
 TEST(SlabModel, SurfaceBoxIsTheBoxOfTheDisplacedSheet) {
   SlabModel m = test::flat_sheet();
   const Aabb flat = surface_box(m);
-  EXPECT_EQ(flat.min, Vec3(-test::kSheetHalf, -test::kSheetHalf, 0));
-  EXPECT_EQ(flat.max, Vec3(test::kSheetHalf, test::kSheetHalf, 0));
+  EXPECT_EQ(flat.min, Vec3(-test::kSheetHalf, -test::kSheetHalf, test::sheet_surface_z()));
+  EXPECT_EQ(flat.max, Vec3(test::kSheetHalf, test::kSheetHalf, test::sheet_surface_z()));
   // One sample raised to z = 0.75 and one lowered to z = -0.5: the box follows them.
   m.displacement[m.samples.id(3, 40)] = delta_at_height(0.75);
   m.displacement[m.samples.id(20, 70)] = delta_at_height(-0.5);
   const Aabb moved = surface_box(m);
-  EXPECT_DOUBLE_EQ(moved.max.z(), 0.75);
-  EXPECT_DOUBLE_EQ(moved.min.z(), -0.5);
+  const double half_step = 1.0 / 65535;  // half a unorm16 step of δ over the 2 mm shell
+  EXPECT_NEAR(moved.max.z(), 0.75, half_step);
+  EXPECT_NEAR(moved.min.z(), -0.5, half_step);
   EXPECT_EQ(moved.min.head<2>(), flat.min.head<2>());
   EXPECT_EQ(moved.max.head<2>(), flat.max.head<2>());
 }

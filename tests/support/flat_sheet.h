@@ -15,8 +15,12 @@ inline constexpr double kSheetHalf = 10;     ///< the sheet spans [-10, 10]² [m
 inline constexpr double kSheetUnits = 1000;  ///< model units per metre (millimetres)
 
 /// The square split into kSheetQuads² quads (two slabs each, CCW seen from +z), inner face at
-/// z = -1, outer at z = +1, grid n = 16 (sample spacing 0.3125 mm), surface at z = 0 (δ = 0.5).
+/// z = -1, outer at z = +1, grid n = 16 (sample spacing 0.3125 mm), every δ = 0.5 (stored as its
+/// nearest unorm16 code, 32768/65535): the surface is the plane z = sheet_surface_z().
 SlabModel flat_sheet();
+
+/// Height of flat_sheet()'s surface [mm]: -1 + 2·δ for δ = 0.5 as stored (1.5e-5 above z = 0).
+inline double sheet_surface_z() { return -1.0 + 2.0 * double(float(Unorm16(0.5f))); }
 
 /// The slab and barycentrics (wR, wS, wT) of the sheet's point (x, y).
 void locate_on_sheet(double x, double y, int32_t& slab, Vec3& bary);

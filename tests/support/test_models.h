@@ -7,8 +7,16 @@
 #include <hdm/slab/slab_model.h>
 
 #include <string>
+#include <vector>
 
 namespace hdm::test {
+
+/// The values the codes of a 16-bit field (Unorm16, Half16) stand for: two such arrays compare
+/// equal exactly when their codes do (each code reads back as one float).
+template <class Field>
+std::vector<float> values(const std::vector<Field>& field) {
+  return {field.begin(), field.end()};
+}
 
 /// Path of a model extracted by scripts/setup.sh (fails the test if missing).
 std::string data_path(const std::string& name);

@@ -4,12 +4,12 @@
 /// The `.hdm` file: a slab model's stored data in a versioned little-endian binary format
 /// (docs/design.md#file-format).
 ///
-/// Format version 5, all integers and floats little-endian, IEEE-754:
+/// Format version 6, all integers and floats little-endian, IEEE-754:
 ///
 /// | bytes | content |
 /// | --- | --- |
 /// | 4 | magic `"HDM\0"` |
-/// | 4 | uint32 format version (= 5) |
+/// | 4 | uint32 format version (= 6) |
 /// | ... | 17 sections, in the order below (version 1: the first 12; versions 2 and 3: the first 15) |
 /// | 8 | uint64 FNV-1a (64-bit) hash of every byte before it |
 ///
@@ -21,7 +21,7 @@
 /// | `INNR` | #C | 3 float64: inner position [model units] |
 /// | `OUTR` | #C | 3 float64: outer position [model units] |
 /// | `SLAB` | #S | 3 int32: coarse vertex ids R, S, T |
-/// | `DISP` | #samples | float32 displacement δ |
+/// | `DISP` | #samples | uint16: displacement δ as unorm16, code/65535 (versions 1-5: float32) |
 /// | `COLR` | #texels | 3 uint8: 8-bit sRGB R, G, B (SlabModel::colour; versions 1 and 2: 3 float32 linear RGB) |
 /// | `FRST` | #samples | uint16: friction_static as IEEE binary16 bits (versions 1-4: float32) |
 /// | `FRDY` | #samples | uint16: friction_dynamic as IEEE binary16 bits (versions 1-4: float32) |
@@ -33,8 +33,8 @@
 /// | `LAYD` | #samples | uint16: layer_displacement as unorm16 (versions 2-4: float32; from version 2) |
 /// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness
 /// (from version 2) |
-/// | `HARD` | #samples | uint16: hardness [HV] as IEEE binary16 bits (SlabModel::hardness; version 4: float32; from version 4) |
-/// | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
+/// | `HARD` | #samples | uint16: hardness [HV] as IEEE binary16 bits (SlabModel::hardness; version 4: float32; from
+/// version 4) | | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
 ///
 /// Version 1 files (without `RUFF`, `LAYD` and `LAYM`) load with the defaults of those fields.
 /// Version 1 and 2 files' float colours and roughness are encoded to 8 bits on load (rounded once,
@@ -42,8 +42,9 @@
 /// hardness (default_hardness_hv per sample, UnderLayer's default for the under-layer). Files before
 /// version 5 store the per-sample fields as float32: load_model() rounds each once to the model's
 /// 16-bit field (hdm/core/field16.h), refusing a value the field cannot hold (outside [0, 1] for
-/// unorm16, beyond ±65,504 for binary16, not finite); save_model() always writes version 5, whose
-/// 16-bit sections hold the model's codes bit for bit (a save and a load give the same model).
+/// unorm16, beyond ±65,504 for binary16, not finite); files before version 6 store the
+/// displacements so too, and are rounded and refused alike. save_model() always writes version 6,
+/// whose 16-bit sections hold the model's codes bit for bit (a save and a load give the same model).
 /// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels
 /// follow from the counts (#C + (k-1)·#E + (k-1)(k-2)/2·#S for k = grid_n and grid_n·texel_density,
 /// #E the distinct slab edges); `DISP` and `COLR` must hold exactly that many, and `FRST`, `FRDY`,
@@ -66,7 +67,7 @@ namespace hdm {
 inline constexpr double max_model_coordinate = 1e15;
 
 /// Version of the `.hdm` format that save_model() writes and load_model() reads.
-inline constexpr uint32_t hdm_format_version = 5;
+inline constexpr uint32_t hdm_format_version = 6;
 
 /// @brief Writes the stored members of @p model to @p path (format in this file's header).
 /// @param model  slab model; its stored arrays have the sizes rebuild_derived() checks.

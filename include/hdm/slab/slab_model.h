@@ -44,7 +44,7 @@ struct SlabGeometry {
 /// @note noexcept, O(1); decode_snorm16() returns it within 1/65534 (half a step).
 inline int16_t encode_snorm16(float x) noexcept {
   const float c = std::clamp(x, -1.0f, 1.0f) * 32767.0f;  // std::clamp passes a NaN through
-  return c == c ? static_cast<int16_t>(std::lrint(c)) : int16_t(0);
+  return c == c ? static_cast<int16_t>(round_to_int(double(c))) : int16_t(0);
 }
 
 /// @brief The coordinate a snorm16 code of encode_snorm16() stands for: @p c / 32767, in [-1, 1].
@@ -52,22 +52,22 @@ inline int16_t encode_snorm16(float x) noexcept {
 inline float decode_snorm16(int16_t c) noexcept { return float(c) * (1.0f / 32767.0f); }
 
 /// One grid point of a slab as the haptic query and the proxy read it: the unit normal, the
-/// force-shading normal and the displacement of its sample, side by side in 16 bytes, so a grid
+/// force-shading normal and the displacement of its sample, side by side in 14 bytes, so a grid
 /// cell's three points are one or two cache lines of one slab's block. The normals are snorm16 per
-/// coordinate (encode_snorm16(); at most 2.7e-5 rad from the float normal): 14 B per slot less
-/// than float normals with a separate float array of force-shading normals. The query and the
-/// proxy interpolate the codes and normalise the sum, with no decode at all.
+/// coordinate (encode_snorm16(); at most 2.7e-5 rad from the float normal), the displacement the
+/// unorm16 code of SlabModel::displacement. The query and the proxy interpolate the normals' codes
+/// and normalise the sum, with no decode at all.
 struct SlabSample {
-  int16_t n[3];  ///< unit normal of the displaced surface, snorm16 (normal(); sample_normal() reads it)
-  int16_t h[3];  ///< force-shading normal (one-ring sum of unit normals, normalised), snorm16 (shading())
-  float delta;   ///< displacement δ in [0,1] (copy of SlabModel::displacement)
+  int16_t n[3];   ///< unit normal of the displaced surface, snorm16 (normal(); sample_normal() reads it)
+  int16_t h[3];   ///< force-shading normal (one-ring sum of unit normals, normalised), snorm16 (shading())
+  Unorm16 delta;  ///< displacement δ in [0,1] (copy of SlabModel::displacement's code)
 
   /// The unit normal (to 2.7e-5 rad), decoded.
   Vec3f normal() const noexcept { return {decode_snorm16(n[0]), decode_snorm16(n[1]), decode_snorm16(n[2])}; }
   /// The force-shading normal (to 2.7e-5 rad), decoded.
   Vec3f shading() const noexcept { return {decode_snorm16(h[0]), decode_snorm16(h[1]), decode_snorm16(h[2])}; }
 };
-static_assert(sizeof(SlabSample) == 16, "four slots per cache line");
+static_assert(sizeof(SlabSample) == 14, "seven 16-bit codes, no padding");
 
 /// The material under the surface layer (paper §2: "the depth of various materials underneath or
 /// above the visible surface — materials that may be exposed or added by an edit operation").
@@ -103,12 +103,14 @@ constexpr double vickers_to_pa(double hv) noexcept { return hv * 9.80665e6; }
 /// Surface points are not cached: sample_position() evaluates one in O(1) (docs/performance.md#model-memory-by-part).
 struct SlabModel {
   // ---- stored ----
-  int grid_n = 16;                  ///< displacement intervals per slab edge (n)
-  int texel_density = 2;            ///< colour texels per displacement interval (m); texel grid n·m
-  std::vector<Vec3> inner;          ///< #C inner coarse vertex positions V0 [model units]
-  std::vector<Vec3> outer;          ///< #C outer coarse vertex positions V1 [model units]
-  std::vector<Tri> slabs;           ///< #S slabs as coarse-vertex triples R, S, T (CCW from outside)
-  std::vector<float> displacement;  ///< #samples δ in [0,1] along each projection line (0 inner, 1 outer)
+  int grid_n = 16;          ///< displacement intervals per slab edge (n)
+  int texel_density = 2;    ///< colour texels per displacement interval (m); texel grid n·m
+  std::vector<Vec3> inner;  ///< #C inner coarse vertex positions V0 [model units]
+  std::vector<Vec3> outer;  ///< #C outer coarse vertex positions V1 [model units]
+  std::vector<Tri> slabs;   ///< #S slabs as coarse-vertex triples R, S, T (CCW from outside)
+  /// #samples δ in [0,1] along each projection line (0 inner, 1 outer), unorm16: within 7.7e-6
+  /// of the shell's thickness along the line (displacement_quantisation() bounds it in model units)
+  std::vector<Unorm16> displacement;
   /// #texels colour as 8-bit sRGB (decode_srgb8() gives the linear RGB it stands for; writers
   /// encode linear RGB with encode_srgb8(), rounding once)
   std::vector<Srgb8> colour;
@@ -234,6 +236,12 @@ void update_displacements(SlabModel& model, const int32_t* samples, size_t count
 /// [model units, model frame].
 /// @note O(#samples), noexcept; empty for a model without derived data.
 Aabb surface_box(const SlabModel& model) noexcept;
+
+/// @brief The most a stored surface point can lie from the one its displacement was written for:
+/// half a unorm16 step of δ (0.5/65535) times the longest projection line [model units].
+/// @note O(#C), noexcept. The line at barycentrics w is Σ wV·(V1 − V0), never longer than the longest
+///       corner's |V1 − V0|, so the bound holds at every sample. 0 for a model without coarse vertices.
+double displacement_quantisation(const SlabModel& model) noexcept;
 
 /// @brief Recomputes the unit normals of @p samples (area-weighted average of the incident grid
 /// triangles of every slab, across seams) (paper §3.4; docs/design.md#normals), and refreshes their
