@@ -46,10 +46,17 @@ struct PointEvaluator {
   const SlabModel& m;
   const std::array<double, 3>* weights;  // EditScratch::grid_weights: (wR, wS, wT) per grid index
   Vec3 operator()(int32_t id) const noexcept {
+    Vec3 p0, L;
+    return point(id, p0, L);
+  }
+  // The same point, with its line's inner end p0 and direction L (p1 - p0, to rounding): what the
+  // relaxing brushes need besides it, without evaluating the line again (LineEvaluator).
+  Vec3 point(int32_t id, Vec3& p0, Vec3& L) const noexcept {
     const GridSlot h = m.samples.home(id);
     const SlabGeometry& g = m.geometry[h.slab];
     const double wS = weights[h.index][1], wT = weights[h.index][2], d = m.displacement[id].value();
-    return g.R0 + wS * g.e1 + wT * g.e2 + d * (g.dR + wS * g.d1 + wT * g.d2);
+    p0 = g.R0 + wS * g.e1 + wT * g.e2, L = g.dR + wS * g.d1 + wT * g.d2;
+    return p0 + d * L;
   }
 };
 
@@ -94,7 +101,7 @@ inline int32_t add_with_neighbours(const SampleLayout& L, int32_t c, std::vector
     count += fresh;
   };
   add(c);
-  L.for_each_neighbour(c, add);
+  L.for_each_neighbour<false>(c, add);
   return count;
 }
 
@@ -221,7 +228,7 @@ bool EditJob::flood(const SampleLayout& L, std::vector<uint32_t>& marks, EditScr
     if (!through) continue;
     // Branch-free push: whether a neighbour was already queued is a coin flip inside a patch, and
     // a mispredicted branch per neighbour costs more than the unconditional stores.
-    L.for_each_neighbour(id, [&](int32_t t) {
+    L.for_each_neighbour<false>(id, [&](int32_t t) {
       const bool fresh = mk[t] != stamp;
       mk[t] = stamp;
       q[tail] = t;

@@ -34,7 +34,6 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   const Brush& b = job.sweep.brush;
   const Segment path(job.sweep.from, job.u);
   const double inv_r2 = 1 / job.r2;
-  LineEvaluator line_of{m, s.grid_weights.data()};
   const PointEvaluator point_of{m, s.grid_weights.data()};
   auto weight = [&](int32_t id) noexcept { return falloff_at(b.falloff, path.distance2(point_of(id)), inv_r2); };
   if (!job.kernel_second) {
@@ -59,12 +58,11 @@ bool drill_flood(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   while (job.kernel_cursor < job.result.visited) {
     if (d.expired()) return false;
     const int32_t id = s.queue[job.kernel_cursor++];
-    const double w = weight(id);
+    Vec3 p0, L;  // the projection line, from the slab constants with the point
+    const double w = falloff_at(b.falloff, path.distance2(point_of.point(id, p0, L)), inv_r2);
     if (!(w > 0)) continue;
     const double depth = depth_pa * w / vickers_to_pa(sample_hardness_hv(m, id));  // along the normal
-    Vec3 p0, p1;
-    line_of(id, p0, p1);
-    const Vec3 L = p1 - p0, e = sample_element(m, id);
+    const Vec3 e = sample_element(m, id);
     // Model units along the normal per unit of δ: L·n̂, at least 0.2·|L| (a line at a grazing angle).
     const double per_delta = std::max(L.dot(e) / e.norm(), 0.2 * L.norm());
     if (!(per_delta > 0)) continue;

@@ -12,7 +12,6 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   const Brush& b = job.sweep.brush;
   const Segment path(job.sweep.from, job.u);
   const double inv_r2 = 1 / job.r2, coef = job.coef;
-  LineEvaluator line_of{m, s.grid_weights.data()};
   const PointEvaluator point_of{m, s.grid_weights.data()};
   const SampleLayout& S = m.samples;
   const Vec3 q = job.sweep.plane_point, n = job.sweep.plane_normal;
@@ -20,13 +19,13 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
   static constexpr double kInverse[] = {0,      1,       1 / 2.,  1 / 3.,  1 / 4.,  1 / 5.,  1 / 6.,  1 / 7., 1 / 8.,
                                         1 / 9., 1 / 10., 1 / 11., 1 / 12., 1 / 13., 1 / 14., 1 / 15., 1 / 16.};
   return job.flood(S, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-    const double w = falloff_at(b.falloff, path.distance2(point_of(id)), inv_r2);
+    Vec3 p0, L;  // the projection line, from the slab constants with the point (not bit for bit projection_line())
+    const double w = falloff_at(b.falloff, path.distance2(point_of.point(id, p0, L)), inv_r2);
     if (!(w > 0)) return false;
     const double e = coef * w;
     // 1 - exp(-e): its series while e is small (per tick e ~ 0.01; error < e⁴/24), else exp.
     const double lambda = e < 0.02 ? e * (1 - e * (0.5 - e * (1.0 / 6))) : 1 - std::exp(-e);
     const float cur = m.displacement[id];
-    Vec3 p0, p1;
     double target;
     if (smooth) {  // mean of the grid neighbours' displacements (across seams)
       double sum = 0;
@@ -34,18 +33,14 @@ bool flood_relax(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noexce
       S.for_each_neighbour(id, [&](int32_t t) noexcept { sum += m.displacement[t].value(), ++valence; });
       if (valence == 0) return true;
       target = sum * (valence <= 16 ? kInverse[valence] : 1.0 / valence);
-      // A change below half a code step of δ (unorm16) stores nothing: skip the line and the write.
-      if (Unorm16(static_cast<float>(cur + lambda * (target - cur))).code == m.displacement[id].code) return true;
-      line_of(id, p0, p1);
     } else {  // where the projection line meets the tool's plane
-      line_of(id, p0, p1);
-      const Vec3 L = p1 - p0;
       const double ln = L.dot(n);
       if (!(std::abs(ln) > 1e-6 * L.norm())) return true;
       target = std::clamp((q - p0).dot(n) / ln, 0.0, 1.0);
     }
+    // A change below half a code step of δ (unorm16) stores nothing: no call.
     const float v = static_cast<float>(cur + lambda * (target - cur));
-    if (v != cur) job.set_delta(m, s, dirty, id, v, (p1 - p0).squaredNorm());
+    if (Unorm16(v).code != m.displacement[id].code) job.set_delta(m, s, dirty, id, v, L.squaredNorm());
     return true;
   });
 }

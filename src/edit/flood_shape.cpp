@@ -15,29 +15,27 @@ bool flood_boolean(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d) noex
   const double r2 = job.r2;
   const bool soft = job.soft;
   StrokeMemory* st = job.stroke;
-  LineEvaluator line_of{m, s.grid_weights.data()};
   const PointEvaluator point_of{m, s.grid_weights.data()};
   DirtyMarker dirty{s};
   // Boolean with the swept sphere. A surface point inside the tool moves to the tool's entry
   // (carve) or exit (add) on its projection line; one outside stays (a tool buried under a
   // column leaves it: no cavities; a tool floating over it adds nothing: no overhangs). The
-  // cheap point test decides; the line is intersected only for the samples that change.
+  // cheap point test decides; the line (evaluated with the point) is intersected only for the
+  // samples inside.
   // The fill continues through the surface within `reach` of the tool, which includes the
   // surface the previous sweep left on the tool's boundary.
   const double reach = r + std::max(0.25 * r, 1.5 * s.sample_spacing), reach2 = reach * reach;
   const Vec3 B = job.sweep.to;
   const double inv_uu = uu > 0 ? 1 / uu : 0.0;
   return job.flood(m.samples, s.sample_stamp, s, d, [&](int32_t id) noexcept {
-    const Vec3 w = point_of(id) - A;
+    Vec3 p0, L;  // the projection line, from the slab constants with the point
+    const Vec3 w = point_of.point(id, p0, L) - A;
     const double t = std::clamp(w.dot(u) * inv_uu, 0.0, 1.0);
     const double dist2 = (w - t * u).squaredNorm();
     if (dist2 > reach2) return false;
     // On the tool's boundary (within 1e-5 of the radius: where the previous sweep left the
     // surface) nothing is cut: the new capsule would only move it by rounding.
     if (dist2 >= r2 * (1 - 2e-5)) return true;
-    Vec3 p0, p1;
-    line_of(id, p0, p1);
-    const Vec3 L = p1 - p0;
     double t0, t1;
     if (!line_capsule(p0, L, A, B, r, t0, t1)) return true;
     const float cur = m.displacement[id];

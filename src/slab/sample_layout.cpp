@@ -137,23 +137,9 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
     if (L.homes[id] == kNone) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
-// With @p with_neighbours, the neighbours of every shared sample, from the grid triangles (listed
-// on the fly, never stored); always the slots of the shared samples. An interior sample's six
-// neighbours are read from its home slab's grid (SampleLayout::for_each_neighbour()).
-void build_adjacency(SampleLayout& L, int32_t interior_base, bool with_neighbours) {
-  if (with_neighbours)
-    build_csr(
-        [&](auto emit) {
-          L.for_each_triangle([&](const Tri& t) {
-            for (int k = 0; k < 3; ++k) {
-              const int32_t a = t[k], b = t[(k + 1) % 3];
-              if (a < interior_base) emit(a, b);
-              if (b < interior_base) emit(b, a);
-            }
-          });
-        },
-        interior_base, L.neighbour_offsets, L.neighbours);
-
+// The slots of the shared samples. An interior sample's six neighbours are read from its home
+// slab's grid, a shared sample's from the grids of its slots (SampleLayout::for_each_neighbour()).
+void build_adjacency(SampleLayout& L, int32_t interior_base) {
   // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
   build_csr(
       [&](auto emit) {
@@ -168,7 +154,7 @@ void build_adjacency(SampleLayout& L, int32_t interior_base, bool with_neighbour
 
 }  // namespace
 
-SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n, bool with_neighbours) {
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n) {
   if (n < 1) throw InvalidInput("grid n = " + std::to_string(n) + ": must be at least 1");
   SampleLayout L;
   L.n = n;
@@ -187,11 +173,12 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   L.slab_count = S;
   L.interior_per_slab = interior_per_slab;
   L.interior_divisor_magic = interior_per_slab > 0 ? UINT64_MAX / static_cast<uint64_t>(interior_per_slab) : 0;
+  L.slot_divisor_magic = UINT64_MAX / static_cast<uint64_t>(L.per_slab);
   L.first_interior = interior_base;
 
   fill_local_tables(L);
   assign_sample_ids(L, slabs, edges);
-  build_adjacency(L, interior_base, with_neighbours);
+  build_adjacency(L, interior_base);
   return L;
 }
 

@@ -305,7 +305,7 @@ void rebuild_derived(SlabModel& m) {
     if (!(m.inner[v].allFinite() && m.outer[v].allFinite()))
       check(false, "coarse vertex " + std::to_string(v) + " is not finite");
   m.samples = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n);
-  m.texels = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n * m.texel_density, false);
+  m.texels = build_sample_layout(m.slabs, m.coarse_vertex_count(), m.grid_n * m.texel_density);
   const size_t ns = m.samples.count, nt = m.texels.count;
   check(m.displacement.size() == ns,
         "displacement has " + std::to_string(m.displacement.size()) + " samples, the layout has " + std::to_string(ns));

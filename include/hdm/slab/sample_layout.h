@@ -65,6 +65,8 @@ struct SampleLayout {
   /// exact for every r < 2^32 - 1 and every divisor (the product is below (r + 1) / d by less
   /// than 2^-31: it floors to r / d whether or not d divides r + 1).
   uint64_t interior_divisor_magic = 0;
+  /// UINT64_MAX / per_slab: a slot's slab by a multiplication, as for `interior_divisor_magic`.
+  uint64_t slot_divisor_magic = 0;
   /// per_slab entries: for each packed grid index, its rank among the slab's interior points in
   /// grid::index order (>= 0), or ~(its rank among the slab's boundary points) (< 0).
   std::vector<int32_t> local_rank;
@@ -85,14 +87,6 @@ struct SampleLayout {
   /// per_slab entries: grid coordinates (i, j) of each packed index (inverse of grid::index).
   /// @{
   std::vector<int16_t> point_i, point_j;
-  /// @}
-  /// CSR adjacency over grid edges of the shared samples (ids below first_interior): the
-  /// neighbours of shared sample s are neighbours[neighbour_offsets[s] .. neighbour_offsets[s+1]),
-  /// sorted, each once. Interior samples have no row: their six neighbours are read from the home
-  /// slab's ids (for_each_neighbour()), which saves 28 bytes per sample. Empty in a layout built
-  /// without them (build_sample_layout()'s with_neighbours). Read through for_each_neighbour().
-  /// @{
-  std::vector<int32_t> neighbour_offsets, neighbours;
   /// @}
   /// Samples with id >= first_interior are interior to their home slab: their only grid point is
   /// home(). Corner and edge samples (ids below it) may be held by several slabs.
@@ -142,13 +136,16 @@ struct SampleLayout {
     for (int32_t k = shared_slot_offsets[s]; k < shared_slot_offsets[s + 1]; ++k) f(slot_of_shared[k]);
   }
 
-  /// @brief Calls @p f(t) for every sample t that shares a grid edge with sample @p s. An interior
-  /// sample: its six grid neighbours (i±1, j), (i, j±1), (i+1, j-1), (i-1, j+1) in its home slab,
-  /// in that order. A shared sample: its stored row (sorted, each once) when the layout has
-  /// adjacency, else the grid neighbours of each grid point holding @p s, where a neighbour seen
-  /// from two slabs (along a slab edge) comes twice.
-  /// @note O(neighbours), no allocation: 6 for an interior sample; noexcept if @p f is.
-  template <class F>
+  /// @brief Calls @p f(t) once for every sample t that shares a grid edge with sample @p s. An
+  /// interior sample: its six grid neighbours (i±1, j), (i, j±1), (i+1, j-1), (i-1, j+1) in its
+  /// home slab, in that order. A shared sample: the grid neighbours of each grid point holding it,
+  /// slot by slot (for_each_slot()); a grid edge along a slab's side, which the slab across that
+  /// side holds too, is listed from the lower-numbered of the two. Nothing is stored for it.
+  /// @tparam each_once  false: a neighbour along a slab's side may come twice, once from each slab
+  ///                    (for a flood, whose marks drop repeats, without the test that skips them).
+  /// @note O(neighbours), no allocation: 6 for an interior sample, about 4 per slab holding a
+  ///       shared one (n = 1: O(slabs²) at a coarse vertex); noexcept if @p f is.
+  template <bool each_once = true, class F>
   void for_each_neighbour(int32_t s, F&& f) const {
     if (s >= first_interior) {  // all six grid neighbours in the home slab, rows of n+1-j points
       const GridSlot h = home(s);
@@ -164,18 +161,21 @@ struct SampleLayout {
       f(g[p + 1]), f(g[p - 1]), f(g[p + row]), f(g[p + row - 1]), f(g[p - row]), f(g[p - row - 1]);
       return;
     }
-    if (!neighbour_offsets.empty()) {
-      for (int32_t e = neighbour_offsets[s]; e < neighbour_offsets[s + 1]; ++e) f(neighbours[e]);
-      return;
+    const int32_t *first = slot_of_shared.data() + shared_slot_offsets[s],
+                  *last = slot_of_shared.data() + shared_slot_offsets[s + 1];
+    for (const int32_t* x = first; x != last; ++x) {
+      const auto [slab, g, i, j] = grid_point(*x);
+      const int32_t p = *x - slab * per_slab, row = n + 1 - j;
+      const bool corner = (i == 0 || i == n) && (j == 0 || j == n);
+      // A grid edge along a side of this slab is held by the slab across that side too: it is
+      // listed from the lower-numbered one, for an edge sample its first slot (slots are sorted).
+      auto visit = [&](int32_t t, bool along_side) {
+        if (!each_once || !along_side || (corner ? !held_below(s, t, slab) : x == first)) f(t);
+      };
+      if (i + j < n) visit(g[p + 1], j == 0), visit(g[p + row], i == 0);        // (i+1, j), (i, j+1)
+      if (i > 0) visit(g[p - 1], j == 0), visit(g[p + row - 1], i + j == n);    // (i-1, j), (i-1, j+1)
+      if (j > 0) visit(g[p - row - 1], i == 0), visit(g[p - row], i + j == n);  // (i, j-1), (i+1, j-1)
     }
-    for_each_slot(s, [&](int32_t slot) {
-      const auto [k, g, i, j] = grid_point(slot);
-      constexpr int di[6] = {1, -1, 0, 0, 1, -1}, dj[6] = {0, 0, 1, -1, -1, 1};
-      for (int k = 0; k < 6; ++k) {
-        const int a = i + di[k], b = j + dj[k];
-        if (a >= 0 && b >= 0 && a + b <= n) f(g[grid::index(n, a, b)]);
-      }
-    });
   }
 
   /// Number of grid triangles: #slabs·n². The grid triangles (the surface drawn, felt and
@@ -248,8 +248,24 @@ struct SampleLayout {
     int i, j;
   };
   GridPoint grid_point(int32_t slot) const noexcept {
-    const int32_t slab = slot / per_slab, p = slot - slab * per_slab;
+    const auto slab =
+        static_cast<int32_t>((static_cast<unsigned __int128>(slot_divisor_magic) * uint32_t(slot + 1)) >> 64);
+    const int32_t p = slot - slab * per_slab;
     return {slab, slab_ids(slab), point_i[p], point_j[p]};
+  }
+  // Whether a slab numbered below @p slab holds the grid edge from corner sample s of @p slab to
+  // t, along a side of @p slab. For n > 1, t is an edge sample, held by the slabs of that side
+  // alone, its slots sorted: its first tells. At n = 1 both are corners: the slabs holding s are
+  // searched for t.
+  bool held_below(int32_t s, int32_t t, int32_t slab) const noexcept {
+    const int32_t below = slab * per_slab;  // the first slot of @p slab
+    if (n > 1) return slot_of_shared[shared_slot_offsets[t]] < below;
+    for (int32_t x = shared_slot_offsets[s]; x < shared_slot_offsets[s + 1] && slot_of_shared[x] < below; ++x) {
+      const int32_t lo = slot_of_shared[x] / per_slab * per_slab;
+      for (int32_t y = shared_slot_offsets[t]; y < shared_slot_offsets[t + 1]; ++y)
+        if (slot_of_shared[y] >= lo && slot_of_shared[y] < lo + per_slab) return true;
+    }
+    return false;
   }
   // Index within its slab of the first triangle of row j: rows j' < j hold 2(n - j') - 1 each.
   int32_t row_start(int j) const noexcept { return j * (2 * n - j); }
@@ -267,21 +283,13 @@ struct SampleLayout {
 /// @param slabs                #S slabs as coarse-vertex triples (R, S, T).
 /// @param coarse_vertex_count  number of coarse vertices; every id in @p slabs is below it.
 /// @param n                    intervals per slab edge, n >= 1.
-/// @param with_neighbours      keep the neighbour CSR of the shared samples (`neighbour_offsets`,
-///                             `neighbours`), so that for_each_neighbour() lists each of their
-///                             neighbours once: the samples' normals, relaxation and force-shading
-///                             ring sum over them. Without it (the colour texels: paint floods
-///                             over for_each_neighbour() and finds a texel's slabs by its slots)
-///                             a shared sample's neighbours along a slab edge come twice. No
-///                             layout stores its grid triangles (for_each_triangle()).
+/// No layout stores its grid triangles (for_each_triangle()) or adjacency (for_each_neighbour()).
 /// @return the layout; edge samples are shared by the two slabs of an edge, corner samples by
 ///         the whole one-ring (boundary edges belong to one slab).
 /// @throws InvalidInput if n < 1, an id is out of range, an edge is used by more than two slabs, or
 ///         the grid points (#S·(n+1)(n+2)/2) do not fit an int32.
-/// @note O(#S·n²) time and memory; the CSR rows are sorted in parallel (std::thread), and the (sample,
-///       neighbour) pairs are listed twice rather than stored (at 20,000 slabs and n = 32, the
-///       colour texels of `hdm bake --slabs 20000`, they would take 1 GB).
-SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n,
-                                 bool with_neighbours = true);
+/// @note O(#S·n²) time and memory; the CSR rows of the shared samples' slots are sorted in
+///       parallel (std::thread).
+SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_vertex_count, int n);
 
 }  // namespace hdm
