@@ -164,8 +164,9 @@ struct SampleLayout {
     const int32_t *first = slot_of_shared.data() + shared_slot_offsets[s],
                   *last = slot_of_shared.data() + shared_slot_offsets[s + 1];
     for (const int32_t* x = first; x != last; ++x) {
-      const auto [slab, g, i, j] = grid_point(*x);
-      const int32_t p = *x - slab * per_slab, row = n + 1 - j;
+      const GridPoint gp = grid_point(*x);  // named members: a lambda below captures the slab
+      const int32_t slab = gp.slab, i = gp.i, j = gp.j, p = *x - slab * per_slab, row = n + 1 - j;
+      const SlabIds& g = gp.ids;
       const bool corner = (i == 0 || i == n) && (j == 0 || j == n);
       // A grid edge along a side of this slab is held by the slab across that side too: it is
       // listed from the lower-numbered one, for an edge sample its first slot (slots are sorted).
