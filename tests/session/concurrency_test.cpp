@@ -267,7 +267,9 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   EXPECT_EQ(seams.load(), 0) << "a snapshot mixed two states of a shared sample";
   EXPECT_EQ(bad_vertices.load(), 0);
   EXPECT_GT(ss.contact_ticks, 10000);
-  EXPECT_GT(ss.changed, 1000) << "the servo thread must edit throughout";
+  EXPECT_GT(ss.sweeps, 200) << "the servo thread must edit throughout";
+  // Stored changes only: a smooth stroke over the sphere rounds mostly to the codes it finds.
+  EXPECT_GT(ss.changed, 100) << "and its edits must change the model";
   // Several epochs reached the readers (3 under ThreadSanitizer at load 9, hundreds when idle).
   EXPECT_GE(ss.publications, 2);
   EXPECT_GT(reuploads.load(), 100);
