@@ -150,10 +150,11 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
   d.spots = !r.overlapping_slabs.empty() || far_points;
   const bool helped = !t.local || f < plan.before_faults || max < 0.9 * plan.before_max;
   d.local = d.spots && helped && t.invalid_slabs == 0;
-  // A local round that did not help and left more faults or a larger maximum error than the round
-  // before it is undone: the next round grows that round instead, by its own ratio. Refining one
-  // place moved the decimation, and the grid the sample budget allows, everywhere else.
-  const bool worse = t.local && !d.local && (f > plan.before_faults || max > plan.before_max);
+  // A local round that did not help (fewer faults, or a tenth off the maximum error) is undone:
+  // the next round grows the round before it instead, by its own ratio. Refining one place moved
+  // the decimation, and the grid the sample budget allows, everywhere else; growing the local
+  // round's extra slabs as well would pay for a refinement that bought nothing.
+  const bool worse = t.local && !helped;
   // An undone round does not count for stuck(): the next round is compared with the one it grows.
   d.stuck = !worse && stuck(plan, round, t);
   // Otherwise more slabs everywhere: for a missed RMS bound (the coarse mesh too coarse

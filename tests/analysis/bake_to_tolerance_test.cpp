@@ -71,13 +71,15 @@ std::unique_ptr<ExactMeshQuery> oriented_data_mesh(const char* file) {
 }
 
 // Which round round k (k >= 1, not local) grows: the one before it, unless that was a local round
-// with a larger maximum error or more faults than its own predecessor (undone: docs/design.md).
+// that did not help, neither reducing the faults nor taking a tenth off its predecessor's maximum
+// error (undone: docs/design.md).
 size_t grown_round(const std::vector<ToleranceRound>& rounds, size_t k) {
   auto max_of = [](const ToleranceRound& r) { return std::max(r.fidelity.max_pct, r.fidelity.max_back_pct); };
   auto faults_of = [](const ToleranceRound& r) { return r.invalid_slabs + r.overlapping_pairs; };
   if (k < 2 || rounds[k].local || !rounds[k - 1].local) return k - 1;
   const ToleranceRound &r = rounds[k - 1], &before = rounds[k - 2];
-  return max_of(r) > max_of(before) || faults_of(r) > faults_of(before) ? k - 2 : k - 1;
+  const bool helped = faults_of(r) < faults_of(before) || max_of(r) < 0.9 * max_of(before);
+  return helped ? k - 1 : k - 2;
 }
 
 // `hdm bake`'s default bounds (0.2 % max, 0.02 % RMS) at default options.
@@ -329,14 +331,16 @@ TEST(BakeToToleranceTest, ThinTubedKnotBakesAtDefaultSettings) {
   EXPECT_GE(measure_contact(m, exact, 20000, 1, 1.0).agreement, 0.995);
 }
 
-// A local round that leaves the maximum error worse than the round before it is undone: the round
-// after it grows the better round by at most 3 (the largest growth), not the worse one. On
-// lion-head.off (16,674 triangles) the second local round's new decimation and lower grid move the
-// maximum error elsewhere and raise it (0.59 to 1.32 % of the diagonal); growing that round by its
-// own ratio made 4,424 slabs at n = 4, 4.25 submesh triangles per input triangle, against the 4 the
-// default density asks for. Slab counts and errors are the rounds' own measurements (the check
-// against Embree on the input is in the knot test above).
-TEST(BakeToToleranceTest, ALocalRoundThatMakesTheErrorWorseIsUndone) {
+// A local round that does not help (neither fewer faults nor a tenth off the maximum error of
+// the round before it) is undone: the round after it grows the round before by at most 3 (the
+// largest growth), not the local round's extra slabs. On lion-head.off (16,674 triangles) the
+// second local round's new decimation and lower grid move the maximum error elsewhere: on one
+// machine it rose (0.59 to 1.32 % of the diagonal), on another it fell by 2 % (0.592 to 0.579).
+// Growing that round by its own ratio made 4,424 and 4,940 slabs at n = 4, 4.25 and 4.74 submesh
+// triangles per input triangle, against the 4 the default density asks for. Slab counts and errors
+// are the rounds' own measurements (the check against Embree on the input is in the knot test
+// above).
+TEST(BakeToToleranceTest, ALocalRoundThatDoesNotHelpIsUndone) {
   const auto exact = oriented_data_mesh("lion-head.off");
   std::vector<ToleranceRound> rounds;
   const SlabModel m = bake_at_default_bounds(*exact, "lion-head.off", rounds);
@@ -348,7 +352,7 @@ TEST(BakeToToleranceTest, ALocalRoundThatMakesTheErrorWorseIsUndone) {
     ++undone;
     EXPECT_LE(rounds[k].slabs, 3 * rounds[grown].slabs + 1) << "round " << k << " grew the undone round " << k - 1;
   }
-  EXPECT_GE(undone, 1) << "no local round made the error worse: this input no longer tests the rule";
+  EXPECT_GE(undone, 1) << "every local round helped: this input no longer tests the rule";
   const double per_input = double(m.slab_count()) * m.grid_n * m.grid_n / double(exact->mesh().faces.size());
   EXPECT_LE(per_input, 4.0);
 }
