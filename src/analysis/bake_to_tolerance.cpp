@@ -154,9 +154,9 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
   // the next round grows the round before it instead, by its own ratio. Refining one place moved
   // the decimation, and the grid the sample budget allows, everywhere else; growing the local
   // round's extra slabs as well would pay for a refinement that bought nothing.
-  const bool worse = t.local && !helped;
+  const bool undone = t.local && !helped;
   // An undone round does not count for stuck(): the next round is compared with the one it grows.
-  d.stuck = !worse && stuck(plan, round, t);
+  d.stuck = !undone && stuck(plan, round, t);
   // Otherwise more slabs everywhere: for a missed RMS bound (the coarse mesh too coarse
   // everywhere: smaller slabs at a lower grid follow the input better than larger ones at a
   // finer grid with as many samples), or for spots that refining alone did not fix.
@@ -164,9 +164,9 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
   // A missed RMS bound alone grows the slabs by its ratio: the RMS falls about as fast.
   const double growth = d.spots || f > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * d.rms, 1.2, 3.0);
   // Past the source's triangles only where it runs short, and then on its faces split.
-  const double base = worse ? double(plan.before_slabs) : double(r.slabs);
+  const double base = undone ? double(plan.before_slabs) : double(r.slabs);
   const double wanted = std::min<double>(
-      tolerance.max_slabs, std::ceil(worse ? base * std::clamp(plan.before_worst, 1.5, 3.0) : base * growth));
+      tolerance.max_slabs, std::ceil(undone ? base * std::clamp(plan.before_worst, 1.5, 3.0) : base * growth));
   d.split = f == 0 && source_runs_short(plan, d.local, r.slabs, wanted, tolerance.max_slabs);
   const auto source_faces = static_cast<int64_t>(plan.source->faces.size());
   d.cap = static_cast<int>(d.split ? tolerance.max_slabs : std::min<int64_t>(tolerance.max_slabs, source_faces));
