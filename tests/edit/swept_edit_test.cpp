@@ -42,16 +42,17 @@ TEST(SweptEdit, LineCapsuleIntervalMatchesDenseSampling) {
   for (int trial = 0; trial < 400; ++trial) {
     const Vec3 a(u(rng), u(rng), u(rng)), b = trial % 4 ? Vec3(a + 0.6 * Vec3(u(rng), u(rng), u(rng))) : a;
     const double r = 0.3 + 0.4 * std::abs(u(rng));
-    // Lines through a point near the capsule (some miss it), t in [0, 4] spanning it.
+    // Lines through a point near the capsule (some miss it), near at t = 2.
     const Vec3 near = a + (b - a) * (0.5 + 0.5 * u(rng)) + 1.2 * r * Vec3(u(rng), u(rng), u(rng));
     const Vec3 L = Vec3(u(rng), u(rng), u(rng)).normalized();
     const Vec3 p0 = near - 2 * L;
     double t0 = 0, t1 = 0;
     const bool hit = line_capsule(p0, L, a, b, r, t0, t1);
-    // Reference: the line sampled at 40,001 points of t in [0, 4].
+    // Reference: the line sampled every 1e-4 over t in [-2, 6], which holds the whole capsule
+    // (within 3.2 of `near`, itself at t = 2), even where the line starts inside it.
     double lo = 1e9, hi = -1e9;
-    for (int k = 0; k <= 40000; ++k) {
-      const double t = 4.0 * k / 40000;
+    for (int k = 0; k <= 80000; ++k) {
+      const double t = -2.0 + 8.0 * k / 80000;
       if (capsule_distance(p0 + t * L, a, b) <= r) lo = std::min(lo, t), hi = std::max(hi, t);
     }
     if (lo <= hi && hi - lo > 1e-3) {  // a clear crossing: found, its ends within the sampling step

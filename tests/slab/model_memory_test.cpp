@@ -12,7 +12,13 @@
 namespace hdm {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+// g++ defines __SANITIZE_*__, clang 14 answers __has_feature().
+#if defined(__has_feature)
+#define HDM_SANITIZED_ALLOCATOR (__has_feature(address_sanitizer) || __has_feature(thread_sanitizer))
+#else
+#define HDM_SANITIZED_ALLOCATOR 0
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__) || HDM_SANITIZED_ALLOCATOR
 constexpr bool kOwnAllocator = false;  // the sanitizers' allocators leave mallinfo2 empty
 #else
 constexpr bool kOwnAllocator = true;
