@@ -6,7 +6,7 @@
 # read-only file systems and a hostile bridge peer), the ThreadSanitizer lane
 # (scripts/test_tsan.sh: the concurrency stress test), the AddressSanitizer + UBSan lane
 # (scripts/test_asan.sh: the whole suite; HDM_ASAN=0 skips it) and the fuzzing lane (scripts/fuzz.sh:
-# every reader's libFuzzer target for HDM_FUZZ_SECONDS each, default 25; 0 skips), printing each
+# every reader's libFuzzer target for HDM_FUZZ_SECONDS each, default 20; 0 skips), printing each
 # lane's time at the end.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -26,6 +26,6 @@ lane fault-injection bash "$here/scripts/fault_injection.sh"  # kills, planted l
 lane consumer bash "$here/scripts/test_consumer.sh"  # the installed package, as a find_package(hdm) user builds it
 lane tsan bash "$here/scripts/test_tsan.sh"          # the concurrency stress test under ThreadSanitizer
 if [ "${HDM_ASAN:-1}" != 0 ]; then lane asan-ubsan bash "$here/scripts/test_asan.sh"; fi
-seconds="${HDM_FUZZ_SECONDS:-25}"
+seconds="${HDM_FUZZ_SECONDS:-20}"
 if [ "$seconds" != 0 ]; then lane fuzz bash "$here/scripts/fuzz.sh" "$seconds"; fi
 printf 'lane %s\n' "${times[@]}"

@@ -2,12 +2,12 @@
 # AddressSanitizer + UndefinedBehaviorSanitizer lane: builds the whole test suite, the hdm program
 # and the studio with clang in build-asan/, all of it with ASan and the code under test with UBSan
 # too (not the CGAL repair units nor the tests themselves), and runs ctest there. clang, not the
-# main build's g++: its instrumented build takes half the compiler CPU (1,357 s against about
-# 2,680 s with g++ on a 2-core AMD EPYC; the largest CGAL unit 103 s against 158 s), so the
-# sanitizers also check a second compiler's reading of the code. Any ASan report (heap or stack overflow, use after free, leak) or UBSan report
-# (overflow, misaligned or null access, out-of-bounds index, invalid shift or cast:
-# -fno-sanitize-recover=all) fails the test that made it. (The fuzzers are the clang lane:
-# scripts/fuzz.sh.)
+# main build's g++: its instrumented build takes about half the compiler CPU (1,438 s against
+# about 2,680 s with g++ on a 2-core AMD EPYC; the largest CGAL unit 103 s against 158 s), and the
+# sanitizers also check a second compiler's reading of the code. Any ASan report (heap or stack
+# overflow, use after free, leak) or UBSan report (overflow, misaligned or null access,
+# out-of-bounds index, invalid shift or cast: -fno-sanitize-recover=all) fails the test that made
+# it. (The fuzzers have their own build: scripts/fuzz.sh.)
 # The Python module is left out (an instrumented extension needs the runtime preloaded into the
 # interpreter); the ThreadSanitizer lane is scripts/test_tsan.sh.
 set -euo pipefail
@@ -54,7 +54,8 @@ slow="$slow|^BakeToToleranceTest\.RefinesUntilTheBoundHoldsByBruteForce$"
 (cd "$out" && ctest --output-on-failure -j "$(nproc)" -E "^python\\.|$gl|$slow")
 # The tests that open OpenGL (EGL or Xvfb): Mesa's drivers are dlopen'd and unloaded, so
 # LeakSanitizer cannot name the module of their leaks, and its tracer has crashed at exit beside
-# llvmpipe's threads; leak checking is off for these (ASan and UBSan stay on).
-(cd "$out" && ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --output-on-failure -R "$gl")
+# llvmpipe's threads; leak checking is off for these (ASan and UBSan stay on). Two at a time, as
+# in the main lane (each studio test starts its own X server).
+(cd "$out" && ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --output-on-failure -j "$(nproc)" -R "$gl")
 end=$(date +%s)
 echo "asan: build $((built - start)) s, tests $((end - built)) s"
