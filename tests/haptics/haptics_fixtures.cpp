@@ -6,6 +6,8 @@
 #include <hdm/slab/bake.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 
 namespace hdm::test {
 
@@ -57,6 +59,10 @@ SlabModel sphere_with_friction() {
   std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
   std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
   return model;
+}
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
 }  // namespace hdm::test

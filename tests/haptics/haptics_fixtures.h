@@ -54,6 +54,10 @@ struct BakedMesh {
   ExactMeshQuery reference;
 };
 
+/// The angle between @p a and @p b [degrees, 0 to 180]: acos of their unit vectors' clamped dot
+/// product. Nonzero vectors.
+double angle_deg(const Vec3& a, const Vec3& b);
+
 /// The boundary of a union of grid cubes (hdm::voxel_surface, the harness's analytic blocks).
 using ::hdm::voxel_surface;
 

@@ -16,12 +16,10 @@
 namespace hdm {
 namespace {
 
+using test::angle_deg;
+
 using test::sphere;
 using test::sphere_params;
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
-}
 
 // Device point [m] for a model point on the unit sphere's frame (workspace scale 10/m).
 Vec3 dev(const Vec3& model) { return sphere().ws.to_device(model); }

@@ -17,6 +17,8 @@
 namespace hdm {
 namespace {
 
+using test::angle_deg;
+
 constexpr double kR = 0.1;           // burr head radius [model units]: 1 cm at the device
 constexpr double kShaft = 0.4 * kR;  // shaft radius
 const double kZ0 = std::sqrt(kR * kR - kShaft * kShaft);
@@ -43,10 +45,6 @@ RigidToolParams params() {
   p.damping = 0;
   p.rot_damping = 0;
   return p;
-}
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
 // The lowest of the shell's points at the god-object's pose [model units]: how far the points the

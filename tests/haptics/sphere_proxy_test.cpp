@@ -17,6 +17,8 @@
 namespace hdm {
 namespace {
 
+using test::angle_deg;
+
 using test::sphere;
 using test::sphere_params;
 using test::voxel_surface;
@@ -41,10 +43,6 @@ SphereProxyParams ball(double r) {
   p.proxy = sphere_params();
   p.radius = r;
   return p;
-}
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
 // The ball's penetration into the input: r minus the exact distance from its centre to the mesh

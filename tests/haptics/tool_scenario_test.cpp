@@ -6,6 +6,8 @@
 #include <hdm/core/error.h>
 #include <hdm/harness/tool_scenarios.h>
 
+#include "haptics/haptics_fixtures.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +18,8 @@
 
 namespace hdm {
 namespace {
+
+using test::angle_deg;
 
 constexpr double kR = 0.3;
 
@@ -31,10 +35,6 @@ double block_distance(const Vec3& c, bool slot) {
   if (!slot) return box_distance(c.x(), c.z(), -1, 1, -1, 0);
   return std::min({box_distance(c.x(), c.z(), -1, -0.2, -1, 0), box_distance(c.x(), c.z(), 0.2, 1, -1, 0),
                    box_distance(c.x(), c.z(), -0.2, 0.2, -1, -0.4)});
-}
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
 ToolScenarioReport run(ToolScenario s, double speed = 0.1) {

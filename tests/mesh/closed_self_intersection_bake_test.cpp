@@ -27,6 +27,7 @@
 #include <set>
 
 using namespace hdm;
+using test::signed_volume;
 
 namespace {
 
@@ -69,12 +70,6 @@ int caps(const TriangleMesh& m) {
     n += hi > 150 && lo < 0.5;
   }
   return n;
-}
-
-double signed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  return v;
 }
 
 // Bakes @p file as `hdm bake` does at defaults (orient, resolve a crossing, bake to the default

@@ -19,6 +19,7 @@
 #include <set>
 
 using namespace hdm;
+using test::signed_volume;
 
 namespace {
 
@@ -89,12 +90,6 @@ Topology topology(const TriangleMesh& m) {
   t.components = static_cast<int64_t>(roots.size());
   t.euler = int64_t(m.vertices.size() - t.unused_vertices) - int64_t(undirected.size()) + int64_t(m.faces.size());
   return t;
-}
-
-double signed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& f : m.faces) v += m.vertices[f[0]].dot(m.vertices[f[1]].cross(m.vertices[f[2]])) / 6;
-  return v;
 }
 
 // A torus of radii R and r on a u × v grid (genus 1, χ = 0), counter-clockwise seen from outside.

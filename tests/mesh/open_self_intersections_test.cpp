@@ -8,6 +8,8 @@
 #include <hdm/mesh/exact_mesh_query.h>
 #include <hdm/mesh/stitch_seams.h>
 
+#include "support/test_models.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -16,6 +18,7 @@
 #include <set>
 
 using namespace hdm;
+using test::signed_volume;
 
 namespace {
 
@@ -71,12 +74,6 @@ double area(const TriangleMesh& m) {
   for (const Tri& t : m.faces)
     a += 0.5 * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
   return a;
-}
-
-double signed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  return v;
 }
 
 // Every face of @p out lies on a face of @p in (its centroid and corners, exactly up to rounding).

@@ -17,15 +17,9 @@
 #include <set>
 
 using namespace hdm;
+using test::signed_volume;
 
 namespace {
-
-// Signed volume enclosed by a closed mesh (divergence theorem); > 0 for outward normals.
-double signed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  return v;
-}
 
 void expect_clean_and_closed(const TriangleMesh& m) {
   const MeshTopology t = analyze_topology(m);

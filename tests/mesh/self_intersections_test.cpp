@@ -15,6 +15,7 @@
 #include <random>
 
 using namespace hdm;
+using test::signed_volume;
 
 namespace {
 
@@ -28,12 +29,6 @@ void add_box(TriangleMesh& m, const Vec3& lo, const Vec3& hi) {
     m.faces.push_back({base + q[0], base + q[1], base + q[2]});
     m.faces.push_back({base + q[0], base + q[2], base + q[3]});
   }
-}
-
-double signed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  return v;
 }
 
 // The properties every resolved union must have: closed, manifold, consistently oriented, crossing

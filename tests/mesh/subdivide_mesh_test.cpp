@@ -14,6 +14,7 @@
 #include <cmath>
 
 using namespace hdm;
+using test::signed_volume;
 
 namespace {
 
@@ -22,12 +23,6 @@ int64_t tripled_until(int64_t faces, int64_t wanted, int* steps) {
   *steps = 0;
   while (faces < wanted) faces *= 3, ++*steps;
   return faces;
-}
-
-double signed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  return v;
 }
 
 double longest_edge(const TriangleMesh& m) {
