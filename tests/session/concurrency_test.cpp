@@ -19,6 +19,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -120,11 +122,18 @@ Brush brush(int s) {
 struct Hooks {
   const Plan* plan;
   int16_t set = -1;
+  std::array<int64_t, 64> sweeps_of_stroke{};  ///< sweeps finished while (or after) each stroke ran
+  std::atomic<int64_t> ticks{0};                ///< ticks run, for the control thread
 };
 void before(void* user, SculptSession& session, const ServoTick& t) noexcept {
   auto& h = *static_cast<Hooks*>(user);
   const int16_t s = h.plan->stroke[std::min<size_t>(static_cast<size_t>(t.tick), h.plan->stroke.size() - 1)];
   if (s >= 0 && s != h.set) session.set_brush(brush(h.set = s));
+}
+void after(void* user, const ServoTick& t, const SessionTick& result) noexcept {
+  auto& h = *static_cast<Hooks*>(user);
+  if (h.set >= 0) h.sweeps_of_stroke[static_cast<size_t>(h.set) % 64] += result.sweeps;
+  h.ticks.store(t.tick + 1, std::memory_order_relaxed);
 }
 
 template <class T>
@@ -225,9 +234,22 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
       saved.emplace_back(epoch, path);
     }
   };
-  auto control = [&] {  // undo and redo from the user's hand, off the servo thread
+  // Undo and redo from the user's other hand, off the servo thread, every 150 ms but only while
+  // the tool button is up with at least 500 ticks of the gap left: an undo while the button is
+  // held ends that stroke (tested with the editor), which would leave how much each stroke edits
+  // to the threads' timing.
+  Hooks hooks{&p};
+  std::vector<uint8_t> gap(p.button.size(), 0);
+  for (size_t k = 0; k + 500 < p.button.size(); ++k)
+    gap[k] = std::all_of(p.button.begin() + k, p.button.begin() + k + 500, [](uint32_t b) { return b == 0; });
+  auto control = [&] {
     for (int k = 0; !done.load(); ++k) {
       std::this_thread::sleep_for(std::chrono::milliseconds(150));
+      for (;;) {
+        const auto t = static_cast<size_t>(hooks.ticks.load(std::memory_order_relaxed));
+        if (done.load() || (t < gap.size() && gap[t])) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
       session.post(SessionCommand{k % 3 == 2 ? SessionCommand::Redo : SessionCommand::Undo, {}, {}});
     }
   };
@@ -240,8 +262,7 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   so.rate_hz = 10000;
   so.ticks = static_cast<int64_t>(p.target.size());
   so.watchdog_ticks = 1 << 30;  // sanitizer builds run slowly; the envelope is tested elsewhere
-  Hooks hooks{&p};
-  const ServoStats st = run_session(session, device, so, SessionHooks{before, nullptr, &hooks});
+  const ServoStats st = run_session(session, device, so, SessionHooks{before, after, &hooks});
   // Under a loaded sanitizer run the saver may have been starved while the servo thread edited;
   // let it save the last epochs too (each is checked below), for at most two minutes.
   const auto wait_until = std::chrono::steady_clock::now() + std::chrono::minutes(2);
@@ -267,7 +288,12 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   EXPECT_EQ(seams.load(), 0) << "a snapshot mixed two states of a shared sample";
   EXPECT_EQ(bad_vertices.load(), 0);
   EXPECT_GT(ss.contact_ticks, 10000);
-  EXPECT_GT(ss.sweeps, 200) << "the servo thread must edit throughout";
+  // The servo thread edits throughout: every stroke, however the machine's load slows the sweeps
+  // (a backlog merges samples into fewer, longer sweeps).
+  std::printf("sweeps per stroke:");
+  for (int k = 0; k < 8; ++k) std::printf(" %lld", (long long)hooks.sweeps_of_stroke[k]);
+  std::printf("\n");
+  for (int k = 0; k < 8; ++k) EXPECT_GE(hooks.sweeps_of_stroke[k], 1) << "stroke " << k << " made no sweep";
   // Stored changes only: a smooth stroke over the sphere rounds mostly to the codes it finds.
   EXPECT_GT(ss.changed, 100) << "and its edits must change the model";
   // Several epochs reached the readers (3 under ThreadSanitizer at load 9, hundreds when idle).
