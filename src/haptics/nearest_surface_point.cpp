@@ -127,10 +127,47 @@ SlabNearest slab_nearest(const SlabModel& m, int slab, double wS, double wT, con
   return best;
 }
 
-// The force-shading normal at @p b (and in @p facet its grid triangle's): the per-sample normals
-// (SlabSample::h) interpolated by the point's barycentrics in its grid
-// triangle, as the point proxy shades its force (Morgenbesser & Srinivasan 1996).
-Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& facet) noexcept {
+// The force-shading normals of the grid points around one grid triangle of cell (i0 + 1, j0 + 1),
+// its corners and their neighbours in the slab (a 4 × 4 window of grid indices), each decoded once.
+struct ShadingWindow {
+  const SlabSample* v;
+  int n, i0, j0;
+  Vec3f h[16];
+  bool have[16] = {};
+  const Vec3f& at(int i, int j) noexcept {
+    const int k = 4 * (i - i0) + (j - j0);
+    if (!have[k]) h[k] = v[grid::index(n, i, j)].shading(), have[k] = true;
+    return h[k];
+  }
+};
+
+// How fast the force-shading field turns at grid point (i, j) [rad per model unit, as chords]:
+// the largest |h_u − h| over its grid neighbours u in the slab, over the slab's mean grid spacing
+// (@p per_spacing is its inverse). A property of the grid point, not of a triangle, so that
+// interpolated over the triangles around the point it is continuous within the slab.
+double point_turn(ShadingWindow& w, int i, int j, double per_spacing) noexcept {
+  static constexpr int di[6] = {1, -1, 0, 0, 1, -1}, dj[6] = {0, 0, 1, -1, -1, 1};
+  const Vec3f h = w.at(i, j);
+  float most = 0;
+  for (int k = 0; k < 6; ++k) {
+    const int a = i + di[k], b = j + dj[k];
+    if (a < 0 || b < 0 || a + b > w.n) continue;
+    most = std::max(most, (w.at(a, b) - h).squaredNorm());
+  }
+  return std::sqrt(double(most)) * per_spacing;
+}
+
+// The mean grid spacing of @p g's mid-surface (δ = 1/2) [model units].
+double mid_spacing(int n, const SlabGeometry& g) noexcept {
+  const Vec3 s = g.e1 + 0.5 * g.d1, t = g.e2 + 0.5 * g.d2;
+  return (s.norm() + t.norm() + (s - t).norm()) / (3.0 * n);
+}
+
+// The force-shading normal at @p b (and in @p facet its grid triangle's, in @p corner its
+// barycentrics there): the per-sample normals (SlabSample::h) interpolated by the point's
+// barycentrics in its grid triangle, as the point proxy shades its force (Morgenbesser &
+// Srinivasan 1996).
+Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& facet, float corner[3]) noexcept {
   const int n = m.grid_n;
   const SlabGeometry& g = m.geometry[slab];
   const SlabSample* v = slab_query::detail::slab_block(m, slab);
@@ -148,7 +185,7 @@ Vec3 shaded_normal(const SlabModel& m, int slab, const SlabNearest& b, Vec3& fac
   w1 = std::clamp(w1, 0.0, 1.0), w2 = std::clamp(w2, 0.0, 1.0 - w1);
   const double w[3] = {1 - w1 - w2, w1, w2};
   Vec3 sum = Vec3::Zero();
-  for (int k = 0; k < 3; ++k) sum += w[k] * v[ids[k]].shading().cast<double>();
+  for (int k = 0; k < 3; ++k) sum += w[k] * v[ids[k]].shading().cast<double>(), corner[k] = float(w[k]);
   const double len = sum.norm();
   return len > 0 ? Vec3(sum / len) : facet;
 }
@@ -217,11 +254,24 @@ SurfacePoint nearest_surface_point(const SlabModel& m, int slab, double wS, doub
   }
   SurfacePoint out;
   out.point = best.point;
-  out.normal = shaded_normal(m, slab, best, out.facet);
+  out.normal = shaded_normal(m, slab, best, out.facet, out.corner);
   out.slab = slab;
+  out.cell_i = best.i, out.cell_j = best.j, out.down = best.down;
   out.wS = (best.j + 1.0 / 3) / n;
   out.wT = (best.i + 1.0 / 3) / n;
   return out;
+}
+
+double shading_turn(const SlabModel& m, const SurfacePoint& p) noexcept {
+  const int n = m.grid_n;
+  const SlabGeometry& g = m.geometry[p.slab];
+  const double spacing = mid_spacing(n, g), per_spacing = spacing > 0 ? 1 / spacing : 0;
+  ShadingWindow around{slab_query::detail::slab_block(m, p.slab), n, p.cell_i - 1, p.cell_j - 1};
+  const int ia = p.down ? p.cell_i + 1 : p.cell_i, ja = p.down ? p.cell_j + 1 : p.cell_j;
+  const int ci[3] = {ia, p.cell_i + 1, p.cell_i}, cj[3] = {ja, p.cell_j, p.cell_j + 1};
+  double turn = 0;
+  for (int k = 0; k < 3; ++k) turn += p.corner[k] * point_turn(around, ci[k], cj[k], per_spacing);
+  return turn;
 }
 
 }  // namespace hdm::haptics_detail

@@ -5,11 +5,13 @@
 #include "support/flat_sheet.h"
 
 #include <hdm/haptics/sphere_proxy.h>
+#include <hdm/pipeline/bake_input.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -155,6 +157,53 @@ TEST(SphereProxy, RollsOverAConvexEdgeWithAContinuousForce) {
   EXPECT_LT(angle_deg(first, Vec3::UnitZ()), 10.0);
   EXPECT_LT(angle_deg(last, Vec3::UnitX()), 10.0);
   EXPECT_LT(worst_step, 0.02) << "largest force step between ticks, fraction of max force";
+}
+
+// The same roll on paths across the whole edge, on the slot block as `hdm bake` makes it (the
+// default bake to the fidelity bound, bake_input()), so the edge meets slab edges and grid
+// lines at every place along it. Beside the edge the force-shading normals blend the top and the
+// side within a grid spacing; the ball must not follow that blend (it rounds the edge by its own
+// radius), nor sink into the top or snap back: on every path, no deeper into the input than 2 % of
+// r and no force step above 2 % of the maximum force. (Following the blend stepped 3.4-9.2 %.)
+TEST(SphereProxy, RollsOverAConvexEdgeAnywhereAlongIt) {
+  const TriangleMesh block = slot_block(4);
+  const SlabModel model = bake_input(block, "slot block");
+  const SlabLocator locator(model);
+  const ExactMeshQuery input(block);
+  Workspace ws;
+  ws.scale = 10;
+  const double r = 0.3, d = r - 0.05;
+  const SphereProxyParams p = ball(r);
+  double steepest = 0, deepest = 0;
+  for (int path = 0; path < 12; ++path) {
+    const double y = -0.85 + 0.1537 * path;  // 12 paths at offsets unrelated to the cubes and slabs
+    SphereProxyState st;
+    double worst = 0, worst_step = 0;
+    Vec3 prev = Vec3::Zero();
+    const int n = 1500;
+    for (int k = 0; k <= n; ++k) {
+      Vec3 hip;
+      if (k < 100)
+        hip = Vec3(0.8, y, d + 0.2 * (1 - k / 100.0));
+      else if (k < 200)
+        hip = Vec3(0.8 + 0.2 * (k - 100) / 100.0, y, d);
+      else {
+        const double a = 0.5 * std::numbers::pi * (k - 200) / (n - 200);
+        hip = Vec3(1, y, 0) + d * Vec3(std::sin(a), 0, std::cos(a));
+      }
+      const ProxyOutput out = sphere_proxy_step(model, locator, ws, ws.to_device(hip), Vec3::Zero(), p, st);
+      if (k < 150) continue;
+      ASSERT_TRUE(st.contact) << "y " << y << ", tick " << k;
+      worst = std::max(worst, penetration(input, st.center, r));
+      if (prev.norm() > 0) worst_step = std::max(worst_step, (out.force - prev).norm() / p.proxy.force.max_force);
+      prev = out.force;
+    }
+    EXPECT_LT(worst, 0.02 * r) << "y " << y;
+    EXPECT_LT(worst_step, 0.02) << "y " << y << ": largest force step between ticks, fraction of max force";
+    steepest = std::max(steepest, worst_step), deepest = std::max(deepest, worst);
+  }
+  std::printf("%d slabs: largest step %.2f %% of the maximum force, deepest %.2f %% of r\n", model.slab_count(),
+              100 * steepest, 100 * deepest / r);
 }
 
 // Rolling over the unit sphere 0.02 deep (r = 0.1) across many slabs: the ball stays r from the
