@@ -137,14 +137,13 @@ ForceShadingCode force_shading_code(const SlabModel& m, int32_t s) noexcept {
   Vec3f sum = own;
   m.samples.for_each_neighbour(s, [&](int32_t t) noexcept { sum += sample_normal(m, t); });
   const float len = sum.norm();
-  const Vec3f n = len > 0 ? Vec3f(sum * (1.0f / len)) : own;
-  return {encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])};
+  return encode_oct8(len > 0 ? Vec3f(sum * (1.0f / len)) : own);
 }
 
 void store_force_shading_code(SlabModel& m, int32_t s, const ForceShadingCode& c) noexcept {
   m.samples.for_each_slot(s, [&](int32_t slot) {
-    int16_t* h = m.slab_samples[slot].h;
-    h[0] = c[0], h[1] = c[1], h[2] = c[2];
+    int8_t* h = m.slab_samples[slot].h;
+    h[0] = c[0], h[1] = c[1];
   });
 }
 

@@ -35,7 +35,7 @@ TEST(Snorm16, UnitNormalsComeBackWithinTheStatedAngle) {
   double worst_angle = 0, worst_length = 0;
   auto check = [&](const Vec3& d) {
     const Vec3f n = d.normalized().cast<float>();
-    SlabSample s{{encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])}, {}, 0.5f};
+    SlabSample s{{encode_snorm16(n[0]), encode_snorm16(n[1]), encode_snorm16(n[2])}, 0.5f, {}};
     const Vec3 back = s.normal().cast<double>();
     const double angle = std::atan2(back.cross(d.normalized()).norm(), back.dot(d.normalized()));
     worst_angle = std::max(worst_angle, angle);

@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -51,23 +52,68 @@ inline int16_t encode_snorm16(float x) noexcept {
 /// @note noexcept, O(1).
 inline float decode_snorm16(int16_t c) noexcept { return float(c) * (1.0f / 32767.0f); }
 
+/// @brief The direction an encode_oct8() code stands for, not normalised: (x, y, 127 - |x| - |y|)
+/// with the lower half unfolded, of length 127/√3 to 127 [code units]; zero for {-128, -128}.
+/// @note noexcept, O(1).
+inline Vec3f decode_oct8(const int8_t c[2]) noexcept {
+  if (c[0] == -128 && c[1] == -128) return Vec3f::Zero();
+  float x = c[0], y = c[1];
+  const float z = 127.0f - std::abs(x) - std::abs(y), t = std::max(-z, 0.0f);
+  x -= std::copysign(t, x), y -= std::copysign(t, y);
+  return {x, y, z};
+}
+
+/// @brief Octahedral code of the direction @p v: two int8 codes for the point p where @p v meets
+/// the octahedron |x| + |y| + |z| = 1, the lower half (z < 0) folded over the upper, scaled by 127;
+/// of the four codes around 127·p, the one whose direction is nearest @p v (Cigolle, Donow,
+/// Evangelakos, Mara, McGuire & Meyer, "A Survey of Efficient Representations for Independent Unit
+/// Vectors", JCGT 3(2), 2014, §3.3, 16-bit "oct" with the "precise" encoding).
+/// decode_oct8() of the code is within 0.65° of @p v (measured over two million random directions
+/// by `Oct8.UnitVectorsComeBackWithinTheStatedAngle`; 0.96° with plain rounding). A zero or
+/// non-finite @p v gives the code {-128, -128}, which the encoding never makes otherwise and which
+/// decodes to the zero vector (a grid point with no normal adds nothing to an interpolated one).
+/// @note noexcept, O(1): four decodes.
+inline std::array<int8_t, 2> encode_oct8(const Vec3f& v) noexcept {
+  const float s = std::abs(v[0]) + std::abs(v[1]) + std::abs(v[2]);
+  if (!(s > 0) || !(s < std::numeric_limits<float>::infinity())) return {-128, -128};
+  float px = v[0] / s, py = v[1] / s;
+  if (v[2] < 0) {
+    const float fx = (1 - std::abs(py)) * (px >= 0 ? 1.0f : -1.0f), fy = (1 - std::abs(px)) * (py >= 0 ? 1.0f : -1.0f);
+    px = fx, py = fy;
+  }
+  const float fx = std::floor(std::clamp(px, -1.0f, 1.0f) * 127.0f), fy = std::floor(std::clamp(py, -1.0f, 1.0f) * 127.0f);
+  std::array<int8_t, 2> best{};
+  float best_cos = -2;
+  for (int k = 0; k < 4; ++k) {
+    const int8_t c[2] = {static_cast<int8_t>(std::min(fx + float(k & 1), 127.0f)),
+                         static_cast<int8_t>(std::min(fy + float(k >> 1), 127.0f))};
+    const Vec3f d = decode_oct8(c);
+    const float cos = d.dot(v) / d.norm();  // times |v|, the same for every candidate
+    if (cos > best_cos) best_cos = cos, best = {c[0], c[1]};
+  }
+  return best;
+}
+
 /// One grid point of a slab as the haptic query and the proxy read it: the unit normal, the
-/// force-shading normal and the displacement of its sample, side by side in 14 bytes, so a grid
-/// cell's three points are one or two cache lines of one slab's block. The normals are snorm16 per
-/// coordinate (encode_snorm16(); at most 2.7e-5 rad from the float normal), the displacement the
-/// unorm16 code of SlabModel::displacement. The query and the proxy interpolate the normals' codes
-/// and normalise the sum, with no decode at all.
+/// displacement of its sample and the force-shading normal, side by side in 10 bytes, so a grid
+/// cell's three points are one or two cache lines of one slab's block. The normal is snorm16 per
+/// coordinate (encode_snorm16(); at most 2.7e-5 rad from the float normal): the query's depth
+/// depends on it. The displacement is the unorm16 code of SlabModel::displacement. The
+/// force-shading normal, which only directs the proxy's force, is an 8-bit octahedral code
+/// (encode_oct8(); at most 0.65° from the float normal, against the 10° the force direction is
+/// allowed: docs/haptics.md). The query interpolates the normal's codes and normalises the sum,
+/// with no decode at all.
 struct SlabSample {
   int16_t n[3];   ///< unit normal of the displaced surface, snorm16 (normal(); sample_normal() reads it)
-  int16_t h[3];   ///< force-shading normal (one-ring sum of unit normals, normalised), snorm16 (shading())
   Unorm16 delta;  ///< displacement δ in [0,1] (copy of SlabModel::displacement's code)
+  int8_t h[2];    ///< force-shading normal (one-ring sum of unit normals, normalised), octahedral (shading())
 
   /// The unit normal (to 2.7e-5 rad), decoded.
   Vec3f normal() const noexcept { return {decode_snorm16(n[0]), decode_snorm16(n[1]), decode_snorm16(n[2])}; }
-  /// The force-shading normal (to 2.7e-5 rad), decoded.
-  Vec3f shading() const noexcept { return {decode_snorm16(h[0]), decode_snorm16(h[1]), decode_snorm16(h[2])}; }
+  /// The force-shading normal (to 0.65°), decoded and normalised.
+  Vec3f shading() const noexcept { return decode_oct8(h).normalized(); }  // Eigen: zero stays zero
 };
-static_assert(sizeof(SlabSample) == 14, "seven 16-bit codes, no padding");
+static_assert(sizeof(SlabSample) == 10, "five 16-bit codes, no padding");
 
 /// The material under the surface layer (paper §2: "the depth of various materials underneath or
 /// above the visible surface — materials that may be exposed or added by an edit operation").
@@ -273,8 +319,8 @@ struct FaceNormalCache {
   uint32_t current = 0;          ///< number of the current call
 };
 
-/// @brief A force-shading normal as stored: its three snorm16 codes (SlabSample::h).
-using ForceShadingCode = std::array<int16_t, 3>;
+/// @brief A force-shading normal as stored: its octahedral code (SlabSample::h, encode_oct8()).
+using ForceShadingCode = std::array<int8_t, 2>;
 
 /// @brief The force-shading normal of sample @p sample as update_force_shading_normals() would
 /// store it (the normalised sum of its normal and its grid neighbours' normals, encoded), without

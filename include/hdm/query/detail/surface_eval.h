@@ -101,15 +101,16 @@ inline Vec3 surface_point(const SlabModel& model, int slab, double wS, double wT
   return p0 + delta * ray;
 }
 
-/// The snorm16 codes of @p v's normal (@p byte_offset 0) or force-shading normal (6), weighted by
-/// @p cell and summed: the interpolated vector in code units (32,767 per unit), not normalised.
+/// The snorm16 codes of the normals (SlabSample::n) of @p v's grid points under @p cell, weighted
+/// by the cell and summed: the interpolated vector in code units (32,767 per unit), not normalised.
 /// Every reader normalises it, so the scale is never applied.
-inline Vec3f interpolate_codes(const SlabSample* v, const LocalCell& cell, size_t byte_offset) noexcept {
-  const auto* a = reinterpret_cast<const char*>(v + cell.la) + byte_offset;
-  const auto* b = reinterpret_cast<const char*>(v + cell.lb) + byte_offset;
-  const auto* d = reinterpret_cast<const char*>(v + cell.ld) + byte_offset;
+inline Vec3f interpolate_codes(const SlabSample* v, const LocalCell& cell) noexcept {
+  static_assert(offsetof(SlabSample, n) == 0 && offsetof(SlabSample, delta) == 6, "the normal, then δ: 8 bytes");
+  const auto* a = reinterpret_cast<const char*>(v + cell.la);
+  const auto* b = reinterpret_cast<const char*>(v + cell.lb);
+  const auto* d = reinterpret_cast<const char*>(v + cell.ld);
 #if defined(__SSE2__)
-  // Four codes (the three wanted and the next field's first two bytes, unused) as four floats:
+  // Four codes (the normal's three and δ's, unused) as four floats:
   // three conversions per corner instead of nine scalar ones.
   auto codes = [](const char* p) noexcept {
     const __m128i c = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
@@ -134,13 +135,44 @@ inline Vec3f interpolate_codes(const SlabSample* v, const LocalCell& cell, size_
 /// Interpolated normal over @p cell of @p slab, from the stored snorm16 codes: in code units, not
 /// normalised (interpolate_codes()).
 inline Vec3f interpolated_normal(const SlabModel& model, int slab, const LocalCell& cell) noexcept {
-  return interpolate_codes(slab_block(model, slab), cell, offsetof(SlabSample, n));
+  return interpolate_codes(slab_block(model, slab), cell);
 }
 
-/// Interpolated force-shading normal over @p cell of @p slab (SlabSample::h): in code units, not
-/// normalised (interpolate_codes()).
+/// Interpolated force-shading normal over @p cell of @p slab (SlabSample::h): each corner's
+/// octahedral code decoded and normalised (so the weights are the cell's, as for the normal), then
+/// weighted and summed; not normalised. A corner without a normal (the code {-128, -128}) adds
+/// nothing.
 inline Vec3f interpolated_shading(const SlabModel& model, int slab, const LocalCell& cell) noexcept {
-  return interpolate_codes(slab_block(model, slab), cell, offsetof(SlabSample, h));
+  const SlabSample* v = slab_block(model, slab);
+#if defined(__SSE2__)
+  // The three corners in three lanes: one unfold, one square root and one division for all.
+  auto code = [](const SlabSample& p) noexcept {
+    uint16_t c;
+    std::memcpy(&c, p.h, 2);
+    return int(c);
+  };
+  const __m128i c = _mm_setr_epi32(code(v[cell.la]), code(v[cell.lb]), code(v[cell.ld]), 0x8080);
+  const __m128 sign = _mm_set1_ps(-0.0f), zero = _mm_setzero_ps();
+  const __m128 x = _mm_cvtepi32_ps(_mm_srai_epi32(_mm_slli_epi32(c, 24), 24));  // h[0], sign-extended
+  const __m128 y = _mm_cvtepi32_ps(_mm_srai_epi32(_mm_slli_epi32(c, 16), 24));  // h[1]
+  const __m128 ax = _mm_andnot_ps(sign, x), ay = _mm_andnot_ps(sign, y);
+  const __m128 z = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(127.0f), ax), ay);
+  const __m128 t = _mm_max_ps(_mm_sub_ps(zero, z), zero);  // the lower half's unfold
+  const __m128 ux = _mm_or_ps(_mm_sub_ps(ax, t), _mm_and_ps(sign, x));
+  const __m128 uy = _mm_or_ps(_mm_sub_ps(ay, t), _mm_and_ps(sign, y));
+  const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ux, ux), _mm_mul_ps(uy, uy)), _mm_mul_ps(z, z));
+  const __m128 none = _mm_castsi128_ps(_mm_cmpeq_epi32(c, _mm_set1_epi32(0x8080)));
+  const __m128 w = _mm_div_ps(_mm_andnot_ps(none, _mm_setr_ps(float(cell.wa), float(cell.wb), float(cell.wd), 0.0f)),
+                              _mm_sqrt_ps(len2));
+  auto sum = [](__m128 p) noexcept {
+    const __m128 s = _mm_add_ps(p, _mm_movehl_ps(p, p));
+    return _mm_cvtss_f32(_mm_add_ss(s, _mm_shuffle_ps(s, s, 1)));
+  };
+  return {sum(_mm_mul_ps(w, ux)), sum(_mm_mul_ps(w, uy)), sum(_mm_mul_ps(w, z))};
+#else
+  return float(cell.wa) * v[cell.la].shading() + float(cell.wb) * v[cell.lb].shading() +
+         float(cell.wd) * v[cell.ld].shading();
+#endif
 }
 
 }  // namespace hdm::slab_query::detail
