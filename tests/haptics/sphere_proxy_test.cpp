@@ -119,44 +119,63 @@ TEST(SphereProxy, SlidesAcrossANarrowSlotOnItsEdges) {
   EXPECT_LT(worst_flat_angle, 2.0) << "force direction on the flat top [deg]";
 }
 
-// Rolling over the block's outer edge (x = 1, z = 0), the hand 0.05 inside the ball's path: the
-// ball turns around the edge with its centre r from it, no deeper into the input than 2 % of r,
-// the force turning from up (+z) to sideways (+x) without a step above 2 % of the maximum force.
-TEST(SphereProxy, RollsOverAConvexEdgeWithAContinuousForce) {
-  const Slot slot(4);
-  const double r = 0.3;
+// What a ball of radius r felt rolling over the block's outer edge (x = 1, z = 0) on the path at
+// @p y, the hand 0.05 inside the ball's path: down onto the top, along it to above the edge, then
+// around the edge from up to sideways; measured from tick 150 on.
+struct EdgeRoll {
+  double deepest = 0;   ///< largest penetration into the input
+  double widest = 0;    ///< largest | distance from the centre to the input − r |
+  double steepest = 0;  ///< largest force step between ticks, fraction of the maximum force
+  Vec3 first = Vec3::Zero(), last = Vec3::Zero();  ///< the first and last forces
+  int lost = -1;                                   ///< the first tick out of contact, or -1
+};
+
+EdgeRoll roll_over_edge(const SlabModel& model, const SlabLocator& locator, const Workspace& ws,
+                        const ExactMeshQuery& input, double r, double y) {
   const SphereProxyParams p = ball(r);
   SphereProxyState st;
-  double worst = 0, worst_step = 0, worst_gap = 0;
-  Vec3 prev = Vec3::Zero(), first = Vec3::Zero(), last = Vec3::Zero();
-  const Vec3 edge(1, 0.05, 0);
+  EdgeRoll e;
+  Vec3 prev = Vec3::Zero();
   const double d = r - 0.05;  // the hand's distance from the edge
   const int n = 1500;
   for (int k = 0; k <= n; ++k) {
     Vec3 hip;
     if (k < 100)  // down onto the top
-      hip = Vec3(0.8, 0.05, d + 0.2 * (1 - k / 100.0));
+      hip = Vec3(0.8, y, d + 0.2 * (1 - k / 100.0));
     else if (k < 200)  // along the top to above the edge
-      hip = Vec3(0.8 + 0.2 * (k - 100) / 100.0, 0.05, d);
+      hip = Vec3(0.8 + 0.2 * (k - 100) / 100.0, y, d);
     else {  // around the edge, from up to sideways
       const double a = 0.5 * std::numbers::pi * (k - 200) / (n - 200);
-      hip = edge + d * Vec3(std::sin(a), 0, std::cos(a));
+      hip = Vec3(1, y, 0) + d * Vec3(std::sin(a), 0, std::cos(a));
     }
-    const ProxyOutput out =
-        sphere_proxy_step(slot.baked.model, slot.baked.locator, slot.ws, slot.ws.to_device(hip), Vec3::Zero(), p, st);
+    const ProxyOutput out = sphere_proxy_step(model, locator, ws, ws.to_device(hip), Vec3::Zero(), p, st);
     if (k < 150) continue;
-    ASSERT_TRUE(st.contact) << "tick " << k;
-    worst = std::max(worst, penetration(slot.baked.reference, st.center, r));
-    worst_gap = std::max(worst_gap, std::abs(slot.baked.reference.closest_point(st.center).distance - r));
-    if (prev.norm() > 0) worst_step = std::max(worst_step, (out.force - prev).norm() / p.proxy.force.max_force);
-    if (first.norm() == 0) first = out.force;
-    prev = last = out.force;
+    if (!st.contact) {
+      e.lost = k;
+      return e;
+    }
+    e.deepest = std::max(e.deepest, penetration(input, st.center, r));
+    e.widest = std::max(e.widest, std::abs(input.closest_point(st.center).distance - r));
+    if (prev.norm() > 0) e.steepest = std::max(e.steepest, (out.force - prev).norm() / p.proxy.force.max_force);
+    if (e.first.norm() == 0) e.first = out.force;
+    prev = e.last = out.force;
   }
-  EXPECT_LT(worst, 0.02 * r);
-  EXPECT_LT(worst_gap, 0.05 * r) << "the ball leaves the surface";
-  EXPECT_LT(angle_deg(first, Vec3::UnitZ()), 10.0);
-  EXPECT_LT(angle_deg(last, Vec3::UnitX()), 10.0);
-  EXPECT_LT(worst_step, 0.02) << "largest force step between ticks, fraction of max force";
+  return e;
+}
+
+// Rolling over the block's outer edge on the path at y = 0.05: the ball turns around the edge
+// with its centre r from it, no deeper into the input than 2 % of r, the force turning from up
+// (+z) to sideways (+x) without a step above 2 % of the maximum force.
+TEST(SphereProxy, RollsOverAConvexEdgeWithAContinuousForce) {
+  const Slot slot(4);
+  const double r = 0.3;
+  const EdgeRoll e = roll_over_edge(slot.baked.model, slot.baked.locator, slot.ws, slot.baked.reference, r, 0.05);
+  ASSERT_EQ(e.lost, -1) << "tick " << e.lost;
+  EXPECT_LT(e.deepest, 0.02 * r);
+  EXPECT_LT(e.widest, 0.05 * r) << "the ball leaves the surface";
+  EXPECT_LT(angle_deg(e.first, Vec3::UnitZ()), 10.0);
+  EXPECT_LT(angle_deg(e.last, Vec3::UnitX()), 10.0);
+  EXPECT_LT(e.steepest, 0.02) << "largest force step between ticks, fraction of max force";
 }
 
 // The same roll on paths across the whole edge, on the slot block as `hdm bake` makes it (the
@@ -172,35 +191,15 @@ TEST(SphereProxy, RollsOverAConvexEdgeAnywhereAlongIt) {
   const ExactMeshQuery input(block);
   Workspace ws;
   ws.scale = 10;
-  const double r = 0.3, d = r - 0.05;
-  const SphereProxyParams p = ball(r);
+  const double r = 0.3;
   double steepest = 0, deepest = 0;
   for (int path = 0; path < 12; ++path) {
     const double y = -0.85 + 0.1537 * path;  // 12 paths at offsets unrelated to the cubes and slabs
-    SphereProxyState st;
-    double worst = 0, worst_step = 0;
-    Vec3 prev = Vec3::Zero();
-    const int n = 1500;
-    for (int k = 0; k <= n; ++k) {
-      Vec3 hip;
-      if (k < 100)
-        hip = Vec3(0.8, y, d + 0.2 * (1 - k / 100.0));
-      else if (k < 200)
-        hip = Vec3(0.8 + 0.2 * (k - 100) / 100.0, y, d);
-      else {
-        const double a = 0.5 * std::numbers::pi * (k - 200) / (n - 200);
-        hip = Vec3(1, y, 0) + d * Vec3(std::sin(a), 0, std::cos(a));
-      }
-      const ProxyOutput out = sphere_proxy_step(model, locator, ws, ws.to_device(hip), Vec3::Zero(), p, st);
-      if (k < 150) continue;
-      ASSERT_TRUE(st.contact) << "y " << y << ", tick " << k;
-      worst = std::max(worst, penetration(input, st.center, r));
-      if (prev.norm() > 0) worst_step = std::max(worst_step, (out.force - prev).norm() / p.proxy.force.max_force);
-      prev = out.force;
-    }
-    EXPECT_LT(worst, 0.02 * r) << "y " << y;
-    EXPECT_LT(worst_step, 0.02) << "y " << y << ": largest force step between ticks, fraction of max force";
-    steepest = std::max(steepest, worst_step), deepest = std::max(deepest, worst);
+    const EdgeRoll e = roll_over_edge(model, locator, ws, input, r, y);
+    ASSERT_EQ(e.lost, -1) << "y " << y << ", tick " << e.lost;
+    EXPECT_LT(e.deepest, 0.02 * r) << "y " << y;
+    EXPECT_LT(e.steepest, 0.02) << "y " << y << ": largest force step between ticks, fraction of max force";
+    steepest = std::max(steepest, e.steepest), deepest = std::max(deepest, e.deepest);
   }
   std::printf("%d slabs: largest step %.2f %% of the maximum force, deepest %.2f %% of r\n", model.slab_count(),
               100 * steepest, 100 * deepest / r);

@@ -119,10 +119,12 @@ Brush brush(int s) {
   return b;
 }
 
+constexpr int kStrokes = 8;  // strokes of the plan, one brush each
+
 struct Hooks {
   const Plan* plan;
   int16_t set = -1;
-  std::array<int64_t, 64> sweeps_of_stroke{};  ///< sweeps finished while (or after) each stroke ran
+  std::array<int64_t, kStrokes> sweeps_of_stroke{};  ///< sweeps finished while (or after) each stroke ran
   std::atomic<int64_t> ticks{0};                ///< ticks run, for the control thread
 };
 void before(void* user, SculptSession& session, const ServoTick& t) noexcept {
@@ -132,7 +134,7 @@ void before(void* user, SculptSession& session, const ServoTick& t) noexcept {
 }
 void after(void* user, const ServoTick& t, const SessionTick& result) noexcept {
   auto& h = *static_cast<Hooks*>(user);
-  if (h.set >= 0) h.sweeps_of_stroke[static_cast<size_t>(h.set) % 64] += result.sweeps;
+  if (h.set >= 0) h.sweeps_of_stroke[static_cast<size_t>(h.set) % kStrokes] += result.sweeps;
   h.ticks.store(t.tick + 1, std::memory_order_relaxed);
 }
 
@@ -156,7 +158,7 @@ std::string stored_difference(const SlabModel& a, const SlabModel& b) {
 
 TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   const SlabModel initial = sphere_shell();
-  const Plan p = plan(8, 0.25);
+  const Plan p = plan(kStrokes, 0.25);
   SessionOptions o;
   o.proxy.force.damping = 0.5;
   o.publish_interval_s = 0.002;
@@ -291,9 +293,9 @@ TEST(Concurrency, ServoEditsWhileRenderersAndASaverReadSnapshots) {
   // The servo thread edits throughout: every stroke, however the machine's load slows the sweeps
   // (a backlog merges samples into fewer, longer sweeps).
   std::printf("sweeps per stroke:");
-  for (int k = 0; k < 8; ++k) std::printf(" %lld", (long long)hooks.sweeps_of_stroke[k]);
+  for (int k = 0; k < kStrokes; ++k) std::printf(" %lld", (long long)hooks.sweeps_of_stroke[k]);
   std::printf("\n");
-  for (int k = 0; k < 8; ++k) EXPECT_GE(hooks.sweeps_of_stroke[k], 1) << "stroke " << k << " made no sweep";
+  for (int k = 0; k < kStrokes; ++k) EXPECT_GE(hooks.sweeps_of_stroke[k], 1) << "stroke " << k << " made no sweep";
   // Stored changes only: a smooth stroke over the sphere rounds mostly to the codes it finds.
   EXPECT_GT(ss.changed, 100) << "and its edits must change the model";
   // Several epochs reached the readers (3 under ThreadSanitizer at load 9, hundreds when idle).
