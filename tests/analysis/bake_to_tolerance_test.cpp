@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Error-bounded baking: the returned model meets the bound by a brute-force measurement of its own,
 // the slab count only grows, and an unreachable bound stops at the cap and says so.
+#include "support/brute_force.h"
 #include "support/test_models.h"
 
 #include <hdm/analysis/bake_to_tolerance.h>
@@ -31,22 +32,14 @@ TriangleMesh bumpy_ellipsoid() {
   return m;
 }
 
-double brute_distance(const Vec3& p, const TriangleMesh& m) {
-  double best = 1e300;
-  for (const Tri& t : m.faces)
-    best =
-        std::min(best, (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
-  return best;
-}
-
 // Largest distance both ways (samples of the reconstruction to the input, input vertices to the
 // reconstruction), % of the diagonal, by brute force.
 double brute_max_pct(const SlabModel& m, const TriangleMesh& input) {
   TriangleMesh recon;
   displaced_surface(m, recon.vertices, recon.faces);
   double mx = 0;
-  for (const Vec3& p : recon.vertices) mx = std::max(mx, brute_distance(p, input));
-  for (const Vec3& p : input.vertices) mx = std::max(mx, brute_distance(p, recon));
+  for (const Vec3& p : recon.vertices) mx = std::max(mx, test::brute_distance(p, input));
+  for (const Vec3& p : input.vertices) mx = std::max(mx, test::brute_distance(p, recon));
   return 100 * mx / bounds(input).diagonal();
 }
 
@@ -394,7 +387,7 @@ TEST(BakeToToleranceTest, ALowPolyCubeGetsMoreSlabsThanItHasTriangles) {
         for (int j = 0; j <= 10; ++j) {
           Vec3 p;
           p[axis] = side, p[(axis + 1) % 3] = -0.5 + 0.1 * i, p[(axis + 2) % 3] = -0.5 + 0.1 * j;
-          back = std::max(back, brute_distance(p, recon));
+          back = std::max(back, test::brute_distance(p, recon));
         }
   EXPECT_LE(100 * back / diagonal, 0.2 + 1e-6);
 }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The CGAL closest-point baseline against brute force over every triangle.
+#include "support/brute_force.h"
 #include "support/test_models.h"
 
 #include <hdm/analysis/cgal_closest_point.h>
@@ -20,10 +21,7 @@ TEST(CgalClosestPointTest, MatchesBruteForce) {
   std::uniform_real_distribution<double> u(-2, 2);
   for (int k = 0; k < 500; ++k) {
     const Vec3 p(u(rng), u(rng), u(rng));
-    double best = INFINITY;
-    for (const Tri& t : m.faces)
-      best = std::min(best,
-                      (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+    const double best = test::brute_distance(p, m);
     EXPECT_NEAR((cgal.closest_point(p) - p).norm(), best, 1e-9) << p.transpose();
   }
 }

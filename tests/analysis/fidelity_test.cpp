@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The analyzers behind `hdm check` against brute force on a small mesh.
+#include "support/brute_force.h"
 #include "support/test_models.h"
 
 #include <hdm/analysis/fidelity.h>
@@ -11,41 +12,6 @@
 #include <cmath>
 
 using namespace hdm;
-
-namespace {
-
-// The closest point of triangle abc to p, by its Voronoi regions (Ericson, Real-Time Collision
-// Detection, §5.1.5): written here rather than taken from the library, so that the brute force
-// does not share the primitive the analyzer is built on.
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;  // vertex region a
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;  // vertex region b
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;  // edge region ab
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;  // vertex region c
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;  // edge region ac
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)  // edge region bc
-    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double v = vb / (va + vb + vc), w = vc / (va + vb + vc);  // face region: barycentric
-  return a + v * ab + w * ac;
-}
-
-double brute_distance(const Vec3& p, const TriangleMesh& m) {
-  double best = 1e300;
-  for (const Tri& t : m.faces)
-    best = std::min(best, (closest_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
-  return best;
-}
-
-}  // namespace
 
 TEST(FidelityTest, MatchesBruteForceOnASmallMesh) {
   TriangleMesh input = test::icosphere(2, 1.0);
@@ -71,11 +37,11 @@ TEST(FidelityTest, MatchesBruteForceOnASmallMesh) {
   for (const Tri& t : recon.faces) fwd.push_back(centroid(recon, t));
   for (const Tri& t : input.faces) back.push_back(centroid(input, t));
   for (const Vec3& p : fwd) {
-    const double d = brute_distance(p, input);
+    const double d = test::brute_distance(p, input);
     sq += d * d, mx = std::max(mx, d);
   }
   for (const Vec3& p : back) {
-    const double d = brute_distance(p, recon);
+    const double d = test::brute_distance(p, recon);
     sq_back += d * d, mx_back = std::max(mx_back, d);
   }
   EXPECT_NEAR(f.rms_pct, 100 * std::sqrt(sq / fwd.size()) / diag, 1e-6);
@@ -90,7 +56,7 @@ TEST(FidelityTest, MatchesBruteForceOnASmallMesh) {
   std::vector<Vec3> far_set = {Vec3(3, 0.5, 0.2), Vec3(-0.2, 0.1, 0.05), Vec3(0, 0, 1.4)};
   double sq_far = 0, mx_far = 0;
   for (const Vec3& p : far_set) {
-    const double d = brute_distance(p, recon);
+    const double d = test::brute_distance(p, recon);
     sq_far += d * d, mx_far = std::max(mx_far, d);
   }
   const Fidelity far = measure_fidelity(m, exact, &far_set, INFINITY, nullptr, 16);

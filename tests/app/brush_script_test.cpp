@@ -24,10 +24,10 @@
 namespace hdm::app {
 namespace {
 
-using Check = std::function<void(const test::ModelState& before, const test::ModelState& after)>;
+using Check = std::function<void(const hdm::test::ModelState& before, const hdm::test::ModelState& after)>;
 
 // The stored fields (not the derived positions and normals) that differ between @p a and @p b.
-std::set<std::string> changed_fields(const test::ModelState& a, const test::ModelState& b) {
+std::set<std::string> changed_fields(const hdm::test::ModelState& a, const hdm::test::ModelState& b) {
   std::set<std::string> out;
   if (a.displacement != b.displacement) out.insert("displacement");
   if (a.friction_static != b.friction_static) out.insert("friction_static");
@@ -40,7 +40,7 @@ std::set<std::string> changed_fields(const test::ModelState& a, const test::Mode
 }
 
 // Samples whose displacement went down and up.
-std::pair<int, int> moves(const test::ModelState& before, const test::ModelState& after) {
+std::pair<int, int> moves(const hdm::test::ModelState& before, const hdm::test::ModelState& after) {
   int down = 0, up = 0;
   for (size_t s = 0; s < before.displacement.size(); ++s) {
     down += after.displacement[s] < before.displacement[s];
@@ -52,7 +52,7 @@ std::pair<int, int> moves(const test::ModelState& before, const test::ModelState
 const std::set<std::string> kShape = {"displacement"};
 
 // Only displacements changed, some of them, all lowered (carve) or all raised (add).
-void one_way(const test::ModelState& before, const test::ModelState& after, bool lowers) {
+void one_way(const hdm::test::ModelState& before, const hdm::test::ModelState& after, bool lowers) {
   EXPECT_EQ(changed_fields(before, after), kShape);
   const auto [down, up] = moves(before, after);
   EXPECT_GT(lowers ? down : up, 0);
@@ -62,21 +62,21 @@ constexpr float kPainted = 0.9f;  // the value the script paints into friction_s
 
 const std::map<std::string, Check>& expectations() {
   static const std::map<std::string, Check> e = {
-      {"carve", [](const test::ModelState& b, const test::ModelState& a) { one_way(b, a, true); }},
-      {"add", [](const test::ModelState& b, const test::ModelState& a) { one_way(b, a, false); }},
+      {"carve", [](const hdm::test::ModelState& b, const hdm::test::ModelState& a) { one_way(b, a, true); }},
+      {"add", [](const hdm::test::ModelState& b, const hdm::test::ModelState& a) { one_way(b, a, false); }},
       // Drill removes material only: lowers, never raises (docs/haptics.md, "Drilling").
-      {"drill", [](const test::ModelState& b, const test::ModelState& a) { one_way(b, a, true); }},
+      {"drill", [](const hdm::test::ModelState& b, const hdm::test::ModelState& a) { one_way(b, a, true); }},
       {"smooth",
-       [](const test::ModelState& b, const test::ModelState& a) {
+       [](const hdm::test::ModelState& b, const hdm::test::ModelState& a) {
          EXPECT_EQ(changed_fields(b, a), kShape);
          // Relaxing towards neighbour means never leaves the range the displacements had.
          const auto [lo, hi] = std::minmax_element(b.displacement.begin(), b.displacement.end());
          for (float d : a.displacement) ASSERT_TRUE(d >= *lo && d <= *hi) << d;
        }},
       {"flatten",
-       [](const test::ModelState& b, const test::ModelState& a) { EXPECT_EQ(changed_fields(b, a), kShape); }},
+       [](const hdm::test::ModelState& b, const hdm::test::ModelState& a) { EXPECT_EQ(changed_fields(b, a), kShape); }},
       {"paint",
-       [](const test::ModelState& b, const test::ModelState& a) {
+       [](const hdm::test::ModelState& b, const hdm::test::ModelState& a) {
          EXPECT_EQ(changed_fields(b, a), std::set<std::string>{"friction_static"});
          int changed = 0;
          for (size_t s = 0; s < b.friction_static.size(); ++s) {
@@ -101,8 +101,8 @@ nlohmann::json script_of(const std::string& name) {
 
 TEST(BrushRegistryScript, EveryBrushParsesAndStrokesAsItShould) {
   ASSERT_FALSE(brush_registry().empty());
-  test::BunnyStrokes f;
-  const test::ModelState start(f.model);
+  hdm::test::BunnyStrokes f;
+  const hdm::test::ModelState start(f.model);
   const Vec3 a = f.surface_point(Vec3(0.55, 0.5, 1.0)), b = f.surface_point(Vec3(0.62, 0.5, 1.0));
   std::vector<Vec3> points, normals;
   f.surface_path(a, b, 0.05 * f.mm, points, normals);
@@ -123,10 +123,10 @@ TEST(BrushRegistryScript, EveryBrushParsesAndStrokesAsItShould) {
       ADD_FAILURE() << "no expectation for the brush '" << info.name << "': add one to this test";
       continue;
     }
-    f.model = test::baked_bunny(0, 16);  // each brush on the unedited model
+    f.model = hdm::test::baked_bunny(0, 16);  // each brush on the unedited model
     StrokeEditor editor(f.model);
     f.stroke(editor, brush, points, normals, 0.5 * f.mm, 1e-3, brush.pressure_force_n);
-    expected->second(start, test::ModelState(f.model));
+    expected->second(start, hdm::test::ModelState(f.model));
   }
 }
 

@@ -99,18 +99,18 @@ SlabModel replayed(const std::string& csv, size_t rows = 0) {
   return session.model();
 }
 
-const std::string kSecret = "carve-test-secret-0123456789";
+const std::string kCarveSecret = "carve-test-secret-0123456789";
 
 // The reference client with the shared secret in its environment.
 std::string client_command() {
-  return "HDM_BRIDGE_SECRET=" + kSecret + " " + std::string(HDM_PYTHON3) + " " + HDM_BRIDGE_CLIENT;
+  return "HDM_BRIDGE_SECRET=" + kCarveSecret + " " + std::string(HDM_PYTHON3) + " " + HDM_BRIDGE_CLIENT;
 }
 
 SlabModel bridged(const std::string& csv, const std::string& endpoint, BridgeCounters& counters, int& client_status) {
   SculptSession session(sphere_model(), sphere_workspace(), session_options());
   session.set_brush(carve());
   BridgeOptions bo;
-  bo.secret = kSecret;
+  bo.secret = kCarveSecret;
   bo.watchdog_s = 1.0;  // a Python pause on a loaded machine must not release the tool here
   auto device = BridgeDevice::open(endpoint, bo);
   const std::string target =
@@ -180,7 +180,7 @@ TEST(BridgeCarve, LostPacketsEndTheStrokeAndRampTheForceOut) {
   SculptSession session(sphere_model(), sphere_workspace(), session_options());
   session.set_brush(carve());
   BridgeOptions bo;
-  bo.secret = kSecret;
+  bo.secret = kCarveSecret;
   bo.watchdog_s = 0.2;  // long enough for a Python pause on a loaded machine, short for the test
   bo.ramp_s = 0.01;
   const std::string name = "hdm-test-silent-" + std::to_string(::getpid());

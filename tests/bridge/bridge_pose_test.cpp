@@ -22,8 +22,8 @@
 namespace hdm::bridge {
 namespace {
 
-constexpr uint64_t kSession = 0x5e5510'0000'0003ull;
-const std::string kSecret = "a-test-secret-of-32-characters!!";
+constexpr uint64_t kPoseSession = 0x5e5510'0000'0003ull;
+const std::string kPoseSecret = "a-test-secret-of-32-characters!!";
 
 // A packet of @p version laid out from the documented table (not by encode()).
 struct Raw {
@@ -36,7 +36,7 @@ struct Raw {
     put(6, &kind, 2);
     put(8, &size, 4);
     put(16, &seq, 8);
-    put(24, &kSession, 8);
+    put(24, &kPoseSession, 8);
   }
   void put(size_t off, const void* v, size_t n) { std::memcpy(b.data() + off, v, n); }
   void put3(size_t off, const Vec3& v) { put(off, v.data(), 24); }
@@ -58,18 +58,18 @@ Raw raw_device_v3(uint64_t seq, const Vec3& x, const Eigen::Quaterniond& q, cons
   return r;
 }
 
-Raw raw_hello(uint16_t version) {
+Raw raw_pose_hello(uint16_t version) {
   Raw r(version, 3, 0, version == 3 ? 152 : 96);
-  const auto n = static_cast<uint32_t>(kSecret.size());
+  const auto n = static_cast<uint32_t>(kPoseSecret.size());
   r.put(32, &n, 4);
-  r.put(36, kSecret.data(), kSecret.size());
+  r.put(36, kPoseSecret.data(), kPoseSecret.size());
   return r;
 }
 
 TEST(BridgeWireFormat, Version3CarriesThePoseAndTheWrenchBitExactly) {
   DevicePacket p;
   p.sequence = 42;
-  p.session = kSession;
+  p.session = kPoseSession;
   p.time_s = 0.042;
   p.position = Vec3(0.1, -0.2, 0.3);
   p.velocity = Vec3(0.01, 0.02, 0.03);
@@ -106,7 +106,7 @@ TEST(BridgeWireFormat, Version3CarriesThePoseAndTheWrenchBitExactly) {
 TEST(BridgeWireFormat, Version2IsStillReadWithoutOrientationOrTorque) {
   DevicePacket p;
   p.version = 2;
-  p.session = kSession;
+  p.session = kPoseSession;
   p.sequence = 3;
   p.position = Vec3(0.01, 0.02, 0.03);
   p.orientation = Eigen::Quaterniond(0, 1, 0, 0);  // not written in version 2
@@ -181,7 +181,7 @@ struct Region {
 // in version 2, without torque.
 TEST(BridgeDevice, PoseInWrenchOutThroughSharedMemory) {
   BridgeOptions o;
-  o.secret = kSecret;
+  o.secret = kPoseSecret;
   o.spec.max_torque_nm = 1.0;
   const std::string name = "hdm-test-pose-" + std::to_string(::getpid());
   auto dev = BridgeDevice::open("shm:" + name, o);
@@ -189,7 +189,7 @@ TEST(BridgeDevice, PoseInWrenchOutThroughSharedMemory) {
   const Eigen::Quaterniond q(Eigen::AngleAxisd(0.5, Vec3(1, 2, 3).normalized()));
   const Vec3 w(0.25, -0.5, 2.0), force(0.5, -0.25, 1.0 / 3), torque(0.01 / 3, 0.02, -0.0625);
   DeviceState st;
-  drv.write(raw_hello(3).b);
+  drv.write(raw_pose_hello(3).b);
   ASSERT_TRUE(dev->begin_frame(st));
   for (uint64_t seq = 1; seq <= 30; ++seq) {  // 15 ms: the gain ramps in (5 ms)
     drv.write(raw_device_v3(seq, Vec3(0, 0, 0.01), q, w).b);
@@ -210,8 +210,8 @@ TEST(BridgeDevice, PoseInWrenchOutThroughSharedMemory) {
   EXPECT_EQ(f.torque, Vec3(0, 0, 1.0)) << "clamped to max_torque_nm";
 
   // A version 2 driver (a new session): identity orientation, answers without torque.
-  Raw hello = raw_hello(2);
-  const uint64_t other = kSession + 1;
+  Raw hello = raw_pose_hello(2);
+  const uint64_t other = kPoseSession + 1;
   hello.put(24, &other, 8);
   drv.write(hello.b);
   ASSERT_TRUE(dev->begin_frame(st));

@@ -30,13 +30,13 @@
 namespace hdm::bridge {
 namespace {
 
-const std::string kSecret = "session-test-secret-0123456789";
+const std::string kSessionSecret = "session-test-secret-0123456789";
 
 // A device with a servo thread ticking it (each packet: one frame, a force of -100·position).
 struct Served {
   explicit Served(const std::string& endpoint) {
     BridgeOptions o;
-    o.secret = kSecret;
+    o.secret = kSessionSecret;
     o.watchdog_s = 1.0;
     device = BridgeDevice::open(endpoint, o);
     servo = std::thread([this] {
@@ -80,11 +80,11 @@ bool round_trip(BridgeDriver& d, const DevicePacket& p, ForcePacket& f) {
 
 void restart_is_served(const std::string& endpoint) {
   Served s(endpoint);
-  auto first = BridgeDriver::connect(s.target(), kSecret);
+  auto first = BridgeDriver::connect(s.target(), kSessionSecret);
   ForcePacket f;
   for (uint64_t seq = 1; seq <= 20; ++seq) ASSERT_TRUE(round_trip(*first, at(seq, 0.001), f));
   // The driver restarts: a new process would start at sequence 1 again, in a new session.
-  auto second = BridgeDriver::connect(s.target(), kSecret);
+  auto second = BridgeDriver::connect(s.target(), kSessionSecret);
   EXPECT_NE(second->session(), first->session());
   ASSERT_TRUE(round_trip(*second, at(1, 0.002), f)) << "the restarted driver's first packet was not answered";
   EXPECT_EQ(f.session, second->session());
@@ -116,8 +116,7 @@ struct Intruder {
   }
   ~Intruder() { ::close(fd); }
   void send(const std::byte* raw) {
-    ASSERT_EQ(::sendto(fd, raw, kPacketBytes, 0, reinterpret_cast<sockaddr*>(&to), sizeof to),
-              ssize_t(kPacketBytes));
+    ASSERT_EQ(::sendto(fd, raw, kPacketBytes, 0, reinterpret_cast<sockaddr*>(&to), sizeof to), ssize_t(kPacketBytes));
   }
   int fd;
   sockaddr_in to{};
@@ -125,7 +124,7 @@ struct Intruder {
 
 TEST(BridgeSession, ForgedPacketsFromAnotherSocketChangeNothing) {
   Served s("udp:0");
-  auto driver = BridgeDriver::connect(s.target(), kSecret);
+  auto driver = BridgeDriver::connect(s.target(), kSessionSecret);
   ForcePacket f;
   ASSERT_TRUE(round_trip(*driver, at(1, 0.001), f));
   Intruder intruder(s.device->port());
@@ -162,7 +161,7 @@ TEST(BridgeSession, ForgedPacketsFromAnotherSocketChangeNothing) {
 
 TEST(BridgeSession, ASequenceNumberBeyondTheWindowIsRefusedWithoutLockingTheSession) {
   Served s("shm:hdm-test-window-" + std::to_string(::getpid()));
-  auto driver = BridgeDriver::connect(s.target(), kSecret);
+  auto driver = BridgeDriver::connect(s.target(), kSessionSecret);
   ForcePacket f;
   ASSERT_TRUE(round_trip(*driver, at(1, 0.001), f));
   driver->send(at(std::numeric_limits<uint64_t>::max(), 0.9));
@@ -183,11 +182,11 @@ TEST(BridgeSession, AWrongSecretIsRefusedAndCounted) {
 TEST(BridgeSession, TheSharedMemoryRegionIsPrivate) {
   const std::string name = "hdm-test-mode-" + std::to_string(::getpid());
   BridgeOptions o;
-  o.secret = kSecret;
+  o.secret = kSessionSecret;
   const mode_t old = ::umask(0);  // whatever the umask, the region is 0600
   auto device = BridgeDevice::open("shm:" + name, o);
   ::umask(old);
-  struct stat st{};
+  struct stat st {};
   ASSERT_EQ(::stat(("/dev/shm/" + name).c_str(), &st), 0);
   EXPECT_EQ(st.st_mode & 0777, 0600u);
 }
@@ -200,7 +199,7 @@ TEST(BridgeSecret, AMissingFileIsCreatedPrivateAndAnOpenOneRefused) {
   const std::string file = (d / "bridge.key").string();
   const std::string made = load_bridge_secret(file);
   EXPECT_GE(made.size(), kMinSecretBytes);
-  struct stat st{};
+  struct stat st {};
   ASSERT_EQ(::stat(file.c_str(), &st), 0);
   EXPECT_EQ(st.st_mode & 0777, 0600u);
   EXPECT_EQ(load_bridge_secret(file), made);  // read back the same

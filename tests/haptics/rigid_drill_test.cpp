@@ -17,7 +17,7 @@
 namespace hdm {
 namespace {
 
-constexpr double kR = 1.5;           // burr head radius [mm]
+constexpr double kBurrRadius = 1.5;  // burr head radius [mm]
 constexpr double kStiffness = 1000;  // coupling k_t [N/m]
 constexpr double kWear = 0.01, kRpm = 200000;
 constexpr int kDescent = 200, kSettle = 100, kDrill = 101;  // ticks at 1 kHz
@@ -49,7 +49,7 @@ class HeldDevice : public HapticDevice {
 
 // Archard's volume [mm³] for force @p force [N] over @p seconds on hardness @p hv [HV].
 double archard(double force, double seconds, double hv) {
-  const double speed = 2 * std::numbers::pi * kRpm / 60 * (kR / test::kSheetUnits);  // ω·r [m/s]
+  const double speed = 2 * std::numbers::pi * kRpm / 60 * (kBurrRadius / test::kSheetUnits);  // ω·r [m/s]
   const double m3 = kWear * force * speed * seconds / vickers_to_pa(hv);
   return m3 * 1e9;
 }
@@ -72,8 +72,8 @@ DrillRun drill(double depth_mm, float hardness_hv) {
   SessionOptions o;
   o.mode = RenderMode::RigidTool;
   o.publish = false;
-  o.tool = burr_shell(kR);
-  o.head_radius = kR;
+  o.tool = burr_shell(kBurrRadius);
+  o.head_radius = kBurrRadius;
   o.rigid.stiffness = kStiffness;
   o.rigid.damping = 0;
   o.rigid.rot_damping = 0;
@@ -81,14 +81,14 @@ DrillRun drill(double depth_mm, float hardness_hv) {
   SculptSession session(std::move(m), ws, o);
   Brush b;
   b.tool = BrushTool::Drill;
-  b.radius = kR;
+  b.radius = kBurrRadius;
   b.falloff = Falloff::Smooth;
   b.wear_coefficient = kWear;
   b.rpm = kRpm;
   session.set_brush(b);
   std::vector<Vec3> path;
   std::vector<uint32_t> buttons;
-  const double top = kR + 0.3, held = kR - depth_mm;  // the tip's z [mm]
+  const double top = kBurrRadius + 0.3, held = kBurrRadius - depth_mm;  // the tip's z [mm]
   for (int k = 1; k <= kDescent; ++k) path.emplace_back(kX, kY, top + (held - top) * k / kDescent);
   for (int k = 0; k < kSettle + kDrill + 5; ++k) path.emplace_back(kX, kY, held);
   for (Vec3& p : path) p /= test::kSheetUnits;

@@ -22,7 +22,7 @@ namespace hdm {
 namespace {
 
 // The paper's bunny bake (shared fixture) and the sites found on it.
-struct Bunny {
+struct SitesBunny {
   const SlabModel& model = test::paper_bunny().model;
   const SlabLocator& locator = test::paper_bunny().locator;
   const ExactMeshQuery& reference = test::paper_bunny().reference;
@@ -30,8 +30,8 @@ struct Bunny {
   double diag = test::paper_bunny().diag;
 };
 
-const Bunny& bunny() {
-  static const Bunny b;
+const SitesBunny& sites_bunny() {
+  static const SitesBunny b;
   return b;
 }
 
@@ -116,7 +116,7 @@ std::vector<Vec3> area_weighted_vertex_normals(const TriangleMesh& m) {
 }
 
 TEST(ScenarioSites, ThinSiteIsASheetInTheEars) {
-  const Bunny& b = bunny();
+  const SitesBunny& b = sites_bunny();
   const ThinSite t = b.sites.thin_site(b.model, b.locator);
   const Aabb box = bounds(test::bunny());
   EXPECT_LT(b.reference.closest_point(t.entry.point).distance, 1e-6 * b.diag);
@@ -134,7 +134,7 @@ TEST(ScenarioSites, ThinSiteIsASheetInTheEars) {
 }
 
 TEST(ScenarioSites, SlideStrokeLiesOnAnExposedSurfaceOverMaterial) {
-  const Bunny& b = bunny();
+  const SitesBunny& b = sites_bunny();
   const SurfaceStroke s = b.sites.slide_stroke();
   ASSERT_GE(s.points.size(), 40u);
   double len = 0;
@@ -150,7 +150,7 @@ TEST(ScenarioSites, SlideStrokeLiesOnAnExposedSurfaceOverMaterial) {
 }
 
 TEST(ScenarioSites, EdgesSpiralCrossesManySlabs) {
-  const Bunny& b = bunny();
+  const SitesBunny& b = sites_bunny();
   const SurfaceStroke s = b.sites.edges_spiral(b.model, b.locator);
   std::set<int> slabs;
   QueryCache cache;
@@ -167,7 +167,7 @@ TEST(ScenarioSites, EdgesSpiralCrossesManySlabs) {
 // shell) round the corner the spiral chose, so the model misses the input there; the spiral moves
 // to another corner, clear of the flattened patch.
 TEST(ScenarioSites, EdgesSpiralAvoidsACornerTheBakeMisses) {
-  const Bunny& b = bunny();
+  const SitesBunny& b = sites_bunny();
   const SurfaceStroke first = b.sites.edges_spiral(b.model, b.locator);
   Vec3 centre = Vec3::Zero();
   for (const SurfacePoint& p : first.points) centre += p.point;
@@ -191,7 +191,7 @@ TEST(ScenarioSites, EdgesSpiralAvoidsACornerTheBakeMisses) {
 // thin sites, at points off them along their normals and at points scattered round the bunny. The
 // press spot is exposed and the thin site's exit is the first face its push line crosses.
 TEST(ScenarioSites, SitesAreClosestPointsOfTheInputWithItsNormals) {
-  const Bunny& b = bunny();
+  const SitesBunny& b = sites_bunny();
   const TriangleMesh& m = b.reference.mesh();
   const std::vector<Vec3> vertex_normals = area_weighted_vertex_normals(m);
   const SurfacePoint press = b.sites.press_spot();

@@ -41,12 +41,6 @@ int64_t cgal_count(const TriangleMesh& m) {
   return static_cast<int64_t>(pairs.size());
 }
 
-void append(TriangleMesh& to, const TriangleMesh& from) {
-  const auto base = static_cast<int32_t>(to.vertices.size());
-  to.vertices.insert(to.vertices.end(), from.vertices.begin(), from.vertices.end());
-  for (const Tri& t : from.faces) to.faces.push_back({t[0] + base, t[1] + base, t[2] + base});
-}
-
 TriangleMesh triangles(std::vector<Vec3> vertices, std::vector<Tri> faces) {
   TriangleMesh m;
   m.vertices = std::move(vertices);
@@ -58,7 +52,8 @@ TriangleMesh triangles(std::vector<Vec3> vertices, std::vector<Tri> faces) {
 
 TEST(CountSelfIntersectionsTest, MatchesCgalOnManifoldMeshes) {
   TriangleMesh spheres = test::icosphere(3, 1.0);
-  append(spheres, test::icosphere(3, 0.8, Vec3(1.2, 0.1, 0.05)));  // two closed spheres passing through each other
+  test::append(spheres,
+               test::icosphere(3, 0.8, Vec3(1.2, 0.1, 0.05)));  // two closed spheres passing through each other
   const TriangleMesh crumpled = test::crumpled_icosphere(3, 0.05, 170);
   for (const TriangleMesh* m : std::initializer_list<const TriangleMesh*>{&spheres, &crumpled, &test::bunny()}) {
     const int64_t reference = cgal_count(*m);
@@ -105,7 +100,8 @@ TEST(CountSelfIntersectionsTest, SharedVerticesAndEdgesAreNotCrossings) {
   EXPECT_EQ(count_self_intersections(triangles(hinge, {{0, 1, 2}, {1, 0, 3}})), 0);
   // Two tetrahedra touching at one tip, a pinched vertex shared by index: no crossing. With the
   // tip given twice (two indices, one point), the faces meet at a point they do not share.
-  std::vector<Vec3> tips{{0, 0, 0}, {1, 0.1, 0.1}, {1, -0.1, 0.1}, {1, 0, -0.1}, {-1, 0.1, 0.1}, {-1, -0.1, 0.1}, {-1, 0, -0.1}};
+  std::vector<Vec3> tips{{0, 0, 0},      {1, 0.1, 0.1},   {1, -0.1, 0.1}, {1, 0, -0.1},
+                         {-1, 0.1, 0.1}, {-1, -0.1, 0.1}, {-1, 0, -0.1}};
   const std::vector<Tri> shared{{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}, {0, 5, 4}, {0, 6, 5}, {0, 4, 6}, {4, 5, 6}};
   EXPECT_EQ(count_self_intersections(triangles(tips, shared)), 0);
   tips.push_back(tips[0]);

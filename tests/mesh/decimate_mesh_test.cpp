@@ -231,9 +231,7 @@ TEST(DecimateMeshTest, TwoComponentsAndATubeTooThinToDecimateFar) {
   // stops early rather than losing its cross-section (every vertex must keep a visible star).
   TriangleMesh in = torus(1.0, 0.35, 48, 24);
   const TriangleMesh thin = torus(1.0, 0.01, 96, 12, Vec3(4, 0, 0));
-  const int offset = int(in.vertices.size());
-  in.vertices.insert(in.vertices.end(), thin.vertices.begin(), thin.vertices.end());
-  for (Tri f : thin.faces) in.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  test::append(in, thin);
   const TriangleMesh out = check_decimation(in, 40, "two tori");
   EXPECT_GT(out.faces.size(), 40u) << "the guarantees stop the thin tube above the target";
 }
@@ -266,7 +264,8 @@ TEST(DecimateMeshTest, CubeCreasesKeepTheCorners) {
 TriangleMesh rounded_plate_with_tiny_arc_starts() {
   const double half = 50, r = 3, tiny = 3e-4, z = 3;
   std::vector<Vec3> outline;  // counter-clockwise seen from +z
-  const Vec3 corners[4] = {{half - r, half - r, 0}, {-half + r, half - r, 0}, {-half + r, -half + r, 0}, {half - r, -half + r, 0}};
+  const Vec3 corners[4] = {
+      {half - r, half - r, 0}, {-half + r, half - r, 0}, {-half + r, -half + r, 0}, {half - r, -half + r, 0}};
   for (int c = 0; c < 4; ++c) {
     const double a0 = c * std::numbers::pi / 2;
     const Vec3 start = corners[c] + r * Vec3(std::cos(a0), std::sin(a0), 0);
@@ -316,7 +315,8 @@ TEST(DecimateMeshTest, EdgesBelowTheResolutionGoWithTheirSlivers) {
     double thinnest = 180, shortest = INFINITY;
     for (const Tri& t : out.faces) {
       thinnest = std::min(thinnest, smallest_angle_deg(out, t));
-      for (int k = 0; k < 3; ++k) shortest = std::min(shortest, (out.vertices[t[k]] - out.vertices[t[(k + 1) % 3]]).norm());
+      for (int k = 0; k < 3; ++k)
+        shortest = std::min(shortest, (out.vertices[t[k]] - out.vertices[t[(k + 1) % 3]]).norm());
     }
     EXPECT_GT(shortest, 1e-3) << target << " faces: a tiny segment is still an edge";
     EXPECT_GT(thinnest, 0.1) << target << " faces: a sliver is left";

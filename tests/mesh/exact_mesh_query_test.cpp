@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The reference itself: Embree closest point and inside test against brute force and a sphere.
+#include "support/brute_force.h"
 #include "support/test_models.h"
 
 #include <hdm/mesh/exact_mesh_query.h>
@@ -18,10 +19,7 @@ TEST(ExactMeshQueryTest, ClosestPointMatchesBruteForce) {
   std::uniform_real_distribution<double> u(-4, 4);
   for (int k = 0; k < 300; ++k) {
     const Vec3 p(u(rng), u(rng), u(rng));
-    double best = 1e300;
-    for (const Tri& t : m.faces)
-      best = std::min(best,
-                      (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+    const double best = test::brute_distance(p, m);
     EXPECT_NEAR(q.closest_point(p).distance, best, 1e-9);
     // and close to the analytic sphere distance (chord error of the tessellation)
     EXPECT_NEAR(best, std::abs((p - Vec3(1, -1, 0.5)).norm() - 2.0), 0.02);
@@ -50,10 +48,7 @@ TEST(ExactMeshQueryTest, ClosestPointWithinARadiusMatchesBruteForce) {
   for (int k = 0; k < 300; ++k) {
     const Vec3 p(u(rng), u(rng), u(rng));
     const double radius = r(rng);
-    double best = 1e300;
-    for (const Tri& t : m.faces)
-      best = std::min(best,
-                      (closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]) - p).norm());
+    const double best = test::brute_distance(p, m);
     const ClosestPoint c = q.closest_point(p, radius);
     if (best < radius) {
       ++found;
@@ -128,9 +123,7 @@ TEST(ExactMeshQueryTest, SegmentHitsMatchBruteForceInOrder) {
   TriangleMesh m;
   for (int k = 1; k <= 5; ++k) {
     const TriangleMesh s = test::icosphere(2, k, Vec3(0.1, -0.2, 0.05));
-    const auto base = static_cast<int32_t>(m.vertices.size());
-    m.vertices.insert(m.vertices.end(), s.vertices.begin(), s.vertices.end());
-    for (const Tri& t : s.faces) m.faces.push_back({t[0] + base, t[1] + base, t[2] + base});
+    test::append(m, s);
   }
   const ExactMeshQuery q(m);
   std::mt19937 rng(5);
@@ -173,7 +166,8 @@ namespace {
 // A closed, outward axis-aligned box [lo, hi] as 12 triangles, appended to @p m.
 void append_box(TriangleMesh& m, const Vec3& lo, const Vec3& hi) {
   const auto base = static_cast<int32_t>(m.vertices.size());
-  for (int k = 0; k < 8; ++k) m.vertices.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+  for (int k = 0; k < 8; ++k)
+    m.vertices.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
   const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     m.faces.push_back({base + q[0], base + q[1], base + q[2]});

@@ -14,15 +14,6 @@
 namespace hdm {
 namespace {
 
-// Appends @p part to @p mesh; returns the range of its faces [first, last).
-std::pair<size_t, size_t> append(TriangleMesh& mesh, const TriangleMesh& part) {
-  const auto base = static_cast<int32_t>(mesh.vertices.size());
-  const size_t first = mesh.faces.size();
-  mesh.vertices.insert(mesh.vertices.end(), part.vertices.begin(), part.vertices.end());
-  for (const Tri& t : part.faces) mesh.faces.push_back({t[0] + base, t[1] + base, t[2] + base});
-  return {first, mesh.faces.size()};
-}
-
 void invert(TriangleMesh& part) {
   for (Tri& t : part.faces) std::swap(t[1], t[2]);
 }
@@ -83,8 +74,9 @@ TEST(OrientOutward, MultiPartInputFacesOutAtEvenDepthAndInAtOddDepth) {
   invert(opened);
   invert(sheet);
   TriangleMesh mesh;
-  const auto r_outer = append(mesh, outer), r_cavity = append(mesh, cavity), r_beside = append(mesh, beside);
-  const auto r_opened = append(mesh, opened), r_sheet = append(mesh, sheet);
+  const auto r_outer = test::append(mesh, outer), r_cavity = test::append(mesh, cavity),
+             r_beside = test::append(mesh, beside);
+  const auto r_opened = test::append(mesh, opened), r_sheet = test::append(mesh, sheet);
   const TriangleMesh given = mesh;
 
   const OrientReport rep = orient_outward(mesh);
@@ -113,7 +105,7 @@ TEST(OrientOutward, PartsThatPassThroughEachOtherAreNotCavities) {
   TriangleMesh a = test::icosphere(3, 1.0, Vec3::Zero()), b = test::icosphere(3, 1.0, Vec3(1.2, 0, 0));
   invert(b);
   TriangleMesh mesh;
-  const auto ra = append(mesh, a), rb = append(mesh, b);
+  const auto ra = test::append(mesh, a), rb = test::append(mesh, b);
   const OrientReport rep = orient_outward(mesh);
   EXPECT_GT(signed_volume(mesh, ra), 0);
   EXPECT_GT(signed_volume(mesh, rb), 0);

@@ -209,13 +209,6 @@ TriangleMesh without_faces_at(const TriangleMesh& m, const std::set<int32_t>& re
   return out;
 }
 
-// Appends @p part to @p m as a component of its own.
-void append(TriangleMesh& m, const TriangleMesh& part) {
-  const auto k = static_cast<int32_t>(m.vertices.size());
-  m.vertices.insert(m.vertices.end(), part.vertices.begin(), part.vertices.end());
-  for (const Tri& t : part.faces) m.faces.push_back({t[0] + k, t[1] + k, t[2] + k});
-}
-
 // The one-ring neighbours of vertex @p v.
 std::set<int32_t> ring(const TriangleMesh& m, int32_t v) {
   std::set<int32_t> r;
@@ -280,7 +273,7 @@ TEST(RepairMesh, AFillNeverCrossesTheMesh) {
   // would cross it; a faired fill follows the sphere over it.
   {
     TriangleMesh m = without_faces_at(sphere, disk);
-    append(m, test::icosphere(2, 0.4 * sag, c));
+    test::append(m, test::icosphere(2, 0.4 * sag, c));
     ASSERT_EQ(count_self_intersections(m), 0);
     RepairReport r;
     const TriangleMesh out = repair_mesh(m, "ball in a hole", {}, &r);
@@ -312,7 +305,7 @@ TEST(RepairMesh, AFillNeverCrossesTheMesh) {
     stick.faces.push_back({0, 3, 2});
     stick.faces.push_back({4, 5, 6});
     stick.faces.push_back({4, 6, 7});
-    append(m, stick);
+    test::append(m, stick);
     ASSERT_EQ(count_self_intersections(m), 0);
     RepairReport r;
     const TriangleMesh out = repair_mesh(m, "stick through a hole", {}, &r);

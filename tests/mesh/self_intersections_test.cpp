@@ -293,9 +293,7 @@ TEST(SelfIntersections, ASoupOfSpheresBecomesTheSolidOfItsWindingNumber) {
   TriangleMesh m;
   for (int k = 0; k < 5; ++k) {
     const TriangleMesh s = test::icosphere(3, radius[k], centre[k]);
-    const auto base = static_cast<int32_t>(m.vertices.size());
-    m.vertices.insert(m.vertices.end(), s.vertices.begin(), s.vertices.end());
-    for (const Tri& t : s.faces) m.faces.push_back({t[0] + base, t[1] + base, t[2] + base});
+    test::append(m, s);
   }
   SelfIntersectionReport rep;
   const ExactMeshQuery result(resolved_closed(m, rep));

@@ -20,12 +20,12 @@ using namespace hdm;
 
 namespace {
 
-struct Tally {
+struct Sides {
   int inside = 0, outside = 0;
 };
 
 // Checks query(p) against every slab's locate_in_slab on point @p p; @p cache is the query's.
-void check_point(const SlabModel& m, const SlabLocator& loc, const Vec3& p, QueryCache& cache, Tally& t) {
+void check_point(const SlabModel& m, const SlabLocator& loc, const Vec3& p, QueryCache& cache, Sides& t) {
   const Contact got = query(m, loc, p, cache);
   std::vector<int> holders;
   SlabCoordinates c;
@@ -55,7 +55,7 @@ void check_model(const SlabModel& m, int walk_steps, int global_points) {
   std::mt19937 rng(7);
   // Coherent walk: straight steps of ~1e-4 of the diagonal towards a point of a neighbouring slab,
   // up to 3 % of the diagonal above or below the surface (in the shell, above it and below it).
-  Tally walk;
+  Sides walk;
   QueryCache cache;
   test::surface_walk(m, loc, 0, walk_steps, 0.03, rng, [&](const Vec3& p) {
     check_point(m, loc, p, cache, walk);
@@ -65,7 +65,7 @@ void check_model(const SlabModel& m, int walk_steps, int global_points) {
   EXPECT_GT(walk.inside, walk_steps / 4);
   EXPECT_GT(walk.outside, 0);
   // Independent points, cache reset before each (the global query).
-  Tally global;
+  Sides global;
   std::uniform_int_distribution<int> any_slab(0, m.slab_count() - 1);
   for (int k = 0; k < global_points; ++k) {
     QueryCache fresh;

@@ -86,9 +86,7 @@ void expect_valid_disjoint(const TriangleMesh& mesh, const char* name, int slabs
 TriangleMesh two_spheres() {
   TriangleMesh two = test::icosphere(3, 1.0, Vec3(-1.5, 0, 0));
   const TriangleMesh b = test::icosphere(3, 1.0, Vec3(1.5, 0, 0));
-  const int offset = int(two.vertices.size());
-  two.vertices.insert(two.vertices.end(), b.vertices.begin(), b.vertices.end());
-  for (Tri t : b.faces) two.faces.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  test::append(two, b);
   return two;
 }
 

@@ -153,6 +153,14 @@ TriangleMesh fan_capped_disk(int n) {
   return m;
 }
 
+std::pair<size_t, size_t> append(TriangleMesh& to, const TriangleMesh& part) {
+  const auto base = static_cast<int32_t>(to.vertices.size());
+  const size_t first = to.faces.size();
+  to.vertices.insert(to.vertices.end(), part.vertices.begin(), part.vertices.end());
+  for (const Tri& t : part.faces) to.faces.push_back({t[0] + base, t[1] + base, t[2] + base});
+  return {first, to.faces.size()};
+}
+
 double signed_volume(const TriangleMesh& m) {
   double v = 0;
   for (const Tri& t : m.faces) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;

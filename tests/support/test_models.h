@@ -7,6 +7,7 @@
 #include <hdm/slab/slab_model.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hdm::test {
@@ -30,6 +31,10 @@ const SlabModel& baked_bunny(int slabs, int grid);
 /// Icosphere of radius @p radius centred at @p centre with @p subdivisions 1-to-4 splits,
 /// counter-clockwise from outside.
 TriangleMesh icosphere(int subdivisions, double radius, const Vec3& centre = Vec3::Zero());
+
+/// Appends @p part to @p to as a component of its own (its vertex indices shifted); returns the
+/// range of its faces in @p to, [first, last).
+std::pair<size_t, size_t> append(TriangleMesh& to, const TriangleMesh& part);
 
 /// The volume @p m encloses, by the divergence theorem (positive when it faces outward).
 double signed_volume(const TriangleMesh& m);
