@@ -39,7 +39,7 @@ ProxyParams proxy_params(const std::string& solver, double stiffness, double dam
 }
 
 py::dict feel(py::object model_arg, const std::string& scenario, const std::string& input_arg,
-              const std::string& replay, const std::string& mode, const std::string& solver, double rate,
+              const std::string& replay, const std::string& mode, double radius, const std::string& solver, double rate,
               double stiffness, double damping, double damping_force, double max_force, double speed, double press,
               bool friction, bool trace) {
   ModelPtr model =
@@ -52,6 +52,9 @@ py::dict feel(py::object model_arg, const std::string& scenario, const std::stri
   ScenarioOptions o;
   if (!scenario.empty()) o.scenario = parse_scenario(scenario);
   o.mode = parse_render_mode(mode);
+  if (o.mode != RenderMode::Sphere && radius != 0)
+    throw InvalidInput("radius " + std::to_string(radius) + ": the ball's radius, for mode 'sphere' only");
+  o.ball_radius = radius;
   o.proxy = proxy_params(solver, stiffness, damping, damping_force, max_force);
   o.rate_hz = rate;
   o.friction = friction;
@@ -77,6 +80,7 @@ py::dict feel(py::object model_arg, const std::string& scenario, const std::stri
   d["scenario"] = r.scenario;
   d["rate_hz"] = r.rate_hz;
   d["mode"] = r.mode;
+  d["ball_radius"] = r.ball_radius;
   d["solver"] = solver;
   d["replay"] = replay;
   d["friction"] = friction;
@@ -182,15 +186,16 @@ void bind_feel(py::module_& m) {
         "Returns the dict of `hdm feel --scenario NAME --json` (same keys and values).\n"
         "Raises ValueError for an unknown scenario or solver, or an option out of range, naming it.");
   m.def("feel", &feel, py::arg("model"), py::arg("scenario") = "", py::kw_only(), py::arg("input") = "",
-        py::arg("replay") = "", py::arg("mode") = "proxy", py::arg("solver") = "newton", py::arg("rate") = 1000.0,
-        py::arg("stiffness") = 1000.0, py::arg("damping") = 1.0, py::arg("damping_force") = 0.2,
-        py::arg("max_force") = 3.3, py::arg("speed") = 0.1, py::arg("press") = 1.0, py::arg("friction") = false,
-        py::arg("trace") = false,
+        py::arg("replay") = "", py::arg("mode") = "proxy", py::arg("radius") = 0.0, py::arg("solver") = "newton",
+        py::arg("rate") = 1000.0, py::arg("stiffness") = 1000.0, py::arg("damping") = 1.0,
+        py::arg("damping_force") = 0.2, py::arg("max_force") = 3.3, py::arg("speed") = 0.1, py::arg("press") = 1.0,
+        py::arg("friction") = false, py::arg("trace") = false,
         "Runs a scripted haptic scenario with a simulated hand (or plays a recorded trajectory) and scores it "
         "against the exact input mesh, as `hdm feel --json` does (hdm::harness).\n\n"
         "model: hdm.Model or an .hdm path. scenario: 'slide', 'press', 'thin', 'edges' or 'stiff' (or replay=: a CSV "
         "with time_s,device_x_m,device_y_m,device_z_m). input: the input mesh (default: model.source, as written or "
-        "next to the model's file). mode 'proxy' or 'penalty'; solver 'newton' or 'bisection'; rate [Hz]; stiffness "
+        "next to the model's file). mode 'proxy', 'penalty' or 'sphere' (a ball of radius [model units], 0: 1 % of the "
+        "model's diagonal); solver 'newton' or 'bisection'; rate [Hz]; stiffness "
         "[N/m]; damping [N·s/m]; damping_force [N]; max_force [N]; speed [m/s]; press [N]; friction: use the model's "
         "friction fields.\n"
         "Returns the dict of `hdm feel --json` (same keys; 'model' is the model's file or ''; 'trace' is ''); with "

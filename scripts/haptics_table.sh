@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The closed-loop figures of docs/haptics.md: bakes the bunny and the armadillo at their defaults,
-# runs every `hdm feel` scenario in proxy and penalty mode at 1 kHz and 10 kHz, and prints one
+# runs every `hdm feel` scenario in proxy, penalty and sphere mode at 1 kHz and 10 kHz, and prints one
 # Markdown table row per run, then the stiffness sweep.
 #
 # Usage: scripts/haptics_table.sh [BUILD_DIR] [OUT_DIR]
@@ -36,7 +36,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for m in bunny00 armadillo; do
   for r in 1000 10000; do
     for s in slide press thin edges; do
-      for mode in proxy penalty; do
+      for mode in proxy penalty sphere; do
         # A scenario whose site the model does not offer (no thin part it resolves) is a row of its own.
         if ! json=$("$HDM" feel "$OUT/$m.hdm" --scenario "$s" --mode "$mode" --rate "$r" --json 2> "$row.err"); then
           echo "| $m | $s | $mode | $r | not run: $(sed 's/^hdm: error: //' "$row.err" | head -1) ||||||||"

@@ -26,6 +26,7 @@ namespace {
 struct FeelArgs {
   std::string model, scenario, mode = "proxy", input, trace, replay, solver = "newton";
   double rate = 1000, stiffness = 1000, damping = 1, damping_force = 0.2, max_force = 3.3, speed = 0.1, press = 1.0;
+  double radius = 0;  // the ball's radius (--mode sphere) [model units]; 0: 1 % of the diagonal
   bool friction = false, json = false;
   InputLimit limit;
 };
@@ -149,9 +150,10 @@ void print_tool_report(const ToolScenarioReport& r) {
 
 // The tool scenarios (slot, roll_edge): their own analytic block, no model file.
 void run_tool_feel(const FeelArgs& a) {
-  if (!a.model.empty() || !a.replay.empty() || !a.trace.empty() || !a.input.empty())
+  if (!a.model.empty() || !a.replay.empty() || !a.trace.empty() || !a.input.empty() || a.radius != 0)
     throw InvalidInput("--scenario " + a.scenario +
-                       ": a tool scenario builds its own block; give no model, --input, --replay or --trace");
+                       ": a tool scenario builds its own block and tool; give no model, --input, --replay, --trace "
+                       "or --radius");
   ToolScenarioOptions o;
   o.scenario = parse_tool_scenario(a.scenario);
   o.rate_hz = a.rate;
@@ -172,10 +174,12 @@ void run_feel(const FeelArgs& a) {
       throw CLI::RequiredError(
           "model (.hdm): needed by every scenario but the tool scenarios slot, roll_edge, shaft_edge and drill_layers");
   const RenderMode mode = parse_render_mode(a.mode);
-  if (mode == RenderMode::Sphere || mode == RenderMode::RigidTool)
+  if (mode == RenderMode::RigidTool)
     throw InvalidInput("--mode " + a.mode +
-                       ": not scored by hdm feel (its scenarios score a point renderer against the exact input); "
-                       "use proxy or penalty");
+                       ": scored by the tool scenarios shaft_edge and drill_layers only (the scenarios on a model "
+                       "score a point or a ball against the exact input); use proxy, penalty or sphere");
+  if (mode != RenderMode::Sphere && a.radius != 0)
+    throw InvalidInput("--radius " + std::to_string(a.radius) + ": the ball's radius, for --mode sphere only");
   check_outputs({a.trace}, {a.model, a.input, a.replay}, "--trace");
   const SlabModel model = load_model(a.model, {a.limit.bytes()});
   const SlabLocator locator(model);
@@ -186,6 +190,7 @@ void run_feel(const FeelArgs& a) {
   ScenarioOptions o;
   if (!a.scenario.empty()) o.scenario = parse_scenario(a.scenario);
   o.mode = mode;
+  o.ball_radius = a.radius;
   o.proxy = proxy_params(a);
   o.rate_hz = a.rate;
   o.friction = a.friction;
@@ -205,6 +210,7 @@ void run_feel(const FeelArgs& a) {
                             {"scenario", r.scenario},
                             {"rate_hz", r.rate_hz},
                             {"mode", r.mode},
+                            {"ball_radius", r.ball_radius},
                             {"solver", a.solver},
                             {"replay", a.replay},
                             {"friction", a.friction},
@@ -236,6 +242,7 @@ void run_feel(const FeelArgs& a) {
   }
   std::printf("feel %s: %s, %s, %.0f Hz (%s)\n", a.model.c_str(), r.scenario.c_str(), r.mode.c_str(), r.rate_hz,
               r.note.c_str());
+  if (r.ball_radius > 0) std::printf("  ball radius         %.4g model units\n", r.ball_radius);
   std::printf("  ticks               %lld (%lld in contact)\n", (long long)r.ticks, (long long)r.contact_ticks);
   std::printf("  pop-throughs        %d\n", r.pop_throughs);
   std::printf(
@@ -275,7 +282,12 @@ void add_feel_command(CLI::App& app) {
                   "instead of a scenario");
   cmd->add_option("--solver", a->solver, "alpha-plane root finder: newton (default) or bisection (the paper's)");
   cmd->add_option("--rate", a->rate, "servo rate [Hz]")->check(CLI::Range(100.0, 1e6));
-  cmd->add_option("--mode", a->mode, "proxy (god-object, default) or penalty (the paper's SCP)");
+  cmd->add_option("--mode", a->mode,
+                  "proxy (god-object, default), penalty (the paper's SCP) or sphere (a ball of --radius held outside "
+                  "the surface)");
+  cmd->add_option("--radius", a->radius,
+                  "--mode sphere: the ball's radius [model units] (default 0: 1 % of the model's diagonal)")
+      ->check(CLI::Range(0.0, 1e300));
   cmd->add_option("--input", a->input, "input mesh for the exact reference (default: model.source)");
   cmd->add_option("--stiffness", a->stiffness, "rendered stiffness [N/m] (default 1000)");
   cmd->add_option("--damping", a->damping, "normal damping [N·s/m] (default 1)");

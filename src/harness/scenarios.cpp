@@ -6,6 +6,7 @@
 #include <hdm/harness/scenario_sites.h>
 #include <hdm/harness/scenarios.h>
 #include <hdm/haptics/servo_loop.h>
+#include <hdm/haptics/sphere_proxy.h>
 
 #include <algorithm>
 #include <chrono>
@@ -41,6 +42,7 @@ struct Setup {
   Vec3 size;
   double diag = 1;
   Workspace ws;
+  double ball_m = 0;                         // the ball's radius at the device [m]; 0 for a point
   std::vector<Vec3> targets;                 // hand target per tick [m]
   int64_t steady_begin = 0, steady_end = 0;  // ticks of the steady part (force_cv, stiff hold)
   std::string note;
@@ -68,19 +70,49 @@ struct ReferenceForces {
   bool ref_valid = false, fac_valid = false;
 };
 
-// The scenarios score a point renderer (render_step): the ball and the rigid tool are refused by name.
-void require_point_mode(const char* what, RenderMode mode) {
-  if (mode != RenderMode::Sphere && mode != RenderMode::RigidTool) return;
-  throw InvalidInput(std::string(what) + ": mode " + (mode == RenderMode::Sphere ? "sphere" : "rigid") +
-                     " is not scored here (the scenarios score a point against the exact input; proxy or penalty)");
+// The scenarios score a point renderer (render_step) or the ball: the rigid tool, whose torque
+// they do not score, is refused by name, and so is a ball radius that is not a length.
+void require_scored_mode(const char* what, const ScenarioOptions& o) {
+  if (o.mode == RenderMode::RigidTool)
+    throw InvalidInput(std::string(what) +
+                       ": mode rigid is not scored here (its force and torque are scored by the tool scenarios "
+                       "shaft_edge and drill_layers); proxy, penalty or sphere");
+  if (!(o.ball_radius >= 0) || !std::isfinite(o.ball_radius))
+    throw InvalidInput(std::string(what) + ": ball radius " + std::to_string(o.ball_radius) +
+                       " is not a length >= 0 (0: 1 % of the model's diagonal)");
+}
+
+// The renderer a run drives, with the state it carries from tick to tick: a point renderer
+// (render_step) or the ball (sphere_proxy_step). The ball's state is a few kB: one per run.
+struct Renderer {
+  RenderMode mode = RenderMode::Proxy;
+  ProxyParams point;
+  SphereProxyParams ball;
+  ProxyState st;
+  SphereProxyState ball_state;
+
+  ProxyOutput step(const SlabModel& model, const SlabLocator& locator, const Workspace& ws, const DeviceState& ds) {
+    if (mode == RenderMode::Sphere)
+      return sphere_proxy_step(model, locator, ws, ds.position, ds.velocity, ball, ball_state);
+    return render_step(mode, model, locator, ws, ds.position, ds.velocity, point, st);
+  }
+  // Where the force is judged from: the proxy (the SCP in penalty mode), or the ball's centre [model units].
+  const Vec3& proxy() const { return mode == RenderMode::Sphere ? ball_state.center : st.position; }
+};
+
+// The ball's radius [model units] a run uses: as sphere_proxy_step() resolves 0.
+double ball_radius(const SlabModel& model, const ScenarioOptions& o) {
+  if (o.mode != RenderMode::Sphere) return 0;
+  return o.ball_radius > 0 ? o.ball_radius : 0.01 * model.source_diagonal;
 }
 
 // The report's identification fields, before any tick is run.
 ScenarioReport report_header(const ScenarioOptions& o, const Setup& s) {
   ScenarioReport r;
   r.scenario = scenario_name(o.scenario);
-  r.mode = o.mode == RenderMode::Proxy ? "proxy" : "penalty";
+  r.mode = o.mode == RenderMode::Proxy ? "proxy" : o.mode == RenderMode::Sphere ? "sphere" : "penalty";
   r.rate_hz = o.rate_hz;
+  r.ball_radius = s.ball_m * s.ws.scale;
   r.stable_stiffness_n_per_m = o.proxy.force.stiffness;
   r.note = s.note;
   return r;
@@ -116,30 +148,56 @@ void score_force(ScenarioReport& r, RunTally& t, const Setup& s, const ProxyOutp
   if (k >= s.steady_begin && k < s.steady_end) t.steady_force.push_back(fm);
 }
 
-// Normal errors of force @p f against the input, and the exact input's reference forces at @p hip.
-ReferenceForces score_normals(RunTally& t, const ScenarioSites& sites, const Setup& s, const ProxyParams& pp,
-                              const ProxyState& st, const Vec3& f, const Vec3& hip, double max_f) {
+// The ball on the exact input, at the HIP's closest input point @p ch: a spring of depth r - |g|
+// outside the input, r + |g| inside (g = HIP - c), along the input's interpolated normal at c
+// (smooth) and along g (facets: the faceted input's offset surface is smooth, so is this force).
+ReferenceForces ball_reference(const ExactMeshQuery& ref, const Setup& s, const ProxyParams& pp, const SurfacePoint& ch,
+                               const Vec3& hip, double max_f) {
   ReferenceForces rf;
-  // The input's face and interpolated normals at its closest point to the proxy (to the SCP
-  // in penalty mode).
-  const SurfacePoint cp = sites.project(st.position);
-  if (cp.face >= 0) {
-    t.nerr.push_back(angle_deg(f, cp.face_normal));
-    t.nerr_smooth.push_back(angle_deg(f, cp.normal));
-    t.nfloor.push_back(angle_deg(cp.face_normal, cp.normal));
+  const Vec3 g = hip - ch.point;
+  const double r = s.ball_m * s.ws.scale, d = g.norm();
+  const bool inside = ref.inside(hip);
+  const double depth = inside ? r + d : r - d;
+  if (depth <= 0) return rf;
+  const double spring = std::min(max_f, pp.force.stiffness * depth / s.ws.scale);
+  rf.f_ref = spring * ch.normal;
+  rf.ref_valid = true;
+  if (!inside && d > 0) {
+    rf.f_fac = spring * g / d;
+    rf.fac_valid = true;
   }
+  return rf;
+}
+
+// Normal errors of force @p f against the input, and the exact input's reference forces at @p hip.
+ReferenceForces score_normals(RunTally& t, const ScenarioSites& sites, const ExactMeshQuery& ref, const Setup& s,
+                              const ProxyParams& pp, const Vec3& proxy, const Vec3& f, const Vec3& hip, double max_f) {
+  // The input's face and interpolated normals at its closest point to the proxy (to the SCP
+  // in penalty mode, to the ball's centre).
+  const SurfacePoint cp = sites.project(proxy);
+  if (cp.face >= 0) {
+    // A ball's exact contact normal is the direction from the input's closest point to its centre
+    // (the normal of the input's offset surface): on a surface rough at the ball's scale, the
+    // interpolated normal there is not the direction the input pushes the ball.
+    const Vec3 smooth =
+        s.ball_m > 0 && (proxy - cp.point).norm() > 0 ? Vec3((proxy - cp.point).normalized()) : cp.normal;
+    t.nerr.push_back(angle_deg(f, cp.face_normal));
+    t.nerr_smooth.push_back(angle_deg(f, smooth));
+    t.nfloor.push_back(angle_deg(cp.face_normal, smooth));
+  }
+  const SurfacePoint ch = sites.project(hip);
+  if (ch.face < 0) return {};
+  if (s.ball_m > 0) return ball_reference(ref, s, pp, ch, hip, max_f);
+  ReferenceForces rf;
   // The same contact rendered on the exact input: spring to the HIP's closest input point along
   // the input's interpolated normal there (what a renderer of the smooth input would give).
-  const SurfacePoint ch = sites.project(hip);
-  if (ch.face >= 0) {
-    rf.f_ref = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale) * ch.normal;
-    rf.ref_valid = true;
-    // Its facets: the spring straight to c, while the HIP is under c's face.
-    const Vec3 g = ch.point - hip;
-    if (g.dot(ch.face_normal) > 0) {
-      rf.f_fac = std::min(max_f, pp.force.stiffness * g.norm() / s.ws.scale) * g.normalized();
-      rf.fac_valid = true;
-    }
+  rf.f_ref = std::min(max_f, pp.force.stiffness * (ch.point - hip).norm() / s.ws.scale) * ch.normal;
+  rf.ref_valid = true;
+  // Its facets: the spring straight to c, while the HIP is under c's face.
+  const Vec3 g = ch.point - hip;
+  if (g.dot(ch.face_normal) > 0) {
+    rf.f_fac = std::min(max_f, pp.force.stiffness * g.norm() / s.ws.scale) * g.normalized();
+    rf.fac_valid = true;
   }
   return rf;
 }
@@ -202,7 +260,11 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
   ScenarioReport r = report_header(o, s);
   ProxyParams pp = o.proxy;
   if (!o.friction) pp.friction_scale = 0;
-  ProxyState st;
+  Renderer rn;
+  rn.mode = o.mode;
+  rn.point = pp;
+  rn.ball.proxy = pp;
+  rn.ball.radius = s.ball_m * s.ws.scale;
   RunTally t = make_tally(n);
   if (o.keep_trace) r.trace.reserve(n);
   const double max_f = pp.force.max_force;
@@ -214,7 +276,7 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
     if (!dev.begin_frame(ds)) break;
     if (k == 0) t.x_prev = ds.position, t.hip_prev = s.ws.to_model(ds.position);
     const auto t0 = clock::now();
-    const ProxyOutput out = render_step(o.mode, model, locator, s.ws, ds.position, ds.velocity, pp, st);
+    const ProxyOutput out = rn.step(model, locator, s.ws, ds);
     const auto t1 = clock::now();
     dev.end_frame(out.force);
     t.tick_ns[k] = std::chrono::duration<double, std::nano>(t1 - t0).count();
@@ -226,13 +288,14 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
     score_force(r, t, s, out, x, k, max_f);
     const double fm = f.norm();
     ReferenceForces rf;
-    if (sites && flags.score_normals && fm > 0.05) rf = score_normals(t, *sites, s, pp, st, f, hip, max_f);
+    if (sites && flags.score_normals && fm > 0.05) rf = score_normals(t, *sites, ref, s, pp, rn.proxy(), f, hip, max_f);
     const bool still = k > 0 && (x - t.x_prev).norm() < 1e-4;
     score_reference_steps(r, t, rf, still, max_f);
-    if (o.mode == RenderMode::Proxy && st.contact) {
+    if (o.mode == RenderMode::Proxy && rn.st.contact) {
       Contact e;
-      evaluate_surface(model, st.slab, st.coords, e);
-      r.proxy_surface_error_max = std::max(r.proxy_surface_error_max, (e.surface_point - st.position).norm() / s.diag);
+      evaluate_surface(model, rn.st.slab, rn.st.coords, e);
+      r.proxy_surface_error_max =
+          std::max(r.proxy_surface_error_max, (e.surface_point - rn.st.position).norm() / s.diag);
     }
     score_pop_through(r, t, ref, f, hip);
     const int slab = fm > 0 ? out.contact.slab : -1;
@@ -240,7 +303,7 @@ ScenarioReport score_run(const SlabModel& model, const SlabLocator& locator, con
     t.prev_slab = slab;
     if (o.keep_trace)
       r.trace.push_back({k / o.rate_hz, x, f, fm > 0 ? 1e3 * out.contact.depth / s.ws.scale : 0.0,
-                         static_cast<int>(out.status), slab, s.ws.to_device(st.position), out.contact.normal});
+                         static_cast<int>(out.status), slab, s.ws.to_device(rn.proxy()), out.contact.normal});
     t.f_prev = f;
     t.x_prev = x;
     t.hip_prev = hip;
@@ -261,12 +324,13 @@ ScenarioReport simulate(const SlabModel& model, const SlabLocator& locator, cons
 
 // ---- scenario geometry ----------------------------------------------------------------------
 
-Setup base_setup(const ExactMeshQuery& ref, const ScenarioOptions& o) {
+Setup base_setup(const SlabModel& model, const ExactMeshQuery& ref, const ScenarioOptions& o) {
   Setup s;
   s.box = bounds(ref.mesh());
   s.size = s.box.max - s.box.min;
   s.diag = s.box.diagonal();
   s.ws = fit_workspace(s.box, o.workspace_m);
+  s.ball_m = ball_radius(model, o) / s.ws.scale;
   return s;
 }
 
@@ -296,11 +360,11 @@ double length(const std::vector<Vec3>& pts) {
 }
 
 // Hand targets [m] under surface points: pressed in along the interpolated normal by @p depth [m]
-// (negative: lifted off).
+// (negative: lifted off), measured from the ball's surface (its centre one radius above).
 std::vector<Vec3> targets_under(const Setup& s, const std::vector<SurfacePoint>& pts, double depth) {
   std::vector<Vec3> out;
   out.reserve(pts.size());
-  for (const SurfacePoint& p : pts) out.push_back(s.ws.to_device(p.point) - depth * p.normal);
+  for (const SurfacePoint& p : pts) out.push_back(s.ws.to_device(p.point) - (depth - s.ball_m) * p.normal);
   return out;
 }
 
@@ -325,7 +389,7 @@ void slide_path(const ScenarioSites& sites, const ScenarioOptions& o, Setup& s) 
 
 void press_path(const SurfacePoint& spot, const ScenarioOptions& o, Setup& s, double hand_force, double hold_s) {
   const Vec3 p = s.ws.to_device(spot.point);
-  const Vec3 in = p - press_offset(o, hand_force) * spot.normal, out = p + 0.01 * spot.normal;
+  const Vec3 in = p - (press_offset(o, hand_force) - s.ball_m) * spot.normal, out = p + (0.01 + s.ball_m) * spot.normal;
   s.targets.push_back(out);
   line_to(s.targets, in, 0.02, o.rate_hz);
   s.steady_begin = static_cast<int64_t>(s.targets.size() + 0.5 * hold_s * o.rate_hz);
@@ -357,12 +421,12 @@ void edges_path(const SurfaceStroke& st, const ScenarioOptions& o, Setup& s) {
 // deflect the hand sideways, until the hand alone would apply max force with the handle at the far side.
 void thin_path(const ThinSite& site, const ScenarioOptions& o, Setup& s) {
   const Vec3 in_d = s.ws.to_device(site.entry.point), out_d = s.ws.to_device(site.exit), u = -site.entry.normal;
-  s.targets.push_back(in_d - u * 0.01);
-  line_to(s.targets, out_d + u * (o.proxy.force.max_force / o.device.hand_stiffness), 0.02, o.rate_hz);
+  s.targets.push_back(in_d - u * (0.01 + s.ball_m));
+  line_to(s.targets, out_d + u * (o.proxy.force.max_force / o.device.hand_stiffness + s.ball_m), 0.02, o.rate_hz);
   s.steady_begin = static_cast<int64_t>(s.targets.size());
   hold(s.targets, 0.3, o.rate_hz);
   s.steady_end = static_cast<int64_t>(s.targets.size());
-  line_to(s.targets, in_d - u * 0.01, 0.02, o.rate_hz);
+  line_to(s.targets, in_d - u * (0.01 + s.ball_m), 0.02, o.rate_hz);
   hold(s.targets, 0.05, o.rate_hz);
   const Vec3& in = site.entry.point;
   char buf[200];
@@ -399,8 +463,8 @@ const char* scenario_name(Scenario s) noexcept {
 ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& ref,
                             const ScenarioOptions& o) {
   if (!(o.rate_hz > 0)) throw InvalidInput("scenario: rate_hz must be > 0");
-  require_point_mode("scenario", o.mode);
-  Setup s = base_setup(ref, o);
+  require_scored_mode("scenario", o);
+  Setup s = base_setup(model, ref, o);
   RunFlags flags;
   const ScenarioSites sites(ref);
   switch (o.scenario) {
@@ -426,7 +490,7 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
       for (int i = 0; i < 80; ++i) {
         ScenarioOptions oi = o;
         oi.proxy.force.stiffness = 200 * std::pow(10.0, 0.1 * i);
-        Setup si = base_setup(ref, oi);
+        Setup si = base_setup(model, ref, oi);
         press_path(spot, oi, si, 1.5, 0.3);
         const ScenarioReport ri = simulate(model, locator, ref, nullptr, oi, si, flags);
 
@@ -456,8 +520,8 @@ ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, co
   ScenarioOptions o = options;
   o.rate_hz = device.rate_hz();
   if (!(o.rate_hz > 0)) throw InvalidInput("replay: the trajectory needs at least two rows with increasing time");
-  require_point_mode("replay", o.mode);
-  Setup s = base_setup(ref, o);
+  require_scored_mode("replay", o);
+  Setup s = base_setup(model, ref, o);
   s.steady_begin = 0;
   s.steady_end = static_cast<int64_t>(device.size());
   s.note = "replay of a recorded trajectory (open loop: the handle does not respond to the force)";

@@ -7,11 +7,14 @@
 #include "haptics/haptics_fixtures.h"
 #include "support/test_models.h"
 
+#include <hdm/core/error.h>
 #include <hdm/harness/scenarios.h>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
+#include <string>
 
 namespace hdm {
 namespace {
@@ -83,6 +86,54 @@ TEST(Scenario, EdgesCrossSlabsWithoutSteps) {
   const ScenarioReport q = run(Scenario::Edges, RenderMode::Penalty);
   EXPECT_LE(r.normal_error_smooth_p95_deg, q.normal_error_smooth_p95_deg + 1.0)
       << "the proxy's force follows the input at least as well as the paper's SCP";
+}
+
+// The ball (sphere proxy, r = 1 % of the diagonal) on the default bunny, pressed with 1.2 times
+// the force limit: the hand's spring is several r long there, and the ball holds still under it,
+// its force along the exact ball's contact normal (from the input's closest point to the centre).
+// When shading was gated by r plus the spring, it switched on and off as the ball moved over the
+// curved spot, and the ball jumped between two centres on alternate ticks (5.4 % steps).
+TEST(Scenario, TheBallHoldsStillUnderADeepPress) {
+  static const test::BakedMesh bunny(test::bunny(), "bunny00.off", 0, 16);
+  ScenarioOptions o;
+  o.scenario = Scenario::Press;
+  o.mode = RenderMode::Sphere;
+  const ScenarioReport r = run_scenario(bunny.model, bunny.locator, bunny.reference, o);
+  EXPECT_EQ(r.mode, "sphere");
+  EXPECT_DOUBLE_EQ(r.ball_radius, 0.01 * bunny.model.source_diagonal);
+  EXPECT_EQ(r.pop_throughs, 0) << r.note;
+  EXPECT_NEAR(r.max_force_n, 3.3, 1e-6) << "the hand pushes with 1.2 × max force";
+  EXPECT_LT(r.max_force_step_pct, 2.0) << r.note;
+  EXPECT_LT(r.normal_error_smooth_p95_deg, 10.0) << r.note;
+  EXPECT_LE(r.energy_ratio, 1.01) << r.note;
+  // Sliding, the hand presses the ball's surface (its targets lifted by r) with the set 1 N.
+  o.scenario = Scenario::Slide;
+  const ScenarioReport sl = run_scenario(bunny.model, bunny.locator, bunny.reference, o);
+  EXPECT_EQ(sl.pop_throughs, 0) << sl.note;
+  EXPECT_NEAR(sl.mean_contact_force_n, 1.0, 0.3) << sl.note;
+  EXPECT_LT(sl.max_force_step_pct, sl.reference_facet_force_step_pct) << sl.note;
+  EXPECT_LT(sl.normal_error_smooth_p95_deg, 10.0) << sl.note;
+}
+
+TEST(Scenario, RefusesTheRigidToolAndABallRadiusThatIsNotALength) {
+  ScenarioOptions o;
+  o.mode = RenderMode::RigidTool;
+  try {
+    run(Scenario::Press, RenderMode::RigidTool);
+    FAIL() << "the rigid tool was scored";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("mode rigid"), std::string::npos) << e.what();
+  }
+  for (double radius : {-1.0, double(NAN), double(INFINITY)}) {
+    o.mode = RenderMode::Sphere;
+    o.ball_radius = radius;
+    try {
+      run_scenario(bunny().model, bunny().locator, bunny().reference, o);
+      FAIL() << "ball radius " << radius << " was taken";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("ball radius"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // Sampled-data passivity (Colgate & Brown 1994): a virtual wall K with virtual damping b held for

@@ -26,12 +26,13 @@ def assert_same_report(mine, theirs):
             assert mine[key] == value, key
 
 
-@pytest.mark.parametrize("scenario", ["slide", "press"])
-def test_feel_gives_the_programs_report(sphere_files, hdm_program, scenario):
+@pytest.mark.parametrize("scenario,mode", [("slide", "proxy"), ("press", "proxy"), ("press", "sphere")])
+def test_feel_gives_the_programs_report(sphere_files, hdm_program, scenario, mode):
     off, path, model = sphere_files
-    theirs = program_json(hdm_program, path, "--scenario", scenario)
-    mine = hdm.feel(hdm.load(path), scenario)
+    theirs = program_json(hdm_program, path, "--scenario", scenario, "--mode", mode)
+    mine = hdm.feel(hdm.load(path), scenario, mode=mode)
     assert_same_report(mine, theirs)
+    assert (mine["ball_radius"] > 0) == (mode == "sphere")
     assert mine["ticks"] > 100 and mine["contact_ticks"] > 0 and mine["pop_throughs"] == 0
     assert hdm.feel(path, scenario)["max_force_n"] == mine["max_force_n"]  # a path works too
 
@@ -56,6 +57,10 @@ def test_feel_errors(sphere_files, tmp_path):
         hdm.feel(model)
     with pytest.raises(ValueError, match="mode rigid"):
         hdm.feel(model, "press", mode="rigid")
+    with pytest.raises(ValueError, match="ball radius"):
+        hdm.feel(model, "press", mode="sphere", radius=-1.0)
+    with pytest.raises(ValueError, match="sphere' only"):
+        hdm.feel(model, "press", radius=0.1)
     bad = tmp_path / "bad.csv"
     bad.write_text("time_s,device_x_m,device_y_m,device_z_m\n0,0,0,0\n0.001,nan,0,0\n")
     with pytest.raises(ValueError, match="bad.csv"):

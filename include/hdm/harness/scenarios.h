@@ -31,19 +31,23 @@ Scenario parse_scenario(const std::string& name);
 /// Name of @p s.
 const char* scenario_name(Scenario s) noexcept;
 
-/// Settings of a scenario run. Paths are found on the exact input (model frame, any orientation).
+/// Settings of a scenario run. Paths are found on the exact input (model frame, any orientation);
+/// with the ball (RenderMode::Sphere) the hand targets are lifted by its radius along the input's
+/// normal, so the hand presses the ball's surface, not its centre, onto the input with the set force.
 struct ScenarioOptions {
   Scenario scenario = Scenario::Slide;  ///< which scripted motion to run
-  RenderMode mode = RenderMode::Proxy;  ///< proxy (god-object) or the paper's penalty force (not Sphere or RigidTool)
-  double rate_hz = 1000;                ///< servo rate [Hz]
-  ProxyParams proxy;                    ///< force parameters (stiffness, damping, max force, friction)
-  bool friction = false;                ///< use the model's μs/μd fields (off: frictionless, so force
-                                        ///< direction = surface normal and normal_error is meaningful)
-  double workspace_m = 0.16;            ///< device workspace the model's diagonal maps to [m]
-  double speed_m_s = 0.1;               ///< slide / edges speed of the hand target [m/s]
-  double press_force_n = 1.0;           ///< slide / edges: hand force pressing into the surface [N]
-  SimulatedDeviceOptions device;        ///< handle mass, hand spring/damper (rate and max force are set from above)
-  bool keep_trace = false;              ///< fill ScenarioReport::trace
+  RenderMode mode = RenderMode::Proxy;  ///< proxy (god-object), the paper's penalty force or the sphere proxy
+                                        ///< (a ball of `ball_radius`); not RigidTool
+  double ball_radius = 0;     ///< RenderMode::Sphere: ball radius [model units]; 0: 0.01 × the model's source diagonal
+  double rate_hz = 1000;      ///< servo rate [Hz]
+  ProxyParams proxy;          ///< force parameters (stiffness, damping, max force, friction)
+  bool friction = false;      ///< use the model's μs/μd fields (off: frictionless, so force
+                              ///< direction = surface normal and normal_error is meaningful)
+  double workspace_m = 0.16;  ///< device workspace the model's diagonal maps to [m]
+  double speed_m_s = 0.1;     ///< slide / edges speed of the hand target [m/s]
+  double press_force_n = 1.0;     ///< slide / edges: hand force pressing into the surface [N]
+  SimulatedDeviceOptions device;  ///< handle mass, hand spring/damper (rate and max force are set from above)
+  bool keep_trace = false;        ///< fill ScenarioReport::trace
 };
 
 /// One traced tick (for plots).
@@ -63,7 +67,8 @@ struct ScenarioReport {
   /// @{ Scenario and render mode names (as `hdm feel` takes them).
   std::string scenario, mode;
   /// @}
-  double rate_hz = 0;  ///< servo rate simulated [Hz]
+  double rate_hz = 0;      ///< servo rate simulated [Hz]
+  double ball_radius = 0;  ///< the ball's radius [model units] (RenderMode::Sphere); 0 for a point
   /// @{ Ticks run, ticks in contact, ticks with a non-finite device reading.
   int64_t ticks = 0, contact_ticks = 0, bad_input_ticks = 0;
   /// @}
@@ -110,10 +115,17 @@ struct ScenarioReport {
 
 /// @brief Runs one scenario on @p model, scored against @p reference (the input mesh the model was
 /// baked from).
+/// With the ball, the HIP is the ball's centre on the device and its proxy the god-object ball's
+/// centre; the exact input's references are the same ball on the input: a spring of depth
+/// r − |HIP − c| (r + |HIP − c| with the centre inside) along the input's interpolated normal at
+/// the centre's closest input point c (smooth), and along HIP − c (facets: a ball on the faceted
+/// input, whose offset surface has no edges), and the normals are judged at c of the proxy's centre.
 /// @throws InvalidInput when the scenario's geometry cannot be found on the model (e.g. no ray hits),
-///         or for RenderMode::Sphere and RenderMode::RigidTool (the scores are a point's), naming the mode.
+///         for RenderMode::RigidTool (a rigid tool's scores are its own: hdm::run_tool_scenario), naming
+///         the mode, or for a negative or non-finite ball_radius.
 /// @note Runs in simulated time, ticks back to back on the calling thread; allocates only before the
-///       tick loop (and in the Stiff search, between runs). Each tick is hdm::render_step, timed.
+///       tick loop (and in the Stiff search, between runs). Each tick is hdm::render_step (hdm::sphere_proxy_step with
+///       the ball), timed.
 ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
                             const ScenarioOptions& options);
 
@@ -127,9 +139,10 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
 ///                 `hdm sculpt --forces` uses the slab model's box, a few per cent larger).
 /// @param options  mode, proxy parameters, friction and workspace; the rate is the recording's.
 /// @return the report, scenario "replay"; ticks = rows played.
-/// @throws InvalidInput when the recording has fewer than two rows or no duration, or for
-///         RenderMode::Sphere and RenderMode::RigidTool, naming the mode.
-/// @note Allocates only before the tick loop; each tick is hdm::render_step, timed.
+/// @throws InvalidInput when the recording has fewer than two rows or no duration, for
+///         RenderMode::RigidTool, naming the mode, or for a negative or non-finite ball_radius.
+/// @note Allocates only before the tick loop; each tick is hdm::render_step (hdm::sphere_proxy_step with the ball),
+/// timed.
 ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
                           ReplayDevice& device, const ScenarioOptions& options);
 
