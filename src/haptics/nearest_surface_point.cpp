@@ -257,8 +257,12 @@ SurfacePoint nearest_surface_point(const SlabModel& m, int slab, double wS, doub
   out.normal = shaded_normal(m, slab, best, out.facet, out.corner);
   out.slab = slab;
   out.cell_i = best.i, out.cell_j = best.j, out.down = best.down;
-  out.wS = (best.j + 1.0 / 3) / n;
-  out.wT = (best.i + 1.0 / 3) / n;
+  // The centroid of its grid triangle, so that a search from (wS, wT) starts on that triangle: an
+  // up triangle's centroid for a down one started the next search on its neighbour, whose own
+  // nearest point, inside it on a concave spot, ended that search farther than where it began.
+  const double third = (best.down ? 2.0 : 1.0) / 3;
+  out.wS = (best.j + third) / n;
+  out.wT = (best.i + third) / n;
   return out;
 }
 

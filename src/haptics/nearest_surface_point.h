@@ -13,7 +13,7 @@ struct SurfacePoint {
   Vec3 normal = Vec3::UnitZ(); ///< force-shading normal there (unit)
   Vec3 facet = Vec3::UnitZ();  ///< normal of the grid triangle that holds it (unit)
   int32_t slab = -1;           ///< slab that holds it
-  double wS = 0, wT = 0;       ///< its barycentrics in that slab (of its grid cell, to a third of a cell)
+  double wS = 0, wT = 0;       ///< barycentrics in that slab: the centroid of its grid triangle
   int32_t cell_i = 0, cell_j = 0;  ///< its grid cell in that slab (i along wT, j along wS)
   bool down = false;  ///< the cell's "down" triangle (i+1, j+1), (i+1, j), (i, j+1), else its "up" one
   float corner[3] = {1, 0, 0};  ///< its barycentrics in that grid triangle
