@@ -33,7 +33,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1:hard_rss_li
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$here/scripts/lsan.supp:print_suppressions=0"
 export HDM_SANITIZED=1
-gl='^studio_session$|^studio_burr$|^studio_bridge$|^studio_bridge_burr$|^studio_lockstep$|^RenderPng\.|^SlabRenderer\.'
+gl='^studio_session$|^studio_burr$|^studio_bridge$|^studio_bridge_burr$|^RenderPng\.|^SlabRenderer\.'
 # The corpus cases that take longest (seconds each in the main lane, minutes here; and
 # b9_mesh peaks at 1.4 GB uninstrumented) run in the main lane only; knot1, fandisk and the
 # b9.ply refusal run here too (remove_folds() has its unit tests here). So do the five real-model
@@ -51,6 +51,11 @@ slow="$slow|^ClosedSelfIntersection\.(Cow|Triceratops)BakesAtDefaultSettings$"
 slow="$slow|^DecimateMeshTest\.EdgeCapsHoldThroughTheDecimationInParts$|^BakeInput\.NeedleFansAreBakedFromARemeshOfTheSameSurface$"
 slow="$slow|^ShellTest\.SlabCountAndGridExtremes$|^BakeTest\.RealModelsBake$|^corpus\.boeing\.off$"
 slow="$slow|^BakeToToleranceTest\.RefinesUntilTheBoundHoldsByBruteForce$"
+# Three of the rigid burr's, 32-54 s each here: the studio's lockstep (the burr session of
+# studio_burr run twice, to compare the runs), the allocation check of its session's ticks (the
+# whole-session check stays) and the shaft-on-edge scenario (RigidTool.* and the drilling
+# scenario run the same tool code here).
+slow="$slow|^studio_lockstep$|^Realtime\.RigidToolSessionTicksDoNotAllocate$|^ToolScenario\.ShaftEdgeTorqueIsTheEdgeContactsLeverArmMoment$"
 (cd "$out" && ctest --output-on-failure -j "$(nproc)" -E "^python\\.|$gl|$slow")
 # The tests that open OpenGL (EGL or Xvfb): Mesa's drivers are dlopen'd and unloaded, so
 # LeakSanitizer cannot name the module of their leaks, and its tracer has crashed at exit beside
