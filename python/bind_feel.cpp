@@ -52,8 +52,6 @@ py::dict feel(py::object model_arg, const std::string& scenario, const std::stri
   ScenarioOptions o;
   if (!scenario.empty()) o.scenario = parse_scenario(scenario);
   o.mode = parse_render_mode(mode);
-  if (o.mode != RenderMode::Sphere && radius != 0)
-    throw InvalidInput("radius " + std::to_string(radius) + ": the ball's radius, for mode 'sphere' only");
   o.ball_radius = radius;
   o.proxy = proxy_params(solver, stiffness, damping, damping_force, max_force);
   o.rate_hz = rate;

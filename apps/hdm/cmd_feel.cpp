@@ -178,8 +178,6 @@ void run_feel(const FeelArgs& a) {
     throw InvalidInput("--mode " + a.mode +
                        ": scored by the tool scenarios shaft_edge and drill_layers only (the scenarios on a model "
                        "score a point or a ball against the exact input); use proxy, penalty or sphere");
-  if (mode != RenderMode::Sphere && a.radius != 0)
-    throw InvalidInput("--radius " + std::to_string(a.radius) + ": the ball's radius, for --mode sphere only");
   check_outputs({a.trace}, {a.model, a.input, a.replay}, "--trace");
   const SlabModel model = load_model(a.model, {a.limit.bytes()});
   const SlabLocator locator(model);

@@ -71,7 +71,8 @@ struct ReferenceForces {
 };
 
 // The scenarios score a point renderer (render_step) or the ball: the rigid tool, whose torque
-// they do not score, is refused by name, and so is a ball radius that is not a length.
+// they do not score, is refused by name, and so is a ball radius that is not a length or is given
+// for a point renderer.
 void require_scored_mode(const char* what, const ScenarioOptions& o) {
   if (o.mode == RenderMode::RigidTool)
     throw InvalidInput(std::string(what) +
@@ -80,6 +81,9 @@ void require_scored_mode(const char* what, const ScenarioOptions& o) {
   if (!(o.ball_radius >= 0) || !std::isfinite(o.ball_radius))
     throw InvalidInput(std::string(what) + ": ball radius " + std::to_string(o.ball_radius) +
                        " is not a length >= 0 (0: 1 % of the model's diagonal)");
+  if (o.mode != RenderMode::Sphere && o.ball_radius != 0)
+    throw InvalidInput(std::string(what) + ": ball radius " + std::to_string(o.ball_radius) +
+                       " is for the ball (mode sphere) only");
 }
 
 // The renderer a run drives, with the state it carries from tick to tick: a point renderer

@@ -123,7 +123,7 @@ exit_codes)
   expect 2 "shaft_edge and drill_layers" "$hdm" feel --scenario press
   expect 1 "builds its own block" "$hdm" feel "$tmp/m.hdm" --scenario slot
   expect 1 "--mode rigid" "$hdm" feel "$tmp/m.hdm" --scenario press --mode rigid
-  expect 1 "for --mode sphere only" "$hdm" feel "$tmp/m.hdm" --scenario press --radius 0.1
+  expect 1 "(mode sphere) only" "$hdm" feel "$tmp/m.hdm" --scenario press --radius 0.1
   expect 1 "render mode 'spherical'" "$hdm" feel "$tmp/m.hdm" --scenario press --mode spherical
   "$hdm" --help >/dev/null || fail "--help exits $?"
   "$hdm" info "$tmp/m.hdm" >/dev/null || fail "info exits $?"

@@ -115,15 +115,14 @@ TEST(Scenario, TheBallHoldsStillUnderADeepPress) {
   EXPECT_LT(sl.normal_error_smooth_p95_deg, 10.0) << sl.note;
 }
 
-TEST(Scenario, RefusesTheRigidToolAndABallRadiusThatIsNotALength) {
-  ScenarioOptions o;
-  o.mode = RenderMode::RigidTool;
+TEST(Scenario, RefusesTheRigidToolAndABallRadiusItCannotUse) {
   try {
     run(Scenario::Press, RenderMode::RigidTool);
     FAIL() << "the rigid tool was scored";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("mode rigid"), std::string::npos) << e.what();
   }
+  ScenarioOptions o;
   for (double radius : {-1.0, double(NAN), double(INFINITY)}) {
     o.mode = RenderMode::Sphere;
     o.ball_radius = radius;
@@ -133,6 +132,14 @@ TEST(Scenario, RefusesTheRigidToolAndABallRadiusThatIsNotALength) {
     } catch (const InvalidInput& e) {
       EXPECT_NE(std::string(e.what()).find("ball radius"), std::string::npos) << e.what();
     }
+  }
+  o.mode = RenderMode::Proxy;  // a radius for the point proxy: meant for the ball
+  o.ball_radius = 0.01;
+  try {
+    run_scenario(bunny().model, bunny().locator, bunny().reference, o);
+    FAIL() << "a ball radius was taken for the point proxy";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("(mode sphere) only"), std::string::npos) << e.what();
   }
 }
 

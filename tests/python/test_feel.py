@@ -59,7 +59,7 @@ def test_feel_errors(sphere_files, tmp_path):
         hdm.feel(model, "press", mode="rigid")
     with pytest.raises(ValueError, match="ball radius"):
         hdm.feel(model, "press", mode="sphere", radius=-1.0)
-    with pytest.raises(ValueError, match="sphere' only"):
+    with pytest.raises(ValueError, match=r"\(mode sphere\) only"):
         hdm.feel(model, "press", radius=0.1)
     bad = tmp_path / "bad.csv"
     bad.write_text("time_s,device_x_m,device_y_m,device_z_m\n0,0,0,0\n0.001,nan,0,0\n")

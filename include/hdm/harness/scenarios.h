@@ -38,7 +38,8 @@ struct ScenarioOptions {
   Scenario scenario = Scenario::Slide;  ///< which scripted motion to run
   RenderMode mode = RenderMode::Proxy;  ///< proxy (god-object), the paper's penalty force or the sphere proxy
                                         ///< (a ball of `ball_radius`); not RigidTool
-  double ball_radius = 0;     ///< RenderMode::Sphere: ball radius [model units]; 0: 0.01 × the model's source diagonal
+  double ball_radius = 0;     ///< RenderMode::Sphere: ball radius [model units]; 0: 0.01 × the model's source
+                              ///< diagonal (and 0 for the other modes)
   double rate_hz = 1000;      ///< servo rate [Hz]
   ProxyParams proxy;          ///< force parameters (stiffness, damping, max force, friction)
   bool friction = false;      ///< use the model's μs/μd fields (off: frictionless, so force
@@ -122,7 +123,7 @@ struct ScenarioReport {
 /// input, whose offset surface has no edges), and the normals are judged at c of the proxy's centre.
 /// @throws InvalidInput when the scenario's geometry cannot be found on the model (e.g. no ray hits),
 ///         for RenderMode::RigidTool (a rigid tool's scores are its own: hdm::run_tool_scenario), naming
-///         the mode, or for a negative or non-finite ball_radius.
+///         the mode, or for a ball_radius that is negative, not finite, or not 0 with a point renderer.
 /// @note Runs in simulated time, ticks back to back on the calling thread; allocates only before the
 ///       tick loop (and in the Stiff search, between runs). Each tick is hdm::render_step (hdm::sphere_proxy_step with
 ///       the ball), timed.
@@ -140,7 +141,8 @@ ScenarioReport run_scenario(const SlabModel& model, const SlabLocator& locator, 
 /// @param options  mode, proxy parameters, friction and workspace; the rate is the recording's.
 /// @return the report, scenario "replay"; ticks = rows played.
 /// @throws InvalidInput when the recording has fewer than two rows or no duration, for
-///         RenderMode::RigidTool, naming the mode, or for a negative or non-finite ball_radius.
+///         RenderMode::RigidTool, naming the mode, or for a ball_radius that is negative, not finite, or not 0
+///         with a point renderer.
 /// @note Allocates only before the tick loop; each tick is hdm::render_step (hdm::sphere_proxy_step with the ball),
 /// timed.
 ScenarioReport run_replay(const SlabModel& model, const SlabLocator& locator, const ExactMeshQuery& reference,
