@@ -98,7 +98,10 @@ std::vector<std::vector<int32_t>> surface_chunks(const SlabModel& model, int64_t
     return {std::move(slabs)};
   }
   std::vector<Vec3> centres(S);
-  for (int32_t s = 0; s < S; ++s) centres[s] = 0.5 * (model.geometry[s].box.min + model.geometry[s].box.max);
+  for (int32_t s = 0; s < S; ++s) {
+    const Aabb b = slab_bounds(model, s);
+    centres[s] = 0.5 * (b.min + b.max);
+  }
   const MortonOrder order(centres);
   std::vector<std::vector<int32_t>> chunks;
   for (int64_t b = 0; b < S; b += per_chunk) {

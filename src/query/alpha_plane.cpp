@@ -80,9 +80,9 @@ int barycentrics(const SlabGeometry& g, const Vec3& p, double alpha, Vec3& bary)
 bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, double alpha_guess, SlabCoordinates& c,
                     int& exit_edge) noexcept {
   exit_edge = -1;
-  if (!g.box.contains(p)) return false;  // also rejects NaN
+  if (!p.allFinite()) return false;
   const Vec3 q = p - g.R0;
-  const Cubic f{g.N0.dot(q), g.N1.dot(q) - g.N0dR, g.N2.dot(q) - g.N1dR, -g.N2dR};
+  const Cubic f{g.N0.dot(q), g.N1.dot(q) - g.N0.dot(g.dR), g.N2.dot(q) - g.N1.dot(g.dR), -g.N2.dot(g.dR)};
   const double f0 = f.c0, f1 = f.c0 + f.c1 + f.c2 + f.c3;
   if ((f0 > 0 && f1 > 0) || (f0 < 0 && f1 < 0)) return false;  // paper §3.1: no root in [0,1]
   double alpha = f0 == 0 ? 0.0 : f1 == 0 ? 1.0 : solve(f, 0.0, 1.0, f0, f1, alpha_guess, solver);

@@ -12,7 +12,7 @@ SlabLocator::SlabLocator(const SlabModel& model)
   std::vector<Box> boxes(S);
   std::vector<Sides> sides(S);
   for (int s = 0; s < S; ++s) {
-    const Aabb& b = model.geometry[s].box;
+    const Aabb b = slab_bounds(model, s);
     for (int a = 0; a < 3; ++a) {  // round outward so the float box contains the double box
       boxes[s].lo[a] = std::nextafter(static_cast<float>(b.min[a]), -INFINITY);
       boxes[s].hi[a] = std::nextafter(static_cast<float>(b.max[a]), INFINITY);
@@ -28,7 +28,7 @@ SlabLocator::SlabLocator(const SlabModel& model)
     }
     Vec3 centroid = Vec3::Zero();
     for (const Vec3& c : corner) centroid += c / 6;
-    M += (model.geometry[s].box.max - model.geometry[s].box.min).norm();
+    M += slab_bounds(model, s).diagonal();
     for (int e = 0; e < 3; ++e) {  // edge RS, ST, TR: the plane through the edge and the mean ray
       const int v = e, w = (e + 1) % 3;
       const Vec3 along = 0.5 * (corner[w] - corner[v] + corner[w + 3] - corner[v + 3]);
@@ -180,7 +180,7 @@ namespace {
 void face_planes(const SlabModel& model, int s, Vec3 n[4], double d[4]) noexcept {
   const Tri& t = model.slabs[s];
   Vec3 corner[6];
-  double M = (model.geometry[s].box.max - model.geometry[s].box.min).norm();
+  double M = slab_bounds(model, s).diagonal();
   for (int k = 0; k < 3; ++k) {
     corner[k] = model.inner[t[k]], corner[k + 3] = model.outer[t[k]];
     M = std::max({M, corner[k].cwiseAbs().maxCoeff(), corner[k + 3].cwiseAbs().maxCoeff()});

@@ -24,11 +24,13 @@ SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, 
   g.N0 = g.e1.cross(g.e2);
   g.N1 = g.e1.cross(g.d2) + g.d1.cross(g.e2);
   g.N2 = g.d1.cross(g.d2);
-  g.N0dR = g.N0.dot(g.dR);
-  g.N1dR = g.N1.dot(g.dR);
-  g.N2dR = g.N2.dot(g.dR);
-  for (const Vec3* p : {&R0, &S0, &T0, &R1, &S1, &T1}) g.box.extend(*p);
   return g;
+}
+
+Aabb slab_bounds(const SlabModel& model, int slab) noexcept {
+  Aabb box;
+  for (const int32_t v : model.slabs[static_cast<size_t>(slab)]) box.extend(model.inner[v]), box.extend(model.outer[v]);
+  return box;
 }
 
 double slab_min_jacobian(const SlabGeometry& g, const Vec3& dS, const Vec3& dT) noexcept {

@@ -29,7 +29,7 @@ TEST_P(Atlas, TexelsSitAtTheirUvAndPaddingCopiesTheNearestTexel) {
   const auto [n, m] = GetParam();
   const SlabModel model = test::octahedron_model(n, m);
   const TextureAtlas a = build_texture_atlas(model);
-  const int N = n * m, per = grid::point_count(N);
+  const int N = n * m;
   ASSERT_EQ(a.rgba.size(), size_t(a.width) * a.height * 4);
   EXPECT_LE(std::max(a.width, a.height), 2 * std::min(a.width, a.height)) << "near-square";
 

@@ -62,8 +62,33 @@ TEST(AlphaPlaneTest, PointsOutsideTheSlabAreOutside) {
       // Outside across an edge: one barycentric negative.
       const Vec3 out(-0.05, 0.5, 0.55);
       EXPECT_FALSE(locate_in_slab(m.geometry[s], point_from_corners(m, s, out, 0.5), solver, c));
+      // Far beside the slab, between the planes of its faces (no box test rejects it first).
+      const Vec3 far(-4.0, 2.5, 2.5);
+      EXPECT_FALSE(locate_in_slab(m.geometry[s], point_from_corners(m, s, far, 0.5), solver, c));
     }
     EXPECT_FALSE(locate_in_slab(m.geometry[s], Vec3::Constant(std::nan("")), AlphaSolver::Newton, c));
+    EXPECT_FALSE(locate_in_slab(m.geometry[s], Vec3(INFINITY, 0, 0), AlphaSolver::Newton, c));
+  }
+}
+
+TEST(AlphaPlaneTest, SlabBoundsHoldEverySlabPointAndAreSpannedByItsCorners) {
+  const SlabModel& m = test::baked_bunny(0, 16);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int s = 0; s < m.slab_count(); ++s) {
+    const Aabb box = slab_bounds(m, s);
+    for (int k = 0; k < 20; ++k) {
+      const Vec3 p = point_from_corners(m, s, random_barycentric(rng), u(rng));
+      EXPECT_TRUE(box.contains(p)) << "slab " << s;
+    }
+    // Each side of the box is reached by a corner: the box is the corners' own, not a looser one.
+    for (int a = 0; a < 3; ++a) {
+      double lo = INFINITY, hi = -INFINITY;
+      for (int32_t v : m.slabs[s])
+        for (const Vec3& q : {m.inner[v], m.outer[v]}) lo = std::min(lo, q[a]), hi = std::max(hi, q[a]);
+      EXPECT_EQ(box.min[a], lo);
+      EXPECT_EQ(box.max[a], hi);
+    }
   }
 }
 

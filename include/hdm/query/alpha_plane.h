@@ -29,9 +29,12 @@ struct SlabCoordinates {
 /// @param[out] c  coordinates, written only when the point is inside.
 /// @return true iff @p p lies in the slab (α in [0,1] and every barycentric >= -1e-9); a NaN point
 ///         is never inside.
-/// @note noexcept, no allocation, O(1): AABB test, cubic coefficients (3 dot products), 2-4
-///       Halley steps or 15 bisection steps, one cross-product solve. When the cubic has several
-///       roots in [0,1] (possible only in strongly curved slabs), each monotone interval is tried.
+/// @note noexcept, no allocation, O(1): cubic coefficients (6 dot products), 2-4 Halley steps or
+///       15 bisection steps, one cross-product solve. When the cubic has several roots in [0,1]
+///       (possible only in strongly curved slabs), each monotone interval is tried. There is no
+///       box test: a caller trying many slabs filters them by their boxes first (SlabLocator
+///       does, slab_bounds() gives them), since a point beside the slab but between the planes of
+///       its faces is rejected only after the solve.
 /// @see Jagnow & Dorsey 2002 §3.1 eq. 1-2; docs/design.md#alpha-plane and #barycentrics.
 bool locate_in_slab(const SlabGeometry& g, const Vec3& p, AlphaSolver solver, SlabCoordinates& c) noexcept;
 

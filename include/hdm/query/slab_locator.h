@@ -74,8 +74,8 @@ class SlabLocator {
   size_t memory_bytes() const noexcept;
 
  private:
-  // Slab box rounded outward to float: a 24-byte test that rejects most candidates without
-  // touching the 360-byte SlabGeometry (it contains the double box, so results are unchanged).
+  // Slab box (slab_bounds()) rounded outward to float: a 24-byte test that rejects most
+  // candidates without touching the 216-byte SlabGeometry (it contains the double box).
   struct Box {
     float lo[3], hi[3];
     bool contains(float x, float y, float z) const noexcept {

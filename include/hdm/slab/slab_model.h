@@ -24,6 +24,10 @@ namespace hdm {
 /// Corner V in {R, S, T} has inner point V0 and ray dV = V1 - V0. The alpha-triangle is
 /// Rα = R0 + α·dR, Eα1 = e1 + α·d1 (Sα - Rα), Eα2 = e2 + α·d2 (Tα - Rα); its plane normal is
 /// N(α) = N0 + N1·α + N2·α² (outward for a valid slab).
+///
+/// 216 bytes: what the query reads after the locator's filters, and nothing it can derive at no
+/// cost on its chain (the box of the six corners is the locator's float filter and slab_bounds();
+/// the products N·dR are three dot products beside the cubic's own).
 struct SlabGeometry {
   /// @{ Inner R corner and R's ray.
   Vec3 R0, dR;
@@ -34,11 +38,8 @@ struct SlabGeometry {
   /// @{ Alpha-plane normal coefficients.
   Vec3 N0, N1, N2;
   /// @}
-  /// @{ N0·dR, N1·dR, N2·dR.
-  double N0dR, N1dR, N2dR;
-  /// @}
-  Aabb box;  ///< box of the six corners: contains the whole slab
 };
+static_assert(sizeof(SlabGeometry) == 216, "nine Vec3 of doubles, no padding");
 
 /// @brief snorm16 code of a coordinate @p x in [-1, 1]: round(x·32767), clamped to ±32767 (a NaN
 /// gives 0), so -32768 never occurs.
@@ -242,6 +243,12 @@ void rebuild_derived(SlabModel& model);
 /// @see docs/design.md#alpha-plane (the cubic's constants, paper eq. 1-2 expanded).
 SlabGeometry make_slab_geometry(const Vec3& R0, const Vec3& S0, const Vec3& T0, const Vec3& R1, const Vec3& S1,
                                 const Vec3& T1);
+
+/// @brief Box of the six corners of slab @p slab (inner and outer points of R, S, T) [model units]:
+/// it contains the whole slab, since every slab point is a convex combination of its corners.
+/// @param model  slab model (`inner`, `outer`, `slabs`); @param slab  slab id in [0, #S).
+/// @note noexcept, O(1); reads only the stored corners (derived data may be stale).
+Aabb slab_bounds(const SlabModel& model, int slab) noexcept;
 
 /// @brief Ends of the projection line of grid point @p index of slab @p slab.
 /// @param model  slab model with derived data.
