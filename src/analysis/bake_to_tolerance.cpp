@@ -29,6 +29,12 @@ struct Plan {
   int64_t global_slabs = -1, global_faults = -1;
   int global_grid = 0;
   const TriangleMesh* global_source = nullptr;
+  // What the last global round asked of the bake: its slab count, sample budget and source. A
+  // global round asking the same makes the same model (the bake is deterministic).
+  int global_request = -1;
+  int64_t global_budget = -1;
+  const TriangleMesh* global_request_source = nullptr;
+  size_t global_request_faces = 0;  // the source's faces then (a split source is another mesh)
   double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
                                 // slab count (-1: the next round sets it)
   // The mesh the rays are cast on: the input, or the input with its faces split (a low-poly input
@@ -131,6 +137,7 @@ struct Decision {
   bool spots = false;  // misses with a place: overlapping slabs, points beyond the maximum error
   bool local = false;  // the next round refines at the spots alone
   bool stuck = false;  // faults more slabs do not reduce (stuck())
+  bool finest = false;  // the next round would repeat an earlier one, without faults
   bool split = false;  // the source's faces are split in four first (source_runs_short())
   bool grows = false;  // the next round would have more slabs than the one it grows
   int cap = 0;         // most slabs the next round may have
@@ -172,6 +179,19 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
   d.cap = static_cast<int>(d.split ? tolerance.max_slabs : std::min<int64_t>(tolerance.max_slabs, source_faces));
   d.next = static_cast<int>(std::min<double>(d.cap, wanted));
   d.grows = d.local ? r.slabs < d.cap : r.slabs < d.cap && d.next > base;
+  // A global round that asks what the last global round asked (the same slab count of the same
+  // source with the same sample budget) bakes the same model again, the bake being deterministic,
+  // and the rounds after it would repeat those after that one: the decimation made all it can of
+  // the source at that count (at the cap, at the source's own triangles, or where its edges below
+  // the resolution go whatever the count), or a local round between them was undone. Stop instead.
+  const bool budget_moves = tolerance.adapt_grid && !d.spots && d.rms > 1;
+  if (!d.local && !d.split && !budget_moves && d.next == plan.global_request &&
+      plan.options.sample_budget == plan.global_budget && plan.source == plan.global_request_source &&
+      plan.source->faces.size() == plan.global_request_faces) {
+    d.grows = false;
+    d.stuck = d.stuck || f > 0;
+    d.finest = f == 0 && d.next < tolerance.max_slabs;
+  }
   return d;
 }
 
@@ -179,6 +199,7 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
 ToleranceStop stop_reason(const ToleranceRound& t, const Decision& d, int round, const Tolerance& tolerance) {
   if (t.met) return ToleranceStop::Met;
   if (d.stuck) return ToleranceStop::Faults;
+  if (d.finest) return ToleranceStop::Finest;
   if (round + 1 >= tolerance.max_rounds) return ToleranceStop::Rounds;
   if (!d.grows) return d.cap == tolerance.max_slabs ? ToleranceStop::SlabCap : ToleranceStop::InputFaces;
   return ToleranceStop::NotLast;
@@ -243,6 +264,12 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     plan.options.source = plan.source == &plan.target->mesh() ? nullptr : plan.source;
     SlabModel model = bake_slabs(*plan.target, name, plan.options, &r);
     model.source_triangles = faces;
+    if (!plan.refine) {
+      plan.global_request = plan.options.slabs;
+      plan.global_budget = plan.options.sample_budget;
+      plan.global_request_source = plan.source;
+      plan.global_request_faces = plan.source->faces.size();
+    }
     if (plan.decimation_cost < 0) plan.decimation_cost = r.decimation_cost;
     tried.push_back(measure_round(model, r, input, tolerance, plan.refine, far));
     const Decision d = decide(plan, round, tried.back(), r, !far.empty(), tolerance);
@@ -268,6 +295,9 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
              "), the most a bake makes where slabs are invalid or overlap or the decimation keeps the input's faces";
     case ToleranceStop::Rounds:
       return "the " + std::to_string(tolerance.max_rounds) + " rounds a bake tries were used";
+    case ToleranceStop::Finest:
+      return "the next round would bake the model of an earlier one again (" + std::to_string(round.slabs) +
+             " slabs): the decimation makes no finer coarse mesh of the input at the count the bound asks for";
     case ToleranceStop::Faults:
       return std::to_string(round.invalid_slabs) + " invalid slabs and " + std::to_string(round.overlapping_pairs) +
              " overlapping pairs did not go with more slabs (faces of the input that cross or fold)";

@@ -391,3 +391,72 @@ TEST(BakeToToleranceTest, ALowPolyCubeGetsMoreSlabsThanItHasTriangles) {
         }
   EXPECT_LE(100 * back / diagonal, 0.2 + 1e-6);
 }
+
+namespace {
+
+// Error-bounded rounds from @p slabs on an 8-grid (fixed) whose RMS bound no model meets (the
+// maximum is met): every round grows the slabs everywhere, up to @p max_slabs. @p t gets the bounds.
+SlabModel bake_to_unreachable_rms(const ExactMeshQuery& exact, int slabs, int max_slabs, Tolerance& t,
+                                  std::vector<ToleranceRound>& rounds) {
+  BakeOptions o;
+  o.slabs = slabs;
+  o.grid_n = 8;
+  t.max_pct = 100;
+  t.rms_pct = 1e-9;
+  t.adapt_grid = false;
+  t.max_slabs = max_slabs;
+  return bake_to_tolerance(exact, "unreachable RMS", o, t, &rounds);
+}
+
+}  // namespace
+
+// A decimation removes two faces per collapse, so a cap of 101 slabs makes 100. A round at the cap
+// that misses the bound would ask for the cap again, the same options, and bake the same model:
+// the rounds stop at the first one instead of running to Tolerance::max_rounds.
+TEST(BakeToToleranceTest, NeverBakesTheSameOptionsTwiceInARow) {
+  const ExactMeshQuery exact(bumpy_ellipsoid());
+  Tolerance t;
+  std::vector<ToleranceRound> rounds;
+  const SlabModel model = bake_to_unreachable_rms(exact, 20, 101, t, rounds);
+  ASSERT_GE(rounds.size(), 2u);
+  EXPECT_LT(int(rounds.size()), t.max_rounds);
+  for (size_t k = 1; k < rounds.size(); ++k) EXPECT_GT(rounds[k].slabs, rounds[k - 1].slabs) << "round " << k;
+  EXPECT_EQ(rounds.back().stop, ToleranceStop::SlabCap);
+  EXPECT_EQ(model.slab_count(), rounds.back().slabs);
+  EXPECT_LE(model.slab_count(), t.max_slabs);
+}
+
+// The bumpy ellipsoid with every face split in three at a point 1e-6 of the diagonal from one of
+// its corners: the decimation collapses those edges whatever its target (below the resolution,
+// DecimateOptions::negligible_edge), so it never makes more slabs than the ellipsoid has faces.
+// Once a global round has asked for as many slabs as the mesh has faces, the next would ask the
+// same and bake the same model: the rounds stop there, saying so, instead of running to
+// Tolerance::max_rounds.
+TEST(BakeToToleranceTest, StopsWhenTheDecimationMakesNoFinerCoarseMesh) {
+  const TriangleMesh ellipsoid = bumpy_ellipsoid();
+  TriangleMesh mesh;
+  mesh.vertices = ellipsoid.vertices;
+  const double tiny = 1e-6 * bounds(ellipsoid).diagonal();
+  for (const Tri& t : ellipsoid.faces) {
+    const Vec3& a = ellipsoid.vertices[t[0]];
+    const Vec3 towards = (ellipsoid.vertices[t[1]] + ellipsoid.vertices[t[2]]) / 2 - a;
+    const auto m = static_cast<int32_t>(mesh.vertices.size());
+    mesh.vertices.push_back(a + tiny * towards.normalized());
+    mesh.faces.push_back({t[0], t[1], m});
+    mesh.faces.push_back({t[1], t[2], m});
+    mesh.faces.push_back({t[2], t[0], m});
+  }
+  const ExactMeshQuery exact(mesh);
+  Tolerance t;
+  std::vector<ToleranceRound> rounds;
+  const SlabModel model = bake_to_unreachable_rms(exact, 200, Tolerance{}.max_slabs, t, rounds);
+  ASSERT_GE(rounds.size(), 3u);
+  EXPECT_LT(int(rounds.size()), t.max_rounds);
+  const ToleranceRound &last = rounds.back(), &before = rounds[rounds.size() - 2];
+  EXPECT_EQ(last.stop, ToleranceStop::Finest);
+  EXPECT_FALSE(last.local || before.local);
+  EXPECT_EQ(last.slabs, before.slabs);
+  EXPECT_LE(last.slabs, int(ellipsoid.faces.size())) << "no coarse mesh finer than the faces without tiny edges";
+  EXPECT_EQ(model.slab_count(), last.slabs);
+  EXPECT_NE(describe_stop(last, t, int64_t(mesh.faces.size())).find("no finer coarse mesh"), std::string::npos);
+}

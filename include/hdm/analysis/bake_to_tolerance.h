@@ -41,6 +41,7 @@ enum class ToleranceStop {
   InputFaces,  ///< the next round would have more slabs than the input has triangles, and splitting them would not help
   Rounds,      ///< Tolerance::max_rounds bakes were tried
   Faults,      ///< invalid or overlapping slabs that more slabs did not reduce (the input's own crossings or folds)
+  Finest,      ///< the next round would bake an earlier round's model again (no finer coarse mesh at that count)
 };
 
 /// One bake tried by bake_to_tolerance().
@@ -104,7 +105,11 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 /// the first model that meets the bounds, at the cap, after Tolerance::max_rounds bakes, or when the round before had
 /// invalid or overlapping slabs and this round has more of them, or as many for the second round running (faults that
 /// more slabs do not reduce come from the input: faces that cross or fold at every resolution; a sliver of a resolved
-/// union needs one round more); the model returned is the last one baked (the finest).
+/// union needs one round more), or when the next round would be a global one asking what the last global round asked
+/// (the same slab count of the same source with the same sample budget): the bake is deterministic, so it would make
+/// the same model, and the rounds after it would repeat those after that one (the decimation made all it can of the
+/// source at that count: at the cap, at the source's own triangles, or where its edges below the resolution go
+/// whatever the count; ToleranceStop::Finest without faults); the model returned is the last one baked (the finest).
 ///
 /// The decimation that places the coarse vertices is already error-driven (edge collapses of
 /// least quadric error first, decimate_mesh()), so this chooses how far it goes, measured on the
