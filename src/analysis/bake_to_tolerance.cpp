@@ -29,12 +29,12 @@ struct Plan {
   int64_t global_slabs = -1, global_faults = -1;
   int global_grid = 0;
   const TriangleMesh* global_source = nullptr;
-  // What the last global round asked of the bake: its slab count, sample budget and source. A
-  // global round asking the same makes the same model (the bake is deterministic).
+  // What the last global round asked of the bake besides its source (global_source): its slab
+  // count, sample budget and the source's faces (a split source is another mesh). A global round
+  // asking the same makes the same model (the bake is deterministic).
   int global_request = -1;
   int64_t global_budget = -1;
-  const TriangleMesh* global_request_source = nullptr;
-  size_t global_request_faces = 0;  // the source's faces then (a split source is another mesh)
+  size_t global_request_faces = 0;
   double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
                                 // slab count (-1: the next round sets it)
   // The mesh the rays are cast on: the input, or the input with its faces split (a low-poly input
@@ -184,9 +184,10 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
   // and the rounds after it would repeat those after that one: the decimation made all it can of
   // the source at that count (at the cap, at the source's own triangles, or where its edges below
   // the resolution go whatever the count), or a local round between them was undone. Stop instead.
+  // (stuck() above has recorded this round's source as global_source if the round was global.)
   const bool budget_moves = tolerance.adapt_grid && !d.spots && d.rms > 1;
   if (!d.local && !d.split && !budget_moves && d.next == plan.global_request &&
-      plan.options.sample_budget == plan.global_budget && plan.source == plan.global_request_source &&
+      plan.options.sample_budget == plan.global_budget && plan.source == plan.global_source &&
       plan.source->faces.size() == plan.global_request_faces) {
     d.grows = false;
     d.stuck = d.stuck || f > 0;
@@ -267,7 +268,6 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     if (!plan.refine) {
       plan.global_request = plan.options.slabs;
       plan.global_budget = plan.options.sample_budget;
-      plan.global_request_source = plan.source;
       plan.global_request_faces = plan.source->faces.size();
     }
     if (plan.decimation_cost < 0) plan.decimation_cost = r.decimation_cost;

@@ -428,7 +428,7 @@ TEST(BakeToToleranceTest, NeverBakesTheSameOptionsTwiceInARow) {
 
 // The bumpy ellipsoid with every face split in three at a point 1e-6 of the diagonal from one of
 // its corners: the decimation collapses those edges whatever its target (below the resolution,
-// DecimateOptions::negligible_edge), so it never makes more slabs than the ellipsoid has faces.
+// docs/design.md#edges-below-the-resolution), so it never makes more slabs than the ellipsoid has faces.
 // Once a global round has asked for as many slabs as the mesh has faces, the next would ask the
 // same and bake the same model: the rounds stop there, saying so, instead of running to
 // Tolerance::max_rounds.
