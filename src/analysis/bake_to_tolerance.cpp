@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 namespace hdm {
 
@@ -39,12 +40,23 @@ struct Plan {
                                 // slab count (-1: the next round sets it)
   // The mesh the rays are cast on: the input, or the input with its faces split (a low-poly input
   // whose bound asks for more slabs than it has triangles); the same surface either way.
+  // Every split is kept: a round that passes the slab cap bakes an earlier round's again (WithinCap).
   const ExactMeshQuery* target = nullptr;
-  std::unique_ptr<ExactMeshQuery> split;
+  std::vector<std::unique_ptr<ExactMeshQuery>> splits;
   // The mesh decimated into slabs: the target's own, or BakeOptions::source (a remesh of the same
   // surface), split in turn when it runs short.
   const TriangleMesh* source = nullptr;
-  std::unique_ptr<TriangleMesh> split_source;
+  std::vector<std::unique_ptr<TriangleMesh>> split_sources;
+};
+
+// The last round whose model had at most Tolerance::max_slabs slabs, and what it asked of the bake.
+// A round that passes the cap (a local one, whose count the caps of its spots set, or one whose
+// decimation stopped above its target) is not kept: this one is baked again, the bake being
+// deterministic, rather than holding a second model through every round.
+struct WithinCap {
+  BakeOptions options;
+  const ExactMeshQuery* target = nullptr;
+  ToleranceRound round;
 };
 
 // A decimation cannot make more faces than it starts from. The source runs short when a global
@@ -69,12 +81,12 @@ bool source_runs_short(const Plan& plan, bool local, int64_t slabs, int64_t next
 void split_source(Plan& plan) {
   std::vector<double>* caps = plan.options.max_edge.empty() ? nullptr : &plan.options.max_edge;
   if (plan.source == &plan.target->mesh()) {
-    plan.split = std::make_unique<ExactMeshQuery>(split_faces(plan.target->mesh(), caps));
-    plan.target = plan.split.get();
+    plan.splits.push_back(std::make_unique<ExactMeshQuery>(split_faces(plan.target->mesh(), caps)));
+    plan.target = plan.splits.back().get();
     plan.source = &plan.target->mesh();
   } else {
-    plan.split_source = std::make_unique<TriangleMesh>(split_faces(*plan.source, caps));
-    plan.source = plan.split_source.get();
+    plan.split_sources.push_back(std::make_unique<TriangleMesh>(split_faces(*plan.source, caps)));
+    plan.source = plan.split_sources.back().get();
   }
 }
 
@@ -237,6 +249,16 @@ void plan_next_round(Plan& plan, const SlabModel& model, const BakeReport& r, co
   if (tolerance.adapt_grid) plan.options.sample_budget = static_cast<int64_t>(std::ceil(plan.budget));
 }
 
+// Bakes @p w's round again as the last one (a later round passed the slab cap), stopping at the cap.
+SlabModel bake_within_cap(const WithinCap& w, const std::string& name, int64_t faces,
+                          std::vector<ToleranceRound>& tried, BakeReport& r) {
+  SlabModel model = bake_slabs(*w.target, name, w.options, &r);
+  model.source_triangles = faces;
+  tried.push_back(w.round);
+  tried.back().stop = ToleranceStop::SlabCap;
+  return model;
+}
+
 }  // namespace
 
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
@@ -246,20 +268,27 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
                        std::to_string(tolerance.rms_pct) + "%)");
   if (tolerance.max_slabs < 1 || tolerance.max_rounds < 1)
     throw InvalidInput(name + ": the slab cap and the number of rounds must be at least 1");
+  if (options.slabs > tolerance.max_slabs)
+    throw InvalidInput(name + ": the first round's " + std::to_string(options.slabs) + " slabs (--slabs) pass the cap of " +
+                       std::to_string(tolerance.max_slabs) + " (--max-slabs)");
   const int64_t faces = static_cast<int64_t>(input.mesh().faces.size());
   Plan plan;
   plan.options = options;
   plan.target = &input;
   plan.source = options.source ? options.source : &input.mesh();
+  // The density's count for the first round is capped as every later round's is.
+  if (options.slabs <= 0 && default_slab_count(faces, options) > tolerance.max_slabs)
+    plan.options.slabs = tolerance.max_slabs;
   if (tolerance.adapt_grid) {
     // The samples of the first round's target: each round's grid follows its slab count.
-    const int target = options.slabs > 0 ? options.slabs : default_slab_count(faces, options);
+    const int target = plan.options.slabs > 0 ? plan.options.slabs : default_slab_count(faces, options);
     plan.budget = std::max(double(target) * options.grid_n * options.grid_n, double(tolerance.min_samples));
     plan.options.sample_budget = static_cast<int64_t>(plan.budget);
     plan.options.min_grid = tolerance.min_grid;
   }
   std::vector<ToleranceRound> tried;
   std::vector<Vec3> far;
+  std::optional<WithinCap> within;
   for (int round = 0;; ++round) {
     BakeReport r;
     plan.options.source = plan.source == &plan.target->mesh() ? nullptr : plan.source;
@@ -272,6 +301,13 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     }
     if (plan.decimation_cost < 0) plan.decimation_cost = r.decimation_cost;
     tried.push_back(measure_round(model, r, input, tolerance, plan.refine, far));
+    if (r.slabs > tolerance.max_slabs && within) {
+      model = bake_within_cap(*within, name, faces, tried, r);
+      if (rounds) *rounds = std::move(tried);
+      if (report) *report = r;
+      return model;
+    }
+    if (r.slabs <= tolerance.max_slabs) within = WithinCap{plan.options, plan.target, tried.back()};
     const Decision d = decide(plan, round, tried.back(), r, !far.empty(), tolerance);
     tried.back().stop = stop_reason(tried.back(), d, round, tolerance);
     if (tried.back().stop != ToleranceStop::NotLast) {
@@ -289,6 +325,9 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
     case ToleranceStop::Met:
       return "";
     case ToleranceStop::SlabCap:
+      if (round.slabs > tolerance.max_slabs)
+        return "the decimation keeps more faces than the slab cap (--max-slabs " + std::to_string(tolerance.max_slabs) +
+               ") allows: thin parts keep their triangles";
       return "the slab cap (--max-slabs " + std::to_string(tolerance.max_slabs) + ") was reached";
     case ToleranceStop::InputFaces:
       return "the model has as many slabs as the input has triangles (" + std::to_string(input_triangles) +

@@ -72,8 +72,11 @@ SlabModel bake_input(TriangleMesh mesh, const std::string& name, const BakeInput
   // self-intersections splits faces along every intersection curve, which adds no detail to
   // sample. The smaller count is used, since repair may also drop duplicate or degenerate faces.
   BakeOptions bake = options.bake;
-  if (bake.slabs == 0 && bake.grid_n >= 1 && bake.density > 0 && bake.density <= 1024)  // else bake_slabs() refuses
+  if (bake.slabs == 0 && bake.grid_n >= 1 && bake.density > 0 && bake.density <= 1024) {  // else bake_slabs() refuses
     bake.slabs = default_slab_count(std::min<int64_t>(given_triangles, reference.mesh().faces.size()), bake);
+    if (options.bounded && options.tolerance.max_slabs >= 1)  // the cap holds for the density's count too
+      bake.slabs = std::min(bake.slabs, options.tolerance.max_slabs);
+  }
   SlabModel model;
   if (options.bounded) {
     Tolerance t = options.tolerance;

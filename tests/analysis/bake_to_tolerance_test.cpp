@@ -460,3 +460,57 @@ TEST(BakeToToleranceTest, StopsWhenTheDecimationMakesNoFinerCoarseMesh) {
   EXPECT_EQ(model.slab_count(), last.slabs);
   EXPECT_NE(describe_stop(last, t, int64_t(mesh.faces.size())).find("no finer coarse mesh"), std::string::npos);
 }
+
+// A local round's slab count is set by the caps at its spots, not by a target, so it can pass the
+// slab cap: with a maximum bound no model meets, every point is beyond it and a local round refines
+// everywhere. Such a round is not kept: the last round within the cap is the model, and no model
+// has more slabs than the cap.
+TEST(BakeToToleranceTest, NoModelPassesTheSlabCap) {
+  const ExactMeshQuery exact(bumpy_ellipsoid());
+  BakeOptions o;
+  o.slabs = 20;
+  o.grid_n = 8;
+  Tolerance t;
+  t.max_pct = 1e-9;
+  t.adapt_grid = false;
+  t.max_slabs = 151;
+  std::vector<ToleranceRound> rounds;
+  const SlabModel model = bake_to_tolerance(exact, "bumpy", o, t, &rounds);
+  const bool passed = std::any_of(rounds.begin(), rounds.end(), [&](const ToleranceRound& r) { return r.slabs > 151; });
+  ASSERT_TRUE(passed) << "a round passes the cap: the case this checks";
+  EXPECT_LE(model.slab_count(), 151);
+  EXPECT_EQ(model.slab_count(), rounds.back().slabs);
+  EXPECT_EQ(rounds.back().stop, ToleranceStop::SlabCap);
+  EXPECT_NE(describe_stop(rounds.back(), t, int64_t(exact.mesh().faces.size())).find("--max-slabs 151"),
+            std::string::npos);
+  // The model is the earlier round's: the same slab count and fidelity, baked again.
+  const auto earlier = std::find_if(rounds.begin(), rounds.end() - 1, [&](const ToleranceRound& r) {
+    return r.slabs == rounds.back().slabs && r.fidelity.max_pct == rounds.back().fidelity.max_pct;
+  });
+  EXPECT_NE(earlier, rounds.end() - 1);
+}
+
+// The density's slab count for the first round is capped too; a first round asked above the cap is
+// refused, naming both options.
+TEST(BakeToToleranceTest, TheFirstRoundKeepsToTheSlabCap) {
+  const TriangleMesh input = bumpy_ellipsoid();
+  const ExactMeshQuery exact(input);
+  Tolerance t;
+  t.max_pct = 0.2;
+  t.max_slabs = 30;
+  ASSERT_GT(default_slab_count(int64_t(input.faces.size()), BakeOptions{}), 30) << "the density asks for more";
+  std::vector<ToleranceRound> rounds;
+  const SlabModel model = bake_to_tolerance(exact, "bumpy", BakeOptions{}, t, &rounds);
+  for (const ToleranceRound& r : rounds) EXPECT_LE(r.slabs, 30);
+  EXPECT_LE(model.slab_count(), 30);
+  BakeOptions o;
+  o.slabs = 31;
+  try {
+    bake_to_tolerance(exact, "bumpy.off", o, t);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bumpy.off"), std::string::npos) << what;
+    EXPECT_NE(what.find("--max-slabs"), std::string::npos) << what;
+  }
+}

@@ -212,6 +212,20 @@ TEST(BakeInput, DensityCountsTheTrianglesAsGiven) {
   EXPECT_NEAR(report.bake.slabs, target, 0.05 * target);
 }
 
+// The error-bounded bake's slab cap holds for the first round, whose count the density sets.
+TEST(BakeInput, TheSlabCapHoldsForTheDensitysCount) {
+  const TwoBoxes boxes;
+  const TriangleMesh given = boxes.mesh(8);
+  BakeInputOptions o;
+  o.bake.grid_n = 2;  // density 4 / n² = 1 slab per triangle: far above the cap
+  o.tolerance.max_slabs = 40;
+  ASSERT_GT(default_slab_count(int64_t(given.faces.size()), o.bake), 2 * o.tolerance.max_slabs);
+  BakeInputReport report;
+  const SlabModel model = bake_input(given, "two boxes", o, &report);
+  EXPECT_LE(model.slab_count(), 40);
+  for (const ToleranceRound& r : report.rounds) EXPECT_LE(r.slabs, 40);
+}
+
 // The bake's own fidelity figure is the one `hdm check` gives: both measure the points of the
 // material's surface on the faces as given (the check's reference), not the bake's resolution of
 // them, whose added vertices along the intersection curves would weigh the RMS differently.

@@ -18,7 +18,10 @@ namespace hdm {
 struct Tolerance {
   double max_pct = INFINITY;  ///< bound on the maximum distance, both ways (Fidelity::max_pct, max_back_pct)
   double rms_pct = INFINITY;  ///< bound on the RMS distance, both ways (Fidelity::rms_pct, rms_back_pct)
-  int max_slabs = 100000;     ///< never bake more slabs than this (see bake_to_tolerance() for the input's triangles)
+  /// No model has more slabs than this: round 1 (from the density) and global rounds ask for at most
+  /// this many, and a round that makes more (a local one, or one whose decimation stopped above its
+  /// target) is not kept (bake_to_tolerance()). See bake_to_tolerance() for the input's triangles.
+  int max_slabs = 100000;
   int max_rounds = 8;         ///< bakes tried at most
   /// Lower the grid n as the slab count grows, so that the samples (slabs·n²) do not grow with it
   /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
@@ -37,7 +40,7 @@ struct Tolerance {
 enum class ToleranceStop {
   NotLast,     ///< another round followed
   Met,         ///< the round met every bound
-  SlabCap,     ///< the next round would pass Tolerance::max_slabs
+  SlabCap,     ///< the next round would pass Tolerance::max_slabs, or this one did (the model is then an earlier round's)
   InputFaces,  ///< the next round would have more slabs than the input has triangles, and splitting them would not help
   Rounds,      ///< Tolerance::max_rounds bakes were tried
   Faults,      ///< invalid or overlapping slabs that more slabs did not reduce (the input's own crossings or folds)
@@ -67,7 +70,8 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 /// @brief Bakes the mesh of @p input with more and more slabs until the fidelity measured against it
 /// meets @p tolerance (an error-bounded bake).
 ///
-/// Round 1 bakes with @p options as given. A round meets the tolerance when its fidelity holds
+/// Round 1 bakes with @p options as given (options.slabs = 0: the density's count, at most
+/// Tolerance::max_slabs). A round meets the tolerance when its fidelity holds
 /// every bound and it has no invalid slab and no overlapping pair. While a round does not:
 /// - **Local refinement** where the misses have a place: slabs that overlap another, and the slabs
 ///   nearest the points beyond the maximum error (measure_fidelity()'s far points). Input vertices
@@ -110,6 +114,12 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 /// the same model, and the rounds after it would repeat those after that one (the decimation made all it can of the
 /// source at that count: at the cap, at the source's own triangles, or where its edges below the resolution go
 /// whatever the count; ToleranceStop::Finest without faults); the model returned is the last one baked (the finest).
+/// A round that makes more slabs than Tolerance::max_slabs (a local round, whose count the caps at
+/// its spots set, or one whose decimation stopped above its target) ends the rounds: the last round
+/// within the cap is baked again and returned (ToleranceStop::SlabCap; rounds gets that round
+/// again as the last). The bake is deterministic, so it is the same model, at the cost of one bake
+/// rather than of a second model held through every round. Only when no round was within the cap
+/// is a model above it returned.
 ///
 /// The decimation that places the coarse vertices is already error-driven (edge collapses of
 /// least quadric error first, decimate_mesh()), so this chooses how far it goes, measured on the
@@ -125,7 +135,7 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 /// @param[out] report  the returned model's bake report (optional).
 /// @return the model of the last round; rounds->back().met says whether it meets the bounds.
 /// @throws InvalidInput naming @p name for an invalid mesh, options or tolerance (a bound that is
-///         not positive, max_slabs < 1, max_rounds < 1).
+///         not positive, max_slabs < 1, max_rounds < 1, options.slabs > max_slabs).
 /// @note Cost: up to max_rounds bakes and fidelity measurements, all on the one BVH of @p input;
 ///       one round when the first bake meets the bounds.
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
