@@ -38,8 +38,24 @@ double cone_margin(const std::vector<Vec3>& normals) {
 
 double exact_cone_margin(const std::vector<Vec3>& normals) {
   double best = cone_margin(normals);
-  if (best <= 0.5) mesh::detail::improve_max_min(normals, best, nullptr);
+  if (best <= 0.5) mesh::detail::improve_max_min_figure(normals, best);
   return best;
+}
+
+bool cone_margin_kept(const std::vector<Vec3>& after, const std::vector<Vec3>& before, double enough) {
+  // 1: the hull holds the origin (no direction sees the star), 0: it does not, -1: rounding stalled
+  // the nearest point (undecided).
+  auto holds = [](const std::vector<Vec3>& normals) {
+    Vec3 x;
+    if (!mesh::detail::nearest_hull_point(normals, x)) return -1;
+    return x.norm() <= mesh::detail::kHullHoldsOrigin ? 1 : 0;
+  };
+  const int a = holds(after), b = holds(before);
+  if (a == 1 && b == 0) return false;  // the margin above kHullHoldsOrigin is the larger
+  const double will = exact_cone_margin(after);
+  if (will > enough) return true;
+  if (a == 0 && b == 1) return true;
+  return will >= exact_cone_margin(before);
 }
 
 }  // namespace hdm::mesh::detail

@@ -65,8 +65,9 @@ class ConeSmoother {
         min_margin_(min_cone_margin),
         layer_(mesh.vertices.size(), -1) {}
 
-  // The best direction's smallest dot product with v's face normals (degenerate faces left out).
-  double cone_margin(int32_t v) {
+  // Whether the best direction's smallest dot product with v's face normals (degenerate faces
+  // left out) is at most the margin.
+  bool empty(int32_t v) {
     normals_.clear();
     Vec3 mean = Vec3::Zero();
     for (int32_t k = s_.offset[v]; k < s_.offset[v + 1]; ++k) {
@@ -74,18 +75,22 @@ class ConeSmoother {
       const Vec3 n = (p_[t[1]] - p_[t[0]]).cross(p_[t[2]] - p_[t[0]]);
       if (n.norm() > 0) normals_.push_back(n.normalized()), mean += normals_.back();
     }
-    if (normals_.empty()) return 1.0;
+    if (normals_.empty()) return false;
     double best = -2;
     if (mean.norm() > 0) {
       best = 2;
       const Vec3 d = mean.normalized();
       for (const Vec3& n : normals_) best = std::min(best, d.dot(n));
-      if (best > min_margin_) return best;  // seen well enough: no search needed
+      if (best > min_margin_) return false;  // seen well enough: no search needed
     }
-    mesh::detail::improve_max_min(normals_, best, nullptr);
-    return best;
+    // Only the decision is wanted: where the normals' hull holds the origin no direction sees them
+    // by more than kHullHoldsOrigin, and how far below that the best one is needs no search.
+    Vec3 x;
+    if (min_margin_ >= 0 && mesh::detail::nearest_hull_point(normals_, x) && x.norm() <= mesh::detail::kHullHoldsOrigin)
+      return true;
+    mesh::detail::improve_max_min_figure(normals_, best);
+    return best <= min_margin_;
   }
-  bool empty(int32_t v) { return cone_margin(v) <= min_margin_; }
 
   // Tries discs of 1 .. max_rings rings around empty-cone vertex v; returns the vertices moved (0 when
   // no disc opened the cones, positions restored).

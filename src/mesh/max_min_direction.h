@@ -9,6 +9,16 @@
 
 namespace hdm::mesh::detail {
 
+// |x| of the hull's nearest point to the origin at or below which the hull is taken to hold the
+// origin (unit normals): no direction sees them all by more than this.
+inline constexpr double kHullHoldsOrigin = 1e-6;
+
+// The point @p x of the convex hull of @p points nearest the origin, by Wolfe's algorithm
+// (Math. Programming 11, 1976): O(k) per cycle, a few cycles. Returns false when rounding stalls
+// it (then @p x is a point of the hull, not the nearest); |x| <= kHullHoldsOrigin: the hull holds
+// the origin.
+bool nearest_hull_point(const std::vector<Vec3>& points, Vec3& x);
+
 // Improves @p best_value, the smallest dot product of a unit direction with @p normals, towards
 // the max-min optimum (the centre of the smallest spherical cap holding them). The optimum is fixed
 // by one, two or three active normals: every normal, every pair's bisector and, up to 24 normals,
@@ -17,5 +27,13 @@ namespace hdm::mesh::detail {
 // by the normal that ruled out the last one in most cases (one product, no root): the same result,
 // bit for bit, as checking every candidate against every normal in order.
 void improve_max_min(const std::vector<Vec3>& normals, double& best_value, Vec3* best_direction);
+
+// improve_max_min() for callers that want the figure alone (the decimation's fold test, the
+// coarse mesh's untangling and empty-cone smoothing): for up to 24 normals that a direction sees
+// by more than kHullHoldsOrigin, the figure of the hull's nearest point to the origin
+// (nearest_hull_point(), a few O(k) cycles; the candidates' optimum, to rounding); elsewhere
+// improve_max_min()'s. The ray directions keep improve_max_min(): they become the
+// model's geometry, and its candidates' directions are exact to the last bit.
+void improve_max_min_figure(const std::vector<Vec3>& normals, double& best_value);
 
 }  // namespace hdm::mesh::detail

@@ -73,6 +73,11 @@ double cone_margin(const std::vector<Vec3>& normals);
 // cost fidelity: ChineseDragon-10kv.off needed one more round).
 double exact_cone_margin(const std::vector<Vec3>& normals);
 
+// Whether exact_cone_margin(@p after) > @p enough or >= exact_cone_margin(@p before). A star no
+// direction sees (its normals' hull holds the origin) has the smaller margin when the other is
+// seen, so its candidate search, the costly one, runs only when neither is. @p enough >= 0.
+bool cone_margin_kept(const std::vector<Vec3>& after, const std::vector<Vec3>& before, double enough);
+
 // The mesh being decimated. Each vertex has a singly linked list of its face corners (corner
 // 3f+k is vertex k of face f); a collapse of b into a relabels b's corners and splices b's list
 // into a's; dead faces' corners stay in the lists and are skipped (and dropped) when walked.

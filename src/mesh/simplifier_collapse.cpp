@@ -218,8 +218,7 @@ bool Simplifier::link_visible(int32_t w, int32_t a, int32_t b, const Vec3& x, do
   // "No worse seen" on the quick estimate alone let a barely seen star fold (the estimate is a
   // bound, not a measure): the exact values must not fold it either.
   if (!(will >= was)) return false;
-  const double will_exact = exact_cone_margin(after_);
-  return will_exact > kEmptyCone || will_exact >= exact_cone_margin(before_);
+  return cone_margin_kept(after_, before_, kEmptyCone);
 }
 
 }  // namespace hdm::mesh::detail

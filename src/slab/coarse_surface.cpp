@@ -6,6 +6,8 @@
 #include <hdm/mesh/flip_slivers.h>
 #include <hdm/mesh/fix_empty_dual_cones.h>
 
+#include "../mesh/max_min_direction.h"
+
 #include <algorithm>
 
 namespace hdm::slab::detail {
@@ -28,6 +30,54 @@ CoarseMesh decimate(const TriangleMesh& mesh, int target, const std::vector<doub
   flip_slivers(m, 0.5);
   return CoarseMesh{std::move(m.vertices), std::move(m.faces)};
 }
+
+// The sorted one-ring of v in @p c, by the vertex -> faces CSR of @p topo.
+void ring_of(const CoarseMesh& c, const VertexFrame& topo, int32_t v, std::vector<int32_t>& out) {
+  out.clear();
+  for (int32_t k = topo.offsets[v]; k < topo.offsets[v + 1]; ++k)
+    for (int32_t u : c.faces[topo.faces[k]])
+      if (u != v) out.push_back(u);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+// The tries of untangle() that failed, and the moves since. A try at v reads the positions within
+// three rings of it (the stars of the ring of its ring moved with it, their centroids): when none
+// moved since v's last failed try, the try would fail the same way, so it is skipped.
+class FailedTries {
+ public:
+  explicit FailedTries(size_t nv) : moved_at_(nv, -1), failed_at_(nv, -1), visit_(nv, -1) {}
+  void forget() { std::fill(failed_at_.begin(), failed_at_.end(), -1); }  // the tries change
+  void moved(const std::vector<int32_t>& movers) {
+    ++epoch_;
+    for (int32_t m : movers) moved_at_[m] = epoch_;
+  }
+  void failed(int32_t v) { failed_at_[v] = epoch_; }
+  // Whether v's last try failed and nothing within three rings of it moved since.
+  bool unchanged(const CoarseMesh& c, const VertexFrame& topo, int32_t v) {
+    const int64_t when = failed_at_[v];
+    if (when < 0) return false;
+    near_.assign(1, v);
+    visit_[v] = ++walk_;
+    for (int r = 0, first = 0; r <= 3; ++r) {
+      const int last = static_cast<int>(near_.size());
+      for (int i = first; i < last; ++i) {
+        if (moved_at_[near_[i]] > when) return false;
+        if (r == 3) continue;
+        ring_of(c, topo, near_[i], ring_);
+        for (int32_t u : ring_)
+          if (visit_[u] != walk_) visit_[u] = walk_, near_.push_back(u);
+      }
+      first = last;
+    }
+    return true;
+  }
+
+ private:
+  int64_t epoch_ = 0, walk_ = 0;  // moves made; walks of unchanged(), which stamp visit_
+  std::vector<int64_t> moved_at_, failed_at_, visit_;
+  std::vector<int32_t> near_, ring_;
+};
 
 }  // namespace
 
@@ -53,36 +103,34 @@ void untangle(CoarseMesh& c) {
     if (normals.empty()) return 1.0;
     Vec3 mean = Vec3::Zero();
     for (const Vec3& n : normals) mean += n;
-    return min_dot(max_min_direction(mean.norm() > 0 ? Vec3(mean.normalized()) : normals[0], normals), normals);
+    // max_min_direction()'s figure: the mean normal's when above 0.5, else the optimum's.
+    double best = min_dot(mean.norm() > 0 ? Vec3(mean.normalized()) : normals[0], normals);
+    if (best <= 0.5) mesh::detail::improve_max_min_figure(normals, best);
+    return best;
   };
   std::vector<int32_t> ring, around;
-  auto ring_of = [&](int32_t v, std::vector<int32_t>& out) {
-    out.clear();
-    for (int32_t k = topo.offsets[v]; k < topo.offsets[v + 1]; ++k)
-      for (int32_t u : c.faces[topo.faces[k]])
-        if (u != v) out.push_back(u);
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  };
   auto centroid = [&](int32_t v) {
-    ring_of(v, ring);
+    ring_of(c, topo, v, ring);
     Vec3 m = Vec3::Zero();
     for (int32_t u : ring) m += c.vertices[u];
     return ring.empty() ? c.vertices[v] : Vec3(m / double(ring.size()));
   };
+  FailedTries tries(nv);
   for (int it = 0; it < 20; ++it) {
     bool moved = false;
+    if (it == 10) tries.forget();  // the ring moves too from here
     for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) {
+      if (tries.unchanged(c, topo, v)) continue;
       if (seen(v) > 0.02) continue;
       // The vertices a move of v (and, from the 10th sweep, of its ring) changes the stars of.
       std::vector<int32_t> movers{v};
       if (it >= 10) {
-        ring_of(v, ring);
+        ring_of(c, topo, v, ring);
         movers.insert(movers.end(), ring.begin(), ring.end());
       }
       std::vector<int32_t> affected;
       for (int32_t m : movers) {
-        ring_of(m, around);
+        ring_of(c, topo, m, around);
         affected.push_back(m);
         affected.insert(affected.end(), around.begin(), around.end());
       }
@@ -96,17 +144,20 @@ void untangle(CoarseMesh& c) {
       const double before = worst();
       std::vector<Vec3> old(movers.size()), target(movers.size());
       for (size_t k = 0; k < movers.size(); ++k) old[k] = c.vertices[movers[k]], target[k] = centroid(movers[k]);
+      bool moved_v = false;
       for (const double step : {0.5, 0.25, 0.1}) {
         for (size_t k = 0; k < movers.size(); ++k) {
           const double s = k ? 0.5 * step : step;  // the ring follows gently
           c.vertices[movers[k]] = (1 - s) * old[k] + s * target[k];
         }
-        if (worst() > before + 1e-6) {
-          moved = true;
-          break;
-        }
+        if ((moved_v = worst() > before + 1e-6)) break;
         for (size_t k = 0; k < movers.size(); ++k) c.vertices[movers[k]] = old[k];
       }
+      if (moved_v)
+        tries.moved(movers);
+      else
+        tries.failed(v);
+      moved = moved || moved_v;
     }
     if (!moved && it >= 10) return;
     if (!moved) it = 9;  // the vertex alone no longer helps: move its ring with it

@@ -43,14 +43,17 @@ struct DualConeReport {
 /// @param[in,out] mesh  edge-manifold, consistently oriented triangles [model units]; positions
 ///                      of vertices near empty-cone vertices change.
 /// @param min_cone_margin  a vertex's dual cone counts as empty when its cone margin (the best
-///                        direction's smallest dot product with its face normals) is at most this, in [-1, 1).
+///                        direction's smallest dot product with its face normals) is at most this, in [-1, 1);
+///                        for a margin >= 0, a cone margin up to 1e-6 counts as empty too (the normals'
+///                        hull holds the origin to within rounding).
 /// @param max_rings  largest k of the discs tried, >= 1.
 /// @return the counts.
 /// @throws InvalidInput for a @p min_cone_margin outside [-1, 1), @p max_rings < 1, or invalid mesh
 ///         data (validate_mesh_data()).
-/// @note O(#V) to find empty-cone vertices (exact max-min direction per barely seen star, O(k^3) for k
-///       faces), plus O(r·s) per empty-cone vertex for a disc of r vertices and s <= 1,024 sweeps;
-///       deterministic.
+/// @note O(#V) to find empty-cone vertices (per barely seen star of k faces, the nearest point of
+///       the normals' hull to the origin, Wolfe 1976: a few O(k) cycles; the max-min candidates,
+///       O(k^3), only for a seen star of more than 24 faces or a negative margin), plus O(r·s) per
+///       empty-cone vertex for a disc of r vertices and s <= 1,024 sweeps; deterministic.
 DualConeReport fix_empty_dual_cones(TriangleMesh& mesh, double min_cone_margin = 0.0, int max_rings = 4);
 
 }  // namespace hdm
