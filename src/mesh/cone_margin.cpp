@@ -42,20 +42,26 @@ double exact_cone_margin(const std::vector<Vec3>& normals) {
   return best;
 }
 
+namespace {
+
+// exact_cone_margin() with hull_origin()'s verdict on @p normals known.
+double exact_cone_margin(const std::vector<Vec3>& normals, HullOrigin where, const Vec3& x) {
+  double best = cone_margin(normals);
+  if (best <= 0.5) mesh::detail::improve_max_min_figure(normals, best, where, x);
+  return best;
+}
+
+}  // namespace
+
 bool cone_margin_kept(const std::vector<Vec3>& after, const std::vector<Vec3>& before, double enough) {
-  // 1: the hull holds the origin (no direction sees the star), 0: it does not, -1: rounding stalled
-  // the nearest point (undecided).
-  auto holds = [](const std::vector<Vec3>& normals) {
-    Vec3 x;
-    if (!mesh::detail::nearest_hull_point(normals, x)) return -1;
-    return x.norm() <= mesh::detail::kHullHoldsOrigin ? 1 : 0;
-  };
-  const int a = holds(after), b = holds(before);
-  if (a == 1 && b == 0) return false;  // the margin above kHullHoldsOrigin is the larger
-  const double will = exact_cone_margin(after);
+  Vec3 xa, xb;
+  const HullOrigin a = hull_origin(after, xa), b = hull_origin(before, xb);
+  if (a == HullOrigin::Holds && b == HullOrigin::Outside)
+    return false;  // the margin above kHullHoldsOrigin is the larger
+  const double will = exact_cone_margin(after, a, xa);
   if (will > enough) return true;
-  if (a == 0 && b == 1) return true;
-  return will >= exact_cone_margin(before);
+  if (a == HullOrigin::Outside && b == HullOrigin::Holds) return true;
+  return will >= exact_cone_margin(before, b, xb);
 }
 
 }  // namespace hdm::mesh::detail

@@ -85,10 +85,10 @@ class ConeSmoother {
     }
     // Only the decision is wanted: where the normals' hull holds the origin no direction sees them
     // by more than kHullHoldsOrigin, and how far below that the best one is needs no search.
-    Vec3 x;
-    if (min_margin_ >= 0 && mesh::detail::nearest_hull_point(normals_, x) && x.norm() <= mesh::detail::kHullHoldsOrigin)
-      return true;
-    mesh::detail::improve_max_min_figure(normals_, best);
+    Vec3 x = Vec3::Zero();
+    const mesh::detail::HullOrigin where = mesh::detail::hull_origin(normals_, x);
+    if (min_margin_ >= 0 && where == mesh::detail::HullOrigin::Holds) return true;
+    mesh::detail::improve_max_min_figure(normals_, best, where, x);
     return best <= min_margin_;
   }
 

@@ -51,7 +51,7 @@ bool nearest_hull_point(const std::vector<Vec3>& points, Vec3& x) {
     const Vec3* far = &points[0];
     for (const Vec3& p : points)
       if (p.dot(x) < far->dot(x)) far = &p;
-    if (far->dot(x) >= x.squaredNorm() - gap) return true;  // no point is beyond x's plane: x is nearest
+    if (far->dot(x) >= x.squaredNorm() - gap) return true;           // no point is beyond x's plane: x is nearest
     if (n == 4 || std::find(s, s + n, *far) != s + n) return false;  // rounding: no progress
     s[n] = *far, lambda[n] = 0, ++n;
     for (int minor = 0;; ++minor) {
@@ -77,15 +77,19 @@ bool nearest_hull_point(const std::vector<Vec3>& points, Vec3& x) {
   return false;
 }
 
-void improve_max_min_figure(const std::vector<Vec3>& normals, double& best_value) {
+HullOrigin hull_origin(const std::vector<Vec3>& normals, Vec3& x) {
+  if (!nearest_hull_point(normals, x)) return HullOrigin::Undecided;
+  return x.norm() <= kHullHoldsOrigin ? HullOrigin::Holds : HullOrigin::Outside;
+}
+
+void improve_max_min_figure(const std::vector<Vec3>& normals, double& best_value, HullOrigin where, const Vec3& x) {
   // Where a direction sees every normal (the origin outside their hull), the optimum is the hull's
   // nearest point to the origin, normalised: max over unit d of min d·n = min over the hull of |p|
   // (von Neumann's minimax theorem), found in a few O(k) cycles instead of O(k^3) candidates. Up
   // to 24 normals, where the candidates give the optimum too: above, they give the best normal or
   // pair, and the decimation's collapses follow that figure (the exact one changed them, making a
   // printer bed 6 times the slabs).
-  Vec3 x;
-  if (normals.size() <= 24 && nearest_hull_point(normals, x) && x.norm() > kHullHoldsOrigin) {
+  if (normals.size() <= 24 && where == HullOrigin::Outside) {
     const Vec3 d = x.normalized();
     double worst = 2;
     for (const Vec3& n : normals) worst = std::min(worst, d.dot(n));
@@ -93,6 +97,12 @@ void improve_max_min_figure(const std::vector<Vec3>& normals, double& best_value
     return;
   }
   improve_max_min(normals, best_value, nullptr);
+}
+
+void improve_max_min_figure(const std::vector<Vec3>& normals, double& best_value) {
+  Vec3 x = Vec3::Zero();
+  const HullOrigin where = normals.size() <= 24 ? hull_origin(normals, x) : HullOrigin::Undecided;
+  improve_max_min_figure(normals, best_value, where, x);
 }
 
 void improve_max_min(const std::vector<Vec3>& normals, double& best_value, Vec3* best_direction) {

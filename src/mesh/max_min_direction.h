@@ -28,6 +28,16 @@ bool nearest_hull_point(const std::vector<Vec3>& points, Vec3& x);
 // bit for bit, as checking every candidate against every normal in order.
 void improve_max_min(const std::vector<Vec3>& normals, double& best_value, Vec3* best_direction);
 
+// Where the origin lies with respect to the convex hull of a star's unit normals.
+enum class HullOrigin : int8_t {
+  Outside,    // a direction sees every normal by more than kHullHoldsOrigin (x: the hull's nearest point)
+  Holds,      // the hull's nearest point is within kHullHoldsOrigin of the origin: no direction sees them all
+  Undecided,  // rounding stalled nearest_hull_point()
+};
+
+// nearest_hull_point()'s verdict on @p normals, the nearest point in @p x. O(k) per Wolfe cycle.
+HullOrigin hull_origin(const std::vector<Vec3>& normals, Vec3& x);
+
 // improve_max_min() for callers that want the figure alone (the decimation's fold test, the
 // coarse mesh's untangling and empty-cone smoothing): for up to 24 normals that a direction sees
 // by more than kHullHoldsOrigin, the figure of the hull's nearest point to the origin
@@ -35,5 +45,9 @@ void improve_max_min(const std::vector<Vec3>& normals, double& best_value, Vec3*
 // improve_max_min()'s. The ray directions keep improve_max_min(): they become the
 // model's geometry, and its candidates' directions are exact to the last bit.
 void improve_max_min_figure(const std::vector<Vec3>& normals, double& best_value);
+
+// improve_max_min_figure() with hull_origin()'s verdict @p where and point @p x on @p normals
+// already known (a caller that decided on it first): the same figure, without a second hull.
+void improve_max_min_figure(const std::vector<Vec3>& normals, double& best_value, HullOrigin where, const Vec3& x);
 
 }  // namespace hdm::mesh::detail

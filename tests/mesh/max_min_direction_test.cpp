@@ -72,10 +72,12 @@ TEST(MaxMinDirection, GivesThePlainScansFigureAndDirectionBitForBit) {
       ASSERT_EQ(d, expected_d) << k << " normals, trial " << trial;
       // The figure alone: the same where no direction sees every normal (their hull holds the origin).
       Vec3 x;
-      if (mesh::detail::nearest_hull_point(n, x) && x.norm() <= mesh::detail::kHullHoldsOrigin) {
-        double figure = start;
+      if (mesh::detail::hull_origin(n, x) == mesh::detail::HullOrigin::Holds) {
+        double figure = start, given = start;
         mesh::detail::improve_max_min_figure(n, figure);
+        mesh::detail::improve_max_min_figure(n, given, mesh::detail::HullOrigin::Holds, x);
         ASSERT_EQ(figure, expected) << k << " normals, trial " << trial;
+        ASSERT_EQ(given, expected) << k << " normals, trial " << trial;
       }
     }
 }
@@ -90,15 +92,19 @@ TEST(MaxMinDirection, TheFigureWhereADirectionSeesEveryNormalIsThePlainScans) {
   for (int k : {1, 2, 3, 5, 12, 24, 25, 60})
     for (int trial = 0; trial < 30; ++trial) {
       const std::vector<Vec3> n = normals_in_cap(rng, k, angle(rng));
-      double value = -2, expected = -2;
-      Vec3 expected_d = Vec3::Zero();
+      double value = -2, given = -2, expected = -2;
+      Vec3 expected_d = Vec3::Zero(), x;
       mesh::detail::improve_max_min_figure(n, value);
+      // The same figure from a verdict on the hull the caller already has.
+      ASSERT_EQ(mesh::detail::hull_origin(n, x), mesh::detail::HullOrigin::Outside) << k << " normals, trial " << trial;
+      mesh::detail::improve_max_min_figure(n, given, mesh::detail::HullOrigin::Outside, x);
       plain_scan(n, expected, expected_d, k <= 24);
       ASSERT_GT(expected, 0);
-      if (k <= 24)
-        ASSERT_NEAR(value, expected, 1e-9) << k << " normals, trial " << trial;
-      else
-        ASSERT_EQ(value, expected) << k << " normals, trial " << trial;
+      for (double figure : {value, given})
+        if (k <= 24)
+          ASSERT_NEAR(figure, expected, 1e-9) << k << " normals, trial " << trial;
+        else
+          ASSERT_EQ(figure, expected) << k << " normals, trial " << trial;
     }
 }
 
