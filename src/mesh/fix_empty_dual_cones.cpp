@@ -139,9 +139,11 @@ class ConeSmoother {
         p_[u] += 0.25 * (sum / double(s_.nbr_offset[u + 1] - s_.nbr_offset[u]) - p_[u]);
       }
       if (sweep > 16 && (sweep & (sweep - 1))) continue;  // judged after 1, 2, ... 16, 32, 64, ... sweeps
+      // Judged star by star, v first: the state fails once as many are empty as before or one is
+      // newly empty, and the stars after that need not be searched.
       int64_t after = 0;
       bool newly = false;
-      for (size_t i = 0; i < disc_.size(); ++i) {
+      for (size_t i = 0; i < disc_.size() && after < before && !newly; ++i) {
         const bool f = empty(disc_[i]);
         after += f;
         newly |= f && !was_empty_[i];

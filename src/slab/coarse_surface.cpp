@@ -53,6 +53,14 @@ class FailedTries {
     for (int32_t m : movers) moved_at_[m] = epoch_;
   }
   void failed(int32_t v) { failed_at_[v] = epoch_; }
+  int64_t epoch() const { return epoch_; }
+  // Whether a vertex of v's star (its faces' corners) moved after @p when.
+  bool star_moved_since(const CoarseMesh& c, const VertexFrame& topo, int32_t v, int64_t when) const {
+    for (int32_t k = topo.offsets[v]; k < topo.offsets[v + 1]; ++k)
+      for (int32_t u : c.faces[topo.faces[k]])
+        if (moved_at_[u] > when) return true;
+    return false;
+  }
   // Whether v's last try failed and nothing within three rings of it moved since.
   bool unchanged(const CoarseMesh& c, const VertexFrame& topo, int32_t v) {
     const int64_t when = failed_at_[v];
@@ -77,6 +85,23 @@ class FailedTries {
   int64_t epoch_ = 0, walk_ = 0;  // moves made; walks of unchanged(), which stamp visit_
   std::vector<int64_t> moved_at_, failed_at_, visit_;
   std::vector<int32_t> near_, ring_;
+};
+
+// Each star's figure as untangle() last found it with every vertex in place, and when: it holds
+// while no vertex of the star moves (the figure depends on their positions alone), so the sweeps
+// and the worst-star tests do not search a star again until a kept move changes it.
+class KeptFigures {
+ public:
+  explicit KeptFigures(size_t nv) : figure_(nv, 0), at_(nv, -1) {}
+  template <class Figure>
+  double get(const CoarseMesh& c, const VertexFrame& topo, const FailedTries& tries, int32_t v, Figure&& figure) {
+    if (at_[v] < 0 || tries.star_moved_since(c, topo, v, at_[v])) figure_[v] = figure(v), at_[v] = tries.epoch();
+    return figure_[v];
+  }
+
+ private:
+  std::vector<double> figure_;
+  std::vector<int64_t> at_;
 };
 
 }  // namespace
@@ -116,12 +141,14 @@ void untangle(CoarseMesh& c) {
     return ring.empty() ? c.vertices[v] : Vec3(m / double(ring.size()));
   };
   FailedTries tries(nv);
+  KeptFigures kept(nv);  // for the vertices in place; a trial move's stars are found anew
+  auto seen_in_place = [&](int32_t v) { return kept.get(c, topo, tries, v, seen); };
   for (int it = 0; it < 20; ++it) {
     bool moved = false;
     if (it == 10) tries.forget();  // the ring moves too from here
     for (int32_t v = 0; v < static_cast<int32_t>(nv); ++v) {
       if (tries.unchanged(c, topo, v)) continue;
-      if (seen(v) > 0.02) continue;
+      if (seen_in_place(v) > 0.02) continue;
       // The vertices a move of v (and, from the 10th sweep, of its ring) changes the stars of.
       std::vector<int32_t> movers{v};
       if (it >= 10) {
@@ -136,12 +163,16 @@ void untangle(CoarseMesh& c) {
       }
       std::sort(affected.begin(), affected.end());
       affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
-      auto worst = [&] {
-        double w = 2;
-        for (int32_t u : affected) w = std::min(w, seen(u));
-        return w;
+      // The worst star before the move, and whether every star is better after it: the worst one
+      // before is tried first, since it is the one that most often stays the worst.
+      double before = 2;
+      for (size_t i = 0; i < affected.size(); ++i)
+        if (const double f = seen_in_place(affected[i]); f < before) before = f, std::swap(affected[0], affected[i]);
+      auto all_better = [&] {
+        for (int32_t u : affected)
+          if (seen(u) <= before + 1e-6) return false;
+        return true;
       };
-      const double before = worst();
       std::vector<Vec3> old(movers.size()), target(movers.size());
       for (size_t k = 0; k < movers.size(); ++k) old[k] = c.vertices[movers[k]], target[k] = centroid(movers[k]);
       bool moved_v = false;
@@ -150,7 +181,7 @@ void untangle(CoarseMesh& c) {
           const double s = k ? 0.5 * step : step;  // the ring follows gently
           c.vertices[movers[k]] = (1 - s) * old[k] + s * target[k];
         }
-        if ((moved_v = worst() > before + 1e-6)) break;
+        if ((moved_v = all_better())) break;
         for (size_t k = 0; k < movers.size(); ++k) c.vertices[movers[k]] = old[k];
       }
       if (moved_v)
