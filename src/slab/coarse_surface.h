@@ -24,7 +24,9 @@ CoarseMesh coarse_surface(const TriangleMesh& mesh, int target, const std::vecto
 
 // Moves each vertex whose star is not seen from any direction (its face normals fit in no open
 // hemisphere) towards its one-ring's centroid, alone first and then with its ring, keeping a move
-// only when the worst star around it is seen better. At most 20 sweeps over the vertices.
+// only when the worst star around it is seen better. At most 20 sweeps over the vertices; a star's
+// figure is searched again only after a kept move shifts one of its vertices, and a trial move is
+// judged up to its first star that is not seen better.
 void untangle(CoarseMesh& c);
 
 }  // namespace hdm::slab::detail

@@ -53,7 +53,8 @@ struct DualConeReport {
 /// @note O(#V) to find empty-cone vertices (per barely seen star of k faces, the nearest point of
 ///       the normals' hull to the origin, Wolfe 1976: a few O(k) cycles; the max-min candidates,
 ///       O(k^3), only for a seen star of more than 24 faces or a negative margin), plus O(r·s) per
-///       empty-cone vertex for a disc of r vertices and s <= 1,024 sweeps; deterministic.
+///       empty-cone vertex for a disc of r vertices and s <= 1,024 sweeps (a state is judged star by
+///       star, the vertex first, up to its first failing star); deterministic.
 DualConeReport fix_empty_dual_cones(TriangleMesh& mesh, double min_cone_margin = 0.0, int max_rings = 4);
 
 }  // namespace hdm
