@@ -17,8 +17,8 @@ int64_t bytes(const V&... v) noexcept {
 }
 
 int64_t layout_bytes(const SampleLayout& l) noexcept {
-  return bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.shared_slot_offsets,
-               l.slot_of_shared);
+  return bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.edge_other_side,
+               l.side_points, l.corner_slot_offsets, l.corner_slots);
 }
 
 }  // namespace

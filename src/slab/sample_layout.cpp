@@ -53,9 +53,12 @@ struct EdgeSamples {
   int32_t base = 0;                                                 // id of the first edge sample
   int n = 1;
 
+  // Index of the undirected coarse edge (a, b).
+  int32_t index(int32_t a, int32_t b) const { return edges.at(edge_key(a, b)).first; }
+
   // Sample id of the k-th point (0 < k < n) on the way from coarse vertex a to b.
   int32_t sample(int32_t a, int32_t b, int k) const {
-    const int32_t e = edges.at(edge_key(a, b)).first;
+    const int32_t e = index(a, b);
     const int t = a < b ? k : n - k;
     return base + e * (n - 1) + t - 1;
   }
@@ -89,6 +92,12 @@ void fill_local_tables(SampleLayout& L) {
   L.point_j.resize(L.per_slab);
   L.local_rank.resize(L.per_slab);
   L.interior_index.clear();
+  L.side_points.resize(3 * (n + 1));
+  for (int k = 0; k <= n; ++k) {  // sides R→T (k, 0), R→S (0, k), S→T (k, n-k)
+    L.side_points[k] = grid::index(n, k, 0);
+    L.side_points[(n + 1) + k] = grid::index(n, 0, k);
+    L.side_points[2 * (n + 1) + k] = grid::index(n, k, n - k);
+  }
   int32_t boundary = 0;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i + j <= n; ++i) {
@@ -101,8 +110,8 @@ void fill_local_tables(SampleLayout& L) {
     }
 }
 
-// Sample id of every boundary slot (corners and shared edge samples) and each shared sample's
-// home slot (its first); every corner must have one. Interior ids are computed (SlabIds).
+// Sample id of every boundary slot (corners and shared edge samples), stored per slab, and each
+// shared sample's home slot (its first); interior ids are computed (SlabIds).
 void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const EdgeSamples& E) {
   const int n = L.n;
   const auto S = static_cast<int32_t>(slabs.size());
@@ -133,23 +142,44 @@ void assign_sample_ids(SampleLayout& L, const std::vector<Tri>& slabs, const Edg
         if (L.homes[id] == kNone) L.homes[id] = static_cast<uint32_t>(s) << L.home_bits | static_cast<uint32_t>(local);
       }
   }
-  for (int32_t id = 0; id < L.first_interior; ++id)
-    if (L.homes[id] == kNone) throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
-// The slots of the shared samples. An interior sample's six neighbours are read from its home
-// slab's grid, a shared sample's from the grids of its slots (SampleLayout::for_each_neighbour()).
-void build_adjacency(SampleLayout& L, int32_t interior_base) {
-  // Slots of the shared (corner and edge) samples; interior samples have only their home slot.
+// Each coarse edge's side in its higher-numbered slab (SampleLayout::edge_other_side): slabs are
+// visited in increasing order, and the first to reach an edge holds its samples' homes.
+void assign_other_sides(SampleLayout& L, const std::vector<Tri>& slabs, const EdgeSamples& E) {
+  if (L.n < 2) return;  // no edge samples
+  L.edge_other_side.assign(E.edges.size(), SampleLayout::kNoSide);
+  std::vector<bool> reached(E.edges.size(), false);
+  for (size_t s = 0; s < slabs.size(); ++s) {
+    const Tri& t = slabs[s];
+    const int32_t from[3] = {t[0], t[0], t[1]}, to[3] = {t[2], t[1], t[2]};  // R→T, R→S, S→T
+    for (uint32_t side = 0; side < 3; ++side) {
+      const int32_t e = E.index(from[side], to[side]);
+      if (!reached[e]) {
+        reached[e] = true;
+        continue;
+      }
+      L.edge_other_side[e] = static_cast<uint32_t>(s) << 3 | side << 1 | uint32_t(from[side] > to[side]);
+    }
+  }
+}
+
+// The slots of the corner samples, sorted; every corner must have one. Edge samples' slots are
+// computed from their edge's sides, interior samples' from their id (SampleLayout::for_each_slot()).
+void build_corner_slots(SampleLayout& L) {
   build_csr(
       [&](auto emit) {
         for (int32_t k = 0; k < L.slab_count; ++k) {
           const int32_t* g = &L.boundary_ids[static_cast<size_t>(k) * 3 * L.n];
           for (int32_t p = 0; p < L.per_slab; ++p)
-            if (L.local_rank[p] < 0) emit(g[~L.local_rank[p]], k * L.per_slab + p);
+            if (L.local_rank[p] < 0 && g[~L.local_rank[p]] < L.first_edge)
+              emit(g[~L.local_rank[p]], k * L.per_slab + p);
         }
       },
-      interior_base, L.shared_slot_offsets, L.slot_of_shared);
+      L.first_edge, L.corner_slot_offsets, L.corner_slots);
+  for (int32_t id = 0; id < L.first_edge; ++id)
+    if (L.corner_slot_offsets[id] == L.corner_slot_offsets[id + 1])
+      throw InvalidInput("coarse vertex " + std::to_string(id) + " is used by no slab");
 }
 
 }  // namespace
@@ -162,7 +192,6 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   if (static_cast<int64_t>(slabs.size()) * L.per_slab > INT32_MAX)
     throw InvalidInput(std::to_string(slabs.size()) + " slabs at grid n = " + std::to_string(n) +
                        ": more grid points than an int32 counts");
-  while ((int64_t{1} << L.home_bits) < L.per_slab) ++L.home_bits;
   const auto S = static_cast<int32_t>(slabs.size());
 
   // Number the undirected coarse edges; each owns n-1 edge samples.
@@ -171,14 +200,18 @@ SampleLayout build_sample_layout(const std::vector<Tri>& slabs, int coarse_verte
   const int32_t interior_per_slab = (n - 1) * (n - 2) / 2;
   L.count = interior_base + S * interior_per_slab;
   L.slab_count = S;
+  while ((int64_t{1} << L.home_bits) < L.per_slab) ++L.home_bits;
   L.interior_per_slab = interior_per_slab;
   L.interior_divisor_magic = interior_per_slab > 0 ? UINT64_MAX / static_cast<uint64_t>(interior_per_slab) : 0;
   L.slot_divisor_magic = UINT64_MAX / static_cast<uint64_t>(L.per_slab);
   L.first_interior = interior_base;
+  L.first_edge = coarse_vertex_count;
+  L.edge_divisor_magic = n > 1 ? UINT64_MAX / static_cast<uint64_t>(n - 1) : 0;
 
   fill_local_tables(L);
   assign_sample_ids(L, slabs, edges);
-  build_adjacency(L, interior_base);
+  assign_other_sides(L, slabs, edges);
+  build_corner_slots(L);
   return L;
 }
 

@@ -44,8 +44,7 @@ std::vector<int32_t> slot_ids(const SampleLayout& L) {
 std::vector<int32_t> documented_ids(const std::vector<Tri>& slabs, int C, int n) {
   std::map<std::pair<int32_t, int32_t>, int32_t> edge;
   for (const Tri& t : slabs)
-    for (int k = 0; k < 3; ++k)
-      edge.emplace(std::minmax(t[k], t[(k + 1) % 3]), int32_t(edge.size()));
+    for (int k = 0; k < 3; ++k) edge.emplace(std::minmax(t[k], t[(k + 1) % 3]), int32_t(edge.size()));
   auto on_edge = [&](int32_t a, int32_t b, int step) {  // step-th point from a towards b
     const int32_t e = edge.at(std::minmax(a, b));
     return C + e * (n - 1) + (a < b ? step : n - step) - 1;
@@ -58,13 +57,20 @@ std::vector<int32_t> documented_ids(const std::vector<Tri>& slabs, int C, int n)
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i + j <= n; ++i) {
         int32_t id;
-        if (i == 0 && j == 0) id = R;
-        else if (i == n) id = T;
-        else if (j == n) id = S;
-        else if (j == 0) id = on_edge(R, T, i);
-        else if (i == 0) id = on_edge(R, S, j);
-        else if (i + j == n) id = on_edge(S, T, i);
-        else id = next++;
+        if (i == 0 && j == 0)
+          id = R;
+        else if (i == n)
+          id = T;
+        else if (j == n)
+          id = S;
+        else if (j == 0)
+          id = on_edge(R, T, i);
+        else if (i == 0)
+          id = on_edge(R, S, j);
+        else if (i + j == n)
+          id = on_edge(S, T, i);
+        else
+          id = next++;
         ids[k * grid::point_count(n) + grid::index(n, i, j)] = id;
       }
   }
@@ -136,24 +142,31 @@ TEST(SampleLayoutTest, RejectsNonManifoldAndBadIds) {
   EXPECT_THROW(build_sample_layout({{0, 1, 2}}, 3, 0), InvalidInput);
 }
 
+// An icosphere with four faces removed: slab sides that one slab holds.
+TriangleMesh holed_sphere(int subdivisions) {
+  TriangleMesh open = test::icosphere(subdivisions, 1.0);
+  for (int f : {70, 40, 33, 7}) open.faces.erase(open.faces.begin() + f);
+  return open;
+}
+
 TEST(SampleLayoutTest, SlotsListEveryGridPointOfASample) {
-  // Reference: invert `ids` by brute force; for_each_slot must give exactly the same slots.
-  const TriangleMesh m = test::icosphere(1, 1.0);
-  for (int n : {1, 2, 3, 16}) {
-    const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n);
-    std::vector<std::vector<int32_t>> expected(L.count);
-    const std::vector<int32_t> ids = slot_ids(L);
-    for (size_t slot = 0; slot < ids.size(); ++slot) expected[ids[slot]].push_back(int32_t(slot));
-    for (int32_t s = 0; s < L.count; ++s) {
-      std::vector<int32_t> got;
-      L.for_each_slot(s, [&](int32_t slot) { got.push_back(slot); });
-      std::sort(got.begin(), got.end());
-      ASSERT_EQ(got, expected[s]) << "n = " << n << ", sample " << s;
-      if (s >= L.first_interior) {
-        ASSERT_EQ(expected[s].size(), 1u);  // interior: one slab only
+  // Reference: invert `ids` by brute force; for_each_slot must give exactly the same slots, in
+  // increasing order, on a closed mesh and on one with holes.
+  for (const TriangleMesh& m : {test::icosphere(1, 1.0), holed_sphere(1)})
+    for (int n : {1, 2, 3, 16}) {
+      const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n);
+      std::vector<std::vector<int32_t>> expected(L.count);
+      const std::vector<int32_t> ids = slot_ids(L);
+      for (size_t slot = 0; slot < ids.size(); ++slot) expected[ids[slot]].push_back(int32_t(slot));
+      for (int32_t s = 0; s < L.count; ++s) {
+        std::vector<int32_t> got;
+        L.for_each_slot(s, [&](int32_t slot) { got.push_back(slot); });
+        ASSERT_EQ(got, expected[s]) << "n = " << n << ", sample " << s;
+        if (s >= L.first_interior) {
+          ASSERT_EQ(expected[s].size(), 1u);  // interior: one slab only
+        }
       }
     }
-  }
 }
 
 // The grid triangles of slab k at grid n, listed from triangle_grid.h's definition of the split
@@ -171,7 +184,7 @@ std::vector<std::array<int, 3>> grid_split(int n) {
 }
 
 TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
-  // Nothing but ids, homes and slots is stored for the triangles and the neighbours:
+  // Nothing but ids, homes, corner slots and edges' second sides is stored for the triangles and the neighbours:
   // for_each_triangle(), grid_triangle(), for_each_incident_triangle() and for_each_neighbour()
   // must give what a brute-force scan of the split gives, on a closed mesh and on one with holes
   // (slab sides that one slab holds).
@@ -217,22 +230,25 @@ TEST(SampleLayoutTest, DerivedTrianglesAndNeighboursMatchBruteForce) {
     }
 }
 
-TEST(SampleLayoutTest, PackedHomesAreEachSamplesFirstSlot) {
+TEST(SampleLayoutTest, HomesAreEachSamplesFirstSlot) {
   // Reference: the first slot (slab-major, grid index order) whose id is the sample, by a scan of
-  // `ids`; home() must unpack exactly that slab and grid index, also where the grid index takes
-  // the most bits (texel grids, n·m up to 64 here).
-  const TriangleMesh m = test::icosphere(2, 1.0);
-  for (int n : {1, 2, 7, 16, 32, 64}) {
-    const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n);
-    ASSERT_EQ(L.homes.size(), size_t(L.first_interior));  // only the shared samples store one
-    std::vector<int64_t> first(L.count, -1);
-    const std::vector<int32_t> ids = documented_ids(m.faces, int(m.vertices.size()), n);
-    for (size_t slot = 0; slot < ids.size(); ++slot)
-      if (first[ids[slot]] < 0) first[ids[slot]] = int64_t(slot);
-    for (int32_t s = 0; s < L.count; ++s) {
-      const GridSlot h = L.home(s);
-      ASSERT_EQ(int64_t(h.slab) * L.per_slab + h.index, first[s]) << "n = " << n << ", sample " << s;
-      ASSERT_TRUE(h.index >= 0 && h.index < L.per_slab);
+  // `ids`; home() must give exactly that slab and grid index, on a closed mesh and on one with
+  // holes, for sample and texel grids (n·m up to 64 here).
+  for (const TriangleMesh& m : {test::icosphere(2, 1.0), holed_sphere(2)})
+    for (int n : {1, 2, 7, 16, 32, 64}) {
+      const SampleLayout L = build_sample_layout(m.faces, int(m.vertices.size()), n);
+      // Only the shared samples store a home, only the corners their slots, each coarse edge two sides.
+      ASSERT_EQ(L.homes.size(), size_t(L.first_interior));
+      ASSERT_EQ(L.corner_slot_offsets.size(), size_t(L.first_edge) + 1);
+      ASSERT_EQ(L.edge_other_side.size(), n > 1 ? size_t(L.first_interior - L.first_edge) / (n - 1) : 0u);
+      std::vector<int64_t> first(L.count, -1);
+      const std::vector<int32_t> ids = documented_ids(m.faces, int(m.vertices.size()), n);
+      for (size_t slot = 0; slot < ids.size(); ++slot)
+        if (first[ids[slot]] < 0) first[ids[slot]] = int64_t(slot);
+      for (int32_t s = 0; s < L.count; ++s) {
+        const GridSlot h = L.home(s);
+        ASSERT_EQ(int64_t(h.slab) * L.per_slab + h.index, first[s]) << "n = " << n << ", sample " << s;
+        ASSERT_TRUE(h.index >= 0 && h.index < L.per_slab);
+      }
     }
-  }
 }

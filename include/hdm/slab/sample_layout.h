@@ -51,9 +51,8 @@ struct SlabIds {
 /// n-1 ids per undirected coarse edge, ordered from the smaller to the larger vertex id; then
 /// (n-1)(n-2)/2 interior ids per slab, slab by slab, in grid::index order within a slab.
 /// Interior samples (82 % at n = 16, 91 % at n = 32) are therefore computed, not stored: only
-/// each slab's 3n boundary ids and the shared samples' homes, slots and neighbours are, about
-/// 0.75 B per texel at n = 32 and 1.5 B per sample at n = 16 instead of 8 B (an id per slot and
-/// a home per sample).
+/// each slab's 3n boundary ids, the shared samples' homes, each coarse edge's second slab side and
+/// each corner's slots are. Slots and neighbours of every sample are computed from these.
 struct SampleLayout {
   int n = 0;                  ///< intervals per slab edge
   int per_slab = 0;           ///< grid points per slab: (n+1)(n+2)/2
@@ -75,10 +74,11 @@ struct SampleLayout {
   /// #S·3n ids of each slab's boundary (corner and edge) grid points, slab-major, in grid::index
   /// order within a slab. Read through slab_ids() or id().
   std::vector<int32_t> boundary_ids;
-  /// For each shared sample (id < first_interior), one slab and packed grid index that hold it
-  /// (its "home", the first slot in slab order), used to evaluate the sample's projection line
-  /// with one fixed formula so shared samples agree bit for bit; packed in one word,
-  /// slab << home_bits | grid index (read with home()). An interior sample's home is computed.
+  /// For each shared sample (id < first_interior), its home (the first slot in slab order that
+  /// holds it; home()), packed in one word, slab << home_bits | grid index. Stored, not computed
+  /// from the edge's sides: home() runs for every sample an edit visits and for each of its
+  /// neighbours, and a computed one (a multiplication and two dependent loads) made the warm
+  /// strokes 1.04-1.08 times slower.
   std::vector<uint32_t> homes;
   /// Bits of the grid index in `homes`: the least b with per_slab <= 2^b. Then 2^b < 2·per_slab, so
   /// slab·2^b < #S·2·per_slab <= 2^32 while the slots (#S·per_slab) fit an int32, as
@@ -91,14 +91,32 @@ struct SampleLayout {
   /// Samples with id >= first_interior are interior to their home slab: their only grid point is
   /// home(). Corner and edge samples (ids below it) may be held by several slabs.
   int32_t first_interior = 0;
-  /// CSR over the shared samples (ids < first_interior): every grid point that holds sample s is
-  /// slot_of_shared[shared_slot_offsets[s] .. shared_slot_offsets[s+1]), a slot being
-  /// slab·per_slab + grid index. Lets edits update slab-major copies of a
-  /// sample's data (SlabModel::slab_samples) without a search.
+  /// Id of the first edge sample: the corners are ids [0, first_edge), one per coarse vertex, and
+  /// coarse edge e owns ids first_edge + e·(n-1) + [0, n-1), from its smaller vertex id to its larger.
+  int32_t first_edge = 0;
+  /// floor((2^64 - 1) / (n - 1)) (0 for n = 1): an edge sample's edge, as `interior_divisor_magic`.
+  uint64_t edge_divisor_magic = 0;
+  /// One entry per coarse edge: the side of the higher-numbered of the two slabs that hold its
+  /// samples, packed as slab << 3 | side << 1 | reversed, or `kNoSide` on an open boundary (the
+  /// lower-numbered slab's side holds the samples' homes). Side 0 runs over grid points (k, 0) from
+  /// corner R to T, side 1 over (0, k) from R to S, side 2 over (k, n-k) from S to T; `reversed`
+  /// when that corner order runs from the larger vertex id to the smaller. An edge sample's second
+  /// slot is computed from it and `side_points`: 4 B per coarse edge, where a list of the slots
+  /// took 8 B per edge sample and 4 per slot. Empty for n = 1 (no edge samples). slab < 2^29:
+  /// #S·per_slab fits an int32 and per_slab >= 6 for n >= 2.
+  std::vector<uint32_t> edge_other_side;
+  /// An `edge_other_side` entry of an edge that one slab holds.
+  static constexpr uint32_t kNoSide = UINT32_MAX;
+  /// 3·(n+1) entries: the packed grid index of point k (0 <= k <= n) of side s (as in
+  /// `edge_other_side`) at s·(n+1) + k.
+  std::vector<int32_t> side_points;
+  /// CSR over the corner samples (ids < first_edge): every grid point that holds corner c is
+  /// corner_slots[corner_slot_offsets[c] .. corner_slot_offsets[c+1]), sorted, a slot being
+  /// slab·per_slab + grid index; the first is the corner's home. With `edge_other_side`, lets edits
+  /// update slab-major copies of a sample's data (SlabModel::slab_samples) without a search.
   /// @{
-  std::vector<int32_t> shared_slot_offsets, slot_of_shared;
+  std::vector<int32_t> corner_slot_offsets, corner_slots;
   /// @}
-
   /// Number of slots (grid points of every slab): #S·per_slab.
   size_t slot_count() const noexcept { return static_cast<size_t>(slab_count) * per_slab; }
 
@@ -113,7 +131,9 @@ struct SampleLayout {
   /// Preconditions: 0 <= slab < slab_count, 0 <= index < per_slab. @note O(1), noexcept.
   int32_t id(int32_t slab, int32_t index) const noexcept { return slab_ids(slab)[index]; }
 
-  /// @brief Home of sample @p s (see `homes`). Precondition: 0 <= s < count. @note O(1), noexcept.
+  /// @brief Home of sample @p s: the first grid point, in slab-major order, that holds it. Shared
+  /// samples' projection lines are evaluated there, with one fixed formula, so that the slabs
+  /// holding a sample agree bit for bit. Precondition: 0 <= s < count. @note O(1), noexcept.
   GridSlot home(int32_t s) const noexcept {
     if (s >= first_interior) {
       const auto r = static_cast<uint32_t>(s - first_interior);
@@ -124,8 +144,10 @@ struct SampleLayout {
     return {static_cast<int32_t>(h >> home_bits), static_cast<int32_t>(h & ((uint32_t{1} << home_bits) - 1))};
   }
 
-  /// @brief Calls @p f(slot) for every grid point (slab·per_slab + grid index) that holds sample @p s.
-  /// @note O(number of slabs holding s): 1 for interior samples; noexcept if @p f is.
+  /// @brief Calls @p f(slot) for every grid point (slab·per_slab + grid index) that holds sample
+  /// @p s, in increasing slot order (the first is home()).
+  /// @note O(number of slabs holding s): 1 for interior samples, 1 or 2 for edge samples;
+  ///       noexcept if @p f is.
   template <class F>
   void for_each_slot(int32_t s, F&& f) const {
     if (s >= first_interior) {
@@ -133,7 +155,9 @@ struct SampleLayout {
       f(h.slab * per_slab + h.index);
       return;
     }
-    for (int32_t k = shared_slot_offsets[s]; k < shared_slot_offsets[s + 1]; ++k) f(slot_of_shared[k]);
+    int32_t pair[2];
+    const SlotRange r = shared_slots(s, pair);
+    for (const int32_t* x = r.first; x != r.last; ++x) f(*x);
   }
 
   /// @brief Calls @p f(t) once for every sample t that shares a grid edge with sample @p s. An
@@ -161,17 +185,17 @@ struct SampleLayout {
       f(g[p + 1]), f(g[p - 1]), f(g[p + row]), f(g[p + row - 1]), f(g[p - row]), f(g[p - row - 1]);
       return;
     }
-    const int32_t *first = slot_of_shared.data() + shared_slot_offsets[s],
-                  *last = slot_of_shared.data() + shared_slot_offsets[s + 1];
-    for (const int32_t* x = first; x != last; ++x) {
-      const GridPoint gp = grid_point(*x);  // named members: a lambda below captures the slab
+    int32_t pair[2];
+    const SlotRange r = shared_slots(s, pair);
+    for (const int32_t* x = r.first; x != r.last; ++x) {  // a loop, not a callback: the body stays inline
+      const GridPoint gp = grid_point(*x);                // named members: a lambda below captures the slab
       const int32_t slab = gp.slab, i = gp.i, j = gp.j, p = *x - slab * per_slab, row = n + 1 - j;
       const SlabIds& g = gp.ids;
       const bool corner = (i == 0 || i == n) && (j == 0 || j == n);
       // A grid edge along a side of this slab is held by the slab across that side too: it is
       // listed from the lower-numbered one, for an edge sample its first slot (slots are sorted).
       auto visit = [&](int32_t t, bool along_side) {
-        if (!each_once || !along_side || (corner ? !held_below(s, t, slab) : x == first)) f(t);
+        if (!each_once || !along_side || (corner ? !held_below(s, t, slab) : x == r.first)) f(t);
       };
       if (i + j < n) visit(g[p + 1], j == 0), visit(g[p + row], i == 0);        // (i+1, j), (i, j+1)
       if (i > 0) visit(g[p - 1], j == 0), visit(g[p + row - 1], i + j == n);    // (i-1, j), (i-1, j+1)
@@ -242,6 +266,35 @@ struct SampleLayout {
   }
 
  private:
+  // The slab of a slot, by a multiplication (slot_divisor_magic).
+  int32_t slab_of_slot(int32_t slot) const noexcept {
+    return static_cast<int32_t>((static_cast<unsigned __int128>(slot_divisor_magic) * uint32_t(slot + 1)) >> 64);
+  }
+  // The coarse edge of edge sample s (first_edge <= s < first_interior).
+  int32_t edge_of(int32_t s) const noexcept {
+    return static_cast<int32_t>((static_cast<unsigned __int128>(edge_divisor_magic) * uint32_t(s - first_edge + 1)) >>
+                                64);
+  }
+  // The slots holding a shared sample (id < first_interior), sorted: [first, last).
+  struct SlotRange {
+    const int32_t *first, *last;
+  };
+  // A corner's are its stored slots; an edge sample's are its home and, where a second slab holds
+  // its edge, the slot computed from that slab's side (`edge_other_side`, `side_points`), in @p pair.
+  SlotRange shared_slots(int32_t s, int32_t (&pair)[2]) const noexcept {
+    if (s < first_edge)
+      return {corner_slots.data() + corner_slot_offsets[s], corner_slots.data() + corner_slot_offsets[s + 1]};
+    const GridSlot h = home(s);  // the first side's slot, stored
+    pair[0] = h.slab * per_slab + h.index;
+    const int32_t e = edge_of(s);
+    const uint32_t side = edge_other_side[e];
+    if (side == kNoSide) return {pair, pair + 1};
+    const int32_t pos = s - first_edge - e * (n - 1) + 1,
+                  k = side & 1 ? n - pos : pos;  // pos: 1 .. n-1 from the smaller id
+    pair[1] =
+        static_cast<int32_t>(side >> 3) * per_slab + side_points[static_cast<int32_t>(side >> 1 & 3) * (n + 1) + k];
+    return {pair, pair + 2};
+  }
   // A slot's slab, that slab's ids and the slot's grid coordinates (i, j).
   struct GridPoint {
     int32_t slab;
@@ -249,8 +302,7 @@ struct SampleLayout {
     int i, j;
   };
   GridPoint grid_point(int32_t slot) const noexcept {
-    const auto slab =
-        static_cast<int32_t>((static_cast<unsigned __int128>(slot_divisor_magic) * uint32_t(slot + 1)) >> 64);
+    const int32_t slab = slab_of_slot(slot);
     const int32_t p = slot - slab * per_slab;
     return {slab, slab_ids(slab), point_i[p], point_j[p]};
   }
@@ -260,11 +312,11 @@ struct SampleLayout {
   // searched for t.
   bool held_below(int32_t s, int32_t t, int32_t slab) const noexcept {
     const int32_t below = slab * per_slab;  // the first slot of @p slab
-    if (n > 1) return slot_of_shared[shared_slot_offsets[t]] < below;
-    for (int32_t x = shared_slot_offsets[s]; x < shared_slot_offsets[s + 1] && slot_of_shared[x] < below; ++x) {
-      const int32_t lo = slot_of_shared[x] / per_slab * per_slab;
-      for (int32_t y = shared_slot_offsets[t]; y < shared_slot_offsets[t + 1]; ++y)
-        if (slot_of_shared[y] >= lo && slot_of_shared[y] < lo + per_slab) return true;
+    if (n > 1) return home(t).slab < slab;
+    for (int32_t x = corner_slot_offsets[s]; x < corner_slot_offsets[s + 1] && corner_slots[x] < below; ++x) {
+      const int32_t lo = corner_slots[x] / per_slab * per_slab;
+      for (int32_t y = corner_slot_offsets[t]; y < corner_slot_offsets[t + 1]; ++y)
+        if (corner_slots[y] >= lo && corner_slots[y] < lo + per_slab) return true;
     }
     return false;
   }
