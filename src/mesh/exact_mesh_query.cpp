@@ -28,10 +28,10 @@ struct ExactMeshQuery::Impl {
   std::unordered_map<uint64_t, Vec3> edge_normal;
 };
 
-ExactMeshQuery::ExactMeshQuery(TriangleMesh mesh_in, BvhQuality quality)
+ExactMeshQuery::ExactMeshQuery(TriangleMesh mesh_in, BvhQuality quality, const char* device_config)
     : impl_(std::make_unique<Impl>()), mesh_(std::move(mesh_in)) {
   const TriangleMesh& mesh = mesh_;
-  impl_->device = rtcNewDevice(nullptr);
+  impl_->device = rtcNewDevice(device_config);
   if (!impl_->device) throw NumericalError("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene,
@@ -117,6 +117,8 @@ void ExactMeshQuery::faces_within(const Vec3& p, double radius, std::vector<int3
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(impl_->scene, &q, &ctx, within_callback, &st);
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
 }
 
 ExactMeshQuery::~ExactMeshQuery() {
@@ -158,8 +160,12 @@ bool point_query_callback(RTCPointQueryFunctionArguments* args) {
   const Vec3 q =
       closest_point_on_triangle(st->p, st->mesh->vertices[f[0]], st->mesh->vertices[f[1]], st->mesh->vertices[f[2]]);
   const double d = (q - st->p).norm();
-  if (d < st->best.distance) {
-    st->best = {q, d, static_cast<int32_t>(args->primID)};
+  // Equal distances (a point nearest a shared vertex or edge) go to the lower face id, whatever
+  // order the traversal meets the faces in: the BVH, and with it that order, differ between
+  // Embree's instruction sets and CPUs, and the bake follows the face it is given.
+  const auto face = static_cast<int32_t>(args->primID);
+  if (d < st->best.distance || (d == st->best.distance && face < st->best.face)) {
+    st->best = {q, d, face};
     // Embree works in float: keep a small margin so the true closest triangle is not culled.
     args->query->radius = static_cast<float>(d) * 1.0001f + 1e-30f;
     return true;
@@ -237,6 +243,16 @@ const std::vector<std::pair<float, int32_t>>& ExactMeshQuery::sorted_hits(const 
   c.hits = &raw;
   RTCRayHit rh = make_ray(a, b - a, 0.0f, 1.0f);
   rtcIntersect1(impl_->scene, &c.context, &rh);
+  // Each hit's t again in double, from the face's plane: Embree's float t rounds differently
+  // between its instruction sets, and the bake follows the last bits of t.
+  const Vec3 d = b - a;
+  for (auto& [t, face] : raw) {
+    const Tri& f = mesh_.faces[face];
+    const Vec3& v0 = mesh_.vertices[f[0]];
+    const Vec3 n = (mesh_.vertices[f[1]] - v0).cross(mesh_.vertices[f[2]] - v0);
+    const double along = n.dot(d);
+    if (along != 0) t = static_cast<float>(std::clamp(n.dot(v0 - a) / along, 0.0, 1.0));
+  }
   std::sort(raw.begin(), raw.end());
   return raw;
 }

@@ -51,18 +51,25 @@ class ExactMeshQuery {
   ///                 BVH used for about one query per triangle: 5.1 M triangles build in ~2 s
   ///                 instead of ~6 s); `compact` for such a BVH of distance queries only (the
   ///                 reconstructed surface in measure_fidelity()).
-  /// @throws NumericalError if Embree cannot create a device.
+  /// @param device_config  Embree's device configuration (rtcNewDevice()), for example
+  ///                 "threads=1" or "isa=sse4.2"; null for Embree's own choices (every hardware
+  ///                 thread, the widest instruction set the CPU has). Results do not depend on it.
+  /// @throws NumericalError if Embree cannot create a device (or rejects @p device_config).
   /// @note O(#F log #F), parallel (Embree's TBB builder). The first inside(), behind() or closed()
   ///       call adds the mesh's topology (a sort of 3·#F edge keys) and, for an open mesh, its
   ///       pseudonormals, once (later calls, from any thread, wait for it); a BVH queried for
   ///       distances only never builds them.
-  explicit ExactMeshQuery(TriangleMesh mesh, BvhQuality quality = BvhQuality::high);
+  explicit ExactMeshQuery(TriangleMesh mesh, BvhQuality quality = BvhQuality::high,
+                          const char* device_config = nullptr);
   ~ExactMeshQuery();
   ExactMeshQuery(const ExactMeshQuery&) = delete;
   ExactMeshQuery& operator=(const ExactMeshQuery&) = delete;
 
   /// @brief Exact closest point on the mesh to @p p (Embree point query with a shrinking radius
   /// and the point-triangle closest point of Ericson, Real-Time Collision Detection §5.1.5).
+  /// Faces at equal distance (a point nearest a shared edge or vertex) give the lowest face id,
+  /// whatever order the BVH's traversal meets them in: the result is the same on every CPU and
+  /// with each of Embree's instruction sets.
   ClosestPoint closest_point(const Vec3& p) const;
 
   /// @brief The closest point on the mesh to @p p if it lies within @p radius of @p p (the same
@@ -105,11 +112,14 @@ class ExactMeshQuery {
   bool closed() const;
 
   /// @brief The faces with a point within @p radius of @p p (exact point-triangle distance), in
-  /// no particular order; @p faces is cleared first.
-  /// @note Thread-safe (const); O(log #F + found).
+  /// increasing id, each once; @p faces is cleared first. Sorted so that no caller depends on the
+  /// BVH's traversal order, which differs between Embree's instruction sets.
+  /// @note Thread-safe (const); O(log #F + found · log found).
   void faces_within(const Vec3& p, double radius, std::vector<int32_t>& faces) const;
 
-  /// @brief Every hit of the segment a→b, sorted by t in [0,1]; @p hits is cleared first. Hits
+  /// @brief Every hit of the segment a→b, sorted by t in [0,1]; @p hits is cleared first. Each
+  /// t is computed in double from the face's plane (Embree only finds the faces, whose float t
+  /// rounds differently between its instruction sets), so the hits are the same on every CPU. Hits
   /// within 10⁻⁷ (in t) after the last one kept are skipped (adjacent faces met at an edge count
   /// once), and a face met again right after itself is listed once; at most 1024 steps.
   /// @note Thread-safe (const); one BVH traversal that collects every candidate (Embree's
