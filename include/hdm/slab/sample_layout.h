@@ -102,7 +102,7 @@ struct SampleLayout {
   /// corner R to T, side 1 over (0, k) from R to S, side 2 over (k, n-k) from S to T; `reversed`
   /// when that corner order runs from the larger vertex id to the smaller. An edge sample's second
   /// slot is computed from it and `side_points`: 4 B per coarse edge, where a list of the slots
-  /// took 8 B per edge sample and 4 per slot. Empty for n = 1 (no edge samples). slab < 2^29:
+  /// took an offset per edge sample and 4 B per slot. Empty for n = 1 (no edge samples). slab < 2^29:
   /// #S·per_slab fits an int32 and per_slab >= 6 for n >= 2.
   std::vector<uint32_t> edge_other_side;
   /// An `edge_other_side` entry of an edge that one slab holds.
