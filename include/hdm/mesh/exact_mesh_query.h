@@ -68,8 +68,8 @@ class ExactMeshQuery {
   /// @brief Exact closest point on the mesh to @p p (Embree point query with a shrinking radius
   /// and the point-triangle closest point of Ericson, Real-Time Collision Detection §5.1.5).
   /// Faces at equal distance (a point nearest a shared edge or vertex) give the lowest face id,
-  /// whatever order the BVH's traversal meets them in: the result is the same on every CPU and
-  /// with each of Embree's instruction sets.
+  /// whatever order the BVH's traversal meets them in: the result is the same with each of
+  /// Embree's instruction sets.
   ClosestPoint closest_point(const Vec3& p) const;
 
   /// @brief The closest point on the mesh to @p p if it lies within @p radius of @p p (the same
@@ -119,7 +119,7 @@ class ExactMeshQuery {
 
   /// @brief Every hit of the segment a→b, sorted by t in [0,1]; @p hits is cleared first. Each
   /// t is computed in double from the face's plane (Embree only finds the faces, whose float t
-  /// rounds differently between its instruction sets), so the hits are the same on every CPU. Hits
+  /// rounds differently between its instruction sets), so the hits are the same with each. Hits
   /// within 10⁻⁷ (in t) after the last one kept are skipped (adjacent faces met at an edge count
   /// once), and a face met again right after itself is listed once; at most 1024 steps.
   /// @note Thread-safe (const); one BVH traversal that collects every candidate (Embree's
