@@ -104,8 +104,8 @@ bool resolve_closed(Mesh& sm, const TriangleMesh& solid, SelfIntersectionReport&
   std::vector<std::pair<int, int>> pairs;
   pairs.reserve(crossing.size());
   for (const auto& [a, b] : crossing) pairs.emplace_back(std::minmax(int(a.idx()), int(b.idx())));
-  // CGAL's parallel search lists the pairs in the order its threads found them: sorted, the
-  // refinement (and so the bake) is the same from run to run.
+  // A parallel search (CGAL built with TBB, which this build is not) lists the pairs in the order
+  // its threads found them: sorted, the refinement (and so the bake) is the same from run to run.
   std::sort(pairs.begin(), pairs.end());
   sm.collect_garbage();
   const TriangleMesh refined =
