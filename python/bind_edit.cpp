@@ -114,9 +114,10 @@ Brush make_brush(const std::string& tool, double radius, double strength, const 
   return b;
 }
 
-// A 16-bit field (Half16, Unorm16) decoded to float32: the values the model uses.
-template <class T>
-py::array_t<float> decoded(const std::vector<T>& v) {
+// A 16-bit field (Half16, Unorm16; an array or a SampleField) decoded to float32: the values the
+// model uses, one per sample.
+template <class Field>
+py::array_t<float> decoded(const Field& v) {
   py::array_t<float> a(py::ssize_t(v.size()));
   for (size_t i = 0; i < v.size(); ++i) a.mutable_data()[i] = float(v[i]);
   return a;

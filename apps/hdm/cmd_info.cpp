@@ -30,13 +30,13 @@ struct InfoOptions {
 struct FieldRange {
   double lo = 0, mean = 0, hi = 0;
 };
-template <class T>
-FieldRange range_of(const std::vector<T>& v) {
+template <class Field>
+FieldRange range_of(const Field& v) {
   FieldRange r;
   if (v.empty()) return r;
   double lo = INFINITY, hi = -INFINITY, sum = 0;
-  for (const T& t : v) {
-    const double x = float(t);
+  for (size_t k = 0; k < v.size(); ++k) {
+    const double x = float(v[k]);
     lo = std::min(lo, x), hi = std::max(hi, x), sum += x;
   }
   return {lo, sum / static_cast<double>(v.size()), hi};

@@ -17,8 +17,9 @@ namespace {
 // The under-layer's top δ at barycentrics (·, wS, wT) of a slab, over the grid triangle that
 // evaluate_surface() interpolates δ on.
 double interpolate_layer(const SlabModel& m, int slab, double wS, double wT) noexcept {
+  const SampleField<Unorm16>& L = m.layer_displacement;
+  if (L.uniform()) return L.uniform_value();
   const slab_query::detail::GridCell c = slab_query::detail::grid_cell(m, slab, wS, wT);
-  const std::vector<Unorm16>& L = m.layer_displacement;
   return c.wa * L[c.a] + c.wb * L[c.b] + c.wd * L[c.d];
 }
 

@@ -136,11 +136,11 @@ bool EditJob::run_history(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
       const int32_t id = r.index;
       const SampleValues now = sample_values(m, id), was = r.sample();
       m.displacement[id] = was.delta;
-      m.friction_static[id] = was.friction_static;
-      m.friction_dynamic[id] = was.friction_dynamic;
-      m.stiffness_scale[id] = was.stiffness_scale;
-      m.layer_displacement[id] = was.layer_displacement;
-      m.hardness[id] = was.hardness;
+      m.friction_static.set(id, was.friction_static);
+      m.friction_dynamic.set(id, was.friction_dynamic);
+      m.stiffness_scale.set(id, was.stiffness_scale);
+      m.layer_displacement.set(id, was.layer_displacement);
+      m.hardness.set(id, was.hardness);
       r.set(now);
       if (m.displacement[id] != now.delta) list_changed(m, s, id);  // also its slab-major copies
       ++result.changed;
@@ -186,7 +186,8 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     while (cursor_ < ring_count_) {
       if (d.expired(8 * kChunk)) return false;  // a normal costs several flood visits
       const int32_t n = std::min(kChunk, ring_count_ - cursor_);
-      update_normals(m, s.ring.data() + cursor_, static_cast<size_t>(n), s.faces, false);  // normals into the slab-major copy
+      update_normals(m, s.ring.data() + cursor_, static_cast<size_t>(n), s.faces,
+                     false);  // normals into the slab-major copy
       cursor_ += n;
     }
     phase_ = Phase::ShadingRing;

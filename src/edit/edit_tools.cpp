@@ -10,7 +10,7 @@
 
 namespace hdm {
 
-EditScratch::EditScratch(const SlabModel& m)
+EditScratch::EditScratch(SlabModel& m)
     : sample_stamp(m.samples.count, 0),
       texel_stamp(m.texels.count, 0),
       queue(std::max(m.samples.count, m.texels.count) + 1),  // +1: branch-free pushes write one past
@@ -23,6 +23,7 @@ EditScratch::EditScratch(const SlabModel& m)
       grid_weights(m.samples.per_slab),
       texel_weights(m.texels.per_slab),
       texel_points(m.texels.per_slab) {
+  materialise_fields(m);
   const SampleLayout& L = m.samples;
   const double n = L.n;
   for (int k = 0; k < L.per_slab; ++k) {  // projection_line()'s arithmetic
@@ -168,9 +169,10 @@ EditResult paint(SlabModel& m, EditScratch& s, const Contact& contact, double ra
   return apply_brush(m, s, sw);
 }
 
-void set_under_layer(SlabModel& m, double thickness, const UnderLayer& material) noexcept {
+void set_under_layer(SlabModel& m, double thickness, const UnderLayer& material) {
   m.under_layer = material;
   const SampleLayout& L = m.samples;
+  std::vector<Unorm16> layer(size_t(L.count));
   for (int32_t id = 0; id < L.count; ++id) {
     Vec3 p0, p1;
     projection_line(m, L.home(id).slab, L.home(id).index, p0, p1);
@@ -180,8 +182,9 @@ void set_under_layer(SlabModel& m, double thickness, const UnderLayer& material)
                               ? std::max(0.2, std::abs((p1 - p0).dot(sample_normal(m, id).cast<double>())) / len)
                               : 1.0;
     const double top = len > 0 ? m.displacement[id] - std::max(thickness, 0.0) / (len * cosine) : 0.0;
-    m.layer_displacement[id] = static_cast<float>(std::clamp(top, 0.0, 1.0));
+    layer[id] = static_cast<float>(std::clamp(top, 0.0, 1.0));
   }
+  m.layer_displacement.assign(std::move(layer));
 }
 
 double paint_pressure(double depth, double d0, double d1) noexcept {

@@ -30,16 +30,16 @@ bool flood_paint_samples(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d
     auto blend = [k](float from, float to) { return k * to + (1 - k) * from; };
     switch (b.field) {
       case BrushField::FrictionStatic:
-        m.friction_static[id] = blend(base.friction_static, b.value);
+        m.friction_static.set(id, blend(base.friction_static, b.value));
         break;
       case BrushField::FrictionDynamic:
-        m.friction_dynamic[id] = blend(base.friction_dynamic, b.value);
+        m.friction_dynamic.set(id, blend(base.friction_dynamic, b.value));
         break;
       case BrushField::Stiffness:
-        m.stiffness_scale[id] = blend(base.stiffness_scale, b.value);
+        m.stiffness_scale.set(id, blend(base.stiffness_scale, b.value));
         break;
       case BrushField::Hardness:
-        m.hardness[id] = std::max(blend(base.hardness, b.value), 1.0f);
+        m.hardness.set(id, std::max(blend(base.hardness, b.value), 1.0f));
         break;
       default: {  // LayerThickness: the layer's top `value` below the stroke's starting surface
         Vec3 p0, p1;
@@ -47,7 +47,7 @@ bool flood_paint_samples(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d
         const double len = (p1 - p0).norm();
         if (!(len > 0)) return true;
         const float top = static_cast<float>(std::clamp(base.delta - b.value / len, 0.0, 1.0));
-        m.layer_displacement[id] = std::clamp(blend(base.layer_displacement, top), 0.0f, 1.0f);
+        m.layer_displacement.set(id, std::clamp(blend(base.layer_displacement, top), 0.0f, 1.0f));
       }
     }
     ++job.result.changed;

@@ -25,7 +25,7 @@ struct Event {
 }  // namespace
 
 struct StrokeEditor::Impl {
-  Impl(const SlabModel& m, const StrokeEditorOptions& o)
+  Impl(SlabModel& m, const StrokeEditorOptions& o)
       : options(o),
         scratch(m),
         memory(m),
@@ -234,7 +234,7 @@ struct StrokeEditor::Impl {
   }
 };
 
-StrokeEditor::StrokeEditor(const SlabModel& model, const StrokeEditorOptions& options)
+StrokeEditor::StrokeEditor(SlabModel& model, const StrokeEditorOptions& options)
     : impl_(std::make_unique<Impl>(model, options)) {}
 StrokeEditor::~StrokeEditor() = default;
 

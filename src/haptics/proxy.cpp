@@ -289,7 +289,8 @@ static inline Material material_at_proxy(const SlabModel& model, const ProxyPara
                                          const slab_query::detail::GridCell& cell) noexcept {
   auto field = [&](const auto& f, double fallback) {
     if (f.empty()) return fallback;
-    const double v = cell.wa * float(f[cell.a]) + cell.wb * float(f[cell.b]) + cell.wd * float(f[cell.d]);
+    const double v = f.uniform() ? double(float(f.uniform_value()))
+                                 : cell.wa * float(f[cell.a]) + cell.wb * float(f[cell.b]) + cell.wd * float(f[cell.d]);
     return std::isfinite(v) ? v : fallback;
   };
   // Where carving went below the under-layer's top, its material is felt (paper §2).
@@ -354,10 +355,15 @@ static inline void contact_output(const Workspace& ws, const Vec3& hip, const Ve
 
 namespace {
 
-template <class T>
-double interpolate(const SlabModel& model, const std::vector<T>& field, int slab, const SlabCoordinates& c,
+template <class Field>
+double interpolate(const SlabModel& model, const Field& field, int slab, const SlabCoordinates& c,
                    double fallback) noexcept {
   if (field.empty() || slab < 0 || slab >= model.slab_count()) return fallback;
+  if constexpr (requires { field.uniform(); })
+    if (field.uniform()) {  // one value everywhere: no grid cell to find
+      const double v = float(field.uniform_value());
+      return std::isfinite(v) ? v : fallback;
+    }
   // Same grid triangle and weights as evaluate_surface (docs/design.md#query).
   const slab_query::detail::GridCell cell = slab_query::detail::grid_cell(model, slab, c.bary[1], c.bary[2]);
   const double v = cell.wa * float(field[cell.a]) + cell.wb * float(field[cell.b]) + cell.wd * float(field[cell.d]);
@@ -371,12 +377,12 @@ double interpolate_field(const SlabModel& model, const std::vector<float>& field
   return interpolate(model, field, slab, c, fallback);
 }
 
-double interpolate_field(const SlabModel& model, const std::vector<Half16>& field, int slab, const SlabCoordinates& c,
+double interpolate_field(const SlabModel& model, const SampleField<Half16>& field, int slab, const SlabCoordinates& c,
                          double fallback) noexcept {
   return interpolate(model, field, slab, c, fallback);
 }
 
-double interpolate_field(const SlabModel& model, const std::vector<Unorm16>& field, int slab, const SlabCoordinates& c,
+double interpolate_field(const SlabModel& model, const SampleField<Unorm16>& field, int slab, const SlabCoordinates& c,
                          double fallback) noexcept {
   return interpolate(model, field, slab, c, fallback);
 }

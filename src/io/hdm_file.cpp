@@ -211,6 +211,27 @@ void get_field(Reader& r, const char (&t)[5], std::vector<T>& v, const std::stri
   else
     get_floats(r, t, v, path, what);
 }
+// A per-sample field whose codes are all equal is one code (version 7), whether the model holds it
+// uniform or materialised: the same model gives the same bytes. Other fields: every sample's code.
+template <class T>
+void put_codes(Writer& w, const char (&t)[5], const SampleField<T>& f) {
+  bool one = f.size() > 1;
+  for (size_t k = 1; one && k < f.size(); ++k) one = SampleField<T>::same(f[k], f[0]);
+  w.tag(t, one ? 1 : f.size());
+  for (size_t k = 0; k < (one ? 1 : f.size()); ++k) w.put_bits(code_of(f[k]));
+}
+// The field of @p samples samples a section holds: one code for all (version 7), or one each
+// (uniform in the model when they are all equal), or none (filled with defaults later).
+template <class T>
+void get_field(Reader& r, const char (&t)[5], SampleField<T>& f, const std::string& path, const char* what,
+               uint32_t version, size_t samples) {
+  std::vector<T> v;
+  get_field(r, t, v, path, what, version);
+  if (version >= 7 && v.size() == 1 && samples > 1)
+    f.assign(samples, v[0]);
+  else
+    f.assign(std::move(v));
+}
 template <class V, class Scalar>
 void get_vectors(Reader& r, const char (&t)[5], std::vector<V>& v) {
   v.resize(r.section(t, 3 * sizeof(Scalar)));
@@ -380,9 +401,9 @@ SlabModel read_stored(std::span<const uint8_t> bytes, const std::string& path, c
     get_bytes(r, "COLR", m.colour);
   else
     get_float_colour(r, m, path);
-  get_field(r, "FRST", m.friction_static, path, "static friction", version);
-  get_field(r, "FRDY", m.friction_dynamic, path, "dynamic friction", version);
-  get_field(r, "STIF", m.stiffness_scale, path, "stiffness scale", version);
+  get_field(r, "FRST", m.friction_static, path, "static friction", version, m.displacement.size());
+  get_field(r, "FRDY", m.friction_dynamic, path, "dynamic friction", version, m.displacement.size());
+  get_field(r, "STIF", m.stiffness_scale, path, "stiffness scale", version, m.displacement.size());
   const uint64_t name_bytes = r.section("SRCN", 1);
   m.source.assign(reinterpret_cast<const char*>(r.take(name_bytes)), name_bytes);
   int64_t triangles = 0;
@@ -396,14 +417,14 @@ SlabModel read_stored(std::span<const uint8_t> bytes, const std::string& path, c
       get_bytes(r, "RUFF", m.roughness);
     else
       get_float_roughness(r, m, path);
-    get_field(r, "LAYD", m.layer_displacement, path, "under-layer top", version);
+    get_field(r, "LAYD", m.layer_displacement, path, "under-layer top", version, m.displacement.size());
     r.fixed_section("LAYM", 28, 1);
     float v[7];
     for (float& x : v) r.get(x, "LAYM");
     m.under_layer = UnderLayer{Vec3f(v[0], v[1], v[2]), v[3], v[4], v[5], v[6]};
   }
   if (version >= 4) {
-    get_field(r, "HARD", m.hardness, path, "hardness", version);
+    get_field(r, "HARD", m.hardness, path, "hardness", version, m.displacement.size());
     r.fixed_section("LAYH", 4, 1);
     r.get(m.under_layer.hardness_hv, "LAYH");
   }

@@ -11,10 +11,14 @@ int64_t bytes(const std::vector<T>& v) noexcept {
   return static_cast<int64_t>(v.capacity() * sizeof(T));
 }
 
-template <class... V>
-int64_t bytes(const V&... v) noexcept {
-  return (bytes(v) + ...);
+template <class T>
+int64_t bytes(const SampleField<T>& f) noexcept {
+  return static_cast<int64_t>(f.heap_bytes());  // 0 while uniform
 }
+
+template <class... V>
+requires(sizeof...(V) > 1) int64_t bytes(const V&... v)
+noexcept { return (bytes(v) + ...); }
 
 int64_t layout_bytes(const SampleLayout& l) noexcept {
   return bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.edge_other_side,

@@ -254,6 +254,14 @@ void fill_default(std::vector<T>& v, size_t n, typename std::vector<T>::value_ty
         std::string(name) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
 }
 
+// A field no writer set takes its default everywhere, as one uniform value (no array).
+template <class T>
+void fill_default(SampleField<T>& f, size_t n, T value, const char* name) {
+  if (f.empty()) f.assign(n, value);
+  check(f.size() == n,
+        std::string(name) + " has " + std::to_string(f.size()) + " entries, expected " + std::to_string(n));
+}
+
 void build_adjacency(SlabModel& m) {
   const int S = m.slab_count(), C = m.coarse_vertex_count();
   m.edge_neighbour.assign(S, {-1, -1, -1});
@@ -295,6 +303,14 @@ void for_id_chunks(size_t b, size_t e, F f) {
 
 }  // namespace
 
+void materialise_fields(SlabModel& m) {
+  m.friction_static.materialise();
+  m.friction_dynamic.materialise();
+  m.stiffness_scale.materialise();
+  m.layer_displacement.materialise();
+  m.hardness.materialise();
+}
+
 void rebuild_derived(SlabModel& m) {
   check(m.grid_n >= 1 && m.grid_n <= 1024, "grid_n = " + std::to_string(m.grid_n) + " outside [1, 1024]");
   check(m.texel_density >= 1 && m.grid_n * m.texel_density <= 4096,
@@ -314,12 +330,12 @@ void rebuild_derived(SlabModel& m) {
     if (!(m.displacement[s] >= 0.0f && m.displacement[s] <= 1.0f))
       check(false, "displacement of sample " + std::to_string(s) + " is outside [0, 1] or not finite");
   fill_default(m.colour, nt, encode_srgb8(Vec3f(0.8f, 0.8f, 0.8f)), "colour");
-  fill_default(m.friction_static, ns, 0.3f, "friction_static");
-  fill_default(m.friction_dynamic, ns, 0.2f, "friction_dynamic");
-  fill_default(m.stiffness_scale, ns, 1.0f, "stiffness_scale");
+  fill_default(m.friction_static, ns, Half16(0.3f), "friction_static");
+  fill_default(m.friction_dynamic, ns, Half16(0.2f), "friction_dynamic");
+  fill_default(m.stiffness_scale, ns, Unorm16(1.0f), "stiffness_scale");
   fill_default(m.roughness, nt, uint8_t{255}, "roughness");
-  fill_default(m.layer_displacement, ns, 0.0f, "layer_displacement");
-  fill_default(m.hardness, ns, default_hardness_hv, "hardness");
+  fill_default(m.layer_displacement, ns, Unorm16(0.0f), "layer_displacement");
+  fill_default(m.hardness, ns, Half16(default_hardness_hv), "hardness");
   for (size_t s = 0; s < ns; ++s)
     if (!(m.hardness[s] > 0.0f && std::isfinite(m.hardness[s])))
       check(false, "hardness of sample " + std::to_string(s) + " is not > 0 and finite");

@@ -17,9 +17,10 @@ constexpr uint64_t kClaiming = 0;       // reader slot being claimed: pins every
 
 SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : model_(m), options_(o) {
   const int S = m.slab_count();
-  if (S == 0 || m.slab_samples.size() != m.samples.slot_count() || m.texels.slot_count() != size_t(S) * m.texels.per_slab ||
-      m.colour.size() != size_t(m.texels.count) || m.roughness.size() != size_t(m.texels.count) ||
-      m.layer_displacement.size() != size_t(m.samples.count) || m.hardness.size() != size_t(m.samples.count) ||
+  if (S == 0 || m.slab_samples.size() != m.samples.slot_count() ||
+      m.texels.slot_count() != size_t(S) * m.texels.per_slab || m.colour.size() != size_t(m.texels.count) ||
+      m.roughness.size() != size_t(m.texels.count) || m.layer_displacement.size() != size_t(m.samples.count) ||
+      m.hardness.size() != size_t(m.samples.count) ||
       m.vertex_slab_offsets.size() != size_t(m.coarse_vertex_count()) + 1)
     throw InvalidInput("snapshots: the model's derived data are missing (call rebuild_derived first)");
   if (o.reader_slots < 1 || o.reader_slots > 1024)
@@ -297,11 +298,8 @@ SlabModel SnapshotReader::stored_model() const {
   const SampleLayout& L = live.samples;
   const SampleLayout& T = live.texels;
   m.displacement.resize(size_t(L.count));
-  m.friction_static.resize(size_t(L.count));
-  m.friction_dynamic.resize(size_t(L.count));
-  m.stiffness_scale.resize(size_t(L.count));
-  m.layer_displacement.resize(size_t(L.count));
-  m.hardness.resize(size_t(L.count));
+  std::vector<Half16> fs(size_t(L.count)), fd(size_t(L.count)), hv(size_t(L.count));
+  std::vector<Unorm16> st(size_t(L.count)), ly(size_t(L.count));
   m.colour.resize(size_t(T.count));
   m.roughness.resize(size_t(T.count));
   // Slab by slab (a view lasts until the next slab() call), each sample and texel from its home.
@@ -312,11 +310,11 @@ SlabModel SnapshotReader::stored_model() const {
       const int32_t id = ids[k];
       if (L.home(id).slab != s) continue;
       m.displacement[id] = v.points[k].delta;
-      m.friction_static[id] = v.friction_static[k];
-      m.friction_dynamic[id] = v.friction_dynamic[k];
-      m.stiffness_scale[id] = v.stiffness_scale[k];
-      m.layer_displacement[id] = v.layer_displacement[k];
-      m.hardness[id] = v.hardness[k];
+      fs[id] = v.friction_static[k];
+      fd[id] = v.friction_dynamic[k];
+      st[id] = v.stiffness_scale[k];
+      ly[id] = v.layer_displacement[k];
+      hv[id] = v.hardness[k];
     }
     const SlabIds tids = T.slab_ids(s);
     for (int k = 0; k < T.per_slab; ++k) {
@@ -327,6 +325,12 @@ SlabModel SnapshotReader::stored_model() const {
       m.roughness[id] = t[3];
     }
   }
+  // Fields the same everywhere come back uniform, as the live model may hold them.
+  m.friction_static.assign(std::move(fs));
+  m.friction_dynamic.assign(std::move(fd));
+  m.stiffness_scale.assign(std::move(st));
+  m.layer_displacement.assign(std::move(ly));
+  m.hardness.assign(std::move(hv));
   return m;
 }
 

@@ -73,7 +73,7 @@ TEST(Drill, RemovalRateScalesWithTheInverseHardness) {
   // The right half is under-layer at the surface (its top above the surface): dentin-like 55 HV;
   // the left half is the surface material, enamel-like 300 HV (the defaults).
   for (int32_t s = 0; s < m.samples.count; ++s)
-    if (sample_position(m, s).x() > 0) m.layer_displacement[s] = 1.0f;
+    if (sample_position(m, s).x() > 0) m.layer_displacement.set(s, 1.0f);
   ASSERT_EQ(m.under_layer.hardness_hv, 55.0f);
   const double enamel = d.run(m, -5, 0.1, 1.5, 100), dentin = d.run(m, 5, 0.1, 1.5, 100);
   const double expected = default_hardness_hv / m.under_layer.hardness_hv;

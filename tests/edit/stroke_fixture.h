@@ -46,10 +46,10 @@ inline std::vector<Vec3f> sample_normals(const SlabModel& m) {
 struct ModelState {
   explicit ModelState(const SlabModel& m)
       : displacement(m.displacement),
-        friction_static(m.friction_static),
-        friction_dynamic(m.friction_dynamic),
-        stiffness_scale(m.stiffness_scale),
-        layer_displacement(m.layer_displacement),
+        friction_static(m.friction_static.codes()),
+        friction_dynamic(m.friction_dynamic.codes()),
+        stiffness_scale(m.stiffness_scale.codes()),
+        layer_displacement(m.layer_displacement.codes()),
         roughness(m.roughness),
         colour(m.colour),
         normals(sample_normals(m)),

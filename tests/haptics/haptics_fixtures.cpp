@@ -56,8 +56,8 @@ ProxyParams sphere_params(bool friction) {
 
 SlabModel sphere_with_friction() {
   SlabModel model = sphere().model;
-  std::fill(model.friction_static.begin(), model.friction_static.end(), 0.5f);
-  std::fill(model.friction_dynamic.begin(), model.friction_dynamic.end(), 0.3f);
+  model.friction_static.assign(model.friction_static.size(), 0.5f);
+  model.friction_dynamic.assign(model.friction_dynamic.size(), 0.3f);
   return model;
 }
 

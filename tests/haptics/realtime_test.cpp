@@ -149,7 +149,8 @@ TEST(Realtime, RigidToolTickDoesNotAllocate) {
 }
 
 // The whole servo loop with edits: device → proxy → envelope → device, strokes of every kind from
-// the tool button (carve, add, smooth, paint), undo and redo from another thread, publication of
+// the tool button (carve, add, smooth, paint of colour and of static friction, a per-sample field
+// baked as one value), undo and redo from another thread, publication of
 // changed slabs for a reader thread that takes snapshots meanwhile. The servo thread allocates
 // nothing (counted per thread: the reader allocates).
 namespace {
@@ -169,11 +170,12 @@ struct SessionRig {
       }
     };
     const double mm = sphere().ws.scale / 1000;
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < 5; ++s) {
       Brush b;
       b.radius = 8 * mm;
       b.tool = s == 0 ? BrushTool::Carve : s == 1 ? BrushTool::Add : s == 2 ? BrushTool::Smooth : BrushTool::Paint;
       b.height = 1 * mm, b.strength = 1, b.falloff = s < 2 ? Falloff::Constant : Falloff::Smooth;
+      if (s == 4) b.field = BrushField::FrictionStatic, b.value = 0.9f;  // a per-sample field, one value until now
       brushes.push_back(b);
       const double a = 0.3 + 0.5 * s;
       const Vec3 start =
@@ -231,9 +233,11 @@ TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
     const long allocations = t_news - before;
     done = true;
     reader.join();
-    std::printf("%lld sweeps, %lld ticks with an edit refused, %lld publications deferred, %lld slabs published, %d snapshots read\n",
-                (long long)sweeps, (long long)session.stats().edits_refused, (long long)session.stats().publish_deferred,
-                (long long)published, snapshots.load());
+    std::printf(
+        "%lld sweeps, %lld ticks with an edit refused, %lld publications deferred, %lld slabs published, %d snapshots "
+        "read\n",
+        (long long)sweeps, (long long)session.stats().edits_refused, (long long)session.stats().publish_deferred,
+        (long long)published, snapshots.load());
     EXPECT_EQ(allocations, 0);
     EXPECT_GT(contact, 8000) << "the run must exercise contact";
     EXPECT_GT(sweeps, 5000) << "and edit on most ticks";
@@ -242,6 +246,8 @@ TEST(Realtime, WholeSessionLoopWithEditsDoesNotAllocate) {
     EXPECT_GT(published, 0);
     EXPECT_GE(snapshots.load(), 1);
     EXPECT_GT(session.editor().history().undo_count(), 2);
+    EXPECT_TRUE(sphere().model.friction_static.uniform());
+    EXPECT_FALSE(session.model().friction_static == sphere().model.friction_static) << "the friction stroke painted";
   }
 }
 

@@ -63,7 +63,7 @@ struct DrillRun {
 // then drilling for kDrill ticks with the tool button held.
 DrillRun drill(double depth_mm, float hardness_hv) {
   SlabModel m = test::flat_sheet();
-  std::fill(m.hardness.begin(), m.hardness.end(), hardness_hv);
+  m.hardness.assign(m.hardness.size(), hardness_hv);
   std::vector<Vec3> before;
   std::vector<Tri> faces;
   displaced_surface(m, before, faces);

@@ -123,9 +123,9 @@ TEST(SphereProxy, SlidesAcrossANarrowSlotOnItsEdges) {
 // @p y, the hand 0.05 inside the ball's path: down onto the top, along it to above the edge, then
 // around the edge from up to sideways; measured from tick 150 on.
 struct EdgeRoll {
-  double deepest = 0;   ///< largest penetration into the input
-  double widest = 0;    ///< largest | distance from the centre to the input − r |
-  double steepest = 0;  ///< largest force step between ticks, fraction of the maximum force
+  double deepest = 0;                              ///< largest penetration into the input
+  double widest = 0;                               ///< largest | distance from the centre to the input − r |
+  double steepest = 0;                             ///< largest force step between ticks, fraction of the maximum force
   Vec3 first = Vec3::Zero(), last = Vec3::Zero();  ///< the first and last forces
   int lost = -1;                                   ///< the first tick out of contact, or -1
 };
@@ -245,8 +245,8 @@ TEST(SphereProxy, RollsOnTheSphereWithARadialForce) {
 // twice the press makes it slide.
 TEST(SphereProxy, StaticFrictionHoldsTheBall) {
   Slot slot(4);
-  std::fill(slot.baked.model.friction_static.begin(), slot.baked.model.friction_static.end(), 0.5f);
-  std::fill(slot.baked.model.friction_dynamic.begin(), slot.baked.model.friction_dynamic.end(), 0.3f);
+  slot.baked.model.friction_static.assign(slot.baked.model.friction_static.size(), 0.5f);
+  slot.baked.model.friction_dynamic.assign(slot.baked.model.friction_dynamic.size(), 0.3f);
   const double r = 0.3;
   SphereProxyParams p = ball(r);
   p.proxy.friction_scale = 1;

@@ -3,7 +3,8 @@
 // section by section from the table in hdm_file.h, loaded, and their texels compared with the IEC
 // 61966-2-1 and unorm8 encodings of the written floats. Version 3 files (no hardness) load with
 // the default hardness; versions 4 and 5 (float per-sample fields, float displacements) load with
-// each value rounded once to its code.
+// each value rounded once to its code; version 6 (every field code by code) loads its fields of
+// one value as one value.
 #include "io/io_test_util.h"
 #include "support/test_models.h"
 
@@ -36,10 +37,10 @@ struct LegacyWriter {
     b.insert(b.end(), t, t + 4);
     bits(count);
   }
-  template <class T>
-  void floats(const char* t, const std::vector<T>& v) {
+  template <class Field>
+  void floats(const char* t, const Field& v) {
     tag(t, v.size());
-    for (const T& x : v) f32(float(x));
+    for (const auto x : v) f32(float(x));
   }
   void seal() {
     uint64_t h = 0xcbf29ce484222325ull;
@@ -131,11 +132,11 @@ TEST_F(HdmLegacyFile, Version2FileLoadsWithColoursRoundedOnce) {
   EXPECT_EQ(test::values(loaded.displacement), test::values(model.displacement));
   EXPECT_EQ(test::values(loaded.layer_displacement), test::values(model.layer_displacement));
   EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
-  // Saved again, it is a version 6 file holding the same codes.
+  // Saved again, it is a version 7 file holding the same codes.
   const std::string again = dir.file("again.hdm");
   save_model(loaded, again);
   const std::vector<uint8_t> b = test::read_bytes(again);
-  EXPECT_EQ(b[4], 6);
+  EXPECT_EQ(b[4], 7);
   const SlabModel reloaded = load_model(again);
   EXPECT_EQ(reloaded.colour, loaded.colour);
   EXPECT_EQ(reloaded.roughness, loaded.roughness);
@@ -159,27 +160,36 @@ double binary16_value(uint16_t h) {
   return h >> 15 ? -v : v;
 }
 
-// The sections of a version 6 file (the table in hdm_file.h) as an older @p version stores them:
-// the displacements (DISP) as float32 before version 6, and the other five 16-bit field sections
-// too before version 5. @p value maps (tag, element index, stored code) to the float.
+// The sections of a version 7 file (the table in hdm_file.h) as an older @p version stores them:
+// a per-sample field written as one code (version 7) repeated for every sample, the displacements
+// (DISP) as float32 before version 6, and the other five 16-bit field sections too before version
+// 5. @p value maps (tag, element index, stored code) to the float.
 template <class Value>
-std::vector<uint8_t> as_version(const std::vector<uint8_t>& v6, uint8_t version, Value value) {
+std::vector<uint8_t> as_version(const std::vector<uint8_t>& v7, uint8_t version, Value value) {
   const std::vector<std::pair<std::string, size_t>> layout = {
       {"GRID", 4}, {"INNR", 24}, {"OUTR", 24}, {"SLAB", 12}, {"DISP", 2}, {"COLR", 3},
       {"FRST", 2}, {"FRDY", 2},  {"STIF", 2},  {"SRCN", 1},  {"SRCT", 8}, {"SRCD", 8},
       {"RUFF", 1}, {"LAYD", 2},  {"LAYM", 28}, {"HARD", 2},  {"LAYH", 4}};
+  const std::vector<uint8_t>& v6 = v7;
   LegacyWriter w;
   w.b.assign(v6.begin(), v6.begin() + 8);
   w.b[4] = version;
   size_t pos = 8;
+  uint64_t samples = 0;  // DISP's count
   for (const auto& [tag, bytes] : layout) {
     EXPECT_EQ(std::string(reinterpret_cast<const char*>(&v6[pos]), 4), tag);
     uint64_t count = 0;
     for (int k = 7; k >= 0; --k) count = (count << 8) | v6[pos + 4 + k];
     const size_t body = pos + 12;
-    if (bytes == 2 && (version <= 4 || tag == "DISP")) {
-      w.tag(tag.c_str(), count);
-      for (uint64_t k = 0; k < count; ++k) w.f32(value(tag, k, uint16_t(v6[body + 2 * k] | v6[body + 2 * k + 1] << 8)));
+    if (tag == "DISP") samples = count;
+    auto code = [&](uint64_t k) { return uint16_t(v6[body + 2 * k] | v6[body + 2 * k + 1] << 8); };
+    const bool one = bytes == 2 && tag != "DISP" && count == 1 && samples > 1;  // version 7: one code for all
+    if (bytes == 2 && (version <= 4 || (version <= 5 && tag == "DISP"))) {
+      w.tag(tag.c_str(), one ? samples : count);
+      for (uint64_t k = 0; k < (one ? samples : count); ++k) w.f32(value(tag, k, code(one ? 0 : k)));
+    } else if (one && version < 7) {
+      w.tag(tag.c_str(), samples);
+      for (uint64_t k = 0; k < samples; ++k) w.bits(code(0));
     } else {
       w.b.insert(w.b.end(), v6.begin() + pos, v6.begin() + body + count * bytes);
     }
@@ -204,9 +214,9 @@ float code_value(const std::string& tag, uint16_t code) {
 // nearest code (found here by trying every code).
 TEST_F(HdmLegacyFile, Version4FileLoadsWithItsFloatFieldsRoundedOnce) {
   for (size_t s = 0; s < model.friction_static.size(); ++s) {  // fields that differ per sample
-    model.friction_static[s] = 0.1f + 0.01f * float(s);
-    model.stiffness_scale[s] = 0.5f + 0.003f * float(s);
-    model.hardness[s] = 250.0f + float(s);
+    model.friction_static.set(s, 0.1f + 0.01f * float(s));
+    model.stiffness_scale.set(s, 0.5f + 0.003f * float(s));
+    model.hardness.set(s, 250.0f + float(s));
   }
   save_model(model, path);
   const std::vector<uint8_t> v5 = test::read_bytes(path);
@@ -280,6 +290,28 @@ TEST_F(HdmLegacyFile, Version5FileLoadsWithItsFloatDisplacementsRoundedOnce) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find(path + ": displacement of sample 3 is 1.5"), std::string::npos) << e.what();
   }
+}
+
+// A version 6 file stores every per-sample field code by code, a field of one value included:
+// it loads to the same model, that field uniform (no array), and saved again it is the version 7
+// file, one code for that field.
+TEST_F(HdmLegacyFile, Version6FileLoadsWithItsUniformFieldsAsOneValue) {
+  ASSERT_TRUE(model.friction_dynamic.uniform());  // the octahedron's: 0.3 everywhere
+  save_model(model, path);
+  const std::vector<uint8_t> v7 = test::read_bytes(path);
+  const std::vector<uint8_t> v6 =
+      as_version(v7, 6, [](const std::string& t, uint64_t, uint16_t c) { return code_value(t, c); });
+  EXPECT_EQ(v6.size(), v7.size() + 2 * (model.displacement.size() - 1));  // FRDY written out
+  test::write_bytes(path, v6);
+  const SlabModel loaded = load_model(path);
+  EXPECT_TRUE(loaded.friction_dynamic.uniform());
+  EXPECT_TRUE(loaded.friction_dynamic == model.friction_dynamic);
+  EXPECT_TRUE(loaded.friction_static == model.friction_static);
+  EXPECT_TRUE(loaded.hardness == model.hardness);
+  EXPECT_TRUE(loaded.layer_displacement == model.layer_displacement);
+  EXPECT_TRUE(loaded.stiffness_scale == model.stiffness_scale);
+  save_model(loaded, path);
+  EXPECT_EQ(test::read_bytes(path), v7);
 }
 
 // A version-3 file is a version-4 file without its last two sections (HARD, LAYH): it loads with

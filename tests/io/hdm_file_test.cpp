@@ -82,6 +82,10 @@ template <class T>
 bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
+template <class T>
+bool same_bits(const SampleField<T>& a, const SampleField<T>& b) {
+  return same_bits(a.codes(), b.codes());
+}
 
 template <class E>
 std::string expect_load_error(const std::string& path) {
@@ -120,6 +124,12 @@ TEST_F(HdmFile, RoundTripIsBitForBit) {
   EXPECT_TRUE(same_bits(loaded.roughness, model.roughness));
   EXPECT_TRUE(same_bits(loaded.layer_displacement, model.layer_displacement));
   EXPECT_TRUE(same_bits(loaded.hardness, model.hardness));
+  // A field of one value (the octahedron's dynamic friction) loads as that value, with no array;
+  // the others keep theirs.
+  EXPECT_TRUE(loaded.friction_dynamic.uniform());
+  EXPECT_EQ(loaded.friction_dynamic.heap_bytes(), 0u);
+  EXPECT_FALSE(loaded.friction_static.uniform());
+  EXPECT_FALSE(loaded.hardness.uniform());
   EXPECT_EQ(loaded.under_layer.hardness_hv, 61.5f);
   EXPECT_EQ(loaded.under_layer.colour, model.under_layer.colour);
   EXPECT_EQ(loaded.under_layer.stiffness_scale, model.under_layer.stiffness_scale);
@@ -140,11 +150,22 @@ TEST_F(HdmFile, RoundTripIsBitForBit) {
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
 }
 
+// Whether the model holds a field of one value as that value or as an array (as the edits
+// materialise it) does not change the file: the same codes give the same bytes.
+TEST_F(HdmFile, AMaterialisedFieldOfOneValueWritesTheSameBytes) {
+  SlabModel edited = model;
+  materialise_fields(edited);
+  ASSERT_FALSE(edited.friction_dynamic.uniform());
+  const std::string other = dir.file("materialised.hdm");
+  save_model(edited, other);
+  EXPECT_EQ(test::read_bytes(other), test::read_bytes(path));
+}
+
 TEST_F(HdmFile, LayoutFollowsTheSpec) {
   const std::vector<uint8_t> b = test::read_bytes(path);
   ASSERT_GT(b.size(), 16u);
   EXPECT_EQ(std::memcmp(b.data(), "HDM\0", 4), 0);
-  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 6);
+  EXPECT_EQ(b[4] | b[5] << 8 | b[6] << 16 | b[7] << 24, 7);
   EXPECT_EQ(get_u64(b, b.size() - 8), reference_fnv1a(b.data(), b.size() - 8));
   const auto at = section_offsets(b);
   EXPECT_EQ(get_u64(b, at.at("DISP")), model.displacement.size());
@@ -156,6 +177,10 @@ TEST_F(HdmFile, LayoutFollowsTheSpec) {
   EXPECT_EQ(get_u64(b, at.at("LAYM")), 1u);
   EXPECT_EQ(get_u64(b, at.at("HARD")), model.hardness.size());
   EXPECT_EQ(get_u64(b, at.at("LAYH")), 1u);
+  // The octahedron's dynamic friction is one value: one binary16 code for every sample.
+  EXPECT_EQ(get_u64(b, at.at("FRST")), model.friction_static.size());
+  ASSERT_EQ(get_u64(b, at.at("FRDY")), 1u);
+  EXPECT_EQ(b[at.at("FRDY") + 8] | b[at.at("FRDY") + 9] << 8, Half16(0.3f).bits());
   // Displacements as little-endian unorm16 codes, each within half a step of the pattern's value.
   for (size_t s = 0; s < model.displacement.size(); ++s) {
     const int code = b[at.at("DISP") + 8 + 2 * s] | b[at.at("DISP") + 9 + 2 * s] << 8;
@@ -199,11 +224,11 @@ TEST_F(HdmFile, TruncatedFileFails) {
 
 TEST_F(HdmFile, WrongVersionFails) {
   std::vector<uint8_t> b = test::read_bytes(path);
-  b[4] = 7;
+  b[4] = 8;
   reseal(b);
   test::write_bytes(path, b);
   const std::string msg = expect_load_error<IoError>(path);
-  EXPECT_NE(msg.find(path + ": format version 7, this hdm reads versions 1 to 6"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ": format version 8, this hdm reads versions 1 to 7"), std::string::npos) << msg;
 }
 
 TEST_F(HdmFile, BadMagicFails) {

@@ -64,14 +64,21 @@ inline SlabModel octahedron_model(int n = 4, int m = 2) {
   const int C = 6, E = 12, S = 8, N = n * m;
   const int samples = C + (n - 1) * E + (n - 1) * (n - 2) / 2 * S;
   const int texels = C + (N - 1) * E + (N - 1) * (N - 2) / 2 * S;
+  std::vector<Half16> friction_static, friction_dynamic, hardness;
+  std::vector<Unorm16> stiffness_scale, layer_displacement;
   for (int s = 0; s < samples; ++s) {
     model.displacement.push_back(sample_displacement(s));
-    model.friction_static.push_back(0.5f + 0.001f * float(s));
-    model.friction_dynamic.push_back(0.3f);
-    model.stiffness_scale.push_back(s % 2 ? 1.0f : 0.75f);
-    model.layer_displacement.push_back(0.25f * sample_displacement(s));
-    model.hardness.push_back(50.0f + 7.0f * float(s % 40));
+    friction_static.push_back(0.5f + 0.001f * float(s));
+    friction_dynamic.push_back(0.3f);  // one value: a uniform field
+    stiffness_scale.push_back(s % 2 ? 1.0f : 0.75f);
+    layer_displacement.push_back(0.25f * sample_displacement(s));
+    hardness.push_back(50.0f + 7.0f * float(s % 40));
   }
+  model.friction_static.assign(std::move(friction_static));
+  model.friction_dynamic.assign(std::move(friction_dynamic));
+  model.stiffness_scale.assign(std::move(stiffness_scale));
+  model.layer_displacement.assign(std::move(layer_displacement));
+  model.hardness.assign(std::move(hardness));
   for (int t = 0; t < texels; ++t) {
     model.colour.push_back(encode_srgb8(texel_colour(t)));
     model.roughness.push_back(unit_to_unorm8(float(t % 5) / 4.0f));

@@ -363,7 +363,7 @@ TEST(SlabRenderer, UploadFromASnapshotDrawsWhatTheModelDraws) {
   for (int32_t id : moved) model.displacement[id] = 0.5f * model.displacement[id];
   update_displacements(model, moved.data(), moved.size());
   update_normals(model, moved.data(), moved.size());
-  for (int k = 0; k < P; ++k) model.layer_displacement[model.samples.id(7, k)] = 1.0f;
+  for (int k = 0; k < P; ++k) model.layer_displacement.set(model.samples.id(7, k), 1.0f);
   EXPECT_EQ(snapshots.publish_commit(), 1u);
 
   for (int s = 0; s < model.slab_count(); ++s) scene.renderer.upload_slab(model, s);

@@ -125,7 +125,7 @@ struct Hooks {
   const Plan* plan;
   int16_t set = -1;
   std::array<int64_t, kStrokes> sweeps_of_stroke{};  ///< sweeps finished while (or after) each stroke ran
-  std::atomic<int64_t> ticks{0};                ///< ticks run, for the control thread
+  std::atomic<int64_t> ticks{0};                     ///< ticks run, for the control thread
 };
 void before(void* user, SculptSession& session, const ServoTick& t) noexcept {
   auto& h = *static_cast<Hooks*>(user);
@@ -141,6 +141,10 @@ void after(void* user, const ServoTick& t, const SessionTick& result) noexcept {
 template <class T>
 bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+template <class T>
+bool same_bits(const SampleField<T>& a, const SampleField<T>& b) {
+  return same_bits(a.codes(), b.codes());
 }
 
 std::string stored_difference(const SlabModel& a, const SlabModel& b) {

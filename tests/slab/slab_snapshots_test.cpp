@@ -26,7 +26,7 @@ std::unique_ptr<SlabModel> painted_bunny() {
   std::uniform_real_distribution<float> mu(0.0f, 1.0f);
   for (Srgb8& c : m->colour) c = Srgb8{uint8_t(code(rng)), uint8_t(code(rng)), uint8_t(code(rng))};
   for (uint8_t& r : m->roughness) r = uint8_t(code(rng));
-  for (Half16& f : m->friction_static) f = mu(rng);
+  for (size_t s = 0; s < m->friction_static.size(); ++s) m->friction_static.set(s, mu(rng));
   return m;
 }
 

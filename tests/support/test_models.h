@@ -18,6 +18,11 @@ template <class Field>
 std::vector<float> values(const std::vector<Field>& field) {
   return {field.begin(), field.end()};
 }
+/// values() of a SampleField: one value per sample, however the field stores them.
+template <class Code>
+std::vector<float> values(const SampleField<Code>& field) {
+  return {field.begin(), field.end()};
+}
 
 /// Path of a model extracted by scripts/setup.sh (fails the test if missing).
 std::string data_path(const std::string& name);

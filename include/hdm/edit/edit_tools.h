@@ -30,9 +30,11 @@ struct WriteGate {
 /// Caller-owned buffers for edits, sized once for a model so that edits never allocate (they may
 /// run in the servo loop). One per editing thread.
 struct EditScratch {
-  /// @brief Sizes every buffer for @p model. Allocates O(#samples + #texels + #S): about
-  /// 12 bytes per sample, 8 per texel, 5 per slab, plus a fixed ~120 KB (face-normal memo).
-  explicit EditScratch(const SlabModel& model);
+  /// @brief Sizes every buffer for @p model and gives its uniform per-sample fields their arrays
+  /// (materialise_fields()), so that no edit allocates. Allocates O(#samples + #texels + #S): about
+  /// 12 bytes per sample, 8 per texel, 5 per slab, plus a fixed ~120 KB (face-normal memo), and up
+  /// to 10 bytes per sample in the model.
+  explicit EditScratch(SlabModel& model);
   /// @{ Visit marks of the current edit: #samples and #texels entries (equal to `stamp` once visited).
   std::vector<uint32_t> sample_stamp, texel_stamp;
   /// @}
@@ -166,9 +168,11 @@ double paint_pressure(double depth, double d0, double d1) noexcept;
 /// @param model      slab model with derived data; `layer_displacement` and `under_layer` are set.
 /// @param thickness  [model units], >= 0.
 /// @param material   the under-layer's colour, stiffness and friction.
-/// @note noexcept, no allocation, O(#samples): a set-up step (not for the servo tick). Derived
-///       data need no refresh (the layer is read directly by the proxy and the renderer).
-void set_under_layer(SlabModel& model, double thickness, const UnderLayer& material) noexcept;
+/// @throws std::bad_alloc when the layer's array (2 bytes per sample; none when every sample's top
+///         comes out the same) cannot be allocated.
+/// @note O(#samples): a set-up step (not for the servo tick). Derived data need no refresh (the
+///       layer is read directly by the proxy and the renderer).
+void set_under_layer(SlabModel& model, double thickness, const UnderLayer& material);
 
 /// @brief The interval of t in which the line p0 + t·L passes within @p radius of the segment
 /// [a, b] (the capsule around it; a sphere when a = b).

@@ -98,8 +98,9 @@ struct EditWork {
 /// Threading: one thread calls everything (the servo thread in hdm::SculptSession).
 class StrokeEditor {
  public:
-  /// @brief Allocates the editor's buffers for @p model (its topology must not change later).
-  StrokeEditor(const SlabModel& model, const StrokeEditorOptions& options = {});
+  /// @brief Allocates the editor's buffers for @p model (its topology must not change later) and
+  /// gives the model's uniform per-sample fields their arrays (materialise_fields()).
+  StrokeEditor(SlabModel& model, const StrokeEditorOptions& options = {});
   ~StrokeEditor();
   StrokeEditor(const StrokeEditor&) = delete;
   StrokeEditor& operator=(const StrokeEditor&) = delete;
@@ -125,7 +126,7 @@ class StrokeEditor {
   /// epoch) or until nothing is left; checks the clock every few dozen samples, so it stops within
   /// about a microsecond of the deadline. A sweep or undo that does not fit continues next call.
   /// @note noexcept, no allocation. @p model must be the one given to the constructor (or a copy
-  ///       with the same topology), changed by nothing else between calls.
+  ///       of it made since, with the same topology), changed by nothing else between calls.
   EditWork work(SlabModel& model, int64_t deadline_ns) noexcept;
   /// True when no sweep or undo is half done and every normal is refreshed: the model holds
   /// whole edits only (what hdm::SlabSnapshots may copy).

@@ -100,11 +100,13 @@ struct ProxyOutput {
 /// @note noexcept, O(1), real-time safe.
 double interpolate_field(const SlabModel& model, const std::vector<float>& field, int slab, const SlabCoordinates& c,
                          double fallback) noexcept;
-/// @brief interpolate_field() of a binary16 field (SlabModel::friction_static, friction_dynamic, hardness).
-double interpolate_field(const SlabModel& model, const std::vector<Half16>& field, int slab, const SlabCoordinates& c,
+/// @brief interpolate_field() of a binary16 field (SlabModel::friction_static, friction_dynamic,
+/// hardness); a uniform field returns its value without finding the grid cell.
+double interpolate_field(const SlabModel& model, const SampleField<Half16>& field, int slab, const SlabCoordinates& c,
                          double fallback) noexcept;
-/// @brief interpolate_field() of a unorm16 field (SlabModel::stiffness_scale, layer_displacement).
-double interpolate_field(const SlabModel& model, const std::vector<Unorm16>& field, int slab, const SlabCoordinates& c,
+/// @brief interpolate_field() of a unorm16 field (SlabModel::stiffness_scale, layer_displacement);
+/// a uniform field returns its value without finding the grid cell.
+double interpolate_field(const SlabModel& model, const SampleField<Unorm16>& field, int slab, const SlabCoordinates& c,
                          double fallback) noexcept;
 
 /// @brief One proxy tick: update the god-object from the HIP and compute the force.

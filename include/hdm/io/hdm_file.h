@@ -4,16 +4,19 @@
 /// The `.hdm` file: a slab model's stored data in a versioned little-endian binary format
 /// (docs/design.md#file-format).
 ///
-/// Format version 6, all integers and floats little-endian, IEEE-754:
+/// Format version 7, all integers and floats little-endian, IEEE-754:
 ///
 /// | bytes | content |
 /// | --- | --- |
 /// | 4 | magic `"HDM\0"` |
-/// | 4 | uint32 format version (= 6) |
+/// | 4 | uint32 format version (= 7) |
 /// | ... | 17 sections, in the order below (version 1: the first 12; versions 2 and 3: the first 15) |
 /// | 8 | uint64 FNV-1a (64-bit) hash of every byte before it |
 ///
-/// Each section is a 4-byte tag, a uint64 element count `k`, then `k` elements:
+/// Each section is a 4-byte tag, a uint64 element count `k`, then `k` elements. From version 7, a
+/// per-sample field (`FRST`, `FRDY`, `STIF`, `LAYD`, `HARD`) whose codes are all equal is written
+/// as one element, which every sample takes (SampleField: a baked model's fields are one value each
+/// until painted; 2 bytes per sample less per such field).
 ///
 /// | tag | elements | element |
 /// | --- | --- | --- |
@@ -33,8 +36,8 @@
 /// | `LAYD` | #samples | uint16: layer_displacement as unorm16 (versions 2-4: float32; from version 2) |
 /// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness
 /// (from version 2) |
-/// | `HARD` | #samples | uint16: hardness [HV] as IEEE binary16 bits (SlabModel::hardness; version 4: float32; from version 4) |
-/// | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
+/// | `HARD` | #samples | uint16: hardness [HV] as IEEE binary16 bits (SlabModel::hardness; version 4: float32; from
+/// version 4) | | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
 ///
 /// Version 1 files (without `RUFF`, `LAYD` and `LAYM`) load with the defaults of those fields.
 /// Version 1 and 2 files' float colours and roughness are encoded to 8 bits on load (rounded once,
@@ -43,12 +46,13 @@
 /// version 5 store the per-sample fields as float32: load_model() rounds each once to the model's
 /// 16-bit field (hdm/core/field16.h), refusing a value the field cannot hold (outside [0, 1] for
 /// unorm16, beyond ±65,504 for binary16, not finite); files before version 6 store the
-/// displacements so too, and are rounded and refused alike. save_model() always writes version 6,
+/// displacements so too, and are rounded and refused alike. save_model() always writes version 7,
 /// whose 16-bit sections hold the model's codes bit for bit (a save and a load give the same model).
 /// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels
 /// follow from the counts (#C + (k-1)·#E + (k-1)(k-2)/2·#S for k = grid_n and grid_n·texel_density,
 /// #E the distinct slab edges); `DISP` and `COLR` must hold exactly that many, and `FRST`, `FRDY`,
-/// `STIF` that many or none (defaults); `RUFF`, `LAYD`, `LAYM` and `HARD` likewise.
+/// `STIF` that many, one (version 7) or none (defaults); `RUFF` that many or none; `LAYD` and
+/// `HARD` as `FRST`; `LAYM` one.
 
 #include <hdm/io/read_file.h>
 #include <hdm/core/write_file_atomic.h>
@@ -67,7 +71,7 @@ namespace hdm {
 inline constexpr double max_model_coordinate = 1e15;
 
 /// Version of the `.hdm` format that save_model() writes and load_model() reads.
-inline constexpr uint32_t hdm_format_version = 6;
+inline constexpr uint32_t hdm_format_version = 7;
 
 /// @brief Writes the stored members of @p model to @p path (format in this file's header).
 /// @param model  slab model; its stored arrays have the sizes rebuild_derived() checks.
@@ -95,8 +99,8 @@ struct ModelLoadOptions {
 ///         file: its colours and roughness encoded to 8 bits, see the header).
 /// @throws IoError "<path>: <reason>" when the file is missing or unreadable, larger than
 ///         options.max_file_bytes, is not an `.hdm` file, has another format version ("<path>:
-///         format version 7, this hdm reads
-///         versions 1 to 3"), is truncated ("<path>: truncated ..."),
+///         format version 8, this hdm reads
+///         versions 1 to 7"), is truncated ("<path>: truncated ..."),
 ///         has a count larger than the remaining bytes allow (checked before anything is
 ///         allocated), or fails the checksum ("<path>: checksum mismatch (file corrupt)").
 /// @throws InvalidInput "<path>: ..." when the content is inconsistent: grid sizes out of range,

@@ -13,7 +13,9 @@ namespace hdm {
 /// Heap bytes of a SlabModel's arrays, by group. Each array counts its capacity (what it holds
 /// allocated), so the sum is the model's share of the heap, allocator overhead aside.
 struct ModelMemory {
-  int64_t sample_fields = 0;  ///< stored per sample: displacement, friction μs and μd, stiffness, layer top, hardness
+  /// Stored per sample: displacement, and friction μs and μd, stiffness, layer top and hardness
+  /// where they are not one value everywhere (SampleField: a uniform field takes no array).
+  int64_t sample_fields = 0;
   int64_t texel_fields = 0;   ///< stored per texel: colour (8-bit sRGB, 3 B) and roughness (unorm8, 1 B)
   int64_t coarse = 0;         ///< stored per coarse vertex and slab: inner, outer, slabs
   int64_t sample_layout = 0;  ///< derived: the samples' SampleLayout (ids, neighbours, homes, shared slots)

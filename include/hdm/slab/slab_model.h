@@ -5,6 +5,7 @@
 /// map (paper §2), plus colour texels and per-sample surface fields.
 
 #include <hdm/core/field16.h>
+#include <hdm/core/sample_field.h>
 #include <hdm/core/srgb.h>
 #include <hdm/core/types.h>
 #include <hdm/slab/sample_layout.h>
@@ -82,7 +83,8 @@ inline std::array<int8_t, 2> encode_oct8(const Vec3f& v) noexcept {
     const float fx = (1 - std::abs(py)) * (px >= 0 ? 1.0f : -1.0f), fy = (1 - std::abs(px)) * (py >= 0 ? 1.0f : -1.0f);
     px = fx, py = fy;
   }
-  const float fx = std::floor(std::clamp(px, -1.0f, 1.0f) * 127.0f), fy = std::floor(std::clamp(py, -1.0f, 1.0f) * 127.0f);
+  const float fx = std::floor(std::clamp(px, -1.0f, 1.0f) * 127.0f),
+              fy = std::floor(std::clamp(py, -1.0f, 1.0f) * 127.0f);
   std::array<int8_t, 2> best{};
   float best_cos = -2;
   for (int k = 0; k < 4; ++k) {
@@ -161,21 +163,26 @@ struct SlabModel {
   /// #texels colour as 8-bit sRGB (decode_srgb8() gives the linear RGB it stands for; writers
   /// encode linear RGB with encode_srgb8(), rounding once)
   std::vector<Srgb8> colour;
-  std::vector<Half16> friction_static;   ///< #samples static friction coefficient μs (binary16)
-  std::vector<Half16> friction_dynamic;  ///< #samples dynamic friction coefficient μd (binary16)
-  std::vector<Unorm16> stiffness_scale;  ///< #samples factor on the rendered stiffness, in [0,1] (unorm16)
+  /// @{ Surface material per sample, each one value until painted (SampleField: no array while
+  /// uniform): static and dynamic friction coefficients μs, μd (binary16) and the factor on the
+  /// rendered stiffness in [0,1] (unorm16).
+  SampleField<Half16> friction_static;
+  SampleField<Half16> friction_dynamic;
+  SampleField<Unorm16> stiffness_scale;
+  /// @}
   /// #texels rendering roughness as unorm8 (code/255 in [0,1]; 0 glossy, 255 matte, the default;
   /// unorm8_to_unit(), unit_to_unorm8())
   std::vector<uint8_t> roughness;
   /// #samples: displacement of the top of the under-layer on each projection line, in [0,1]
   /// (default 0: no under-layer above the inner face). The surface is the under-layer where
   /// δ < this value (exposed by carving); see UnderLayer and layer_exposure(). unorm16: within
-  /// 7.7e-6 of the shell's thickness.
-  std::vector<Unorm16> layer_displacement;
+  /// 7.7e-6 of the shell's thickness. One value until painted or drilled (SampleField).
+  SampleField<Unorm16> layer_displacement;
   /// #samples Vickers hardness of the surface material [HV], > 0 and at most 65,504 (binary16; default
   /// default_hardness_hv). Where δ < layer_displacement the under-layer's UnderLayer::hardness_hv
-  /// applies instead (sample_hardness_hv()). Read by the drill brush (BrushTool::Drill).
-  std::vector<Half16> hardness;
+  /// applies instead (sample_hardness_hv()). Read by the drill brush (BrushTool::Drill). One value
+  /// until painted (SampleField).
+  SampleField<Half16> hardness;
   UnderLayer under_layer;        ///< the under-layer's material
   std::string source;            ///< name of the input mesh the model was baked from
   int64_t source_triangles = 0;  ///< triangles of that input
@@ -231,13 +238,21 @@ inline float sample_hardness_hv(const SlabModel& model, int32_t sample) noexcept
 /// @brief Recomputes every derived member of @p model from its stored data: sample and texel
 /// layouts, slab constants, adjacency and normals.
 /// Optional stored arrays that are empty (colour, friction, stiffness, roughness,
-/// layer_displacement, hardness) are filled with their defaults.
+/// layer_displacement, hardness) are filled with their defaults (the per-sample ones as one
+/// uniform value, SampleField).
 /// @throws InvalidInput when the stored data are inconsistent (sizes, ids, non-finite values,
 ///         displacements or layer displacements outside [0,1], the under-layer's roughness outside [0,1],
 ///         a hardness (per sample or the under-layer's) not > 0,
 ///         grid_n < 1 or texel_density < 1), naming the member.
 /// @note O(#S·n²·m²); allocates; normals and the layouts' CSR rows in parallel (std::thread).
 void rebuild_derived(SlabModel& model);
+
+/// @brief Gives each per-sample field of @p model that is one value everywhere (SampleField) its
+/// array, kept from then on, so that no later write allocates: what the edits do before they run
+/// (EditScratch and StrokeEditor call it), since the servo thread that edits never allocates.
+/// Costs 2 bytes per sample for each field that was uniform (at most 10).
+/// @throws std::bad_alloc. @note O(#samples).
+void materialise_fields(SlabModel& model);
 
 /// @brief Slab constants of the slab with corners (R0,S0,T0) and (R1,S1,T1) [model units].
 /// @see docs/design.md#alpha-plane (the cubic's constants, paper eq. 1-2 expanded).
