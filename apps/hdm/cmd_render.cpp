@@ -47,7 +47,7 @@ void restyle(SlabModel& m, const RenderArgs& a) {
                     double(T.point_i[local]) / T.n);
       Contact at;
       evaluate_surface(m, T.home(t).slab, c, at);
-      m.colour[t] = encode_srgb8(displacement_colour(at.delta));
+      m.colour.set(t, encode_srgb8(displacement_colour(at.delta)));
     }
   }
   if (a.surface != "displaced") {

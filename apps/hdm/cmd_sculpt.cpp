@@ -176,10 +176,9 @@ void require_sculpt_memory(const SculptArgs& a, int64_t ticks) {
 // The model as the script sets it up: an under-layer, a surface colour and roughness.
 void apply_script_surface(SlabModel& model, const Script& script, double mm) {
   if (script.layer.present) set_under_layer(model, script.layer.thickness_mm * mm, script.layer.material);
-  if (script.surface.has_colour)
-    std::fill(model.colour.begin(), model.colour.end(), encode_srgb8(script.surface.colour));
+  if (script.surface.has_colour) model.colour.assign(model.colour.size(), encode_srgb8(script.surface.colour));
   if (script.surface.has_roughness)
-    std::fill(model.roughness.begin(), model.roughness.end(), unit_to_unorm8(script.surface.roughness));
+    model.roughness.assign(model.roughness.size(), unit_to_unorm8(script.surface.roughness));
 }
 
 // The hand holds the tool button down during each editing stroke (not while probing or travelling).

@@ -55,8 +55,8 @@ inline TexelValues decode_texel(TexelCodes c) noexcept {
 }
 inline TexelValues texel_values(const SlabModel& m, int32_t t) noexcept { return decode_texel(texel_codes(m, t)); }
 inline void set_texel_values(SlabModel& m, int32_t t, float r, float g, float b, float roughness) noexcept {
-  m.colour[t] = encode_srgb8(Vec3f(r, g, b));
-  m.roughness[t] = unit_to_unorm8(roughness);
+  m.colour.set(t, encode_srgb8(Vec3f(r, g, b)));
+  m.roughness.set(t, unit_to_unorm8(roughness));
 }
 
 // Deadline on steady_clock, read once every `kEvery` checks (a clock read costs ~25 ns).

@@ -106,8 +106,8 @@ bool flood_paint_texels(EditJob& job, SlabModel& m, EditScratch& s, Deadline& d)
       if (!(id < T.first_interior ? dirty.mark(T, id) : dirty.flag(slab))) return true;  // refused: stop before it
     }
     if (st) st->texel_k[id] = k;
-    m.colour[id] = now.colour;
-    m.roughness[id] = now.roughness;
+    m.colour.set(id, now.colour);
+    m.roughness.set(id, now.roughness);
     job.result.changed += moved;
     if (moved & (stored == base)) record_texel(st, id, stored);  // its first change this stroke
     return true;

@@ -255,6 +255,24 @@ void get_bytes(Reader& r, const char (&t)[5], std::vector<T>& v) {
   v.resize(r.section(t, sizeof(T)));
   if (!v.empty()) std::memcpy(v.data(), r.take(v.size() * sizeof(T)), v.size() * sizeof(T));
 }
+// A texel field whose codes are all equal is one element (version 7), as for the per-sample
+// fields; check_layout_sizes() gives it the texel count once that is known.
+template <class T>
+void put_bytes(Writer& w, const char (&t)[5], const SampleField<T>& f) {
+  bool one = f.size() > 1;
+  for (size_t k = 1; one && k < f.size(); ++k) one = SampleField<T>::same(f[k], f[0]);
+  const T first = f.empty() ? T{} : f[0];
+  const bool single = one || f.uniform();  // a uniform field of at most one texel too
+  w.tag(t, single ? std::min<size_t>(f.size(), 1) : f.size());
+  w.put_raw(single ? reinterpret_cast<const uint8_t*>(&first) : reinterpret_cast<const uint8_t*>(f.data()),
+            single ? std::min<size_t>(f.size(), 1) * sizeof(T) : f.size() * sizeof(T));
+}
+template <class T>
+void get_bytes(Reader& r, const char (&t)[5], SampleField<T>& f) {
+  std::vector<T> v;
+  get_bytes(r, t, v);
+  f.assign(std::move(v));
+}
 
 // Versions 1 and 2 stored colour as 3 float32 linear RGB and roughness as float32: read and
 // encoded to 8 bits once, refusing what those versions' loader refused (non-finite colours,
@@ -262,27 +280,30 @@ void get_bytes(Reader& r, const char (&t)[5], std::vector<T>& v) {
 void get_float_colour(Reader& r, SlabModel& m, const std::string& path) {
   std::vector<Vec3f> linear;
   get_vectors<Vec3f, float>(r, "COLR", linear);
-  m.colour.resize(linear.size());
+  std::vector<Srgb8> colour(linear.size());
   for (size_t t = 0; t < linear.size(); ++t) {
     if (!linear[t].allFinite()) throw InvalidInput(path + ": colour of texel " + std::to_string(t) + " is not finite");
-    m.colour[t] = encode_srgb8(linear[t]);
+    colour[t] = encode_srgb8(linear[t]);
   }
+  m.colour.assign(std::move(colour));
 }
 void get_float_roughness(Reader& r, SlabModel& m, const std::string& path) {
   std::vector<float> v;
   get_scalars(r, "RUFF", v);
-  m.roughness.resize(v.size());
+  std::vector<uint8_t> roughness(v.size());
   for (size_t t = 0; t < v.size(); ++t) {
     if (!(v[t] >= 0.0f && v[t] <= 1.0f))
       throw InvalidInput(path + ": roughness of texel " + std::to_string(t) + " is outside [0, 1] or not finite");
-    m.roughness[t] = unit_to_unorm8(v[t]);
+    roughness[t] = unit_to_unorm8(v[t]);
   }
+  m.roughness.assign(std::move(roughness));
 }
 
 // Checks the sizes the stored counts imply before rebuild_derived() builds the sample and texel
 // layouts from them: grid_n and texel_density alone decide how much those layouts allocate, so
 // the file must hold one displacement per sample and one colour per texel of exactly that layout.
-void check_layout_sizes(const SlabModel& m, const std::string& path) {
+// A texel field of one element (version 7) takes the texel count here.
+void check_layout_sizes(SlabModel& m, const std::string& path, uint32_t version) {
   auto refuse = [&](const std::string& why) { throw InvalidInput(path + ": " + why); };
   const int64_t n = m.grid_n, big_n = int64_t(m.grid_n) * m.texel_density;
   if (n < 1 || n > 1024) refuse("grid_n = " + std::to_string(m.grid_n) + " outside [1, 1024]");
@@ -321,6 +342,10 @@ void check_layout_sizes(const SlabModel& m, const std::string& path) {
     refuse("corrupt (DISP holds " + std::to_string(m.displacement.size()) + " displacements, but " + std::to_string(S) +
            " slabs over " + std::to_string(C) + " coarse vertices at grid n = " + std::to_string(n) + " have " +
            std::to_string(ns) + " samples)");
+  if (version >= 7 && nt > 1) {
+    if (m.colour.size() == 1) m.colour.assign(size_t(nt), Srgb8(m.colour[0]));
+    if (m.roughness.size() == 1) m.roughness.assign(size_t(nt), uint8_t(m.roughness[0]));
+  }
   if (static_cast<int64_t>(m.colour.size()) != nt)
     refuse("corrupt (COLR holds " + std::to_string(m.colour.size()) +
            " colours, but the texel grid (n·m = " + std::to_string(big_n) + ") has " + std::to_string(nt) + " texels)");
@@ -436,7 +461,7 @@ SlabModel read_stored(std::span<const uint8_t> bytes, const std::string& path, c
                   " unexpected bytes before the checksum)");
   const uint64_t stored = r.get_bits<uint64_t>("the checksum");
   if (stored != fnv1a64(bytes.data(), end)) throw IoError(path + ": checksum mismatch (file corrupt)");
-  check_layout_sizes(m, path);
+  check_layout_sizes(m, path, version);
   return m;
 }
 

@@ -152,7 +152,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   rep.undercut_columns = std::count(undercut.begin(), undercut.end(), uint8_t(1));
   // rebuild_derived() builds the texel layout (and fills `colour` with its default); the bake's
   // colour is set afterwards, so the layout is built once.
-  model.colour.clear();
+  model.colour.assign(0, Srgb8{});
   progress(o, "derived data", 0);
   rebuild_derived(model);
   model.colour.assign(model.texels.count, encode_srgb8(o.colour));

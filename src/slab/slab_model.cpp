@@ -309,6 +309,8 @@ void materialise_fields(SlabModel& m) {
   m.stiffness_scale.materialise();
   m.layer_displacement.materialise();
   m.hardness.materialise();
+  m.colour.materialise();
+  m.roughness.materialise();
 }
 
 void rebuild_derived(SlabModel& m) {

@@ -300,8 +300,8 @@ SlabModel SnapshotReader::stored_model() const {
   m.displacement.resize(size_t(L.count));
   std::vector<Half16> fs(size_t(L.count)), fd(size_t(L.count)), hv(size_t(L.count));
   std::vector<Unorm16> st(size_t(L.count)), ly(size_t(L.count));
-  m.colour.resize(size_t(T.count));
-  m.roughness.resize(size_t(T.count));
+  std::vector<Srgb8> colour(size_t(T.count));
+  std::vector<uint8_t> roughness(size_t(T.count));
   // Slab by slab (a view lasts until the next slab() call), each sample and texel from its home.
   for (int s = 0; s < live.slab_count(); ++s) {
     const SlabView v = slab(s);
@@ -321,8 +321,8 @@ SlabModel SnapshotReader::stored_model() const {
       const int32_t id = tids[k];
       if (T.home(id).slab != s) continue;
       const uint8_t* t = v.texels + 4 * size_t(k);
-      m.colour[id] = Srgb8{t[0], t[1], t[2]};
-      m.roughness[id] = t[3];
+      colour[id] = Srgb8{t[0], t[1], t[2]};
+      roughness[id] = t[3];
     }
   }
   // Fields the same everywhere come back uniform, as the live model may hold them.
@@ -331,6 +331,8 @@ SlabModel SnapshotReader::stored_model() const {
   m.stiffness_scale.assign(std::move(st));
   m.layer_displacement.assign(std::move(ly));
   m.hardness.assign(std::move(hv));
+  m.colour.assign(std::move(colour));
+  m.roughness.assign(std::move(roughness));
   return m;
 }
 

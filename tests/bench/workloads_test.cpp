@@ -107,7 +107,7 @@ TEST(Workloads, WarmStrokesEditAndLeaveTheModelAsItWas) {
   SlabModel model = test::baked_bunny(150, 16);
   const SlabLocator locator(model);
   const std::vector<float> before = test::values(model.displacement);
-  const std::vector<Srgb8> colour = model.colour;
+  const std::vector<Srgb8> colour = model.colour.codes();
   const Aabb box = surface_box(model);
   const Workspace ws = fit_workspace(box, 0.16);
   std::mt19937_64 rng(1);
@@ -120,7 +120,7 @@ TEST(Workloads, WarmStrokesEditAndLeaveTheModelAsItWas) {
     EXPECT_GT(r.visited, 0) << r.tool;
   }
   EXPECT_EQ(test::values(model.displacement), before);
-  EXPECT_EQ(model.colour, colour);
+  EXPECT_EQ(model.colour.codes(), colour);
 }
 
 }  // namespace

@@ -50,8 +50,8 @@ struct ModelState {
         friction_dynamic(m.friction_dynamic.codes()),
         stiffness_scale(m.stiffness_scale.codes()),
         layer_displacement(m.layer_displacement.codes()),
-        roughness(m.roughness),
-        colour(m.colour),
+        roughness(m.roughness.codes()),
+        colour(m.colour.codes()),
         normals(sample_normals(m)),
         slab_samples(m.slab_samples) {}
   std::vector<Unorm16> displacement;

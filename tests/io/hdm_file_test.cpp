@@ -161,6 +161,28 @@ TEST_F(HdmFile, AMaterialisedFieldOfOneValueWritesTheSameBytes) {
   EXPECT_EQ(test::read_bytes(other), test::read_bytes(path));
 }
 
+// Texels of one colour and one roughness, as a bake leaves them: each section one element, loaded
+// back as one value for every texel.
+TEST_F(HdmFile, TexelFieldsOfOneValueAreOneElement) {
+  SlabModel one = model;
+  one.colour.assign(one.colour.size(), Srgb8{200, 100, 50});
+  one.roughness.assign(one.roughness.size(), uint8_t{17});
+  save_model(one, path);
+  const std::vector<uint8_t> b = test::read_bytes(path);
+  const auto at = section_offsets(b);
+  ASSERT_EQ(get_u64(b, at.at("COLR")), 1u);
+  EXPECT_EQ(b[at.at("COLR") + 8], 200);
+  EXPECT_EQ(b[at.at("COLR") + 10], 50);
+  ASSERT_EQ(get_u64(b, at.at("RUFF")), 1u);
+  EXPECT_EQ(b[at.at("RUFF") + 8], 17);
+  const SlabModel loaded = load_model(path);
+  EXPECT_TRUE(loaded.colour.uniform());
+  EXPECT_TRUE(loaded.roughness.uniform());
+  EXPECT_TRUE(loaded.colour == one.colour);
+  EXPECT_TRUE(loaded.roughness == one.roughness);
+  EXPECT_EQ(loaded.colour.size(), model.colour.size());
+}
+
 TEST_F(HdmFile, LayoutFollowsTheSpec) {
   const std::vector<uint8_t> b = test::read_bytes(path);
   ASSERT_GT(b.size(), 16u);

@@ -79,10 +79,14 @@ inline SlabModel octahedron_model(int n = 4, int m = 2) {
   model.stiffness_scale.assign(std::move(stiffness_scale));
   model.layer_displacement.assign(std::move(layer_displacement));
   model.hardness.assign(std::move(hardness));
+  std::vector<Srgb8> colour;
+  std::vector<uint8_t> roughness;
   for (int t = 0; t < texels; ++t) {
-    model.colour.push_back(encode_srgb8(texel_colour(t)));
-    model.roughness.push_back(unit_to_unorm8(float(t % 5) / 4.0f));
+    colour.push_back(encode_srgb8(texel_colour(t)));
+    roughness.push_back(unit_to_unorm8(float(t % 5) / 4.0f));
   }
+  model.colour.assign(std::move(colour));
+  model.roughness.assign(std::move(roughness));
   model.under_layer = UnderLayer{Vec3f(0.9f, 0.7f, 0.2f), 0.4f, 0.6f, 0.45f, 0.3f, 61.5f};
   model.source = "octahedron (hand-built test model)";
   model.source_triangles = 8;

@@ -107,7 +107,7 @@ SlabModel make_model(const CoarseMesh& mesh, int n, int m) {
 
 void paint_slab(SlabModel& model, int slab, const Vec3f& colour) {
   const SampleLayout& L = model.texels;
-  for (int k = 0; k < L.per_slab; ++k) model.colour[L.id(slab, k)] = encode_srgb8(colour);
+  for (int k = 0; k < L.per_slab; ++k) model.colour.set(L.id(slab, k), encode_srgb8(colour));
 }
 
 Vec3 towards_eye(double az_deg, double el_deg) {

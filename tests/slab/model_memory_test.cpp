@@ -53,32 +53,43 @@ TEST(ModelMemory, SplitsSamplesFromTexels) {
   const ModelMemory m = model_memory(bunny);
   EXPECT_EQ(m.samples, bunny.samples.count);
   EXPECT_EQ(m.texels, bunny.texels.count);
-  // The stored displacement alone is a unorm16 per sample; colour and roughness are 3 + 1 bytes per texel.
+  // The stored displacement alone is a unorm16 per sample; colour and roughness, once an editor
+  // gives them their arrays, are 3 + 1 bytes per texel.
   EXPECT_GE(m.sample_fields, int64_t(sizeof(Unorm16)) * m.samples);
-  EXPECT_GE(m.texel_fields, 4 * m.texels);
-  EXPECT_LE(m.texel_fields, 8 * m.texels);
+  SlabModel edited = bunny;
+  materialise_fields(edited);
+  const ModelMemory e = model_memory(edited);
+  EXPECT_GE(e.texel_fields, 4 * e.texels);
+  EXPECT_LE(e.texel_fields, 8 * e.texels);
   EXPECT_NEAR(m.per_sample() * double(m.samples) + m.per_texel() * double(m.texels), double(m.total()), 1.0);
   EXPECT_EQ(model_memory(SlabModel{}).total(), 0);
   EXPECT_EQ(model_memory(SlabModel{}).per_sample(), 0);
 }
 
-// A baked model's friction, stiffness scale, layer top and hardness are one value each (no brush
-// has painted them): they take no array until the edits materialise them, 2 bytes per sample each.
+// A baked model's friction, stiffness scale, layer top and hardness, and its texels' colour and
+// roughness, are one value each (no brush has painted them): they take no array until the edits
+// materialise them, 2 bytes per sample and 3 + 1 per texel.
 TEST(ModelMemory, UniformFieldsTakeNoArrayUntilMaterialised) {
   const SlabModel& bunny = test::baked_bunny(0, 16);
   for (bool u : {bunny.friction_static.uniform(), bunny.friction_dynamic.uniform(), bunny.stiffness_scale.uniform(),
-                 bunny.layer_displacement.uniform(), bunny.hardness.uniform()})
+                 bunny.layer_displacement.uniform(), bunny.hardness.uniform(), bunny.colour.uniform(),
+                 bunny.roughness.uniform()})
     EXPECT_TRUE(u);
   SlabModel edited = bunny;
   const ModelMemory before = model_memory(edited);
   EXPECT_EQ(before.sample_fields, int64_t(edited.displacement.capacity() * sizeof(Unorm16)));
+  EXPECT_EQ(before.texel_fields, 0);
   materialise_fields(edited);
   const ModelMemory after = model_memory(edited);
   EXPECT_EQ(after.sample_fields - before.sample_fields, 5 * int64_t(sizeof(Unorm16)) * after.samples);
-  EXPECT_EQ(after.total() - before.total(), after.sample_fields - before.sample_fields);
-  // The values are the same, sample for sample.
+  EXPECT_EQ(after.texel_fields, int64_t(sizeof(Srgb8) + sizeof(uint8_t)) * after.texels);
+  EXPECT_EQ(after.total() - before.total(),
+            after.sample_fields - before.sample_fields + after.texel_fields - before.texel_fields);
+  // The values are the same, sample for sample and texel for texel.
   EXPECT_TRUE(edited.hardness == bunny.hardness);
   EXPECT_TRUE(edited.friction_static == bunny.friction_static);
+  EXPECT_TRUE(edited.colour == bunny.colour);
+  EXPECT_TRUE(edited.roughness == bunny.roughness);
   if (!kOwnAllocator) return;
   // The allocator agrees: copying the materialised model takes its five arrays more.
   const int64_t heap0 = heap_in_use();

@@ -24,8 +24,9 @@ std::unique_ptr<SlabModel> painted_bunny() {
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> code(0, 255);
   std::uniform_real_distribution<float> mu(0.0f, 1.0f);
-  for (Srgb8& c : m->colour) c = Srgb8{uint8_t(code(rng)), uint8_t(code(rng)), uint8_t(code(rng))};
-  for (uint8_t& r : m->roughness) r = uint8_t(code(rng));
+  for (size_t t = 0; t < m->colour.size(); ++t)
+    m->colour.set(t, Srgb8{uint8_t(code(rng)), uint8_t(code(rng)), uint8_t(code(rng))});
+  for (size_t t = 0; t < m->roughness.size(); ++t) m->roughness.set(t, uint8_t(code(rng)));
   for (size_t s = 0; s < m->friction_static.size(); ++s) m->friction_static.set(s, mu(rng));
   return m;
 }
@@ -74,7 +75,9 @@ TEST(SlabSnapshots, ShareUnchangedSlabsWithTheLiveModel) {
       const size_t id = size_t(model->texels.id(s, k));
       if (hit[id] || int32_t(id) < model->texels.first_interior) continue;
       hit[id] = 1;
-      model->colour[id].r ^= 0x55;
+      Srgb8 c = model->colour[id];
+      c.r ^= 0x55;
+      model->colour.set(id, c);
       ++expected;
     }
   }
@@ -102,8 +105,8 @@ TEST(SlabSnapshots, APinnedReaderKeepsTheSlabAsItWas) {
 
   const SnapshotReader old(snapshots);
   ASSERT_TRUE(snapshots.before_write(0));
-  model->colour[size_t(id)] = after;
-  model->roughness[size_t(id)] ^= 0x80;
+  model->colour.set(size_t(id), after);
+  model->roughness.set(size_t(id), uint8_t(model->roughness[size_t(id)] ^ 0x80));
   EXPECT_EQ(old.slab(0).texels[4 * local], before.r) << "an uncommitted write is not seen";
   EXPECT_EQ(snapshots.publish_commit(), 1u);
   const SnapshotReader now(snapshots);

@@ -2,29 +2,33 @@
 #pragma once
 /// @file
 /// A per-sample field that holds one value for every sample until a write makes two differ: a
-/// baked or loaded model's friction, stiffness scale, under-layer top and hardness are the same
-/// everywhere until a brush paints them, and then take no array at all (2 bytes per sample each
-/// otherwise). The same idea as OpenVDB's tile values: a constant region stores its value once.
+/// baked or loaded model's friction, stiffness scale, under-layer top and hardness, and its
+/// texels' colour and roughness, are the same everywhere until a brush paints them, and then take
+/// no array at all (2 bytes per sample, 4 per texel otherwise). The same idea as OpenVDB's tile
+/// values: a constant region stores its value once.
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <type_traits>
 #include <vector>
 
 namespace hdm {
 
-/// #samples codes of a 16-bit field type (Unorm16, Half16), stored as one *uniform* value until a
-/// write differs from it, then as an array of one code per sample.
+/// #samples codes of a field (Unorm16, Half16 per displacement sample; Srgb8, uint8_t per texel),
+/// stored as one *uniform* value until a write differs from it, then as an array of one code per
+/// sample.
 ///
 /// Reads cost one predictable branch. Writes go through set(): a write that equals the uniform
 /// value stores nothing; the first one that differs allocates the array (#samples codes). Code that
 /// must not allocate while it writes (the edits: StrokeEditor and EditScratch call it when they are
 /// made) calls materialise() first: from then on the field keeps its array, and neither set() nor
-/// compact() allocates or frees it. Codes compare by their 16 bits.
-/// @tparam Code  a 2-byte trivially copyable code type (Unorm16, Half16).
+/// compact() allocates or frees it. Codes compare by their bytes.
+/// @tparam Code  a trivially copyable code type without padding (Unorm16, Half16, Srgb8, uint8_t).
 template <class Code>
 class SampleField {
-  static_assert(sizeof(Code) == 2, "16-bit codes");
+  static_assert(std::is_trivially_copyable_v<Code> && std::has_unique_object_representations_v<Code>,
+                "codes compare by their bytes");
 
  public:
   SampleField() = default;
@@ -120,6 +124,8 @@ class SampleField {
     value_ = values_[0];
     std::vector<Code>().swap(values_);
   }
+  /// The array of codes, one per sample; null while uniform().
+  const Code* data() const noexcept { return values_.empty() ? nullptr : values_.data(); }
   /// @brief Every sample's code, as an array (a uniform field repeats its value).
   /// @throws std::bad_alloc. @note O(size()); allocates.
   std::vector<Code> codes() const { return values_.empty() ? std::vector<Code>(count_, value_) : values_; }
@@ -134,8 +140,8 @@ class SampleField {
   /// Heap bytes held: the array's capacity (0 while uniform).
   size_t heap_bytes() const noexcept { return values_.capacity() * sizeof(Code); }
 
-  /// @brief Whether two codes are the same 16 bits. @note noexcept, O(1).
-  static bool same(Code a, Code b) noexcept { return std::bit_cast<uint16_t>(a) == std::bit_cast<uint16_t>(b); }
+  /// @brief Whether two codes are the same bytes. @note noexcept, O(1).
+  static bool same(const Code& a, const Code& b) noexcept { return std::memcmp(&a, &b, sizeof(Code)) == 0; }
 
  private:
   size_t count_ = 0;

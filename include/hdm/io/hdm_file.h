@@ -14,9 +14,10 @@
 /// | 8 | uint64 FNV-1a (64-bit) hash of every byte before it |
 ///
 /// Each section is a 4-byte tag, a uint64 element count `k`, then `k` elements. From version 7, a
-/// per-sample field (`FRST`, `FRDY`, `STIF`, `LAYD`, `HARD`) whose codes are all equal is written
-/// as one element, which every sample takes (SampleField: a baked model's fields are one value each
-/// until painted; 2 bytes per sample less per such field).
+/// per-sample field (`FRST`, `FRDY`, `STIF`, `LAYD`, `HARD`) or texel field (`COLR`, `RUFF`) whose
+/// codes are all equal is written as one element, which every sample or texel takes (SampleField:
+/// a baked model's fields are one value each until painted; 2 bytes per sample, 3 and 1 per texel
+/// less).
 ///
 /// | tag | elements | element |
 /// | --- | --- | --- |
@@ -50,9 +51,9 @@
 /// whose 16-bit sections hold the model's codes bit for bit (a save and a load give the same model).
 /// Derived members of SlabModel are not stored; load_model() rebuilds them. #samples and #texels
 /// follow from the counts (#C + (k-1)·#E + (k-1)(k-2)/2·#S for k = grid_n and grid_n·texel_density,
-/// #E the distinct slab edges); `DISP` and `COLR` must hold exactly that many, and `FRST`, `FRDY`,
-/// `STIF` that many, one (version 7) or none (defaults); `RUFF` that many or none; `LAYD` and
-/// `HARD` as `FRST`; `LAYM` one.
+/// #E the distinct slab edges); `DISP` must hold exactly that many, `COLR` that many or one
+/// (version 7), and `FRST`, `FRDY`, `STIF`, `RUFF`, `LAYD` and `HARD` that many, one (version 7) or
+/// none (defaults); `LAYM` one.
 
 #include <hdm/io/read_file.h>
 #include <hdm/core/write_file_atomic.h>

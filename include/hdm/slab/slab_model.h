@@ -161,8 +161,8 @@ struct SlabModel {
   /// of the shell's thickness along the line (displacement_quantisation() bounds it in model units)
   std::vector<Unorm16> displacement;
   /// #texels colour as 8-bit sRGB (decode_srgb8() gives the linear RGB it stands for; writers
-  /// encode linear RGB with encode_srgb8(), rounding once)
-  std::vector<Srgb8> colour;
+  /// encode linear RGB with encode_srgb8(), rounding once). One value until painted (SampleField).
+  SampleField<Srgb8> colour;
   /// @{ Surface material per sample, each one value until painted (SampleField: no array while
   /// uniform): static and dynamic friction coefficients μs, μd (binary16) and the factor on the
   /// rendered stiffness in [0,1] (unorm16).
@@ -171,8 +171,8 @@ struct SlabModel {
   SampleField<Unorm16> stiffness_scale;
   /// @}
   /// #texels rendering roughness as unorm8 (code/255 in [0,1]; 0 glossy, 255 matte, the default;
-  /// unorm8_to_unit(), unit_to_unorm8())
-  std::vector<uint8_t> roughness;
+  /// unorm8_to_unit(), unit_to_unorm8()). One value until painted (SampleField).
+  SampleField<uint8_t> roughness;
   /// #samples: displacement of the top of the under-layer on each projection line, in [0,1]
   /// (default 0: no under-layer above the inner face). The surface is the under-layer where
   /// δ < this value (exposed by carving); see UnderLayer and layer_exposure(). unorm16: within
@@ -247,10 +247,11 @@ inline float sample_hardness_hv(const SlabModel& model, int32_t sample) noexcept
 /// @note O(#S·n²·m²); allocates; normals and the layouts' CSR rows in parallel (std::thread).
 void rebuild_derived(SlabModel& model);
 
-/// @brief Gives each per-sample field of @p model that is one value everywhere (SampleField) its
-/// array, kept from then on, so that no later write allocates: what the edits do before they run
-/// (EditScratch and StrokeEditor call it), since the servo thread that edits never allocates.
-/// Costs 2 bytes per sample for each field that was uniform (at most 10).
+/// @brief Gives each per-sample and per-texel field of @p model that is one value everywhere
+/// (SampleField) its array, kept from then on, so that no later write allocates: what the edits do
+/// before they run (EditScratch and StrokeEditor call it), since the servo thread that edits never
+/// allocates. Costs 2 bytes per sample for each per-sample field that was uniform (at most 10),
+/// and 3 and 1 bytes per texel for colour and roughness.
 /// @throws std::bad_alloc. @note O(#samples).
 void materialise_fields(SlabModel& model);
 
