@@ -86,6 +86,7 @@ void run_info(const InfoOptions& o) {
           {"texel_layout", mem.texel_layout},
           {"caches", mem.caches},
           {"slab_constants", mem.slab_constants},
+          {"uniform_fields_as_arrays", mem.uniform_fields},
           {"bytes_per_sample", mem.per_sample()},
           {"bytes_per_texel", mem.per_texel()},
           {"snapshot_bytes", snapshot_bytes},
@@ -121,9 +122,12 @@ void run_info(const InfoOptions& o) {
       "  derived         %.1f MiB sample layout, %.1f MiB texel layout, %.1f MiB query caches, "
       "%.1f MiB slab constants\n",
       mib(mem.sample_layout), mib(mem.texel_layout), mib(mem.caches), mib(mem.slab_constants));
-  std::printf("  snapshots       %.2f MiB while sculpting (%.1f %% of the model: %d spare versions, copy on write)\n",
-              mib(int64_t(snapshot_bytes)), 100.0 * double(snapshot_bytes) / double(mem.total()),
-              snapshots.version_count());
+  std::printf("  when edited     +%.1f MiB: an editor gives the fields of one value their arrays\n",
+              mib(mem.uniform_fields));
+  std::printf(
+      "  snapshots       %.2f MiB while sculpting (%.1f %% of the model edited: %d spare versions, copy on write)\n",
+      mib(int64_t(snapshot_bytes)), 100.0 * double(snapshot_bytes) / double(mem.total() + mem.uniform_fields),
+      snapshots.version_count());
 }
 
 }  // namespace

@@ -20,6 +20,12 @@ template <class... V>
 requires(sizeof...(V) > 1) int64_t bytes(const V&... v)
 noexcept { return (bytes(v) + ...); }
 
+// The bytes a uniform field's array would take (0 for one already materialised).
+template <class... T>
+int64_t uniform_bytes(const SampleField<T>&... f) noexcept {
+  return ((f.uniform() ? static_cast<int64_t>(f.size() * sizeof(T)) : 0) + ...);
+}
+
 int64_t layout_bytes(const SampleLayout& l) noexcept {
   return bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.edge_other_side,
                l.side_points, l.corner_slot_offsets, l.corner_slots);
@@ -37,6 +43,8 @@ ModelMemory model_memory(const SlabModel& m) noexcept {
   r.texel_layout = layout_bytes(m.texels);
   r.caches = bytes(m.slab_samples);
   r.slab_constants = bytes(m.geometry, m.edge_neighbour, m.vertex_slab_offsets, m.vertex_slabs);
+  r.uniform_fields = uniform_bytes(m.friction_static, m.friction_dynamic, m.stiffness_scale, m.layer_displacement,
+                                   m.hardness, m.colour, m.roughness);
   r.samples = m.samples.count;
   r.texels = m.texels.count;
   return r;

@@ -85,6 +85,8 @@ TEST(ModelMemory, UniformFieldsTakeNoArrayUntilMaterialised) {
   EXPECT_EQ(after.texel_fields, int64_t(sizeof(Srgb8) + sizeof(uint8_t)) * after.texels);
   EXPECT_EQ(after.total() - before.total(),
             after.sample_fields - before.sample_fields + after.texel_fields - before.texel_fields);
+  EXPECT_EQ(after.total() - before.total(), before.uniform_fields);  // what `hdm info` announces
+  EXPECT_EQ(after.uniform_fields, 0);
   // The values are the same, sample for sample and texel for texel.
   EXPECT_TRUE(edited.hardness == bunny.hardness);
   EXPECT_TRUE(edited.friction_static == bunny.friction_static);

@@ -24,8 +24,11 @@ struct ModelMemory {
   /// (displacement, normal and force-shading normal per slot). Surface points are not cached.
   int64_t caches = 0;
   int64_t slab_constants = 0;  ///< derived per slab and coarse vertex: geometry, edge neighbours, vertex -> slabs
-  int64_t samples = 0;         ///< distinct displacement samples (SampleLayout::count)
-  int64_t texels = 0;          ///< distinct colour texels
+  /// Bytes the fields held as one value (SampleField::uniform()) would take as arrays: what
+  /// materialise_fields(), which every editor calls, adds to total(). Not part of total().
+  int64_t uniform_fields = 0;
+  int64_t samples = 0;  ///< distinct displacement samples (SampleLayout::count)
+  int64_t texels = 0;   ///< distinct colour texels
 
   /// Every group summed [bytes].
   int64_t total() const noexcept {
