@@ -186,8 +186,8 @@ bool EditJob::run_normals(SlabModel& m, EditScratch& s, Deadline& d) noexcept {
     while (cursor_ < ring_count_) {
       if (d.expired(8 * kChunk)) return false;  // a normal costs several flood visits
       const int32_t n = std::min(kChunk, ring_count_ - cursor_);
-      update_normals(m, s.ring.data() + cursor_, static_cast<size_t>(n), s.faces,
-                     false);  // normals into the slab-major copy
+      // Normals into the slab-major copy.
+      update_normals(m, s.ring.data() + cursor_, static_cast<size_t>(n), s.faces, false);
       cursor_ += n;
     }
     phase_ = Phase::ShadingRing;

@@ -215,10 +215,9 @@ void get_field(Reader& r, const char (&t)[5], std::vector<T>& v, const std::stri
 // uniform or materialised: the same model gives the same bytes. Other fields: every sample's code.
 template <class T>
 void put_codes(Writer& w, const char (&t)[5], const SampleField<T>& f) {
-  bool one = f.size() > 1;
-  for (size_t k = 1; one && k < f.size(); ++k) one = SampleField<T>::same(f[k], f[0]);
-  w.tag(t, one ? 1 : f.size());
-  for (size_t k = 0; k < (one ? 1 : f.size()); ++k) w.put_bits(code_of(f[k]));
+  const size_t count = f.all_equal() ? std::min<size_t>(f.size(), 1) : f.size();
+  w.tag(t, count);
+  for (size_t k = 0; k < count; ++k) w.put_bits(code_of(f[k]));
 }
 // The field of @p samples samples a section holds: one code for all (version 7), or one each
 // (uniform in the model when they are all equal), or none (filled with defaults later).
@@ -259,13 +258,11 @@ void get_bytes(Reader& r, const char (&t)[5], std::vector<T>& v) {
 // fields; check_layout_sizes() gives it the texel count once that is known.
 template <class T>
 void put_bytes(Writer& w, const char (&t)[5], const SampleField<T>& f) {
-  bool one = f.size() > 1;
-  for (size_t k = 1; one && k < f.size(); ++k) one = SampleField<T>::same(f[k], f[0]);
+  const bool one = f.all_equal();
+  const size_t count = one ? std::min<size_t>(f.size(), 1) : f.size();
   const T first = f.empty() ? T{} : f[0];
-  const bool single = one || f.uniform();  // a uniform field of at most one texel too
-  w.tag(t, single ? std::min<size_t>(f.size(), 1) : f.size());
-  w.put_raw(single ? reinterpret_cast<const uint8_t*>(&first) : reinterpret_cast<const uint8_t*>(f.data()),
-            single ? std::min<size_t>(f.size(), 1) * sizeof(T) : f.size() * sizeof(T));
+  w.tag(t, count);
+  w.put_raw(reinterpret_cast<const uint8_t*>(one ? &first : f.data()), count * sizeof(T));
 }
 template <class T>
 void get_bytes(Reader& r, const char (&t)[5], SampleField<T>& f) {

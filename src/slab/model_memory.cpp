@@ -17,8 +17,9 @@ int64_t bytes(const SampleField<T>& f) noexcept {
 }
 
 template <class... V>
-requires(sizeof...(V) > 1) int64_t bytes(const V&... v)
-noexcept { return (bytes(v) + ...); }
+int64_t sum_bytes(const V&... v) noexcept {
+  return (bytes(v) + ...);
+}
 
 // The bytes a uniform field's array would take (0 for one already materialised).
 template <class... T>
@@ -27,22 +28,22 @@ int64_t uniform_bytes(const SampleField<T>&... f) noexcept {
 }
 
 int64_t layout_bytes(const SampleLayout& l) noexcept {
-  return bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.edge_other_side,
-               l.side_points, l.corner_slot_offsets, l.corner_slots);
+  return sum_bytes(l.local_rank, l.interior_index, l.boundary_ids, l.homes, l.point_i, l.point_j, l.edge_other_side,
+                   l.side_points, l.corner_slot_offsets, l.corner_slots);
 }
 
 }  // namespace
 
 ModelMemory model_memory(const SlabModel& m) noexcept {
   ModelMemory r;
-  r.sample_fields =
-      bytes(m.displacement, m.friction_static, m.friction_dynamic, m.stiffness_scale, m.layer_displacement, m.hardness);
-  r.texel_fields = bytes(m.colour, m.roughness);
-  r.coarse = bytes(m.inner, m.outer, m.slabs);
+  r.sample_fields = sum_bytes(m.displacement, m.friction_static, m.friction_dynamic, m.stiffness_scale,
+                              m.layer_displacement, m.hardness);
+  r.texel_fields = sum_bytes(m.colour, m.roughness);
+  r.coarse = sum_bytes(m.inner, m.outer, m.slabs);
   r.sample_layout = layout_bytes(m.samples);
   r.texel_layout = layout_bytes(m.texels);
-  r.caches = bytes(m.slab_samples);
-  r.slab_constants = bytes(m.geometry, m.edge_neighbour, m.vertex_slab_offsets, m.vertex_slabs);
+  r.caches = sum_bytes(m.slab_samples);
+  r.slab_constants = sum_bytes(m.geometry, m.edge_neighbour, m.vertex_slab_offsets, m.vertex_slabs);
   r.uniform_fields = uniform_bytes(m.friction_static, m.friction_dynamic, m.stiffness_scale, m.layer_displacement,
                                    m.hardness, m.colour, m.roughness);
   r.samples = m.samples.count;

@@ -247,13 +247,6 @@ void check(bool ok, const std::string& what) {
   if (!ok) throw InvalidInput("slab model: " + what);
 }
 
-template <class T>
-void fill_default(std::vector<T>& v, size_t n, typename std::vector<T>::value_type value, const char* name) {
-  if (v.empty()) v.assign(n, value);
-  check(v.size() == n,
-        std::string(name) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
-}
-
 // A field no writer set takes its default everywhere, as one uniform value (no array).
 template <class T>
 void fill_default(SampleField<T>& f, size_t n, T value, const char* name) {

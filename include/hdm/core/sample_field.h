@@ -115,12 +115,17 @@ class SampleField {
     if (values_.empty()) kept_ = false;
     compact();
   }
+  /// @brief Whether every sample holds the same code (true while uniform(), and for a field of at
+  /// most one sample). @note O(size()) when materialised, O(1) otherwise; no allocation.
+  bool all_equal() const noexcept {
+    for (const Code& c : values_)
+      if (!same(c, values_[0])) return false;
+    return true;
+  }
   /// @brief Frees the array when every code equals the first (a painted field painted back, a
   /// loaded field never painted), unless the field is materialised. @note O(size()), no allocation.
   void compact() noexcept {
-    if (values_.empty() || kept_) return;
-    for (const Code& c : values_)
-      if (!same(c, values_[0])) return;
+    if (values_.empty() || kept_ || !all_equal()) return;
     value_ = values_[0];
     std::vector<Code>().swap(values_);
   }

@@ -30,10 +30,10 @@ struct WriteGate {
 /// Caller-owned buffers for edits, sized once for a model so that edits never allocate (they may
 /// run in the servo loop). One per editing thread.
 struct EditScratch {
-  /// @brief Sizes every buffer for @p model and gives its uniform per-sample fields their arrays
+  /// @brief Sizes every buffer for @p model and gives its fields of one value their arrays
   /// (materialise_fields()), so that no edit allocates. Allocates O(#samples + #texels + #S): about
   /// 12 bytes per sample, 8 per texel, 5 per slab, plus a fixed ~120 KB (face-normal memo), and up
-  /// to 10 bytes per sample in the model.
+  /// to 10 bytes per sample and 4 per texel in the model.
   explicit EditScratch(SlabModel& model);
   /// @{ Visit marks of the current edit: #samples and #texels entries (equal to `stamp` once visited).
   std::vector<uint32_t> sample_stamp, texel_stamp;

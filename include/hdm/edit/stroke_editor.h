@@ -99,7 +99,7 @@ struct EditWork {
 class StrokeEditor {
  public:
   /// @brief Allocates the editor's buffers for @p model (its topology must not change later) and
-  /// gives the model's uniform per-sample fields their arrays (materialise_fields()).
+  /// gives the model's per-sample and per-texel fields of one value their arrays (materialise_fields()).
   StrokeEditor(SlabModel& model, const StrokeEditorOptions& options = {});
   ~StrokeEditor();
   StrokeEditor(const StrokeEditor&) = delete;

@@ -37,8 +37,8 @@
 /// | `LAYD` | #samples | uint16: layer_displacement as unorm16 (versions 2-4: float32; from version 2) |
 /// | `LAYM` | 1 | 7 float32: under_layer colour RGB, stiffness_scale, friction_static, friction_dynamic, roughness
 /// (from version 2) |
-/// | `HARD` | #samples | uint16: hardness [HV] as IEEE binary16 bits (SlabModel::hardness; version 4: float32; from
-/// version 4) | | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
+/// | `HARD` | #samples | uint16: hardness [HV] as IEEE binary16 bits (version 4: float32; from version 4) |
+/// | `LAYH` | 1 | float32 under_layer.hardness_hv [HV] (from version 4) |
 ///
 /// Version 1 files (without `RUFF`, `LAYD` and `LAYM`) load with the defaults of those fields.
 /// Version 1 and 2 files' float colours and roughness are encoded to 8 bits on load (rounded once,
