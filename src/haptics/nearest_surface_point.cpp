@@ -209,7 +209,7 @@ SurfacePoint nearest_surface_point(const SlabModel& m, int slab, double wS, doub
   // the neighbour across each edge the best cell touches and, in a corner cell, to every slab
   // around that coarse vertex, while one has a nearer point.
   int from = -1;
-  const bool fans = m.vertex_slab_offsets.size() == m.inner.size() + 1;
+  const bool fans = m.samples.corner_slot_offsets.size() == m.inner.size() + 1;
   for (int hop = 0; hop < 6 && !m.edge_neighbour.empty(); ++hop) {
     const double bS = (best.j + 1.0 / 3) / n, bT = (best.i + 1.0 / 3) / n;
     int candidate[64], count = 0;
@@ -236,8 +236,9 @@ SurfacePoint nearest_surface_point(const SlabModel& m, int slab, double wS, doub
     static constexpr int ci[3] = {0, 0, 1}, cj[3] = {0, 1, 0};
     if (corner >= 0 && fans && (grid_point(n, g, v, n * ci[corner], n * cj[corner]) - best.point).norm() <= tiny) {
       const int vtx = m.slabs[slab][corner];
-      for (int f = m.vertex_slab_offsets[vtx]; f < m.vertex_slab_offsets[vtx + 1] && count < 64; ++f)
-        candidate[count++] = m.vertex_slabs[f];
+      m.samples.for_each_vertex_slab(vtx, [&](int32_t f) noexcept {
+        if (count < 64) candidate[count++] = f;
+      });
     }
     SlabNearest step = best;
     int to = -1;

@@ -293,9 +293,10 @@ SurfaceStroke ScenarioSites::edges_spiral(const SlabModel& model, const SlabLoca
     if (c.face < 0 || !exposed(c, o_.clearance * diag_)) continue;
     double spacing = 0;
     int count = 0;
-    for (int k = model.vertex_slab_offsets[v]; k < model.vertex_slab_offsets[v + 1]; ++k)
-      for (int32_t u : model.slabs[model.vertex_slabs[k]])
+    model.samples.for_each_vertex_slab(v, [&](int32_t slab) {
+      for (int32_t u : model.slabs[slab])
         if (u != v) spacing += (corners[u].point - c.point).norm(), ++count;
+    });
     if (count == 0) continue;
     spacing /= count;
     const Vec3 u = any_perpendicular(c.normal), w = c.normal.cross(u);

@@ -65,10 +65,9 @@ SlabLocator::SlabLocator(const SlabModel& model)
     for (int32_t nb : model.edge_neighbour[s])
       if (nb >= 0) tmp.push_back(nb);
     for (int32_t v : model.slabs[s])
-      for (int32_t k = model.vertex_slab_offsets[v]; k < model.vertex_slab_offsets[v + 1]; ++k) {
-        const int32_t t = model.vertex_slabs[k];
+      model.samples.for_each_vertex_slab(v, [&](int32_t t) {
         if (t != s && std::find(tmp.begin(), tmp.end(), t) == tmp.end()) tmp.push_back(t);
-      }
+      });
     ring_.insert(ring_.end(), tmp.begin(), tmp.end());
     ring_offsets_[s + 1] = static_cast<int32_t>(ring_.size());
   }

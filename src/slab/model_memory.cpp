@@ -43,7 +43,7 @@ ModelMemory model_memory(const SlabModel& m) noexcept {
   r.sample_layout = layout_bytes(m.samples);
   r.texel_layout = layout_bytes(m.texels);
   r.caches = sum_bytes(m.slab_samples);
-  r.slab_constants = sum_bytes(m.geometry, m.edge_neighbour, m.vertex_slab_offsets, m.vertex_slabs);
+  r.slab_constants = sum_bytes(m.geometry, m.edge_neighbour);
   r.uniform_fields = uniform_bytes(m.friction_static, m.friction_dynamic, m.stiffness_scale, m.layer_displacement,
                                    m.hardness, m.colour, m.roughness);
   r.samples = m.samples.count;

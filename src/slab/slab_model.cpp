@@ -256,7 +256,7 @@ void fill_default(SampleField<T>& f, size_t n, T value, const char* name) {
 }
 
 void build_adjacency(SlabModel& m) {
-  const int S = m.slab_count(), C = m.coarse_vertex_count();
+  const int S = m.slab_count();
   m.edge_neighbour.assign(S, {-1, -1, -1});
   std::unordered_map<uint64_t, int32_t> first;  // undirected edge -> slab*3 + edge
   first.reserve(S * 2);
@@ -270,14 +270,6 @@ void build_adjacency(SlabModel& m) {
         m.edge_neighbour[it->second / 3][it->second % 3] = s;
       }
     }
-  m.vertex_slab_offsets.assign(C + 1, 0);
-  for (const Tri& t : m.slabs)
-    for (int32_t v : t) ++m.vertex_slab_offsets[v + 1];
-  for (int v = 0; v < C; ++v) m.vertex_slab_offsets[v + 1] += m.vertex_slab_offsets[v];
-  m.vertex_slabs.resize(m.vertex_slab_offsets[C]);
-  std::vector<int32_t> fill(m.vertex_slab_offsets.begin(), m.vertex_slab_offsets.end() - 1);
-  for (int s = 0; s < S; ++s)
-    for (int32_t v : m.slabs[s]) m.vertex_slabs[fill[v]++] = s;
 }
 
 // Calls f(ids, count) on the consecutive sample ids [b, e), a chunk at a time: the update

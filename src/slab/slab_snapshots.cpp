@@ -21,7 +21,7 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
       m.texels.slot_count() != size_t(S) * m.texels.per_slab || m.colour.size() != size_t(m.texels.count) ||
       m.roughness.size() != size_t(m.texels.count) || m.layer_displacement.size() != size_t(m.samples.count) ||
       m.hardness.size() != size_t(m.samples.count) ||
-      m.vertex_slab_offsets.size() != size_t(m.coarse_vertex_count()) + 1)
+      m.samples.corner_slot_offsets.size() != size_t(m.coarse_vertex_count()) + 1)
     throw InvalidInput("snapshots: the model's derived data are missing (call rebuild_derived first)");
   if (o.reader_slots < 1 || o.reader_slots > 1024)
     throw InvalidInput("snapshots: reader_slots = " + std::to_string(o.reader_slots) + " outside [1, 1024]");
@@ -40,8 +40,7 @@ SlabSnapshots::SlabSnapshots(const SlabModel& m, const SnapshotOptions& o) : mod
   // One write asks for every slab holding its sample at once (a corner sample: every slab around
   // a coarse vertex); a pool smaller than that could never grant it, whatever was committed.
   size_t most = 2;  // an edge sample's two slabs
-  for (size_t v = 0; v + 1 < m.vertex_slab_offsets.size(); ++v)
-    most = std::max(most, size_t(m.vertex_slab_offsets[v + 1] - m.vertex_slab_offsets[v]));
+  for (int32_t v = 0; v < m.coarse_vertex_count(); ++v) most = std::max(most, size_t(m.samples.vertex_slab_count(v)));
   version_total_ = std::max(version_total_, most + 1);
   slot_count_ = size_t(o.reader_slots);
   arena_.assign(version_total_ * stride_, 0);

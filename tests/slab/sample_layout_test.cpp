@@ -252,3 +252,22 @@ TEST(SampleLayoutTest, HomesAreEachSamplesFirstSlot) {
       }
     }
 }
+
+TEST(SampleLayoutTest, VertexSlabsAreTheSlabsHoldingEachCoarseVertex) {
+  // Reference: a scan of the slab list for the slabs that have v as a corner, in slab order; the
+  // layout gives them from the corner sample's slots (a layout refuses a vertex no slab uses).
+  // Closed and holed meshes, grid sizes including n = 1 (no edge samples).
+  for (const TriangleMesh& m : {test::icosphere(2, 1.0), holed_sphere(2)})
+    for (int n : {1, 2, 7, 16}) {
+      const int C = int(m.vertices.size());
+      const SampleLayout L = build_sample_layout(m.faces, C, n);
+      for (int32_t v = 0; v < C; ++v) {
+        std::vector<int32_t> expected, got;
+        for (size_t s = 0; s < m.faces.size(); ++s)
+          if (std::find(m.faces[s].begin(), m.faces[s].end(), v) != m.faces[s].end()) expected.push_back(int32_t(s));
+        L.for_each_vertex_slab(v, [&](int32_t s) { got.push_back(s); });
+        ASSERT_EQ(got, expected) << "n = " << n << ", vertex " << v;
+        ASSERT_EQ(L.vertex_slab_count(v), int32_t(expected.size())) << "n = " << n << ", vertex " << v;
+      }
+    }
+}

@@ -26,8 +26,8 @@ struct RenderCamera;
 /// GPU layout: one vertex buffer where slab s owns vertices [s·P, (s+1)·P) with
 /// P = (n+1)(n+2)/2, one static index buffer, and one atlas texture where slab s owns its tile.
 /// Edge and corner samples therefore exist once per slab that shares them: after an edit that
-/// touches a shared sample, re-upload every slab holding it (SlabModel::edge_neighbour and
-/// vertex_slabs give them).
+/// touches a shared sample, re-upload every slab holding it (SampleLayout::for_each_slot() gives
+/// them).
 ///
 /// Lights are fixed in view space (key light from the upper left, fill from the lower right), so
 /// every view direction is lit alike.

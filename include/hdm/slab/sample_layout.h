@@ -160,6 +160,19 @@ struct SampleLayout {
     for (const int32_t* x = r.first; x != r.last; ++x) f(*x);
   }
 
+  /// @brief Number of slabs around coarse vertex @p v: the slots of its corner sample (corner
+  /// ids are coarse vertex ids). Precondition: 0 <= v < first_edge. @note O(1), noexcept.
+  int32_t vertex_slab_count(int32_t v) const noexcept { return corner_slot_offsets[v + 1] - corner_slot_offsets[v]; }
+
+  /// @brief Calls @p f(slab) for each slab around coarse vertex @p v, in increasing order: the
+  /// slabs of its corner sample's slots (`corner_slots`; a slab holds each of its corners once).
+  /// Precondition: 0 <= v < first_edge.
+  /// @note O(slabs around v), a multiplication each; noexcept if @p f is.
+  template <class F>
+  void for_each_vertex_slab(int32_t v, F&& f) const {
+    for (int32_t k = corner_slot_offsets[v]; k < corner_slot_offsets[v + 1]; ++k) f(slab_of_slot(corner_slots[k]));
+  }
+
   /// @brief Calls @p f(t) once for every sample t that shares a grid edge with sample @p s. An
   /// interior sample: its six grid neighbours (i±1, j), (i, j±1), (i+1, j-1), (i-1, j+1) in its
   /// home slab, in that order. A shared sample: the grid neighbours of each grid point holding it,

@@ -189,14 +189,12 @@ struct SlabModel {
   double source_diagonal = 0;    ///< bounding-box diagonal of that input [model units]
 
   // ---- derived (rebuild_derived) ----
-  SampleLayout samples;                                ///< displacement samples (grid n)
-  SampleLayout texels;                                 ///< colour texels (grid n·m), without grid triangles
-  std::vector<SlabGeometry> geometry;                  ///< #S slab constants
-  std::vector<std::array<int32_t, 3>> edge_neighbour;  ///< #S: slab across edge RS, ST, TR or -1
-  /// @{ CSR coarse vertex -> slabs: the slabs around vertex v are
-  /// vertex_slabs[vertex_slab_offsets[v] .. vertex_slab_offsets[v+1]).
-  std::vector<int32_t> vertex_slab_offsets, vertex_slabs;
-  /// @}
+  SampleLayout samples;                ///< displacement samples (grid n)
+  SampleLayout texels;                 ///< colour texels (grid n·m), without grid triangles
+  std::vector<SlabGeometry> geometry;  ///< #S slab constants
+  /// #S: slab across edge RS, ST, TR or -1. The slabs around a coarse vertex are its corner
+  /// sample's (samples.for_each_vertex_slab()).
+  std::vector<std::array<int32_t, 3>> edge_neighbour;
   /// #S·samples.per_slab: slab-major copy of `displacement` with each sample's unit normal and
   /// force-shading normal (SlabSample), in grid::index order within a slab (slot slab·per_slab +
   /// index holds sample samples.id(slab, index)). What the query and the proxy interpolate, and the only
