@@ -158,13 +158,7 @@ SlabModel bake(const TriangleMesh& mesh, const ExactMeshQuery* prebuilt, const s
   model.colour.assign(model.texels.count, encode_srgb8(o.colour));
   progress(o, "derived data", 1);
 
-  for (int s = 0; s < model.slab_count(); ++s) {
-    const Tri& t = model.slabs[s];
-    if (slab_min_jacobian(model.geometry[s], model.outer[t[1]] - model.inner[t[1]],
-                          model.outer[t[2]] - model.inner[t[2]]) <= 0) {
-      ++rep.invalid_slabs;
-    }
-  }
+  rep.invalid_slabs = count_invalid_slabs(model);
   std::sort(rep.overlapping_slabs.begin(), rep.overlapping_slabs.end());
   rep.overlapping_slabs.erase(std::unique(rep.overlapping_slabs.begin(), rep.overlapping_slabs.end()),
                               rep.overlapping_slabs.end());
