@@ -103,6 +103,7 @@ nlohmann::json tolerance_json(const BakeInputOptions& o, const BakeInputReport& 
                      {"overlapping_pairs", t.overlapping_pairs},
                      {"ray_misses", t.ray_misses},
                      {"local", t.local},
+                     {"fewer", t.fewer},
                      {"met", t.met}});
   const auto bound = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   return {{"max_pct", bound(o.tolerance.max_pct)},
@@ -192,7 +193,11 @@ void print_bake(const BakeArgs& a, const BakeInputReport& rep, const SlabModel& 
     const ToleranceRound& t = rep.rounds[k];
     std::printf("  error-bounded round %zu: %d slabs (n = %d), max %.4f%% / %.4f%% back, RMS %.4f%% / %.4f%% back%s\n",
                 k + 1, t.slabs, t.grid_n, t.fidelity.max_pct, t.fidelity.max_back_pct, t.fidelity.rms_pct,
-                t.fidelity.rms_back_pct, t.met ? " (bound met)" : "");
+                t.fidelity.rms_back_pct,
+                t.met && k + 1 == rep.rounds.size() ? " (bound met)"
+                : t.fewer                           ? " (fewer slabs tried, not kept)"
+                : t.met                             ? " (bound met; fewer slabs tried next)"
+                                                    : "");
   }
   const Fidelity& f = rep.fidelity;
   std::printf("  fidelity (%% of bounding-box diagonal)\n");

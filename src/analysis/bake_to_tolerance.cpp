@@ -36,6 +36,11 @@ struct Plan {
   int global_request = -1;
   int64_t global_budget = -1;
   size_t global_request_faces = 0;
+  // The round the next global round grows: its slabs, its maximum error over the bound and its
+  // faults (fewer_slabs()); slabs -1 when the next round is a local one.
+  int64_t grown_slabs = -1;
+  double grown_max = 0;
+  int64_t grown_faults = 0;
   double decimation_cost = -1;  // quadric error the decimation reached in the last round that set the
                                 // slab count (-1: the next round sets it)
   // The mesh the rays are cast on: the input, or the input with its faces split (a low-poly input
@@ -146,15 +151,18 @@ int64_t faults(const ToleranceRound& t) { return int64_t(t.invalid_slabs) + t.ov
 
 // What a round that missed asks of the next one.
 struct Decision {
-  bool spots = false;  // misses with a place: overlapping slabs, points beyond the maximum error
-  bool local = false;  // the next round refines at the spots alone
-  bool stuck = false;  // faults more slabs do not reduce (stuck())
+  bool spots = false;   // misses with a place: overlapping slabs, points beyond the maximum error
+  bool local = false;   // the next round refines at the spots alone
+  bool stuck = false;   // faults more slabs do not reduce (stuck())
   bool finest = false;  // the next round would repeat an earlier one, without faults
-  bool split = false;  // the source's faces are split in four first (source_runs_short())
-  bool grows = false;  // the next round would have more slabs than the one it grows
-  int cap = 0;         // most slabs the next round may have
-  int next = 0;        // slabs of the next round when it is global
-  double rms = 0;      // the RMS ratio to its bound, measured without the far points
+  bool split = false;   // the source's faces are split in four first (source_runs_short())
+  bool grows = false;   // the next round would have more slabs than the one it grows
+  int cap = 0;          // most slabs the next round may have
+  int next = 0;         // slabs of the next round when it is global
+  double rms = 0;       // the RMS ratio to its bound, measured without the far points
+  // The round a global next round grows: this one, or the one before an undone local round.
+  int64_t base_slabs = 0, base_faults = 0;
+  double base_max = 0;
 };
 
 Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport& r, bool far_points,
@@ -184,6 +192,9 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
   const double growth = d.spots || f > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * d.rms, 1.2, 3.0);
   // Past the source's triangles only where it runs short, and then on its faces split.
   const double base = undone ? double(plan.before_slabs) : double(r.slabs);
+  d.base_slabs = undone ? plan.before_slabs : r.slabs;
+  d.base_max = undone ? plan.before_max : max;
+  d.base_faults = undone ? plan.before_faults : f;
   const double wanted = std::min<double>(
       tolerance.max_slabs, std::ceil(undone ? base * std::clamp(plan.before_worst, 1.5, 3.0) : base * growth));
   d.split = f == 0 && source_runs_short(plan, d.local, r.slabs, wanted, tolerance.max_slabs);
@@ -236,8 +247,10 @@ void plan_next_round(Plan& plan, const SlabModel& model, const BakeReport& r, co
     // last bits, so the bake stays the same at any scale of the input.
     plan.options.max_decimation_cost = plan.decimation_cost * (1 + 1e-3);
     plan.options.slabs = 1;
+    plan.grown_slabs = -1;
     return;
   }
+  plan.grown_slabs = d.base_slabs, plan.grown_max = d.base_max, plan.grown_faults = d.base_faults;
   // A global round starts afresh: its slabs are smaller everywhere, and caps kept where the
   // input folds would pin the coarse mesh to the fold (invalid slabs at any slab count).
   plan.options.slabs = d.next;
@@ -247,6 +260,23 @@ void plan_next_round(Plan& plan, const SlabModel& model, const BakeReport& r, co
   // Only a round that met the maximum and had no faults misses by sampling density as well.
   if (!d.spots && d.rms > 1) plan.budget *= std::min(d.rms, 3.0);
   if (tolerance.adapt_grid) plan.options.sample_budget = static_cast<int64_t>(std::ceil(plan.budget));
+}
+
+// The slab count to try after a global round @p t that met the bounds, or 0 for none. The round it
+// grew missed the maximum error alone, by a ratio the growth (linear in the ratio) may overshoot:
+// where the error is that of a few spots the slabs resolve at some size, it falls faster than
+// 1/slabs (man.off: 3.0 to 0.46 of the bound for 3 times the slabs). Fitting error ∝ slabs^-p on
+// the two rounds, the count whose maximum is kTrialAim of the bound; tried when it saves at least
+// a sixth of the slabs and both of the round's errors are below kTrialAim of their bounds.
+constexpr double kTrialAim = 0.75, kTrialAccept = 0.9, kTrialSaving = 1.2;
+int fewer_slabs(const Plan& plan, const ToleranceRound& t, const Tolerance& tolerance) {
+  if (t.local || plan.grown_slabs <= 0 || plan.grown_faults > 0 || !(plan.grown_max > 1)) return 0;
+  const double w = max_ratio(t, tolerance);
+  if (!(w > 0) || !(worst_ratio(t, tolerance) < kTrialAim) || t.slabs <= plan.grown_slabs) return 0;
+  const double p = std::log(plan.grown_max / w) / std::log(double(t.slabs) / double(plan.grown_slabs));
+  if (!(p > 0)) return 0;
+  const double s = std::ceil(t.slabs * std::pow(w / kTrialAim, 1 / p));
+  return s * kTrialSaving <= t.slabs && s > plan.grown_slabs ? static_cast<int>(s) : 0;
 }
 
 // Bakes @p w's round again as the last one (a later round passed the slab cap), stopping at the cap.
@@ -259,6 +289,31 @@ SlabModel bake_within_cap(const WithinCap& w, const std::string& name, int64_t f
   return model;
 }
 
+// Bakes the trial of fewer_slabs(): @p fewer slabs, the met round's other options. Kept (in @p model,
+// @p r and as the last of @p tried) when it meets the bounds with kTrialAccept of them to spare;
+// else listed before the met round, which stays the last, and false.
+bool try_fewer_slabs(Plan& plan, int fewer, const ExactMeshQuery& input, const std::string& name, int64_t faces,
+                     const Tolerance& tolerance, std::vector<ToleranceRound>& tried, SlabModel& model, BakeReport& r,
+                     std::vector<Vec3>& far) {
+  BakeOptions o = plan.options;
+  o.slabs = fewer;
+  BakeReport tr;
+  SlabModel trial = bake_slabs(*plan.target, name, o, &tr);
+  trial.source_triangles = faces;
+  ToleranceRound t = measure_round(trial, tr, input, tolerance, false, far);
+  t.fewer = true;
+  if (t.met && worst_ratio(t, tolerance) <= kTrialAccept && t.slabs < tried.back().slabs) {
+    tried.back().stop = ToleranceStop::NotLast;
+    t.stop = ToleranceStop::Met;
+    tried.push_back(t);
+    model = std::move(trial);
+    r = tr;
+    return true;
+  }
+  tried.insert(tried.end() - 1, t);
+  return false;
+}
+
 }  // namespace
 
 SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name, const BakeOptions& options,
@@ -269,8 +324,8 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
   if (tolerance.max_slabs < 1 || tolerance.max_rounds < 1)
     throw InvalidInput(name + ": the slab cap and the number of rounds must be at least 1");
   if (options.slabs > tolerance.max_slabs)
-    throw InvalidInput(name + ": the first round's " + std::to_string(options.slabs) + " slabs (--slabs) pass the cap of " +
-                       std::to_string(tolerance.max_slabs) + " (--max-slabs)");
+    throw InvalidInput(name + ": the first round's " + std::to_string(options.slabs) +
+                       " slabs (--slabs) pass the cap of " + std::to_string(tolerance.max_slabs) + " (--max-slabs)");
   const int64_t faces = static_cast<int64_t>(input.mesh().faces.size());
   Plan plan;
   plan.options = options;
@@ -310,6 +365,14 @@ SlabModel bake_to_tolerance(const ExactMeshQuery& input, const std::string& name
     if (r.slabs <= tolerance.max_slabs) within = WithinCap{plan.options, plan.target, tried.back()};
     const Decision d = decide(plan, round, tried.back(), r, !far.empty(), tolerance);
     tried.back().stop = stop_reason(tried.back(), d, round, tolerance);
+    const int fewer = tried.back().stop == ToleranceStop::Met && round + 1 < tolerance.max_rounds
+                          ? fewer_slabs(plan, tried.back(), tolerance)
+                          : 0;
+    if (fewer > 0 && try_fewer_slabs(plan, fewer, input, name, faces, tolerance, tried, model, r, far)) {
+      if (rounds) *rounds = std::move(tried);
+      if (report) *report = r;
+      return model;
+    }
     if (tried.back().stop != ToleranceStop::NotLast) {
       if (rounds) *rounds = std::move(tried);
       if (report) *report = r;

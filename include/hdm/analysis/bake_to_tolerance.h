@@ -22,7 +22,7 @@ struct Tolerance {
   /// this many, and a round that makes more (a local one, or one whose decimation stopped above its
   /// target) is not kept (bake_to_tolerance()). See bake_to_tolerance() for the input's triangles.
   int max_slabs = 100000;
-  int max_rounds = 8;         ///< bakes tried at most
+  int max_rounds = 8;  ///< bakes tried at most
   /// Lower the grid n as the slab count grows, so that the samples (slabs·n²) do not grow with it
   /// unless the RMS bound asks for them. Off: every round keeps options.grid_n.
   bool adapt_grid = true;
@@ -38,9 +38,9 @@ struct Tolerance {
 
 /// Why bake_to_tolerance() stopped after a round.
 enum class ToleranceStop {
-  NotLast,     ///< another round followed
-  Met,         ///< the round met every bound
-  SlabCap,     ///< the next round would pass Tolerance::max_slabs, or this one did (the model is then an earlier round's)
+  NotLast,  ///< another round followed
+  Met,      ///< the round met every bound
+  SlabCap,  ///< the next round would pass Tolerance::max_slabs, or this one did (the model is then an earlier round's)
   InputFaces,  ///< the next round would have more slabs than the input has triangles, and splitting them would not help
   Rounds,      ///< Tolerance::max_rounds bakes were tried
   Faults,      ///< invalid or overlapping slabs that more slabs did not reduce (the input's own crossings or folds)
@@ -57,6 +57,9 @@ struct ToleranceRound {
   int64_t ray_misses = 0;         ///< BakeReport::ray_misses of the round
   bool met = false;               ///< every bound of the Tolerance holds, and no slab is invalid or overlaps another
   bool local = false;  ///< this round refined where the round before missed (local refinement), else every slab
+  /// A trial with fewer slabs after a global round met the bounds by a wide margin: the last round
+  /// when it met them with a tenth to spare, else listed just before the round that met them.
+  bool fewer = false;
   ToleranceStop stop = ToleranceStop::NotLast;  ///< why the bake stopped here (the last round), else NotLast
 };
 
@@ -100,6 +103,13 @@ std::string describe_stop(const ToleranceRound& round, const Tolerance& toleranc
 ///   overlapping slabs (faults at the input's own resolution come from its faces, which cross or
 ///   fold), nor when the decimation stopped above its target (thin parts keep their faces): the
 ///   slab count then stays at most the input's triangles.
+///
+/// - **Fewer slabs** after a global round that meets every bound with a quarter to spare, when the
+///   round it grew missed the maximum error alone: growth linear in the error ratio overshoots
+///   where the error is a few spots that slabs of some size resolve (it then falls faster than
+///   1/slabs). Fitting error ∝ slabs^-p on the two rounds, one more round bakes the count aimed at
+///   3/4 of the maximum bound, if that saves a sixth of the slabs; it is kept when it meets every
+///   bound with a tenth to spare (ToleranceRound::fewer), else the round that met them is.
 ///
 /// With Tolerance::adapt_grid each round's grid n is the largest n <= options.grid_n (and >=
 /// min_grid) with slabs·n² within the sample budget (BakeOptions::sample_budget): round 1's target
