@@ -191,10 +191,10 @@ Decision decide(Plan& plan, int round, const ToleranceRound& t, const BakeReport
   // A missed RMS bound alone grows the slabs by its ratio: the RMS falls about as fast.
   const double growth = d.spots || f > 0 ? std::clamp(worst, 1.5, 3.0) : std::clamp(1.1 * d.rms, 1.2, 3.0);
   // Past the source's triangles only where it runs short, and then on its faces split.
-  const double base = undone ? double(plan.before_slabs) : double(r.slabs);
   d.base_slabs = undone ? plan.before_slabs : r.slabs;
   d.base_max = undone ? plan.before_max : max;
   d.base_faults = undone ? plan.before_faults : f;
+  const double base = double(d.base_slabs);
   const double wanted = std::min<double>(
       tolerance.max_slabs, std::ceil(undone ? base * std::clamp(plan.before_worst, 1.5, 3.0) : base * growth));
   d.split = f == 0 && source_runs_short(plan, d.local, r.slabs, wanted, tolerance.max_slabs);

@@ -23,7 +23,7 @@ struct ModelMemory {
   /// Derived cache of the query, the proxy and the edits: the slab-major copy `slab_samples`
   /// (displacement, normal and force-shading normal per slot). Surface points are not cached.
   int64_t caches = 0;
-  int64_t slab_constants = 0;  ///< derived per slab and coarse vertex: geometry, edge neighbours, vertex -> slabs
+  int64_t slab_constants = 0;  ///< derived per slab: geometry, edge neighbours
   /// Bytes the fields held as one value (SampleField::uniform()) would take as arrays: what
   /// materialise_fields(), which every editor calls, adds to total(). Not part of total().
   int64_t uniform_fields = 0;
